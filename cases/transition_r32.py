@@ -1,0 +1,31 @@
+"""Contact/separation transition: u = -r^{3/2} sin(3 theta/2) (Remark 2.2).
+
+Omega = (-1, 1) x (0, 1), Gamma_C = bottom side, Gamma_u = top, Gamma_g = the two sides;
+polar coordinates about the transition point 0, theta = atan2(y, x) in [0, pi], n = -e_y.
+u is harmonic (f = 0). On Gamma_C:
+  x > 0 (theta = 0): u = 0 and du/dn = -du/dy = (3/2) sqrt(x) >= 0   -- binding;
+  x < 0 (theta = pi): u = |x|^{3/2} > 0 and du/dn = 0               -- free.
+Regularity: D^2 u ~ r^{-1/2} is in H^s for s < 1/2 only, so u is in H^{5/2 - eps} and in no
+H^{5/2}: nu = 5/2 (from below). Theorems 4.1 ii and 5.1 ii give ||u - u_h||_1 <= C h^{3/2}.
+"""
+from ngsolve import atan2, sin, sqrt, x, y
+
+from harness.geometry import polygon
+
+name = "transition-r32"
+description = "r^{3/2} sin(3 theta/2) contact/separation transition at the middle of Gamma_C"
+regime = "2 < nu <= 5/2"
+theorem = "4.1 ii, 5.1 ii"
+nu = 2.5
+expected_rate = 1.5
+expected_log_exponent = 0.0
+
+# The transition point (0, 0) is a polygon corner, hence a vertex of every mesh.
+geometry = polygon(
+    [(-1, 0), (0, 0), (1, 0), (1, 1), (-1, 1)],
+    ["contact", "contact", "neumann", "dirichlet", "neumann"],
+)
+maxh = 0.25
+
+r = sqrt(x * x + y * y)
+u = -(r ** 1.5) * sin(1.5 * atan2(y, x))

@@ -1,0 +1,136 @@
+"""The case contract: what a case module declares, and how the harness finds and loads it.
+
+A case module (one file in ``cases/``, or any file given by path) defines at module level
+
+    name                   short identifier used on the command line and in results
+    description            one line
+    geometry               a netgen 2D geometry whose boundary carries the labels
+                           'contact' (Gamma_C), 'dirichlet' (Gamma_u), 'neumann' (Gamma_g);
+                           ``harness.geometry.polygon`` builds one
+    maxh                   mesh size of the coarse (level 0) mesh
+    u                      the exact solution, an NGSolve CoefficientFunction of x and y
+    nu                     its Sobolev regularity: u in H^{nu - eps} for every eps > 0
+    expected_rate          exponent p of the theorem's bound C h^p |log h|^q
+    expected_log_exponent  exponent q of that bound (default 0; 1/4 for Thm 4.2 ii / 5.2 ii)
+    theorem                which result of the paper predicts the rate, e.g. "4.1 ii, 5.1 ii"
+    regime                 optional, the regularity regime in words
+    gap                    optional CoefficientFunction alpha: the constraint is u - alpha >= 0
+    contact_load           optional CoefficientFunction g_C: du/dn - g_C >= 0 on Gamma_C
+
+From u the harness derives f = -Laplace(u), the Neumann data du/dn on Gamma_g and the
+Dirichlet data u on Gamma_u (Section 1 of MATH.md: nonzero Dirichlet data, a gap and a load on
+Gamma_C are the paper's "straightforward" generalisations that make any u exact).
+"""
+from __future__ import annotations
+
+import importlib.util
+import sys
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+
+import ngsolve as ngs
+
+CASES_DIR = Path(__file__).resolve().parent.parent / "cases"
+
+REQUIRED = ("name", "description", "geometry", "maxh", "u", "nu", "expected_rate", "theorem")
+
+
+class CaseError(ValueError):
+    """A case that cannot be loaded or does not satisfy the Signorini conditions."""
+
+
+@dataclass(frozen=True, eq=False)
+class Case:
+    name: str
+    description: str
+    geometry: object
+    maxh: float
+    u: ngs.CoefficientFunction
+    nu: float
+    expected_rate: float
+    theorem: str
+    expected_log_exponent: float = 0.0
+    regime: str = ""
+    gap: ngs.CoefficientFunction | None = None
+    contact_load: ngs.CoefficientFunction | None = None
+    source: str = ""
+
+    @cached_property
+    def grad_u(self) -> ngs.CoefficientFunction:
+        return ngs.CF((self.u.Diff(ngs.x), self.u.Diff(ngs.y)))
+
+    @cached_property
+    def f(self) -> ngs.CoefficientFunction:
+        """Volume load of (2.1): f = -Laplace(u)."""
+        return -(self.u.Diff(ngs.x).Diff(ngs.x) + self.u.Diff(ngs.y).Diff(ngs.y))
+
+    @property
+    def gap_or_zero(self) -> ngs.CoefficientFunction:
+        return self.gap if self.gap is not None else ngs.CF(0.0)
+
+    @property
+    def load_or_zero(self) -> ngs.CoefficientFunction:
+        return self.contact_load if self.contact_load is not None else ngs.CF(0.0)
+
+    @property
+    def expected_bound(self) -> str:
+        bound = f"h^{self.expected_rate:g}"
+        if self.expected_log_exponent:
+            bound += f" |log h|^{self.expected_log_exponent:g}"
+        return bound
+
+
+def _import_file(path: Path):
+    module_name = f"_signorini_case_{path.stem.replace('-', '_')}"
+    spec = importlib.util.spec_from_file_location(module_name, path)
+    if spec is None or spec.loader is None:
+        raise CaseError(f"cannot import case file {path}")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[module_name] = module
+    try:
+        spec.loader.exec_module(module)
+    except Exception as exc:  # a broken user file must give one clear line, not a traceback
+        raise CaseError(f"case file {path} failed to import: {type(exc).__name__}: {exc}") from exc
+    return module
+
+
+def case_from_module(module, source: str) -> Case:
+    missing = [key for key in REQUIRED if not hasattr(module, key)]
+    if missing:
+        raise CaseError(f"case {source} lacks required attribute(s): {', '.join(missing)}")
+    fields = {key: getattr(module, key) for key in REQUIRED}
+    for key in ("expected_log_exponent", "regime", "gap", "contact_load"):
+        if hasattr(module, key):
+            fields[key] = getattr(module, key)
+    for key in ("gap", "contact_load"):
+        if fields.get(key) is not None:
+            fields[key] = ngs.CF(fields[key])
+    fields["u"] = ngs.CF(fields["u"])
+    return Case(source=source, **fields)
+
+
+def _registered_files() -> list[Path]:
+    return sorted(p for p in CASES_DIR.glob("*.py") if not p.name.startswith("_"))
+
+
+def registered_cases() -> dict[str, Case]:
+    """Every case module in cases/, by name, in file order."""
+    cases = {}
+    for path in _registered_files():
+        case = case_from_module(_import_file(path), str(path))
+        cases[case.name] = case
+    return cases
+
+
+def load_case(spec: str) -> Case:
+    """A registered case by name, or a case file by path."""
+    path = Path(spec)
+    if spec.endswith(".py") or path.is_file():
+        if not path.is_file():
+            raise CaseError(f"case file not found: {spec}")
+        return case_from_module(_import_file(path.resolve()), str(path))
+    cases = registered_cases()
+    if spec not in cases:
+        raise CaseError(f"unknown case {spec!r}; known cases: {', '.join(cases)}")
+    return cases[spec]

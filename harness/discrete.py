@@ -1,0 +1,140 @@
+"""The P2 discretisation of (2.5) on one mesh level: X_h, a(., .), L(.) and the Dirichlet lift.
+
+X_h is NGSolve's H1 space of order 2, whose basis is hierarchical: vertex hat functions and
+one bubble phi_e = -1/2 lambda_a lambda_b per edge (MATH.md Section 5). Matrices leave this
+module as scipy CSR in those hierarchical variables; the contact models change variables.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+
+from .mesh import ContactTrace, contact_trace
+
+ORDER = 2
+# Extra quadrature order for the load terms: f and g may be singular at corners.
+LOAD_BONUS_ORDER = 6
+
+
+@dataclass
+class DiscreteProblem:
+    mesh: ngs.Mesh
+    fes: ngs.H1
+    A: sp.csr_matrix            # stiffness matrix a(phi_j, phi_i), all dofs
+    b: np.ndarray               # load vector L(phi_i), all dofs
+    lift: np.ndarray            # Dirichlet data on Gamma_u dofs, zero elsewhere
+    free: np.ndarray            # bool: dofs not on Gamma_u
+    trace: ContactTrace
+    edge_dofs: np.ndarray       # (m,) bubble dof of each contact edge
+    end_dofs: np.ndarray        # (m, 2) vertex dofs of its end points
+    vertex_dofs: np.ndarray     # dofs of trace.vertices, same order
+
+    @property
+    def ndof(self) -> int:
+        return self.fes.ndof
+
+    def gridfunction(self, vector: np.ndarray) -> ngs.GridFunction:
+        gf = ngs.GridFunction(self.fes)
+        gf.vec.FV().NumPy()[:] = vector
+        return gf
+
+
+def _single_dof(fes, node) -> int:
+    (dof,) = fes.GetDofNrs(node)
+    return dof
+
+
+def discretise(case, mesh: ngs.Mesh) -> DiscreteProblem:
+    fes = ngs.H1(mesh, order=ORDER, dirichlet="dirichlet")
+    u, v = fes.TnT()
+    a = ngs.BilinearForm(ngs.grad(u) * ngs.grad(v) * ngs.dx).Assemble()
+    n = ngs.specialcf.normal(2)
+    # L(v) of (2.5), plus the contact-boundary load g_C of the manufactured-solution
+    # generalisation: du/dn = g_C + lambda on Gamma_C with lambda >= 0 the contact pressure.
+    load = ngs.LinearForm(fes)
+    load += case.f * v * ngs.dx(bonus_intorder=LOAD_BONUS_ORDER)
+    load += (case.grad_u * n) * v * ngs.ds("neumann", bonus_intorder=LOAD_BONUS_ORDER)
+    if case.contact_load is not None:
+        load += case.contact_load * v * ngs.ds("contact", bonus_intorder=LOAD_BONUS_ORDER)
+    load.Assemble()
+
+    dirichlet = ngs.GridFunction(fes)
+    dirichlet.Set(case.u, ngs.BND, definedon=mesh.Boundaries("dirichlet"))
+    free = np.array(fes.FreeDofs(), dtype=bool)
+    lift = np.where(free, 0.0, dirichlet.vec.FV().NumPy())
+
+    trace = contact_trace(mesh)
+    edge_dofs = np.array([_single_dof(fes, ngs.NodeId(ngs.EDGE, int(e))) for e in trace.edges])
+    end_dofs = np.array([[_single_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in pair]
+                         for pair in trace.edge_vertices])
+    if not free[edge_dofs].all() or not free[end_dofs].all():
+        raise ValueError("Gamma_C touches Gamma_u; the paper (Section 2) assumes they do not")
+    # copy=True: CSR() returns views of memory owned by the BilinearForm a.
+    return DiscreteProblem(
+        mesh=mesh, fes=fes, A=sp.csr_matrix(a.mat.CSR(), copy=True), b=load.vec.FV().NumPy().copy(),
+        lift=lift, free=free, trace=trace, edge_dofs=edge_dofs, end_dofs=end_dofs,
+        vertex_dofs=np.array([_single_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in trace.vertices]),
+    )
+
+
+@dataclass(frozen=True)
+class ContactTraceFunction:
+    """The trace on Gamma_C of a P2 function: on edge t_i, v(t) = (1-t) v_a + t v_b - c t(1-t)/2.
+
+    Kept independently of the mesh so that it survives refinement: the next level uses it to
+    predict its active set (nested iteration), the errors module to find the largest
+    penetration between nodes, the report to draw u_h along Gamma_C.
+    """
+
+    a: np.ndarray
+    b: np.ndarray
+    va: np.ndarray
+    vb: np.ndarray
+    bubble: np.ndarray
+    in_contact: np.ndarray      # bool per edge: every constraint of the edge was active
+
+    @classmethod
+    def of(cls, problem: DiscreteProblem, u: np.ndarray, in_contact=None) -> "ContactTraceFunction":
+        ends = u[problem.end_dofs]
+        m = len(problem.edge_dofs)
+        flags = np.zeros(m, dtype=bool) if in_contact is None else np.asarray(in_contact, bool)
+        return cls(problem.trace.a, problem.trace.b, ends[:, 0], ends[:, 1], u[problem.edge_dofs], flags)
+
+    def value(self, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Value on edge[k] at parameter t[k] (broadcasting)."""
+        return (1 - t) * self.va[edge] + t * self.vb[edge] - 0.5 * self.bubble[edge] * t * (1 - t)
+
+    def at(self, t: np.ndarray) -> np.ndarray:
+        """Values at parameters t (k,) on every edge: array (m, k)."""
+        return self.value(np.arange(len(self.va))[:, None], np.asarray(t)[None, :])
+
+    def minimum_parameters(self) -> np.ndarray:
+        """Parameter of the stationary point of each edge's quadratic, clipped to [0, 1]."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = 0.5 - (self.vb - self.va) / np.where(self.bubble != 0, self.bubble, np.nan)
+        return np.clip(np.nan_to_num(t, nan=0.0), 0.0, 1.0)
+
+    def locate(self, points: np.ndarray, tol: float = 1e-9):
+        """Boolean (len(points), m): point lies on edge; and the edge parameters t."""
+        d = self.b - self.a
+        length2 = (d**2).sum(axis=1)
+        rel = points[:, None, :] - self.a[None, :, :]
+        t = (rel * d[None]).sum(axis=2) / length2[None]
+        off = rel - t[..., None] * d[None]
+        on = (t > -tol) & (t < 1 + tol) & ((off**2).sum(axis=2) <= (tol**2) * length2[None])
+        return on, np.clip(t, 0.0, 1.0)
+
+    def values(self, points: np.ndarray) -> np.ndarray:
+        on, t = self.locate(points)
+        if not on.any(axis=1).all():
+            raise ValueError("point not on the contact trace")
+        edge = on.argmax(axis=1)
+        return self.value(edge, t[np.arange(len(points)), edge])
+
+    def contact_at(self, points: np.ndarray) -> np.ndarray:
+        """True where a point lies on an edge that was entirely in contact."""
+        on, _ = self.locate(points)
+        return (on & self.in_contact[None, :]).any(axis=1)

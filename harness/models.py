@@ -1,0 +1,154 @@
+"""The two discrete contact models of the paper, as bound constraints in their own variables.
+
+* ``mean`` -- K_h (Section 3): v_h(x_i) >= 0 at the vertices of Gamma_C and
+  int_{t_i} v_h >= 0 on every contact edge; the degrees of freedom of J_h.
+* ``nodal`` -- K~_h (Section 5, before (5.1)): v_h >= 0 at the vertices and at the edge
+  midpoints x_{i+1/2} of Gamma_C; the degrees of freedom of the Lagrange interpolant I_h.
+
+On a straight edge [a, b] the P2 trace is v(t) = (1-t) v_a + t v_b - c_e t(1-t)/2 with c_e the
+hierarchical bubble coefficient, so
+
+    midpoint value = (v_a + v_b)/2 - c_e/8,     edge mean = (v_a + v_b)/2 - c_e/12.
+
+Replacing c_e by the midpoint value (nodal) or by the edge mean (mean) is a local, invertible
+change of variables u = S z after which each cone is a set of simple lower bounds on z. With a
+gap alpha the bounds are alpha(x_i), alpha(x_{i+1/2}) and the edge means of alpha.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .discrete import ContactTraceFunction, DiscreteProblem
+from .mesh import evaluate
+
+# Gauss-Legendre points on [0, 1] for edge means of the gap (exact for polynomial gaps of
+# degree <= 15, far below the discretisation error otherwise).
+_GL_T, _GL_W = np.polynomial.legendre.leggauss(8)
+_GL_T, _GL_W = 0.5 * (_GL_T + 1.0), 0.5 * _GL_W
+
+
+@dataclass(frozen=True)
+class ContactModel:
+    name: str
+    description: str
+    # The edge functional as a rule sum_k w_k v(t_k) on [0, 1], exact for quadratics:
+    # the midpoint value (nodal) or Simpson's rule for the edge mean (mean).
+    edge_rule: tuple[tuple[float, float], ...]
+
+    @property
+    def bubble_value(self) -> float:
+        """The edge functional of the bubble -t(1-t)/2: -1/8 (midpoint) or -1/12 (mean)."""
+        return sum(-0.5 * w * t * (1 - t) for t, w in self.edge_rule)
+
+    @property
+    def weight(self) -> float:
+        """w in c_e = w (v_a + v_b) - 2 w z_e: 4 (nodal) or 6 (mean)."""
+        return -0.5 / self.bubble_value
+
+    def edge_functional_of_trace(self, trace_u: ContactTraceFunction, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """The edge functional on the segments [a_i, b_i] of the P2 trace trace_u."""
+        return sum(w * trace_u.values(a + t * (b - a)) for t, w in self.edge_rule)
+
+    def edge_functional(self, problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
+        """Value of the edge constraint functional of u (hierarchical vector) on each contact edge."""
+        ends = u[problem.end_dofs]
+        return 0.5 * (ends[:, 0] + ends[:, 1]) - u[problem.edge_dofs] / (2.0 * self.weight)
+
+    def constrained_dofs(self, problem: DiscreteProblem) -> np.ndarray:
+        """Dof numbers carrying the constrained variables: Gamma_C vertices, then Gamma_C edges."""
+        return np.concatenate([problem.vertex_dofs, problem.edge_dofs])
+
+    def constraint_values(self, problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
+        return np.concatenate([u[problem.vertex_dofs], self.edge_functional(problem, u)])
+
+    def transform(self, problem: DiscreteProblem) -> sp.csr_matrix:
+        """S with u = S z: identity except the rows of the contact-edge bubbles."""
+        n, w = problem.ndof, self.weight
+        edge, ends = problem.edge_dofs, problem.end_dofs
+        diagonal = np.ones(n)
+        diagonal[edge] = -2.0 * w
+        rows = np.concatenate([np.arange(n), edge, edge])
+        cols = np.concatenate([np.arange(n), ends[:, 0], ends[:, 1]])
+        vals = np.concatenate([diagonal, np.full(len(edge), w), np.full(len(edge), w)])
+        return sp.csr_matrix((vals, (rows, cols)), shape=(n, n))
+
+    def lower_bounds(self, case, problem: DiscreteProblem) -> np.ndarray:
+        """Gap values for the constrained variables, in the order of ``constrained_dofs``."""
+        mesh, trace = problem.mesh, problem.trace
+        gap = case.gap_or_zero
+        at_vertices = evaluate(gap, mesh, trace.vertex_points)
+        if self.name == "nodal":
+            on_edges = evaluate(gap, mesh, trace.midpoints)
+        else:
+            on_edges = evaluate(gap, mesh, trace.points(_GL_T)) @ _GL_W
+        return np.concatenate([at_vertices, on_edges])
+
+
+@dataclass
+class ContactQP:
+    """min 1/2 z'Kz - r'z, z[C] >= alpha: the discrete inequality (3.6) or (5.1) in the
+    model's variables z, restricted to the dofs off Gamma_u; u = lift + S z."""
+
+    model: ContactModel
+    problem: DiscreteProblem
+    K: sp.csr_matrix
+    r: np.ndarray
+    C: np.ndarray               # positions of the constrained variables in z
+    alpha: np.ndarray           # their lower bounds
+    S: sp.csr_matrix            # restricted to the free columns
+
+    def to_u(self, z: np.ndarray) -> np.ndarray:
+        return self.problem.lift + self.S @ z
+
+    def predicted_active(self, previous: ContactTraceFunction | None) -> np.ndarray | None:
+        """Nested iteration: the active set predicted by the previous level's solution.
+
+        A constraint is predicted active if it lies on a coarse edge that was entirely in
+        contact, or if the coarse solution, read as a P2 function on this level's contact
+        trace, violates it.
+        """
+        if previous is None:
+            return None
+        trace = self.problem.trace
+        vertices = trace.vertex_points
+        predicted = np.concatenate([
+            previous.values(vertices),
+            self.model.edge_functional_of_trace(previous, trace.a, trace.b),
+        ])
+        in_contact = np.concatenate([previous.contact_at(vertices), previous.contact_at(trace.midpoints)])
+        return in_contact | (predicted < self.alpha)
+
+    def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
+        problem = self.problem
+        vertex_active = np.zeros(problem.ndof, dtype=bool)
+        vertex_active[problem.vertex_dofs] = active[: len(problem.vertex_dofs)]
+        edge_active = active[len(problem.vertex_dofs):]
+        in_contact = edge_active & vertex_active[problem.end_dofs].all(axis=1)
+        return ContactTraceFunction.of(problem, u, in_contact)
+
+
+def contact_qp(case, problem: DiscreteProblem, model: ContactModel) -> ContactQP:
+    free = np.flatnonzero(problem.free)
+    S = model.transform(problem)[:, free]
+    K = (S.T @ problem.A @ S).tocsr()
+    r = S.T @ (problem.b - problem.A @ problem.lift)
+    position = np.full(problem.ndof, -1)
+    position[free] = np.arange(len(free))
+    C = position[model.constrained_dofs(problem)]
+    return ContactQP(model, problem, K, r, C, model.lower_bounds(case, problem), S.tocsr())
+
+
+MODELS = {
+    "mean": ContactModel("mean", "K_h: vertex values and edge means >= 0 (Section 3)",
+                         ((0.0, 1 / 6), (0.5, 4 / 6), (1.0, 1 / 6))),
+    "nodal": ContactModel("nodal", "K~_h: vertex and midpoint values >= 0 (Section 5)", ((0.5, 1.0),)),
+}
+
+
+def get_model(name: str) -> ContactModel:
+    if name not in MODELS:
+        raise ValueError(f"unknown model {name!r}; expected one of: {', '.join(MODELS)}, all")
+    return MODELS[name]

@@ -1,0 +1,84 @@
+"""A convergence study: case -> mesh hierarchy -> discrete problem -> contact model -> solve
+-> errors -> one tidy row per (case, model, level)."""
+from __future__ import annotations
+
+import time
+
+import ngsolve as ngs
+import pandas as pd
+from tqdm import tqdm
+
+from .case import Case
+from .discrete import discretise
+from .errors import error_norms, max_penetration
+from .mesh import mesh_hierarchy, mesh_size
+from .models import ContactModel, contact_qp
+from .solver import solve_contact_qp
+from .validate import validate_case
+
+COLUMNS = [
+    "case", "model", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
+    "err_l2", "max_penetration", "active_constraints", "solver_iterations", "kkt_residual",
+    "solve_seconds", "status",
+]
+
+ngs.ngsglobals.msg_level = 0
+
+
+def solve_level(case: Case, problem, model: ContactModel, previous=None, textbook: bool = False):
+    """Solve one model on one level; return the row fields, u_h and its trace on Gamma_C."""
+    qp = contact_qp(case, problem, model)
+    solution = solve_contact_qp(qp.K, qp.r, qp.C, qp.alpha, qp.predicted_active(previous), textbook=textbook)
+    u = qp.to_u(solution.z)
+    trace_u = qp.trace_function(u, solution.active)
+    row = {
+        "n_contact_constraints": len(qp.C),
+        **error_norms(case, problem.gridfunction(u)),
+        "max_penetration": max_penetration(case, problem.mesh, trace_u),
+        "active_constraints": int(solution.active.sum()),
+        "solver_iterations": solution.iterations,
+        "kkt_residual": solution.kkt.residual,
+        "solve_seconds": solution.seconds,
+        "status": solution.status,
+    }
+    return row, u, trace_u, solution
+
+
+def run_case(case: Case, models: list[ContactModel], levels: int, progress=None, on_level=None) -> list[dict]:
+    """Rows of one case; ``on_level(case, model, level, problem, u, solution)`` sees every solve
+    (the report uses it to keep the finest solutions)."""
+    validate_case(case)
+    previous = {model.name: None for model in models}
+    rows = []
+    with ngs.TaskManager():
+        for level, mesh in mesh_hierarchy(case, levels):
+            problem = discretise(case, mesh)
+            h = mesh_size(mesh)
+            for model in models:
+                if progress is not None:
+                    progress.set_postfix_str(f"{case.name} {model.name} level {level} ndof {problem.ndof}")
+                fields, u, trace_u, solution = solve_level(case, problem, model, previous[model.name])
+                previous[model.name] = trace_u
+                rows.append({"case": case.name, "model": model.name, "level": level, "h": h,
+                             "ndof": problem.ndof, **fields})
+                if on_level is not None:
+                    on_level(case, model, level, problem, u, solution)
+                if progress is not None:
+                    progress.update(1)
+    return rows
+
+
+def run_study(cases: list[Case], models: list[ContactModel], levels: int, show_progress: bool = True,
+              on_level=None) -> pd.DataFrame:
+    """Every case x model x level; one tidy row each (columns ``COLUMNS``)."""
+    if levels < 1:
+        raise ValueError(f"levels must be a positive integer, got {levels}")
+    rows = []
+    start = time.perf_counter()
+    with tqdm(total=len(cases) * len(models) * levels, disable=not show_progress, unit="solve",
+              dynamic_ncols=True) as progress:
+        for case in cases:
+            rows += run_case(case, models, levels, progress, on_level)
+    frame = pd.DataFrame(rows, columns=COLUMNS)
+    frame.attrs["wall_seconds"] = time.perf_counter() - start
+    return frame
