@@ -1,0 +1,96 @@
+"""Command line: python -m harness {run, cases, rates, report, bench}.
+
+Bad input ends with one line on stderr and a non-zero exit status, before anything that
+exists on disk is touched.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import pandas as pd
+
+from .case import CaseError
+
+EXIT_BAD_INPUT = 2
+
+
+class BadInput(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line instead of argparse's usage block
+        raise BadInput(message)
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"level count must be a positive integer, got {text!r}")
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"level count must be a positive integer, got {value}")
+    return value
+
+
+def cmd_cases(args) -> int:
+    from .api import case_table
+    table = case_table()
+    with pd.option_context("display.max_colwidth", 70, "display.width", 200):
+        print(table.drop(columns=["expected_rate", "expected_log_exponent"]).to_string(index=False))
+    return 0
+
+
+def cmd_run(args) -> int:
+    from .api import models_named
+    from .case import load_case
+    from .results import ensure_writable, write_csv
+    from .study import run_study
+    from .validate import validate_case
+
+    models = models_named(args.model)
+    cases = [load_case(spec) for spec in args.case]
+    for case in cases:
+        validate_case(case)
+    out = ensure_writable(Path(args.out))
+    frame = run_study(cases, models, args.levels, show_progress=not args.quiet)
+    path = write_csv(frame, out / "results.csv")
+    if not args.quiet:
+        with pd.option_context("display.width", 200, "display.max_columns", 30):
+            print(frame[["case", "model", "level", "h", "ndof", "err_h1", "max_penetration",
+                         "solver_iterations", "kkt_residual", "status"]].to_string(index=False))
+    print(f"wrote {path}")
+    return 0 if (frame["status"] == "converged").all() else 1
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="python -m harness", description=__doc__.splitlines()[0])
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("cases", help="list the registered cases with regularity and expected rate")
+    p.set_defaults(func=cmd_cases)
+
+    p = sub.add_parser("run", help="run a convergence study and write DIR/results.csv")
+    p.add_argument("--case", action="append", required=True, metavar="NAME|PATH",
+                   help="a registered case name or a case file; repeat for several")
+    p.add_argument("--model", default="all", choices=["mean", "nodal", "all"])
+    p.add_argument("--levels", type=_positive_int, default=5, help="number of mesh levels (0..L-1)")
+    p.add_argument("--out", default="results", metavar="DIR")
+    p.add_argument("--quiet", action="store_true", help="no progress bar or table")
+    p.set_defaults(func=cmd_run)
+    return parser
+
+
+def main(argv=None) -> int:
+    from .results import OutputError
+    try:
+        args = build_parser().parse_args(argv)
+        return args.func(args)
+    except (BadInput, CaseError, OutputError, ValueError, FileNotFoundError) as exc:
+        print(f"harness: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("harness: interrupted; nothing was written", file=sys.stderr)
+        return 130

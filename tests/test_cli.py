@@ -1,0 +1,54 @@
+"""Command line: results written atomically; bad input gives one line and a non-zero exit."""
+from pathlib import Path
+import subprocess
+import sys
+
+import pandas as pd
+import pytest
+
+from harness.study import COLUMNS
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def harness(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "harness", *args], capture_output=True, text=True, cwd=ROOT)
+
+
+def test_run_writes_one_tidy_row_per_case_model_level(tmp_path):
+    done = harness("run", "--case", "transition-r32", "--model", "all", "--levels", "2", "--out", str(tmp_path), "--quiet")
+    assert done.returncode == 0, done.stderr
+    frame = pd.read_csv(tmp_path / "results.csv")
+    assert list(frame.columns) == COLUMNS
+    assert len(frame) == 4 and set(frame.model) == {"mean", "nodal"}
+    assert (frame.kkt_residual <= 1e-10).all() and (frame.status == "converged").all()
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--case", "no-such-case"], "known cases"),
+    (["--case", "transition-r32", "--model", "both"], "--model"),
+    (["--case", "transition-r32", "--levels", "0"], "positive integer"),
+    (["--case", "transition-r32", "--levels", "three"], "positive integer"),
+    (["--case", "tests/data/bad_sign_case.py"], "violates the Signorini condition"),
+    (["--case", "tests/data/missing.py"], "not found"),
+])
+def test_bad_input_gives_one_line_and_keeps_existing_results(tmp_path, args, message):
+    existing = tmp_path / "results.csv"
+    existing.write_text("precious\n")
+    done = harness("run", *args, "--out", str(tmp_path), "--quiet")
+    assert done.returncode != 0
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], done.stderr
+    assert existing.read_text() == "precious\n"
+
+
+def test_unwritable_output_folder_is_refused(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    done = harness("run", "--case", "transition-r32", "--levels", "1", "--out", str(blocker / "sub"), "--quiet")
+    assert done.returncode != 0 and "not writable" in done.stderr and len(done.stderr.strip().splitlines()) == 1
+
+
+def test_cases_lists_regime_and_expected_rate():
+    done = harness("cases")
+    assert done.returncode == 0 and "transition-r32" in done.stdout and "h^1.5" in done.stdout

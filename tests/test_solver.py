@@ -1,0 +1,96 @@
+"""The contact solver returns the exact solution of each discrete inequality (3.6), (5.1)."""
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from qpsolvers import solve_qp
+
+from conftest import MODEL_NAMES, problem_at
+from harness.case import load_case
+from harness.models import MODELS, contact_qp
+from harness.solver import ActiveSetSolver, kkt_residuals, solve_contact_qp
+
+CROSS_CHECK_LEVELS = [0, 1, 2]   # 165, 609, 2337 dofs: all <= 3000
+
+
+def hierarchical_qp(case, problem, model):
+    """The same QP in NGSolve's own hierarchical variables, constraints as general rows G u >= alpha."""
+    free = np.flatnonzero(problem.free)
+    A = problem.A[free][:, free]
+    q = -(problem.b - problem.A @ problem.lift)[free]
+    nv, w = len(problem.vertex_dofs), model.weight
+    rows, cols, vals = [], [], []
+    position = np.full(problem.ndof, -1)
+    position[free] = np.arange(len(free))
+    for k, dof in enumerate(problem.vertex_dofs):
+        rows.append(k), cols.append(position[dof]), vals.append(1.0)
+    for k, (edge, (a, b)) in enumerate(zip(problem.edge_dofs, problem.end_dofs)):
+        for dof, val in ((a, 0.5), (b, 0.5), (edge, -0.5 / w)):
+            rows.append(nv + k), cols.append(position[dof]), vals.append(val)
+    G = sp.csr_matrix((vals, (rows, cols)), shape=(nv + len(problem.edge_dofs), len(free)))
+    alpha = contact_qp(case, problem, model).alpha
+    return A, q, G, alpha, free
+
+
+@pytest.mark.parametrize("level", CROSS_CHECK_LEVELS)
+@pytest.mark.parametrize("model_name", MODEL_NAMES)
+def test_solution_equals_independent_qp_solver(model_name, level):
+    """Clarabel (interior point), given K_h or K~_h as general linear rows in NGSolve's
+    hierarchical variables, finds the same u_h to 1e-8."""
+    case = load_case("transition-r32")
+    problem = problem_at("transition-r32", level)
+    model = MODELS[model_name]
+    qp = contact_qp(case, problem, model)
+    ours = qp.to_u(solve_contact_qp(qp.K, qp.r, qp.C, qp.alpha).z)
+    A, q, G, alpha, free = hierarchical_qp(case, problem, model)
+    ref = solve_qp(sp.csc_matrix(A), q, G=-sp.csc_matrix(G), h=-alpha, solver="clarabel",
+                   tol_gap_abs=1e-14, tol_gap_rel=1e-14, tol_feas=1e-14, tol_ktratio=1e-10, max_iter=400)
+    assert ref is not None
+    u_ref = problem.lift.copy()
+    u_ref[free] = ref
+    assert np.abs(ours - u_ref).max() <= 1e-8 * np.abs(u_ref).max()
+
+
+@pytest.mark.parametrize("model_name", MODEL_NAMES)
+@pytest.mark.parametrize("case_file", ["transition-r32", "tests/data/gap_case.py"])
+def test_every_solution_satisfies_kkt_conditions(model_name, case_file):
+    case = load_case(case_file)
+    problem = problem_at(case_file, 3)
+    qp = contact_qp(case, problem, MODELS[model_name])
+    solution = solve_contact_qp(qp.K, qp.r, qp.C, qp.alpha)
+    assert solution.status == "converged"
+    recomputed = kkt_residuals(qp.K, qp.r, solution.z, qp.C, qp.alpha, solution.active)
+    for name in ("primal", "dual", "complementarity", "stationarity"):
+        assert getattr(recomputed, name) <= 1e-10, name
+    assert (solution.z[qp.C] >= qp.alpha - 1e-12).all()
+
+
+@pytest.mark.parametrize("model_name", MODEL_NAMES)
+def test_fast_solver_equals_textbook_pdas(model_name):
+    """Warm-started low-rank solver and textbook PDAS (cold, refactorised) agree to 1e-10."""
+    case = load_case("transition-r32")
+    problem = problem_at("transition-r32", 3)
+    qp = contact_qp(case, problem, MODELS[model_name])
+    textbook = solve_contact_qp(qp.K, qp.r, qp.C, qp.alpha, textbook=True)
+    # A deliberately poor warm start: every constraint active.
+    fast = ActiveSetSolver(qp.K, qp.r, qp.C, qp.alpha, refactor_above=24).solve(np.ones(len(qp.C), bool))
+    assert textbook.status == fast.status == "converged"
+    assert fast.factorizations <= 2
+    assert np.abs(fast.z - textbook.z).max() <= 1e-10 * np.abs(textbook.z).max()
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_bound_qps_match_clarabel(seed):
+    """Dense SPD matrices that are far from M-matrices exercise the cycling safeguard."""
+    rng = np.random.default_rng(seed)
+    n, m = 40, 25
+    B = rng.standard_normal((n, n))
+    K = B @ B.T + 0.5 * np.eye(n)
+    r = rng.standard_normal(n) * 3
+    C = np.sort(rng.choice(n, m, replace=False))
+    alpha = rng.standard_normal(m) * 0.3
+    sol = ActiveSetSolver(sp.csr_matrix(K), r, C, alpha).solve()
+    G = np.zeros((m, n))
+    G[np.arange(m), C] = -1
+    ref = solve_qp(sp.csc_matrix(K), -r, G=sp.csc_matrix(G), h=-alpha, solver="clarabel", tol_gap_abs=1e-13, tol_gap_rel=1e-13, tol_feas=1e-13)
+    assert sol.status == "converged"
+    assert np.abs(sol.z - ref).max() <= 1e-7 * max(1, np.abs(ref).max())

@@ -1,0 +1,35 @@
+"""The harness refuses a case whose exact solution breaks the Signorini conditions (2.4)."""
+from pathlib import Path
+
+import pytest
+
+from harness.case import CaseError, load_case, registered_cases
+from harness.validate import validate_case
+
+DATA = Path(__file__).parent / "data"
+
+
+@pytest.mark.parametrize("case_name", list(registered_cases()))
+def test_registered_cases_satisfy_signorini_conditions(case_name):
+    validate_case(registered_cases()[case_name])
+
+
+def test_case_file_outside_repository_runs_by_path():
+    case = load_case(str(DATA / "gap_case.py"))
+    validate_case(case)
+    assert case.gap is not None and case.contact_load is not None
+
+
+def test_violated_sign_is_refused_with_condition_and_place():
+    with pytest.raises(CaseError, match=r"u - gap >= 0 on Gamma_C at \(-"):
+        validate_case(load_case(str(DATA / "bad_sign_case.py")))
+
+
+def test_missing_label_is_refused():
+    with pytest.raises(CaseError, match="no boundary labelled dirichlet"):
+        validate_case(load_case(str(DATA / "no_dirichlet_case.py")))
+
+
+def test_unknown_case_lists_known_ones():
+    with pytest.raises(CaseError, match="known cases: .*transition-r32"):
+        load_case("no-such-case")
