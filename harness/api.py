@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from .case import Case, load_case, registered_cases
+from .case import Case, fraction, load_case, registered_cases
 from .models import MODELS, get_model
 from .study import run_study
 
@@ -29,7 +29,7 @@ def case_table(cases=None) -> pd.DataFrame:
     """One row per case: regularity, theorem and the rate it predicts."""
     cases = list(registered_cases().values()) if cases is None else cases
     return pd.DataFrame([{
-        "case": c.name, "nu": c.nu, "regime": c.regime, "theorem": c.theorem,
+        "case": c.name, "nu": fraction(c.nu), "regime": c.regime, "theorem": c.theorem,
         "expected_rate": c.expected_rate, "expected_log_exponent": c.expected_log_exponent,
         "bound": c.expected_bound, "description": c.description,
     } for c in cases])

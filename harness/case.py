@@ -75,10 +75,17 @@ class Case:
 
     @property
     def expected_bound(self) -> str:
-        bound = f"h^{self.expected_rate:g}"
+        bound = f"h^{fraction(self.expected_rate)}"
         if self.expected_log_exponent:
-            bound += f" |log h|^{self.expected_log_exponent:g}"
+            bound += f" |log h|^{fraction(self.expected_log_exponent)}"
         return bound
+
+
+def fraction(value: float) -> str:
+    """2/3 rather than 0.666667 for the exponents of the paper."""
+    from fractions import Fraction
+    f = Fraction(value).limit_denominator(12)
+    return str(f) if abs(float(f) - value) < 1e-9 else f"{value:g}"
 
 
 def _import_file(path: Path):
@@ -115,12 +122,9 @@ def _registered_files() -> list[Path]:
 
 
 def registered_cases() -> dict[str, Case]:
-    """Every case module in cases/, by name, in file order."""
-    cases = {}
-    for path in _registered_files():
-        case = case_from_module(_import_file(path), str(path))
-        cases[case.name] = case
-    return cases
+    """Every case module in cases/, by name, in order of regularity nu."""
+    cases = [case_from_module(_import_file(path), str(path)) for path in _registered_files()]
+    return {case.name: case for case in sorted(cases, key=lambda c: (c.nu, c.name))}
 
 
 def load_case(spec: str) -> Case:

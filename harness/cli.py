@@ -65,6 +65,43 @@ def cmd_run(args) -> int:
     return 0 if (frame["status"] == "converged").all() else 1
 
 
+def _known_cases(extra_specs) -> dict:
+    from .case import load_case, registered_cases
+    cases = registered_cases()
+    for spec in extra_specs or []:
+        case = load_case(spec)
+        cases[case.name] = case
+    return cases
+
+
+def read_results(path: Path) -> pd.DataFrame:
+    from .study import COLUMNS
+    if not path.is_file():
+        raise FileNotFoundError(f"results file not found: {path}")
+    try:
+        frame = pd.read_csv(path)
+    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path} is not a results CSV: {exc}") from exc
+    missing = [c for c in COLUMNS if c not in frame.columns]
+    if missing:
+        raise ValueError(f"{path} is not a results CSV: missing column(s) {', '.join(missing)}")
+    return frame
+
+
+def cmd_rates(args) -> int:
+    from .rates import rate_table
+    from .results import ensure_writable, write_csv
+    path = Path(args.results)
+    frame = read_results(path)
+    table = rate_table(frame, _known_cases(args.case), levels=args.fit_levels)
+    ensure_writable(path.parent)
+    out = write_csv(table, path.parent / "rates.csv")
+    with pd.option_context("display.width", 200, "display.max_colwidth", 60):
+        print(table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
+    print(f"wrote {out}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="python -m harness", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -80,6 +117,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="results", metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bar or table")
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("rates", help="fit rates of a results CSV; writes rates.csv beside it")
+    p.add_argument("results", metavar="RESULTS.csv")
+    p.add_argument("--fit-levels", type=_positive_int, default=3, help="levels in the asymptotic fit (>= 3)")
+    p.add_argument("--case", action="append", metavar="PATH", help="case file for results of unregistered cases")
+    p.set_defaults(func=cmd_rates)
     return parser
 
 

@@ -51,4 +51,4 @@ def test_unwritable_output_folder_is_refused(tmp_path):
 
 def test_cases_lists_regime_and_expected_rate():
     done = harness("cases")
-    assert done.returncode == 0 and "transition-r32" in done.stdout and "h^1.5" in done.stdout
+    assert done.returncode == 0 and "transition-r32" in done.stdout and "h^3/2" in done.stdout and "h^1 |log h|^1/4" in done.stdout

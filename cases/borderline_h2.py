@@ -1,0 +1,40 @@
+"""u in H^2 and in no H^{2+delta}, one transition point (Thm 4.2 ii, 5.2 ii): h |log h|^{1/4}.
+
+Omega = (-1, 1) x (0, 1), Gamma_C = bottom, Gamma_g = sides, Gamma_u = top, polar
+coordinates about 0. With L(r) = |log(r/2)|^{-beta}, beta = 0.6 > 1/2,
+    u_b = r sin^2(theta/2) L(r) = (r - x)/2 L(r)
+is homogeneous of degree one up to the slowly varying L, and sin^2 + (sin^2)'' = 1/2 != 0,
+so D^2 u_b ~ r^{-1} L(r): |D^2 u_b|^2 r ~ r^{-1} |log r|^{-2 beta} is integrable (beta > 1/2)
+with nothing to spare, and no fractional derivative of order delta > 0 of D^2 u_b is: u_b is
+in H^2 and in no H^{2+delta} (MATH.md Section 4). f = -Laplace(u) ~ r^{-1} L is in L^2.
+On Gamma_C: u_b = 0 for x > 0, u_b = |x| L > 0 for x < 0, du_b/dn = 0 on both sides.
+Adding the transition -r^{3/2} sin(3 theta/2) (in H^{5/2-eps}) gives the binding side a
+positive pressure (3/2) sqrt(x), so 0 is a genuine contact/separation transition point.
+Best approximation behaves like h |log h|^{1/2 - beta}, so the bound h |log h|^{1/4} of the
+theorems is not expected to be sharp; the study shows which factor the errors follow.
+"""
+from ngsolve import log, x
+
+from harness.functions import polar, transition
+from harness.geometry import polygon
+
+name = "borderline-h2"
+description = "(r - x)/2 |log(r/2)|^{-0.6} (exactly H^2) plus an r^{3/2} transition at 0"
+regime = "nu = 2"
+theorem = "4.2 ii, 5.2 ii"
+nu = 2.0
+expected_rate = 1.0
+expected_log_exponent = 0.25
+
+BETA = 0.6
+geometry = polygon(
+    [(-1, 0), (0, 0), (1, 0), (1, 1), (-1, 1)],
+    ["contact", "contact", "neumann", "dirichlet", "neumann"],
+)
+maxh = 0.25
+
+# A small transition part lets the singularity that sets nu dominate the error from
+# coarse levels on (with weight 1 the r^{3/2} error masks it for three levels).
+TRANSITION_WEIGHT = 0.1
+r, _ = polar()
+u = 0.5 * (r - x) * (-log(r / 2)) ** (-BETA) + TRANSITION_WEIGHT * transition(0.0)

@@ -1,0 +1,28 @@
+"""A smooth solution with a contact/separation transition (Remark 4.9): rate h^2.
+
+Omega = (-1, 1) x (0, 1), Gamma_C = bottom, Gamma_g = sides, Gamma_u = top, and
+    u = max(0, -x)^3 - y max(0, x)^3 + y^2 cos(x + y).
+On Gamma_C (y = 0, n = -e_y): u = max(0,-x)^3 and du/dn = max(0,x)^3, so x < 0 is free and
+x > 0 binding with positive pressure; the conditions (2.4) hold exactly, one transition at 0.
+Regularity: max(0, x)^3 has a jump in its third derivative, so u is in H^{7/2 - eps}:
+nu = 7/2 > 5/2. Remark 4.9 proves h^{7/4} without and h^2 with finitely many transitions;
+P2 cannot do better than h^2, the expected rate.
+"""
+from ngsolve import IfPos, cos, x, y
+
+from harness.geometry import polygon
+
+name = "smooth"
+description = "max(0,-x)^3 - y max(0,x)^3 + y^2 cos(x+y): H^{7/2-eps}, transition at 0"
+regime = "nu > 5/2"
+theorem = "Remark 4.9"
+nu = 3.5
+expected_rate = 2.0
+
+geometry = polygon(
+    [(-1, 0), (0, 0), (1, 0), (1, 1), (-1, 1)],
+    ["contact", "contact", "neumann", "dirichlet", "neumann"],
+)
+maxh = 0.25
+
+u = IfPos(-x, -x * x * x, 0.0) - y * IfPos(x, x * x * x, 0.0) + y * y * cos(x + y)
