@@ -48,12 +48,9 @@ def cmd_run(args) -> int:
     from .case import load_case
     from .results import ensure_writable, write_csv
     from .study import run_study
-    from .validate import validate_case
 
     models = models_named(args.model)
     cases = [load_case(spec) for spec in args.case]
-    for case in cases:
-        validate_case(case)
     out = ensure_writable(Path(args.out))
     frame = run_study(cases, models, args.levels, show_progress=not args.quiet)
     path = write_csv(frame, out / "results.csv")
@@ -102,6 +99,14 @@ def cmd_rates(args) -> int:
     return 0
 
 
+def cmd_report(args) -> int:
+    from .report import make_report
+    path = make_report(args.profile, Path(args.results), Path(args.report), args.case,
+                       show_progress=not args.quiet, levels=args.levels)
+    print(f"wrote {path}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="python -m harness", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -123,6 +128,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fit-levels", type=_positive_int, default=3, help="levels in the asymptotic fit (>= 3)")
     p.add_argument("--case", action="append", metavar="PATH", help="case file for results of unregistered cases")
     p.set_defaults(func=cmd_rates)
+
+    p = sub.add_parser("report", help="run the study (reusing unchanged results) and render the report")
+    p.add_argument("--profile", default="default", choices=["default", "fine"])
+    p.add_argument("--levels", type=_positive_int, help="override the profile's number of levels")
+    p.add_argument("--case", action="append", metavar="NAME", help="only these registered cases")
+    p.add_argument("--results", default="results", metavar="DIR")
+    p.add_argument("--report", default="report", metavar="DIR")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_report)
     return parser
 
 

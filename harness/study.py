@@ -45,9 +45,8 @@ def solve_level(case: Case, problem, model: ContactModel, previous=None, textboo
 
 
 def run_case(case: Case, models: list[ContactModel], levels: int, progress=None, on_level=None) -> list[dict]:
-    """Rows of one case; ``on_level(case, model, level, problem, u, solution)`` sees every solve
-    (the report uses it to keep the finest solutions)."""
-    validate_case(case)
+    """Rows of one case; ``on_level(case, model, level, problem, u, solution, trace_u)`` sees
+    every solve (the report uses it to keep the finest solutions)."""
     previous = {model.name: None for model in models}
     rows = []
     with ngs.TaskManager():
@@ -62,7 +61,7 @@ def run_case(case: Case, models: list[ContactModel], levels: int, progress=None,
                 rows.append({"case": case.name, "model": model.name, "level": level, "h": h,
                              "ndof": problem.ndof, **fields})
                 if on_level is not None:
-                    on_level(case, model, level, problem, u, solution)
+                    on_level(case, model, level, problem, u, solution, trace_u)
                 if progress is not None:
                     progress.update(1)
     return rows
@@ -73,6 +72,8 @@ def run_study(cases: list[Case], models: list[ContactModel], levels: int, show_p
     """Every case x model x level; one tidy row each (columns ``COLUMNS``)."""
     if levels < 1:
         raise ValueError(f"levels must be a positive integer, got {levels}")
+    for case in cases:
+        validate_case(case)
     rows = []
     start = time.perf_counter()
     with tqdm(total=len(cases) * len(models) * levels, disable=not show_progress, unit="solve",

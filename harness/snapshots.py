@@ -1,0 +1,96 @@
+"""What the report draws besides the error table: u_h and the contact pressure along Gamma_C on
+the finest level, and u_h on Omega on a level fine enough to look smooth. Collected during the
+study through its ``on_level`` hook and stored as .npz beside the results."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .mesh import evaluate
+
+PICTURE_LEVEL = 3
+SAMPLES_PER_EDGE = 9
+
+
+def contact_pressure(problem, multipliers: np.ndarray) -> np.ndarray:
+    """Discrete contact pressure per contact edge: the edge multiplier plus each end point's
+    multiplier shared among its edges in proportion to length, divided by the edge length.
+    Its integral over Gamma_C is the total discrete contact force sum(lambda)."""
+    lengths = problem.trace.lengths
+    nv = len(problem.vertex_dofs)
+    lam_vertex, lam_edge = multipliers[:nv], multipliers[nv:]
+    index = np.searchsorted(problem.trace.vertices, problem.trace.edge_vertices)
+    adjacent_length = np.bincount(index.ravel(), weights=np.repeat(lengths, 2), minlength=nv)
+    share = lam_vertex[index] * (lengths[:, None] / adjacent_length[index])
+    return (lam_edge + share.sum(axis=1)) / lengths
+
+
+def contact_snapshot(case, problem, trace_u, multipliers) -> dict:
+    """u_h, gap, exact u and pressures along Gamma_C, ordered by the coordinate along it."""
+    trace = problem.trace
+    t = np.linspace(0.0, 1.0, SAMPLES_PER_EDGE)
+    points = trace.points(t)
+    start, end = trace.vertex_points.min(axis=0), trace.vertex_points.max(axis=0)
+    direction = (end - start) / np.linalg.norm(end - start)
+    s = ((points - start) @ direction).ravel()
+    order = np.argsort(s, kind="stable")
+    exact_flux = (evaluate(case.grad_u, problem.mesh, points) * trace.normals[:, None, :]).sum(-1)
+    exact_pressure = exact_flux - evaluate(case.load_or_zero, problem.mesh, points)
+    edge_s = (trace.midpoints - start) @ direction
+    edge_order = np.argsort(edge_s)
+    along = {"s": s, "u_h": trace_u.at(t), "u": evaluate(case.u, problem.mesh, points),
+             "gap": evaluate(case.gap_or_zero, problem.mesh, points), "exact_pressure": exact_pressure}
+    return {
+        **{key: np.ravel(value)[order] for key, value in along.items()},
+        "edge_s": edge_s[edge_order], "edge_lengths": trace.lengths[edge_order],
+        "pressure": contact_pressure(problem, multipliers)[edge_order],
+    }
+
+
+def domain_snapshot(problem, u: np.ndarray) -> dict:
+    """Vertices, triangles and vertex values of u_h (vertex dofs are nodal values)."""
+    ngmesh = problem.mesh.ngmesh
+    coords = ngmesh.Coordinates()[:, :2]
+    triangles = ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
+    return {"points": coords, "triangles": triangles, "values": u[: len(coords)]}
+
+
+class SnapshotCollector:
+    """``on_level`` hook of the study: keeps the finest contact snapshot of each (case, model)
+    and the domain picture of each case (model `nodal`, level PICTURE_LEVEL or the finest)."""
+
+    def __init__(self, levels: int):
+        self.levels = levels
+        self.contact: dict[tuple[str, str], dict] = {}
+        self.domain: dict[str, dict] = {}
+
+    def __call__(self, case, model, level, problem, u, solution, trace_u):
+        if level == self.levels - 1:
+            self.contact[(case.name, model.name)] = contact_snapshot(case, problem, trace_u, solution.multipliers)
+        if model.name == "nodal" and level == min(PICTURE_LEVEL, self.levels - 1):
+            self.domain[case.name] = domain_snapshot(problem, u)
+
+    def save(self, case_name: str, path: Path) -> None:
+        arrays = {}
+        for (name, model), snap in self.contact.items():
+            if name == case_name:
+                arrays.update({f"contact_{model}_{k}": v for k, v in snap.items()})
+        if case_name in self.domain:
+            arrays.update({f"domain_{k}": v for k, v in self.domain[case_name].items()})
+        tmp = path.with_suffix(".tmp.npz")
+        np.savez_compressed(tmp, **arrays)
+        tmp.replace(path)
+
+
+def load_snapshots(path: Path) -> tuple[dict, dict]:
+    """(contact snapshots by model, domain snapshot) of one case."""
+    data = np.load(path)
+    contact, domain = {}, {}
+    for key in data.files:
+        if key.startswith("contact_"):
+            _, model, field = key.split("_", 2)
+            contact.setdefault(model, {})[field] = data[key]
+        elif key.startswith("domain_"):
+            domain[key[len("domain_"):]] = data[key]
+    return contact, domain
