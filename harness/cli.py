@@ -107,6 +107,32 @@ def cmd_report(args) -> int:
     return 0
 
 
+def cmd_bench(args) -> int:
+    from .bench import goals, run_bench, write_bench
+    from .results import ensure_writable
+    out = Path(args.out)
+    ensure_writable(out.parent)
+    levels = [int(v) for v in args.levels.split(",")]
+    frame = run_bench(levels, tuple(args.model or ("mean", "nodal")), coarse_maxh=args.coarse_maxh)
+    path = write_bench(frame, out)
+    with pd.option_context("display.width", 220, "display.max_columns", 20):
+        print(frame.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    for goal, met, figure in goals(frame):
+        print(f"[{'met' if met else 'MISSED'}] {goal}: {figure}")
+    print(f"wrote {path}")
+    return 0
+
+
+def _levels_list(text: str) -> str:
+    try:
+        values = [int(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"levels must be a comma-separated list of integers, got {text!r}")
+    if not values or min(values) < 1:
+        raise argparse.ArgumentTypeError(f"levels must be >= 1, got {text!r}")
+    return text
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="python -m harness", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -137,6 +163,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--report", default="report", metavar="DIR")
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=cmd_report)
+
+    p = sub.add_parser("bench", help="contact solve vs one linear solve, textbook PDAS and Clarabel")
+    p.add_argument("--levels", type=_levels_list, default="3,4,5,6,7",
+                   help="mesh levels of transition-r32 (default 3..7: 9e3 to 2.3e6 dofs)")
+    p.add_argument("--model", action="append", choices=["mean", "nodal"], help="default: both")
+    p.add_argument("--coarse-maxh", type=float, help="coarse mesh size (default: the case's 0.25)")
+    p.add_argument("--out", default="results/bench.csv", metavar="CSV")
+    p.set_defaults(func=cmd_bench)
     return parser
 
 

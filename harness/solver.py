@@ -84,10 +84,7 @@ class Cholesky:
     """K[F, F]^{-1} by NGSolve's sparse Cholesky, applied to numpy vectors (zero off F)."""
 
     def __init__(self, K_ngs, free: np.ndarray):
-        bits = ngs.BitArray(len(free))
-        bits.Clear()
-        for i in np.flatnonzero(free):
-            bits.Set(int(i))
+        bits = ngs.BitArray(np.asarray(free, dtype=bool).tolist())
         self._inverse = K_ngs.Inverse(bits, inverse="sparsecholesky")
         self._rhs = K_ngs.CreateColVector()
         self._sol = K_ngs.CreateColVector()

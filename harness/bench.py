@@ -1,0 +1,143 @@
+"""`python -m harness bench`: the contact solve against one linear solve, the textbook PDAS and a
+generic QP solver, on the same discrete problems (transition-r32, both models).
+
+Every measurement of one (model, size) runs in its own fresh process, so that peak memory
+(ru_maxrss) belongs to that measurement alone and earlier sizes leave nothing behind. Times
+are of the solve only: assembly and the change of variables are shared by all methods.
+"""
+from __future__ import annotations
+
+import multiprocessing as mp
+import resource
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+BENCH_CASE = "transition-r32"
+DEFAULT_LEVELS = (3, 4, 5, 6, 7)        # 9.2e3 ... 2.3e6 dofs
+LARGE_LEVEL = 8                          # with --large: 9.2e6 dofs, contact and linear only
+TEXTBOOK_MAX_NDOF = 3_000_000
+QP_MAX_NDOF = 200_000
+COLUMNS = ["model", "ndof", "t_contact", "t_linear", "t_textbook", "t_qp", "ratio_linear", "speedup_textbook",
+           "speedup_qp", "iterations", "kkt_residual", "peak_rss_mb"]
+
+
+def _problem(model_name: str, level: int, coarse_maxh: float | None):
+    """The discrete problem of ``level`` and the active set predicted from ``level - 1``."""
+    from .case import load_case
+    from .discrete import discretise
+    from .mesh import mesh_hierarchy
+    from .models import MODELS, contact_qp
+    from .solver import solve_contact_qp
+
+    case = load_case(BENCH_CASE)
+    if coarse_maxh is not None:
+        case = type(case)(**{**case.__dict__, "maxh": coarse_maxh})
+    model = MODELS[model_name]
+    previous = None
+    for lev, mesh in mesh_hierarchy(case, level + 1):
+        if lev < level - 1:
+            continue
+        qp = contact_qp(case, discretise(case, mesh), model)
+        if lev == level - 1:
+            coarse = solve_contact_qp(qp.K, qp.r, qp.C, qp.alpha)
+            previous = qp.trace_function(qp.to_u(coarse.z), coarse.active)
+    return qp, qp.predicted_active(previous)
+
+
+def _measure(method: str, model_name: str, level: int, coarse_maxh, queue):
+    import ngsolve as ngs
+    from .solver import ActiveSetSolver, Cholesky, ngsolve_matrix, solve_contact_qp
+
+    ngs.ngsglobals.msg_level = 0
+    with ngs.TaskManager():
+        qp, predicted = _problem(model_name, level, coarse_maxh)
+        out = {"ndof": qp.problem.ndof}
+        if method == "contact":
+            solution = ActiveSetSolver(qp.K, qp.r, qp.C, qp.alpha).solve(predicted)
+            out |= {"t": solution.seconds, "iterations": solution.iterations, "kkt_residual": solution.kkt.residual}
+        elif method == "linear":
+            K_ngs = ngsolve_matrix(qp.K)
+            start = time.perf_counter()
+            Cholesky(K_ngs, np.ones(len(qp.r), dtype=bool)).solve(qp.r)
+            out["t"] = time.perf_counter() - start
+        elif method == "textbook":
+            solution = solve_contact_qp(qp.K, qp.r, qp.C, qp.alpha, textbook=True)
+            out |= {"t": solution.seconds, "textbook_iterations": solution.iterations}
+        elif method == "qp":
+            import scipy.sparse as sp
+            from qpsolvers import solve_qp
+            G = sp.csc_matrix((-np.ones(len(qp.C)), (np.arange(len(qp.C)), qp.C)), shape=(len(qp.C), len(qp.r)))
+            start = time.perf_counter()
+            solve_qp(sp.csc_matrix(qp.K), -qp.r, G=G, h=-qp.alpha, solver="clarabel")
+            out["t"] = time.perf_counter() - start
+    out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    queue.put(out)
+
+
+def measure(method: str, model_name: str, level: int, coarse_maxh=None) -> dict:
+    ctx = mp.get_context("spawn")
+    queue = ctx.Queue()
+    process = ctx.Process(target=_measure, args=(method, model_name, level, coarse_maxh, queue))
+    process.start()
+    result = queue.get()
+    process.join()
+    return result
+
+
+def run_bench(levels=DEFAULT_LEVELS, models=("mean", "nodal"), qp_max_ndof=QP_MAX_NDOF,
+              textbook_max_ndof=TEXTBOOK_MAX_NDOF, coarse_maxh=None, progress=print) -> pd.DataFrame:
+    rows = []
+    for level in levels:
+        for model in models:
+            contact = measure("contact", model, level, coarse_maxh)
+            ndof = contact["ndof"]
+            linear = measure("linear", model, level, coarse_maxh)
+            textbook = measure("textbook", model, level, coarse_maxh) if ndof <= textbook_max_ndof else {}
+            qp = measure("qp", model, level, coarse_maxh) if ndof <= qp_max_ndof else {}
+            row = {
+                "model": model, "ndof": ndof, "t_contact": contact["t"], "t_linear": linear["t"],
+                "t_textbook": textbook.get("t", np.nan), "t_qp": qp.get("t", np.nan),
+                "iterations": contact["iterations"], "kkt_residual": contact["kkt_residual"],
+                "peak_rss_mb": contact["peak_rss_mb"],
+            }
+            row["ratio_linear"] = row["t_contact"] / row["t_linear"]
+            row["speedup_textbook"] = row["t_textbook"] / row["t_contact"]
+            row["speedup_qp"] = row["t_qp"] / row["t_contact"]
+            rows.append(row)
+            progress(f"{model:5s} ndof {ndof:>9d}  contact {row['t_contact']:7.2f} s  linear {row['t_linear']:7.2f} s  "
+                     f"textbook {row['t_textbook']:7.2f} s  qp {row['t_qp']:7.2f} s  rss {row['peak_rss_mb']:.0f} MB")
+    return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
+    """The goals of the fast-solver issue, each with the measured figure."""
+    out = []
+    big = frame[frame.ndof >= 1_000_000]
+    if len(big):
+        worst = big.ratio_linear.max()
+        out.append(("contact/linear <= 1.5 at >= 1M dofs", worst <= 1.5, f"worst {worst:.2f}"))
+        tb = big.speedup_textbook.dropna()
+        if len(tb):
+            out.append((">= 5x faster than textbook PDAS at >= 1M dofs", tb.min() >= 5, f"least {tb.min():.1f}x"))
+        mem = big.sort_values("ndof").groupby("model").peak_rss_mb.first()
+        out.append(("peak memory <= 3 GB at ~1M dofs (smallest size >= 1M)", mem.max() <= 3072, f"max {mem.max():.0f} MB"))
+    near = frame.dropna(subset=["speedup_qp"])
+    if len(near):
+        largest = near[near.ndof == near.ndof.max()]
+        out.append((">= 20x faster than Clarabel near 185k dofs", largest.speedup_qp.min() >= 20,
+                    f"least {largest.speedup_qp.min():.1f}x at {largest.ndof.max()} dofs"))
+    per_dof = frame.t_contact / frame.ndof
+    spread = (per_dof.groupby(frame.model).max() / per_dof.groupby(frame.model).min()).max()
+    out.append((f"time per dof within 2x over {frame.ndof.min()}..{frame.ndof.max()} dofs", spread <= 2, f"spread {spread:.2f}x"))
+    out.append(("KKT residual <= 1e-10 at every size", bool((frame.kkt_residual <= 1e-10).all()),
+                f"max {frame.kkt_residual.max():.1e}"))
+    return out
+
+
+def write_bench(frame: pd.DataFrame, path: Path) -> Path:
+    from .results import ensure_writable, write_csv
+    ensure_writable(path.parent)
+    return write_csv(frame, path)
