@@ -24,6 +24,7 @@ class DiscreteProblem:
     mesh: ngs.Mesh
     fes: ngs.H1
     A: sp.csr_matrix            # stiffness matrix a(phi_j, phi_i), all dofs
+    A_ngs: object               # the same, as assembled by NGSolve (factorised by the solver)
     b: np.ndarray               # load vector L(phi_i), all dofs
     lift: np.ndarray            # Dirichlet data on Gamma_u dofs, zero elsewhere
     free: np.ndarray            # bool: dofs not on Gamma_u
@@ -74,7 +75,7 @@ def discretise(case, mesh: ngs.Mesh) -> DiscreteProblem:
         raise ValueError("Gamma_C touches Gamma_u; the paper (Section 2) assumes they do not")
     # copy=True: CSR() returns views of memory owned by the BilinearForm a.
     return DiscreteProblem(
-        mesh=mesh, fes=fes, A=sp.csr_matrix(a.mat.CSR(), copy=True), b=load.vec.FV().NumPy().copy(),
+        mesh=mesh, fes=fes, A=sp.csr_matrix(a.mat.CSR(), copy=True), A_ngs=a.mat, b=load.vec.FV().NumPy().copy(),
         lift=lift, free=free, trace=trace, edge_dofs=edge_dofs, end_dofs=end_dofs,
         vertex_dofs=np.array([_single_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in trace.vertices]),
     )

@@ -52,17 +52,27 @@ class ContactModel:
         """The edge functional on the segments [a_i, b_i] of the P2 trace trace_u."""
         return sum(w * trace_u.values(a + t * (b - a)) for t, w in self.edge_rule)
 
-    def edge_functional(self, problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
-        """Value of the edge constraint functional of u (hierarchical vector) on each contact edge."""
-        ends = u[problem.end_dofs]
-        return 0.5 * (ends[:, 0] + ends[:, 1]) - u[problem.edge_dofs] / (2.0 * self.weight)
+    def constraint_matrix(self, problem: DiscreteProblem) -> sp.csr_matrix:
+        """G with G u = (vertex values on Gamma_C, edge functionals): one row per constraint.
 
-    def constrained_dofs(self, problem: DiscreteProblem) -> np.ndarray:
-        """Dof numbers carrying the constrained variables: Gamma_C vertices, then Gamma_C edges."""
-        return np.concatenate([problem.vertex_dofs, problem.edge_dofs])
+        Edge row: (v_a + v_b)/2 + bubble_value * c_e, i.e. c_e/8 (midpoint) or c_e/12 (mean).
+        """
+        nv, ne = len(problem.vertex_dofs), len(problem.edge_dofs)
+        edge_rows = nv + np.arange(ne)
+        rows = np.concatenate([np.arange(nv), edge_rows, edge_rows, edge_rows])
+        cols = np.concatenate([problem.vertex_dofs, problem.end_dofs[:, 0], problem.end_dofs[:, 1], problem.edge_dofs])
+        vals = np.concatenate([np.ones(nv), np.full(2 * ne, 0.5), np.full(ne, self.bubble_value)])
+        return sp.csr_matrix((vals, (rows, cols)), shape=(nv + ne, problem.ndof))
 
     def constraint_values(self, problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
-        return np.concatenate([u[problem.vertex_dofs], self.edge_functional(problem, u)])
+        return self.constraint_matrix(problem) @ u
+
+    def edge_functional(self, problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
+        return self.constraint_values(problem, u)[len(problem.vertex_dofs):]
+
+    def constrained_dofs(self, problem: DiscreteProblem) -> np.ndarray:
+        """Dofs carrying the constrained variables in z: Gamma_C vertices, then Gamma_C edges."""
+        return np.concatenate([problem.vertex_dofs, problem.edge_dofs])
 
     def transform(self, problem: DiscreteProblem) -> sp.csr_matrix:
         """S with u = S z: identity except the rows of the contact-edge bubbles."""
@@ -89,19 +99,29 @@ class ContactModel:
 
 @dataclass
 class ContactQP:
-    """min 1/2 z'Kz - r'z, z[C] >= alpha: the discrete inequality (3.6) or (5.1) in the
-    model's variables z, restricted to the dofs off Gamma_u; u = lift + S z."""
+    """The discrete inequality (3.6) or (5.1) as min 1/2 z'Kz - b'z over z = u_D on Gamma_u and
+    z[C] >= alpha, in the model's variables z (u = S z), restricted to nothing: Dirichlet dofs
+    are kept and pinned, so that z, u and NGSolve vectors share one numbering."""
 
     model: ContactModel
     problem: DiscreteProblem
-    K: sp.csr_matrix
-    r: np.ndarray
-    C: np.ndarray               # positions of the constrained variables in z
+    S: sp.csr_matrix
+    K: sp.csr_matrix            # S^T A S
+    K_ngs: object               # the same as an NGSolve matrix, for the sparse Cholesky
+    b: np.ndarray               # S^T (load vector)
+    C: np.ndarray               # constrained variables: Gamma_C vertex dofs, then edge dofs
     alpha: np.ndarray           # their lower bounds
-    S: sp.csr_matrix            # restricted to the free columns
+
+    @property
+    def free(self) -> np.ndarray:
+        return self.problem.free
+
+    @property
+    def lift(self) -> np.ndarray:
+        return self.problem.lift
 
     def to_u(self, z: np.ndarray) -> np.ndarray:
-        return self.problem.lift + self.S @ z
+        return self.S @ z
 
     def predicted_active(self, previous: ContactTraceFunction | None) -> np.ndarray | None:
         """Nested iteration: the active set predicted by the previous level's solution.
@@ -130,15 +150,37 @@ class ContactQP:
         return ContactTraceFunction.of(problem, u, in_contact)
 
 
+def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix):
+    """K = S^T A S, as scipy CSR and as an NGSolve matrix.
+
+    S differs from the identity only in the contact-edge rows, so K - A is supported on the
+    contact dofs and (each contact edge lying in one triangle) fits A's sparsity pattern: the
+    NGSolve matrix is a copy of A's with a few values changed, much cheaper than building one.
+    """
+    A = problem.A
+    D = (S - sp.identity(A.shape[0], format="csr")).tocsr()
+    delta = (D.T @ A + A @ D + D.T @ (A @ D)).tocoo()
+    K = (A + delta).tocsr()
+    n = A.shape[0]
+    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(A.indptr))
+    keys = rows * n + A.indices           # sorted: NGSolve stores sorted columns per row
+    wanted = delta.row.astype(np.int64) * n + delta.col
+    position = np.minimum(np.searchsorted(keys, wanted), len(keys) - 1)
+    if not (np.all(np.diff(keys) > 0) and np.array_equal(keys[position], wanted)):
+        from .solver import ngsolve_matrix
+        return K, ngsolve_matrix(K)
+    K_ngs = problem.A_ngs.CreateMatrix()
+    values = K_ngs.CSR()[0].NumPy()
+    values[:] = A.data
+    np.add.at(values, position, delta.data)
+    return K, K_ngs
+
+
 def contact_qp(case, problem: DiscreteProblem, model: ContactModel) -> ContactQP:
-    free = np.flatnonzero(problem.free)
-    S = model.transform(problem)[:, free]
-    K = (S.T @ problem.A @ S).tocsr()
-    r = S.T @ (problem.b - problem.A @ problem.lift)
-    position = np.full(problem.ndof, -1)
-    position[free] = np.arange(len(free))
-    C = position[model.constrained_dofs(problem)]
-    return ContactQP(model, problem, K, r, C, model.lower_bounds(case, problem), S.tocsr())
+    S = model.transform(problem)
+    K, K_ngs = transformed_matrix(problem, S)
+    return ContactQP(model, problem, S, K, K_ngs, S.T @ problem.b, model.constrained_dofs(problem),
+                     model.lower_bounds(case, problem))
 
 
 MODELS = {

@@ -1,29 +1,32 @@
 """Exact solution of the discrete contact problems (3.6) and (5.1).
 
-After the change of variables of ``models`` both are the bound-constrained convex QP
+In the variables of its contact model (``models``: NGSolve's hierarchical P2 variables with
+each contact-edge bubble replaced by the midpoint value or the edge mean) each problem is
 
-    minimise 1/2 z^T K z - r^T z   subject to   z_i >= alpha_i  for i in C,
+    minimise 1/2 z^T K z - b^T z   subject to   z = u_D on Gamma_u,   z_i >= alpha_i for i in C,
 
-with K symmetric positive definite (Gamma_u has positive measure). Its KKT conditions,
+with K symmetric positive definite. Its KKT conditions,
 
-    K z - r = lambda (supported on C),  z_C >= alpha,  lambda >= 0,  lambda (z_C - alpha) = 0,
+    (K z - b) = 0 on the free dofs off C,  z_C >= alpha,  lambda = (K z - b)_C >= 0,
+    lambda (z_C - alpha) = 0,
 
 are solved exactly by a primal-dual active set method (the semismooth Newton method of
 Hintermueller, Ito and Kunisch, SIAM J. Optim. 13 (2002)): guess the active set, solve the
 linear system with z = alpha there, update the guess from the signs of lambda and z - alpha.
 
-Two things make it exact and robust:
-* it stops on the KKT residual, never only on a repeated active set: with quadratic elements
-  the `mean` model has degenerate complementarity (lambda_i = 0 = z_i - alpha_i) and plain PDAS
-  can cycle among equivalent sets whose KKT residual is already at round-off (MATH.md Section 6);
+Exact and robust:
+* it stops on the KKT residual, never only on a repeated active set: the `mean` model has
+  degenerate complementarity (lambda_i = 0 = z_i - alpha_i) and plain PDAS can cycle among
+  equivalent sets whose KKT residual is already at round-off (MATH.md Section 6);
 * if an active set repeats while the residual is still large, it switches to Murty's
-  least-index principal pivoting, which is finite for the positive definite Schur complement
-  of K on C.
+  least-index principal pivoting, finite for the positive definite Schur complement of K on C.
 
-And two things make it fast:
-* one sparse Cholesky factorisation serves many active sets: an active set that differs from
-  the factorised one in a few indices D is solved exactly by a bordered system with |D|
-  extra solves (block elimination / Schur complement on D), columns cached across iterations;
+Fast:
+* an active constraint is a Dirichlet condition on its variable: active dofs simply leave the
+  sparse Cholesky factorisation (NGSolve's ``sparsecholesky``);
+* one factorisation serves every later active set that differs from it in a few dofs: released
+  and newly pinned dofs enter a small bordered system (block elimination, a Schur complement of
+  their number), each costing one extra solve, cached across iterations;
 * nested iteration: the study passes the active set predicted by the previous level.
 """
 from __future__ import annotations
@@ -36,56 +39,41 @@ import numpy as np
 import scipy.sparse as sp
 
 DEFAULT_TOLERANCE = 1e-10
+DEFAULT_REFACTOR_ABOVE = 24  # ~ the cost of a factorisation in solves, at 1e5-1e6 dofs
 
 
 @dataclass(frozen=True)
 class KKT:
     """Relative KKT residuals of a candidate solution (each dimensionless)."""
 
-    primal: float          # max (alpha - z)^+ / max(|z|, |alpha|)
-    dual: float            # max (-lambda)^+ on the active set / |r|
-    complementarity: float # max |lambda_i (z_i - alpha_i)| / (|r| max(|z|, |alpha|))
-    stationarity: float    # max |(K z - r)_i| off the active set / |r|
+    primal: float           # max (alpha - z_C)^+ / max(|z_C|, |alpha|)
+    dual: float             # max (-lambda)^+ on the active set / |b - K u_D|
+    complementarity: float  # max |lambda_i (z_i - alpha_i)| / (|b - K u_D| max(|z_C|, |alpha|))
+    stationarity: float     # max |K z - b| on free dofs off the active set / |b - K u_D|
 
     @property
     def residual(self) -> float:
         return max(self.primal, self.dual, self.complementarity, self.stationarity)
 
 
-def kkt_residuals(K, r, z, C, alpha, active) -> KKT:
-    g = K @ z - r
-    scale_r = max(np.abs(r).max(), np.finfo(float).tiny)
-    scale_z = max(np.abs(z).max(), np.abs(alpha).max(), np.finfo(float).tiny)
-    lam, slack = g[C], z[C] - alpha
-    off_active = np.ones(len(z), dtype=bool)
-    off_active[C[active]] = False
-    return KKT(
-        primal=float(max(0.0, -slack.min(initial=0.0)) / scale_z),
-        dual=float(max(0.0, -lam[active].min(initial=0.0)) / scale_r),
-        complementarity=float(np.abs(lam * slack).max(initial=0.0) / (scale_r * scale_z)),
-        stationarity=float(np.abs(g[off_active]).max(initial=0.0) / scale_r),
-    )
-
-
 @dataclass
 class QPSolution:
     z: np.ndarray
-    multipliers: np.ndarray     # lambda on C (K z - r restricted to C)
+    multipliers: np.ndarray     # lambda on C
     active: np.ndarray          # bool on C
     kkt: KKT
     iterations: int
     factorizations: int
     extra_solves: int
     seconds: float
-    status: str                 # "converged" or a reason it is not
+    status: str                 # "converged" or why not
 
 
 class Cholesky:
     """K[F, F]^{-1} by NGSolve's sparse Cholesky, applied to numpy vectors (zero off F)."""
 
     def __init__(self, K_ngs, free: np.ndarray):
-        bits = ngs.BitArray(np.asarray(free, dtype=bool).tolist())
-        self._inverse = K_ngs.Inverse(bits, inverse="sparsecholesky")
+        self._inverse = K_ngs.Inverse(ngs.BitArray(np.asarray(free, dtype=bool).tolist()), inverse="sparsecholesky")
         self._rhs = K_ngs.CreateColVector()
         self._sol = K_ngs.CreateColVector()
 
@@ -96,134 +84,157 @@ class Cholesky:
 
 
 def ngsolve_matrix(K: sp.spmatrix):
+    """An NGSolve copy of a scipy matrix (slow: prefer ``models.transformed_matrix``)."""
     coo = sp.coo_matrix(K)
     return ngs.la.SparseMatrixd.CreateFromCOO(
-        coo.row.astype(np.int64), coo.col.astype(np.int64), coo.data.astype(float), K.shape[0], K.shape[1]
-    )
+        coo.row.astype(np.int64), coo.col.astype(np.int64), coo.data.astype(float), K.shape[0], K.shape[1])
 
 
 @dataclass
 class _Factored:
-    """A factorisation of K with the indices P fixed at alpha, and its cached border columns."""
+    """Cholesky of K with some dofs pinned at values y0[pinned], y0 the solution with those pins."""
 
-    P: np.ndarray               # fixed indices (positions in z)
+    pinned: np.ndarray
+    free: np.ndarray            # bool mask of the factorised dofs
     cholesky: Cholesky
-    y0: np.ndarray              # solution with exactly P fixed
+    y0: np.ndarray
     columns: dict = field(default_factory=dict)
 
 
 class ActiveSetSolver:
-    """Primal-dual active set solver for min 1/2 z'Kz - r'z, z[C] >= alpha.
+    """Primal-dual active set solver for min 1/2 z'Kz - b'z, z[~free] = lift[~free], z[C] >= alpha.
 
-    ``refactor_above``: an active set differing from the factorised one in more than this
-    many uncached indices is refactorised; 0 gives the textbook method (refactorise at every
-    iteration).
+    ``refactor_above``: an active set needing more than this many new bordered columns is
+    refactorised instead; 0 gives the textbook method (refactorise at every iteration).
     """
 
-    def __init__(self, K: sp.csr_matrix, r: np.ndarray, C: np.ndarray, alpha: np.ndarray,
-                 tol: float = DEFAULT_TOLERANCE, max_iterations: int = 500, refactor_above: int = 24):
-        self.K, self.r, self.C, self.alpha = sp.csr_matrix(K), np.asarray(r, float), np.asarray(C), np.asarray(alpha, float)
+    def __init__(self, K, b, free, C, alpha, K_ngs=None, lift=None, tol: float = DEFAULT_TOLERANCE,
+                 max_iterations: int = 500, refactor_above: int = DEFAULT_REFACTOR_ABOVE):
+        self.K = sp.csr_matrix(K)
+        self.b = np.asarray(b, float)
+        self.free = np.asarray(free, bool)
+        self.C = np.asarray(C, np.int64)
+        self.alpha = np.asarray(alpha, float)
+        self.lift = np.zeros(len(self.b)) if lift is None else np.where(self.free, 0.0, lift)
+        self.K_ngs = ngsolve_matrix(self.K) if K_ngs is None else K_ngs
         self.tol, self.max_iterations, self.refactor_above = tol, max_iterations, refactor_above
-        self._K_ngs = ngsolve_matrix(self.K)
-        self._Kc = sp.csc_matrix(self.K)
+        if not self.free[self.C].all():
+            raise ValueError("a constrained dof lies on the Dirichlet boundary")
+        self._Kcsc = None
+        self._load_scale = max(np.abs((self.b - self.K @ self.lift)[self.free]).max(initial=0.0), np.finfo(float).tiny)
         self._factored: _Factored | None = None
         self.factorizations = 0
         self.extra_solves = 0
 
-    # -- linear solves with z fixed at alpha on C[active] -------------------------------
-    def _factorize(self, fixed: np.ndarray) -> _Factored:
-        free = np.ones(len(self.r), dtype=bool)
-        free[fixed] = False
-        cholesky = Cholesky(self._K_ngs, free)
+    def kkt(self, z: np.ndarray, active: np.ndarray) -> tuple[KKT, np.ndarray]:
+        g = np.where(self.free, self.K @ z - self.b, 0.0)
+        lam, slack = g[self.C], z[self.C] - self.alpha
+        scale_z = max(np.abs(z[self.C]).max(initial=0.0), np.abs(self.alpha).max(initial=0.0), np.finfo(float).tiny)
+        off_active = g.copy()
+        off_active[self.C[active]] = 0.0
+        return KKT(
+            primal=float(max(0.0, -slack.min(initial=0.0)) / scale_z),
+            dual=float(max(0.0, -lam[active].min(initial=0.0)) / self._load_scale),
+            complementarity=float(np.abs(lam * slack).max(initial=0.0) / (self._load_scale * scale_z)),
+            stationarity=float(np.abs(off_active).max(initial=0.0) / self._load_scale),
+        ), lam
+
+    # -- linear solves with the active constraints as pins --------------------------------
+    def _factorize(self, pinned: np.ndarray, values: np.ndarray) -> _Factored:
+        free = ~pinned
+        cholesky = Cholesky(self.K_ngs, free)
         self.factorizations += 1
-        z = np.zeros(len(self.r))
-        z[fixed] = self._alpha_of(fixed)
-        z[free] = cholesky.solve(np.where(free, self.r - self.K @ z, 0.0))[free]
-        return _Factored(P=fixed, cholesky=cholesky, y0=z)
+        y0 = np.where(pinned, values, 0.0)
+        y0[free] = cholesky.solve(np.where(free, self.b - self.K @ y0, 0.0))[free]
+        return _Factored(pinned=pinned, free=free, cholesky=cholesky, y0=y0)
 
-    def _alpha_of(self, indices: np.ndarray) -> np.ndarray:
-        lookup = np.empty(len(self.r))
-        lookup[self.C] = self.alpha
-        return lookup[indices]
-
-    def _column(self, fac: _Factored, index: int, released: bool) -> np.ndarray:
-        """K00^{-1} K[F0, d] for a released index d, K00^{-1} e_q for a newly fixed q."""
-        key = (index, released)
+    def _column(self, fac: _Factored, key, rhs_of) -> np.ndarray:
         if key not in fac.columns:
-            free = np.ones(len(self.r), dtype=bool)
-            free[fac.P] = False
-            if released:
-                rhs = self._Kc[:, index].toarray().ravel()
-            else:
-                rhs = np.zeros(len(self.r))
-                rhs[index] = 1.0
-            fac.columns[key] = np.where(free, fac.cholesky.solve(np.where(free, rhs, 0.0)), 0.0)
+            fac.columns[key] = np.where(fac.free, fac.cholesky.solve(np.where(fac.free, rhs_of(), 0.0)), 0.0)
             self.extra_solves += 1
         return fac.columns[key]
 
-    def _solve_fixed(self, fixed: np.ndarray) -> np.ndarray:
+    def _K_column(self, dof: int) -> np.ndarray:
+        if self._Kcsc is None:
+            self._Kcsc = sp.csc_matrix(self.K)
+        return self._Kcsc[:, dof].toarray().ravel()
+
+    def _solve_active(self, active: np.ndarray) -> np.ndarray:
+        pinned = ~self.free.copy()
+        pinned[self.C[active]] = True
+        values = self.lift.copy()
+        values[self.C[active]] = self.alpha[active]
         fac = self._factored
+        if fac is not None and self.refactor_above > 0:
+            released = np.flatnonzero(fac.pinned & ~pinned)
+            added = np.flatnonzero(pinned & ~fac.pinned)
+            needed = [("released", int(d)) for d in released] + [("pinned", int(q)) for q in added]
+            if sum(key not in fac.columns for key in needed) > self.refactor_above:
+                fac = None
         if fac is None or self.refactor_above == 0:
-            self._factored = self._factorize(fixed)
-            return self._factored.y0.copy()
-        released = np.setdiff1d(fac.P, fixed)   # R: fixed in the factorisation, free now
-        added = np.setdiff1d(fixed, fac.P)      # Q: free in the factorisation, fixed now
-        uncached = sum((int(d), True) not in fac.columns for d in released) + \
-            sum((int(q), False) not in fac.columns for q in added)
-        if uncached > self.refactor_above:
-            self._factored = self._factorize(fixed)
+            self._factored = self._factorize(pinned, values)
             return self._factored.y0.copy()
         if len(released) == 0 and len(added) == 0:
             return fac.y0.copy()
-        # Bordered system (block elimination): rows F0 carry K00 z0 = h0 - K0R dR + E_Q mu,
-        # rows R close the released unknowns z_R = alpha_R + dR, rows Q enforce z_Q = alpha_Q.
-        W_R = np.column_stack([self._column(fac, int(d), True) for d in released]) if len(released) else np.zeros((len(self.r), 0))
-        W_Q = np.column_stack([self._column(fac, int(q), False) for q in added]) if len(added) else np.zeros((len(self.r), 0))
+        return self._bordered(fac, released, added, values)
+
+    def _bordered(self, fac, released, added, values) -> np.ndarray:
+        """z = y0 + d with d = -W_R dR + W_Q mu on the factorised dofs and dR on the released ones
+        (R: pinned in the factorisation, free now; Q: free there, pinned now at values[Q]).
+        Block elimination against the factorised block leaves a system of size |R| + |Q|:
+
+            [K_RR - K_R W_R    K_R W_Q] [dR]   [b_R - K_R y0     ]
+            [-W_R[Q]           W_Q[Q] ] [mu] = [values[Q] - y0[Q]]
+        """
+        n = len(self.b)
+        W_R = _columns(n, [self._column(fac, ("released", int(d)), lambda d=d: self._K_column(d)) for d in released])
+        W_Q = _columns(n, [self._column(fac, ("pinned", int(q)), lambda q=q: np.eye(1, n, q).ravel()) for q in added])
         K_R = self.K[released]
-        top = np.hstack([self.K[released][:, released].toarray() - K_R @ W_R, K_R @ W_Q])
+        top = np.hstack([K_R[:, released].toarray() - K_R @ W_R, K_R @ W_Q])
         bottom = np.hstack([-W_R[added], W_Q[added]])
-        rhs = np.concatenate([self.r[released] - K_R @ fac.y0, self._alpha_of(added) - fac.y0[added]])
-        sol = np.linalg.solve(np.vstack([top, bottom]), rhs)
-        dR, mu = sol[: len(released)], sol[len(released):]
+        rhs = np.concatenate([self.b[released] - K_R @ fac.y0, values[added] - fac.y0[added]])
+        solution = np.linalg.solve(np.vstack([top, bottom]), rhs)
+        dR, mu = solution[: len(released)], solution[len(released):]
         z = fac.y0 - W_R @ dR + W_Q @ mu
         z[released] += dR
-        z[added] = self._alpha_of(added)
+        z[added] = values[added]
         return z
 
     # -- the active set iteration ---------------------------------------------------------
     def solve(self, initial_active: np.ndarray | None = None) -> QPSolution:
         start = time.perf_counter()
-        active = np.zeros(len(self.C), dtype=bool) if initial_active is None else initial_active.copy()
+        m = len(self.C)
+        active = np.zeros(m, dtype=bool) if initial_active is None else np.asarray(initial_active, bool).copy()
         seen: set[bytes] = set()
         pivoting = False
         status = f"not converged in {self.max_iterations} iterations"
         for iteration in range(1, self.max_iterations + 1):
-            z = self._solve_fixed(self.C[active])
-            kkt = kkt_residuals(self.K, self.r, z, self.C, self.alpha, active)
-            lam = (self.K @ z - self.r)[self.C]
+            z = self._solve_active(active)
+            kkt, lam = self.kkt(z, active)
             if kkt.residual <= self.tol:
                 status = "converged"
                 break
             seen.add(active.tobytes())
-            # Decisions use a fraction of the tolerance so that round-off never flips an index.
-            scale_r = max(np.abs(self.r).max(), np.finfo(float).tiny)
-            scale_z = max(np.abs(z).max(), np.abs(self.alpha).max(), np.finfo(float).tiny)
-            leave = active & (lam < -0.1 * self.tol * scale_r)
-            enter = ~active & (z[self.C] - self.alpha < -0.1 * self.tol * scale_z)
+            # Decisions use a fraction of the tolerance so that round-off never flips a row.
+            slack = z[self.C] - self.alpha
+            scale_z = max(np.abs(z[self.C]).max(), np.abs(self.alpha).max(initial=0.0), np.finfo(float).tiny)
+            leave = active & (lam < -0.1 * self.tol * self._load_scale)
+            enter = ~active & (slack < -0.1 * self.tol * scale_z)
             if not (leave.any() or enter.any()):
                 status = f"stalled: KKT residual {kkt.residual:.2e} with a consistent active set"
                 break
             if pivoting:
-                # Murty's least-index rule: flip only the first violated index.
-                first = int(np.flatnonzero(leave | enter)[0])
-                leave, enter = np.zeros_like(leave), np.zeros_like(enter)
-                (leave if active[first] else enter)[first] = True
-            candidate = (active & ~leave) | enter
-            if candidate.tobytes() in seen and not pivoting:
-                pivoting = True
+                # Murty's least-index rule: flip only the first violated row.
                 first = int(np.flatnonzero(leave | enter)[0])
                 candidate = active.copy()
                 candidate[first] = not active[first]
+            else:
+                candidate = (active & ~leave) | enter
+                if candidate.tobytes() in seen:
+                    pivoting = True
+                    first = int(np.flatnonzero(leave | enter)[0])
+                    candidate = active.copy()
+                    candidate[first] = not active[first]
             active = candidate
         return QPSolution(
             z=z, multipliers=lam, active=active, kkt=kkt, iterations=iteration,
@@ -232,9 +243,13 @@ class ActiveSetSolver:
         )
 
 
-def solve_contact_qp(K, r, C, alpha, initial_active=None, textbook=False, tol=DEFAULT_TOLERANCE) -> QPSolution:
-    """The harness's solver; ``textbook=True`` gives the reference PDAS (cold start,
-    refactorisation at every iteration) used by the benchmark and the tests."""
-    if textbook:
-        return ActiveSetSolver(K, r, C, alpha, tol=tol, refactor_above=0).solve(None)
-    return ActiveSetSolver(K, r, C, alpha, tol=tol).solve(initial_active)
+def _columns(n: int, columns: list) -> np.ndarray:
+    return np.column_stack(columns) if columns else np.zeros((n, 0))
+
+
+def solve_contact_qp(qp, initial_active=None, textbook: bool = False, tol: float = DEFAULT_TOLERANCE) -> QPSolution:
+    """The harness's solver on a ``models.ContactQP``; ``textbook=True`` gives the reference PDAS
+    (cold start, refactorisation at every iteration) used by the benchmark and the tests."""
+    solver = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, K_ngs=qp.K_ngs, lift=qp.lift, tol=tol,
+                             refactor_above=0 if textbook else DEFAULT_REFACTOR_ABOVE)
+    return solver.solve(None if textbook else initial_active)

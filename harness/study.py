@@ -28,7 +28,7 @@ ngs.ngsglobals.msg_level = 0
 def solve_level(case: Case, problem, model: ContactModel, previous=None, textbook: bool = False):
     """Solve one model on one level; return the row fields, u_h and its trace on Gamma_C."""
     qp = contact_qp(case, problem, model)
-    solution = solve_contact_qp(qp.K, qp.r, qp.C, qp.alpha, qp.predicted_active(previous), textbook=textbook)
+    solution = solve_contact_qp(qp, qp.predicted_active(previous), textbook=textbook)
     u = qp.to_u(solution.z)
     trace_u = qp.trace_function(u, solution.active)
     row = {
