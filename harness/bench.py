@@ -7,6 +7,7 @@ are of the solve only: assembly and the change of variables are shared by all me
 """
 from __future__ import annotations
 
+import dataclasses
 import multiprocessing as mp
 import resource
 import time
@@ -16,8 +17,9 @@ import numpy as np
 import pandas as pd
 
 BENCH_CASE = "transition-r32"
-DEFAULT_LEVELS = (3, 4, 5, 6, 7)        # 9.2e3 ... 2.3e6 dofs
-LARGE_LEVEL = 8                          # with --large: 9.2e6 dofs, contact and linear only
+# (coarse maxh, level): 9.2e3, 3.6e4, 1.4e5 dofs on the case's own hierarchy, then 1.06e6 and
+# 4.2e6 dofs on a slightly finer coarse mesh (its level 8 would need 9e6 dofs).
+DEFAULT_SIZES = ((0.25, 3), (0.25, 4), (0.25, 5), (0.2, 6), (0.2, 7))
 TEXTBOOK_MAX_NDOF = 3_000_000
 QP_MAX_NDOF = 200_000
 COLUMNS = ["model", "ndof", "t_contact", "t_linear", "t_textbook", "t_qp", "ratio_linear", "speedup_textbook",
@@ -32,9 +34,7 @@ def _problem(model_name: str, level: int, coarse_maxh: float | None):
     from .models import MODELS, contact_qp
     from .solver import solve_contact_qp
 
-    case = load_case(BENCH_CASE)
-    if coarse_maxh is not None:
-        case = type(case)(**{**case.__dict__, "maxh": coarse_maxh})
+    case = dataclasses.replace(load_case(BENCH_CASE), maxh=coarse_maxh)
     model = MODELS[model_name]
     previous = None
     for lev, mesh in mesh_hierarchy(case, level + 1):
@@ -91,10 +91,10 @@ def measure(method: str, model_name: str, level: int, coarse_maxh=None) -> dict:
     return result
 
 
-def run_bench(levels=DEFAULT_LEVELS, models=("mean", "nodal"), qp_max_ndof=QP_MAX_NDOF,
-              textbook_max_ndof=TEXTBOOK_MAX_NDOF, coarse_maxh=None, progress=print) -> pd.DataFrame:
+def run_bench(sizes=DEFAULT_SIZES, models=("mean", "nodal"), qp_max_ndof=QP_MAX_NDOF,
+              textbook_max_ndof=TEXTBOOK_MAX_NDOF, progress=print) -> pd.DataFrame:
     rows = []
-    for level in levels:
+    for coarse_maxh, level in sizes:
         for model in models:
             contact = measure("contact", model, level, coarse_maxh)
             ndof = contact["ndof"]

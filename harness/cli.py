@@ -112,8 +112,8 @@ def cmd_bench(args) -> int:
     from .results import ensure_writable
     out = Path(args.out)
     ensure_writable(out.parent)
-    levels = [int(v) for v in args.levels.split(",")]
-    frame = run_bench(levels, tuple(args.model or ("mean", "nodal")), coarse_maxh=args.coarse_maxh)
+    from .bench import DEFAULT_SIZES
+    frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.model or ("mean", "nodal")))
     path = write_bench(frame, out)
     with pd.option_context("display.width", 220, "display.max_columns", 20):
         print(frame.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
@@ -123,14 +123,14 @@ def cmd_bench(args) -> int:
     return 0
 
 
-def _levels_list(text: str) -> str:
+def _sizes(text: str) -> list[tuple[float, int]]:
     try:
-        values = [int(v) for v in text.split(",")]
+        sizes = [(float(h), int(level)) for h, level in (item.split(":") for item in text.split(","))]
     except ValueError:
-        raise argparse.ArgumentTypeError(f"levels must be a comma-separated list of integers, got {text!r}")
-    if not values or min(values) < 1:
-        raise argparse.ArgumentTypeError(f"levels must be >= 1, got {text!r}")
-    return text
+        raise argparse.ArgumentTypeError(f"sizes must look like 0.25:3,0.25:4 (coarse maxh:level), got {text!r}")
+    if not sizes or any(h <= 0 or level < 0 for h, level in sizes):
+        raise argparse.ArgumentTypeError(f"sizes need maxh > 0 and level >= 0, got {text!r}")
+    return sizes
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -165,10 +165,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_report)
 
     p = sub.add_parser("bench", help="contact solve vs one linear solve, textbook PDAS and Clarabel")
-    p.add_argument("--levels", type=_levels_list, default="3,4,5,6,7",
-                   help="mesh levels of transition-r32 (default 3..7: 9e3 to 2.3e6 dofs)")
+    p.add_argument("--sizes", type=_sizes, default=None, metavar="MAXH:LEVEL,...",
+                   help="coarse mesh size and level of each problem (default: 9e3 to 4.2e6 dofs)")
     p.add_argument("--model", action="append", choices=["mean", "nodal"], help="default: both")
-    p.add_argument("--coarse-maxh", type=float, help="coarse mesh size (default: the case's 0.25)")
     p.add_argument("--out", default="results/bench.csv", metavar="CSV")
     p.set_defaults(func=cmd_bench)
     return parser

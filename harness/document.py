@@ -21,9 +21,10 @@ td:first-child, th:first-child { text-align: left; }
 tr.meets td.verdict { color: #126b2a; font-weight: bold; }
 tr.above td.verdict { color: #1b4f8a; font-weight: bold; }
 tr.below td.verdict { color: #a11; font-weight: bold; }
-figure { display: inline-block; margin: .5em 1em .5em 0; vertical-align: top; }
-figure img { max-width: 100%; border: 1px solid #eee; }
-figcaption { font-size: .85em; color: #555; max-width: 520px; }
+.figures { display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start; }
+figure { flex: 1 1 30%; min-width: 300px; max-width: 49%; margin: .5em 0; }
+figure img { width: 100%; border: 1px solid #eee; }
+figcaption { font-size: .85em; color: #555; }
 code { background: #f4f4f4; padding: 0 .2em; }
 .meta { color: #555; font-size: .9em; }
 """
@@ -89,10 +90,12 @@ class Document:
                 rows.append("</tbody></table>")
                 parts.append("".join(rows))
             elif kind == "figures":
+                parts.append("<div class='figures'>")
                 for path, caption in block[1]:
                     data = base64.b64encode(Path(path).read_bytes()).decode()
                     parts.append(f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,{data}'>"
                                  f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+                parts.append("</div>")
         parts.append("</body></html>")
         return "\n".join(parts)
 

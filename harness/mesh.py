@@ -36,8 +36,8 @@ def mesh_hierarchy(case, levels: int):
 
 def mesh_size(mesh: ngs.Mesh) -> float:
     """h of the paper: the largest element diameter (longest triangle edge)."""
-    coords = mesh.ngmesh.Coordinates()[:, :2]
-    tri = mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
+    coords = np.array(mesh.ngmesh.Coordinates()[:, :2])
+    tri = np.array(mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=np.int64) - 1
     p = coords[tri]
     sides = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
     return float(np.sqrt((sides**2).sum(axis=2)).max())

@@ -49,11 +49,12 @@ def contact_snapshot(case, problem, trace_u, multipliers) -> dict:
 
 
 def domain_snapshot(problem, u: np.ndarray) -> dict:
-    """Vertices, triangles and vertex values of u_h (vertex dofs are nodal values)."""
+    """Vertices, triangles and vertex values of u_h (vertex dofs are nodal values). Copies:
+    netgen hands out views of a mesh that the next level refines in place."""
     ngmesh = problem.mesh.ngmesh
-    coords = ngmesh.Coordinates()[:, :2]
-    triangles = ngmesh.Elements2D().NumPy()["nodes"][:, :3].astype(np.int64) - 1
-    return {"points": coords, "triangles": triangles, "values": u[: len(coords)]}
+    coords = np.array(ngmesh.Coordinates()[:, :2], copy=True)
+    triangles = np.array(ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=np.int64) - 1
+    return {"points": coords, "triangles": triangles, "values": u[: len(coords)].copy()}
 
 
 class SnapshotCollector:

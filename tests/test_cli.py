@@ -52,3 +52,22 @@ def test_unwritable_output_folder_is_refused(tmp_path):
 def test_cases_lists_regime_and_expected_rate():
     done = harness("cases")
     assert done.returncode == 0 and "transition-r32" in done.stdout and "h^3/2" in done.stdout and "h^1 |log h|^1/4" in done.stdout
+
+
+def test_rates_of_missing_or_malformed_results_is_one_line(tmp_path):
+    done = harness("rates", str(tmp_path / "nothing.csv"))
+    assert done.returncode != 0 and "not found" in done.stderr and len(done.stderr.strip().splitlines()) == 1
+    bad = tmp_path / "results.csv"
+    bad.write_text("a,b\n1,2\n")
+    done = harness("rates", str(bad))
+    assert done.returncode != 0 and "missing column" in done.stderr and len(done.stderr.strip().splitlines()) == 1
+
+
+def test_rates_command_writes_rates_beside_results(tmp_path):
+    assert harness("run", "--case", "smooth", "--levels", "4", "--out", str(tmp_path), "--quiet").returncode == 0
+    done = harness("rates", str(tmp_path / "results.csv"))
+    assert done.returncode == 0, done.stderr
+    rates = pd.read_csv(tmp_path / "rates.csv")
+    assert list(rates.columns) == ["case", "model", "theorem", "expected_rate", "expected_log_exponent",
+                                   "fitted_rate", "fitted_rate_se", "pairwise_rates", "verdict"]
+    assert len(rates) == 2
