@@ -16,7 +16,7 @@ theorems is not expected to be sharp; the study shows which factor the errors fo
 from ngsolve import log, x
 
 from harness.functions import polar, transition
-from harness.geometry import polygon
+from harness.geometry import contact_strip
 
 name = "borderline-h2"
 description = "(r - x)/2 |log(r/2)|^{-0.6} (exactly H^2) plus an r^{3/2} transition at 0"
@@ -27,10 +27,7 @@ expected_rate = 1.0
 expected_log_exponent = 0.25
 
 BETA = 0.6
-geometry = polygon(
-    [(-1, 0), (0, 0), (1, 0), (1, 1), (-1, 1)],
-    ["contact", "contact", "neumann", "dirichlet", "neumann"],
-)
+geometry = contact_strip(breaks=[0.0])
 maxh = 0.25
 
 # A small transition part lets the singularity that sets nu dominate the error from

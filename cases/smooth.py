@@ -10,7 +10,7 @@ P2 cannot do better than h^2, the expected rate.
 """
 from ngsolve import IfPos, cos, x, y
 
-from harness.geometry import polygon
+from harness.geometry import contact_strip
 
 name = "smooth"
 description = "max(0,-x)^3 - y max(0,x)^3 + y^2 cos(x+y): H^{7/2-eps}, transition at 0"
@@ -19,10 +19,7 @@ theorem = "Remark 4.9"
 nu = 3.5
 expected_rate = 2.0
 
-geometry = polygon(
-    [(-1, 0), (0, 0), (1, 0), (1, 1), (-1, 1)],
-    ["contact", "contact", "neumann", "dirichlet", "neumann"],
-)
+geometry = contact_strip(breaks=[0.0])
 maxh = 0.25
 
 u = IfPos(-x, -x * x * x, 0.0) - y * IfPos(x, x * x * x, 0.0) + y * y * cos(x + y)

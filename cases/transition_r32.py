@@ -10,7 +10,7 @@ H^{5/2}: nu = 5/2 (from below). Theorems 4.1 ii and 5.1 ii give ||u - u_h||_1 <=
 """
 from ngsolve import atan2, sin, sqrt, x, y
 
-from harness.geometry import polygon
+from harness.geometry import contact_strip
 
 name = "transition-r32"
 description = "r^{3/2} sin(3 theta/2) contact/separation transition at the middle of Gamma_C"
@@ -21,10 +21,7 @@ expected_rate = 1.5
 expected_log_exponent = 0.0
 
 # The transition point (0, 0) is a polygon corner, hence a vertex of every mesh.
-geometry = polygon(
-    [(-1, 0), (0, 0), (1, 0), (1, 1), (-1, 1)],
-    ["contact", "contact", "neumann", "dirichlet", "neumann"],
-)
+geometry = contact_strip(breaks=[0.0])
 maxh = 0.25
 
 r = sqrt(x * x + y * y)

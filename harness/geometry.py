@@ -23,3 +23,13 @@ def polygon(points, labels):
     for k, label in enumerate(labels):
         geo.Append(["line", ids[k], ids[(k + 1) % len(ids)]], bc=label, leftdomain=1, rightdomain=0)
     return geo
+
+
+def contact_strip(breaks=(0.0,)):
+    """Omega = (-1, 1) x (0, 1) with Gamma_C the bottom side, Gamma_g the two vertical sides and
+    Gamma_u the top; ``breaks`` are extra corners on Gamma_C (transition points), so that every
+    mesh has a vertex there."""
+    bottom = [(-1.0, 0.0)] + [(float(x), 0.0) for x in sorted(breaks)] + [(1.0, 0.0)]
+    points = bottom + [(1.0, 1.0), (-1.0, 1.0)]
+    labels = ["contact"] * (len(bottom) - 1) + ["neumann", "dirichlet", "neumann"]
+    return polygon(points, labels)
