@@ -95,14 +95,16 @@ class ContactTraceFunction:
     va: np.ndarray
     vb: np.ndarray
     bubble: np.ndarray
-    in_contact: np.ndarray      # bool per edge: every constraint of the edge was active
+    end_active: np.ndarray      # (m, 2) bool: the vertex constraints at a and b were active
+    edge_active: np.ndarray     # (m,) bool: the edge constraint was active
 
     @classmethod
-    def of(cls, problem: DiscreteProblem, u: np.ndarray, in_contact=None) -> "ContactTraceFunction":
+    def of(cls, problem: DiscreteProblem, u: np.ndarray, end_active=None, edge_active=None) -> "ContactTraceFunction":
         ends = u[problem.end_dofs]
         m = len(problem.edge_dofs)
-        flags = np.zeros(m, dtype=bool) if in_contact is None else np.asarray(in_contact, bool)
-        return cls(problem.trace.a, problem.trace.b, ends[:, 0], ends[:, 1], u[problem.edge_dofs], flags)
+        end_active = np.zeros((m, 2), bool) if end_active is None else np.asarray(end_active, bool)
+        edge_active = np.zeros(m, bool) if edge_active is None else np.asarray(edge_active, bool)
+        return cls(problem.trace.a, problem.trace.b, ends[:, 0], ends[:, 1], u[problem.edge_dofs], end_active, edge_active)
 
     def value(self, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Value on edge[k] at parameter t[k] (broadcasting)."""
@@ -128,14 +130,17 @@ class ContactTraceFunction:
         on = (t > -tol) & (t < 1 + tol) & ((off**2).sum(axis=2) <= (tol**2) * length2[None])
         return on, np.clip(t, 0.0, 1.0)
 
-    def values(self, points: np.ndarray) -> np.ndarray:
+    def vertex_status(self, points: np.ndarray, tol: float = 1e-9) -> np.ndarray:
+        """Active status of the vertex constraint at each point: that of the coarse vertex it
+        coincides with, or, inside a coarse edge, whether that edge was entirely in contact."""
         on, t = self.locate(points)
-        if not on.any(axis=1).all():
-            raise ValueError("point not on the contact trace")
-        edge = on.argmax(axis=1)
-        return self.value(edge, t[np.arange(len(points)), edge])
+        at_a, at_b = on & (t <= tol), on & (t >= 1 - tol)
+        inside = on & ~at_a & ~at_b
+        in_contact = self.edge_active & self.end_active.all(axis=1)
+        status = (at_a & self.end_active[None, :, 0]) | (at_b & self.end_active[None, :, 1]) | (inside & in_contact[None, :])
+        return status.any(axis=1)
 
-    def contact_at(self, points: np.ndarray) -> np.ndarray:
-        """True where a point lies on an edge that was entirely in contact."""
-        on, _ = self.locate(points)
-        return (on & self.in_contact[None, :]).any(axis=1)
+    def edge_status(self, midpoints: np.ndarray) -> np.ndarray:
+        """Active status of the coarse edge constraint on the edge containing each midpoint."""
+        on, _ = self.locate(midpoints)
+        return (on & self.edge_active[None, :]).any(axis=1)
