@@ -22,7 +22,7 @@ tr.meets td.verdict { color: #126b2a; font-weight: bold; }
 tr.above td.verdict { color: #1b4f8a; font-weight: bold; }
 tr.below td.verdict { color: #a11; font-weight: bold; }
 .figures { display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start; }
-figure { flex: 1 1 30%; min-width: 300px; max-width: 49%; margin: .5em 0; }
+figure { flex: 1 1 45%; min-width: 320px; max-width: 49%; margin: .5em 0; }
 figure img { width: 100%; border: 1px solid #eee; }
 figcaption { font-size: .85em; color: #555; }
 code { background: #f4f4f4; padding: 0 .2em; }

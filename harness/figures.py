@@ -82,7 +82,7 @@ def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
         ax.legend(fontsize=7, loc="best")
     top.set_ylabel(r"$u_h - \alpha$ on $\Gamma_C$")
     bottom.set_ylabel("contact pressure")
-    bottom.set_xlabel(r"position along $\Gamma_C$ (shaded: exact contact zone)")
+    bottom.set_xlabel(r"coordinate along $\Gamma_C$ (x for a horizontal $\Gamma_C$); shaded: exact contact zone")
     top.set_title(f"{case.name}: finest level, both models", fontsize=10)
     return save(fig, folder, f"{case.name}_contact")
 

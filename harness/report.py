@@ -25,7 +25,7 @@ from .models import MODELS
 from .rates import normalised_errors, pairwise_rates, rate_table
 from .results import ensure_writable, write_atomic, write_csv
 from .snapshots import SnapshotCollector, load_snapshots
-from .study import run_study
+from .study import progress_bar, run_study
 
 PROFILES = {
     # finest levels: about 5.8e5 dofs (transition geometry), well inside 10 minutes on 2 cores
@@ -68,25 +68,36 @@ def cache_key(case: Case, settings: dict) -> str:
     return digest.hexdigest()
 
 
+def _stored(store: Path, case: Case, key: str) -> bool:
+    meta_path = store / f"{case.name}.json"
+    return all((store / f"{case.name}.{ext}").is_file() for ext in ("json", "csv", "npz")) and \
+        json.loads(meta_path.read_text()).get("cache_key") == key
+
+
 def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_progress: bool = True) -> pd.DataFrame:
     store = ensure_writable(results_dir / "cases")
+    keys = {case.name: cache_key(case, settings) for case in cases}
+    todo = [case for case in cases if not _stored(store, case, keys[case.name])]
+    for case in cases:
+        if case not in todo:
+            print(f"{case.name}: reusing results computed with the same code and settings")
+    models = [MODELS[m] for m in settings["models"]]
+    progress = progress_bar(len(todo) * len(models) * settings["levels"], show_progress and bool(todo))
     frames = []
     for case in cases:
-        key = cache_key(case, settings)
         meta_path, csv_path, npz_path = (store / f"{case.name}.{ext}" for ext in ("json", "csv", "npz"))
-        if meta_path.is_file() and csv_path.is_file() and npz_path.is_file() and \
-                json.loads(meta_path.read_text()).get("cache_key") == key:
-            print(f"{case.name}: reusing results computed with the same code and settings")
+        if case not in todo:
             frames.append(pd.read_csv(csv_path))
             continue
         collector = SnapshotCollector(settings["levels"])
-        frame = run_study([case], [MODELS[m] for m in settings["models"]], settings["levels"],
-                          show_progress=show_progress, on_level=collector)
+        frame = run_study([case], models, settings["levels"], on_level=collector, progress=progress)
         write_csv(frame, csv_path)
         collector.save(case.name, npz_path)
-        meta = provenance(settings) | {"cache_key": key, "case": case.name, "wall_seconds": frame.attrs["wall_seconds"]}
+        meta = provenance(settings) | {"cache_key": keys[case.name], "case": case.name,
+                                       "wall_seconds": frame.attrs["wall_seconds"]}
         write_atomic(meta_path, json.dumps(meta, indent=2))
         frames.append(frame)
+    progress.close()
     return pd.concat(frames, ignore_index=True)
 
 

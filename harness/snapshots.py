@@ -33,11 +33,12 @@ def contact_snapshot(case, problem, trace_u, multipliers) -> dict:
     points = trace.points(t)
     start, end = trace.vertex_points.min(axis=0), trace.vertex_points.max(axis=0)
     direction = (end - start) / np.linalg.norm(end - start)
-    s = ((points - start) @ direction).ravel()
+    # the coordinate along Gamma_C's direction (x itself for a horizontal Gamma_C)
+    s = (points @ direction).ravel()
     order = np.argsort(s, kind="stable")
     exact_flux = (evaluate(case.grad_u, problem.mesh, points) * trace.normals[:, None, :]).sum(-1)
     exact_pressure = exact_flux - evaluate(case.load_or_zero, problem.mesh, points)
-    edge_s = (trace.midpoints - start) @ direction
+    edge_s = trace.midpoints @ direction
     edge_order = np.argsort(edge_s)
     along = {"s": s, "u_h": trace_u.at(t), "u": evaluate(case.u, problem.mesh, points),
              "gap": evaluate(case.gap_or_zero, problem.mesh, points), "exact_pressure": exact_pressure}

@@ -67,19 +67,29 @@ def run_case(case: Case, models: list[ContactModel], levels: int, progress=None,
     return rows
 
 
+def progress_bar(total: int, show: bool = True):
+    """Progress of a study: case, model, level and ndof of the running solve, elapsed time."""
+    return tqdm(total=total, disable=not show, unit="solve", dynamic_ncols=True)
+
+
 def run_study(cases: list[Case], models: list[ContactModel], levels: int, show_progress: bool = True,
-              on_level=None) -> pd.DataFrame:
-    """Every case x model x level; one tidy row each (columns ``COLUMNS``)."""
+              on_level=None, progress=None) -> pd.DataFrame:
+    """Every case x model x level; one tidy row each (columns ``COLUMNS``). ``progress``: a
+    bar shared with a larger run (else one is made)."""
     if levels < 1:
         raise ValueError(f"levels must be a positive integer, got {levels}")
     for case in cases:
         validate_case(case)
     rows = []
     start = time.perf_counter()
-    with tqdm(total=len(cases) * len(models) * levels, disable=not show_progress, unit="solve",
-              dynamic_ncols=True) as progress:
+    own = progress is None
+    progress = progress_bar(len(cases) * len(models) * levels, show_progress) if own else progress
+    try:
         for case in cases:
             rows += run_case(case, models, levels, progress, on_level)
+    finally:
+        if own:
+            progress.close()
     frame = pd.DataFrame(rows, columns=COLUMNS)
     frame.attrs["wall_seconds"] = time.perf_counter() - start
     return frame
