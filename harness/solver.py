@@ -120,7 +120,6 @@ class ActiveSetSolver:
         self.tol, self.max_iterations, self.refactor_above = tol, max_iterations, refactor_above
         if not self.free[self.C].all():
             raise ValueError("a constrained dof lies on the Dirichlet boundary")
-        self._Kcsc = None
         self._load_scale = max(np.abs((self.b - self.K @ self.lift)[self.free]).max(initial=0.0), np.finfo(float).tiny)
         self._factored: _Factored | None = None
         self.factorizations = 0
@@ -155,9 +154,11 @@ class ActiveSetSolver:
         return fac.columns[key]
 
     def _K_column(self, dof: int) -> np.ndarray:
-        if self._Kcsc is None:
-            self._Kcsc = sp.csc_matrix(self.K)
-        return self._Kcsc[:, dof].toarray().ravel()
+        """Column dof of the symmetric K, read as its (CSR-cheap) row."""
+        lo, hi = self.K.indptr[dof], self.K.indptr[dof + 1]
+        column = np.zeros(len(self.b))
+        column[self.K.indices[lo:hi]] = self.K.data[lo:hi]
+        return column
 
     def _solve_active(self, active: np.ndarray) -> np.ndarray:
         pinned = ~self.free.copy()
