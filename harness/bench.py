@@ -47,7 +47,7 @@ def _problem(model_name: str, level: int, coarse_maxh: float | None):
     return qp, qp.predicted_active(previous)
 
 
-def _measure(method: str, model_name: str, level: int, coarse_maxh, queue):
+def _measure(method: str, model_name: str, level: int, coarse_maxh, connection):
     import ngsolve as ngs
     from .solver import Cholesky, solve_contact_qp
 
@@ -78,15 +78,20 @@ def _measure(method: str, model_name: str, level: int, coarse_maxh, queue):
             solve_qp(K, q, G=G, h=-qp.alpha, solver="clarabel")
             out["t"] = time.perf_counter() - start
     out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    queue.put(out)
+    connection.send(out)
+    connection.close()
 
 
 def measure(method: str, model_name: str, level: int, coarse_maxh=None) -> dict:
     ctx = mp.get_context("spawn")
-    queue = ctx.Queue()
-    process = ctx.Process(target=_measure, args=(method, model_name, level, coarse_maxh, queue))
+    receiver, sender = ctx.Pipe(duplex=False)
+    process = ctx.Process(target=_measure, args=(method, model_name, level, coarse_maxh, sender))
     process.start()
-    result = queue.get()
+    sender.close()
+    try:
+        result = receiver.recv()
+    except EOFError:
+        raise RuntimeError(f"bench process for {method}/{model_name}/level {level} died (out of memory?)") from None
     process.join()
     return result
 
