@@ -96,8 +96,8 @@ class ContactModel:
 @dataclass
 class ContactQP:
     """The discrete inequality (3.6) or (5.1) as min 1/2 z'Kz - b'z over z = u_D on Gamma_u and
-    z[C] >= alpha, in the model's variables z (u = S z), restricted to nothing: Dirichlet dofs
-    are kept and pinned, so that z, u and NGSolve vectors share one numbering."""
+    z[C] >= alpha, in the model's variables z (u = S z). All dofs are kept (Dirichlet ones are
+    pinned by the solver), so that z, u and NGSolve vectors share one numbering."""
 
     model: ContactModel
     problem: DiscreteProblem
