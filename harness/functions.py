@@ -5,7 +5,7 @@ n = -e_y, the domain lying above it; see MATH.md Section 4.
 """
 from __future__ import annotations
 
-from ngsolve import IfPos, atan2, sin, sqrt, x, y
+from ngsolve import atan2, sin, sqrt, x, y
 
 
 def polar(x0: float = 0.0, mirrored: bool = False):
@@ -21,9 +21,3 @@ def transition(x0: float = 0.0, binding_side: str = "right"):
     r, theta = polar(x0, mirrored=(binding_side == "left"))
     return -(r ** 1.5) * sin(1.5 * theta)
 
-
-def smooth_cutoff(r, inner: float, outer: float):
-    """1 for r <= inner, 0 for r >= outer, C^2 quintic in between."""
-    s = (r - inner) / (outer - inner)
-    step = 1 - s * s * s * (10 - 15 * s + 6 * s * s)
-    return IfPos(inner - r, 1.0, IfPos(r - outer, 0.0, step))
