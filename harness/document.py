@@ -58,9 +58,11 @@ class Document:
             elif kind == "paragraph":
                 out += [block[1], ""]
             elif kind == "table":
-                frame = block[1].astype(str)
-                out.append("| " + " | ".join(frame.columns) + " |")
-                out.append("|" + "|".join("---" for _ in frame.columns) + "|")
+                # a literal | (as in h |log h|^1/4) would split a cell: GFM wants it escaped
+                frame = block[1].astype(str).map(lambda cell: cell.replace("|", "\\|"))
+                header = [str(c).replace("|", "\\|") for c in frame.columns]
+                out.append("| " + " | ".join(header) + " |")
+                out.append("|" + "|".join("---" for _ in header) + "|")
                 out += ["| " + " | ".join(row) + " |" for row in frame.itertuples(index=False)]
                 out.append("")
             elif kind == "figures":

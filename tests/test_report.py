@@ -1,5 +1,7 @@
 """`make report` pieces: results with provenance, reuse of unchanged results, figures, documents."""
 import json
+import re
+from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -51,3 +53,12 @@ def test_unchanged_results_are_reused(report, capsys):
     make_report("default", root / "results", root / "report", CASES, show_progress=False, levels=3)
     assert "corner-r12: reusing" in capsys.readouterr().out
     assert (root / "results" / "cases" / "corner-r12.csv").stat().st_mtime_ns == stored
+
+
+def test_markdown_table_cells_keep_a_literal_bar_inside():
+    from harness.document import Document
+    doc = Document("t")
+    doc.table(pd.DataFrame({"case": ["borderline-h2"], "expected": ["h^1 |log h|^1/4"]}))
+    header, _, row = doc.markdown(Path(".")).splitlines()[2:5]
+    unescaped_bars = lambda line: len(re.findall(r"(?<!\\)\|", line))
+    assert unescaped_bars(row) == unescaped_bars(header) == 3
