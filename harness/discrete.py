@@ -132,12 +132,12 @@ class ContactTraceFunction:
 
     def vertex_status(self, points: np.ndarray, tol: float = 1e-9) -> np.ndarray:
         """Active status of the vertex constraint at each point: that of the coarse vertex it
-        coincides with, or, inside a coarse edge, whether that edge was entirely in contact."""
+        coincides with, or, inside a coarse edge, that of the edge constraint: the coarse function
+        meets the gap at the midpoint (nodal) or dips to it on the edge (mean)."""
         on, t = self.locate(points)
         at_a, at_b = on & (t <= tol), on & (t >= 1 - tol)
         inside = on & ~at_a & ~at_b
-        in_contact = self.edge_active & self.end_active.all(axis=1)
-        status = (at_a & self.end_active[None, :, 0]) | (at_b & self.end_active[None, :, 1]) | (inside & in_contact[None, :])
+        status = (at_a & self.end_active[None, :, 0]) | (at_b & self.end_active[None, :, 1]) | (inside & self.edge_active[None, :])
         return status.any(axis=1)
 
     def edge_status(self, midpoints: np.ndarray) -> np.ndarray:

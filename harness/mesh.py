@@ -26,12 +26,14 @@ def mesh_hierarchy(case, levels: int):
 
     netgen's own Refine() splits every triangle into four similar ones, so h halves exactly
     and shape regularity is kept (NGSolve's Mesh.Refine() bisects and does not halve h).
+    The mesh is one object refined in place, so that NGSolve keeps the parents of new vertices
+    (the multigrid's prolongations): a level's mesh is valid until the next level is yielded.
     """
-    ngmesh = case.geometry.GenerateMesh(maxh=case.maxh)
+    mesh = coarse_mesh(case)
     for level in range(levels):
         if level:
-            ngmesh.Refine()
-        yield level, ngs.Mesh(ngmesh)
+            mesh.ngmesh.Refine()
+        yield level, mesh
 
 
 def mesh_size(mesh: ngs.Mesh) -> float:

@@ -123,8 +123,9 @@ class ContactQP:
         """Nested iteration: the active set predicted by the previous level's solution.
 
         A fine vertex at a coarse vertex inherits its status, a fine vertex at a coarse
-        midpoint is active if the whole coarse edge was in contact, and both halves of a coarse
-        edge inherit its edge constraint's status. (Predicting from the sign of the coarse
+        midpoint and both halves of a coarse edge inherit its edge constraint's status (asking
+        for the whole coarse edge in contact instead misses the first vertex past a transition
+        point for `mean`, costing two more active set iterations on every level). (Predicting from the sign of the coarse
         function instead fails for `mean` near a pressure singularity, where vertex values are
         positive and edge means zero on alternate nodes.)
         """

@@ -38,6 +38,8 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
+from .multigrid import ContactEdges, TruncatedVCycle, pcg
+
 DEFAULT_TOLERANCE = 1e-10
 DEFAULT_REFACTOR_ABOVE = 24  # ~ the cost of a factorisation in solves, at 1e5-1e6 dofs
 
@@ -63,8 +65,7 @@ class QPSolution:
     active: np.ndarray          # bool on C
     kkt: KKT
     iterations: int
-    factorizations: int
-    extra_solves: int
+    work: dict                  # linear algebra spent: factorisations and solves, or CG iterations
     seconds: float
     status: str                 # "converged" or why not
 
@@ -101,44 +102,20 @@ class _Factored:
     columns: dict = field(default_factory=dict)
 
 
-class ActiveSetSolver:
-    """Primal-dual active set solver for min 1/2 z'Kz - b'z, z[~free] = lift[~free], z[C] >= alpha.
+class FactorisedSystem:
+    """Solves with some dofs pinned by sparse Cholesky, reusing one factorisation for pin sets
+    that differ from its own in a few dofs (a bordered system, each new dof one extra solve).
 
-    ``refactor_above``: an active set needing more than this many new bordered columns is
+    ``refactor_above``: a pin set needing more than this many new bordered columns is
     refactorised instead; 0 gives the textbook method (refactorise at every iteration).
     """
 
-    def __init__(self, K, b, free, C, alpha, K_ngs=None, lift=None, tol: float = DEFAULT_TOLERANCE,
-                 max_iterations: int = 500, refactor_above: int = DEFAULT_REFACTOR_ABOVE):
-        self.K = sp.csr_matrix(K)
-        self.b = np.asarray(b, float)
-        self.free = np.asarray(free, bool)
-        self.C = np.asarray(C, np.int64)
-        self.alpha = np.asarray(alpha, float)
-        self.lift = np.zeros(len(self.b)) if lift is None else np.where(self.free, 0.0, lift)
-        self.K_ngs = ngsolve_matrix(self.K) if K_ngs is None else K_ngs
-        self.tol, self.max_iterations, self.refactor_above = tol, max_iterations, refactor_above
-        if not self.free[self.C].all():
-            raise ValueError("a constrained dof lies on the Dirichlet boundary")
-        self._load_scale = max(np.abs((self.b - self.K @ self.lift)[self.free]).max(initial=0.0), np.finfo(float).tiny)
+    def __init__(self, K: sp.csr_matrix, K_ngs, b: np.ndarray, refactor_above: int = DEFAULT_REFACTOR_ABOVE):
+        self.K, self.K_ngs, self.b, self.refactor_above = K, K_ngs, b, refactor_above
         self._factored: _Factored | None = None
         self.factorizations = 0
         self.extra_solves = 0
 
-    def kkt(self, z: np.ndarray, active: np.ndarray) -> tuple[KKT, np.ndarray]:
-        g = np.where(self.free, self.K @ z - self.b, 0.0)
-        lam, slack = g[self.C], z[self.C] - self.alpha
-        scale_z = max(np.abs(z[self.C]).max(initial=0.0), np.abs(self.alpha).max(initial=0.0), np.finfo(float).tiny)
-        off_active = g.copy()
-        off_active[self.C[active]] = 0.0
-        return KKT(
-            primal=float(max(0.0, -slack.min(initial=0.0)) / scale_z),
-            dual=float(max(0.0, -lam[active].min(initial=0.0)) / self._load_scale),
-            complementarity=float(np.abs(lam * slack).max(initial=0.0) / (self._load_scale * scale_z)),
-            stationarity=float(np.abs(off_active).max(initial=0.0) / self._load_scale),
-        ), lam
-
-    # -- linear solves with the active constraints as pins --------------------------------
     def _factorize(self, pinned: np.ndarray, values: np.ndarray) -> _Factored:
         free = ~pinned
         cholesky = Cholesky(self.K_ngs, free)
@@ -160,11 +137,9 @@ class ActiveSetSolver:
         column[self.K.indices[lo:hi]] = self.K.data[lo:hi]
         return column
 
-    def _solve_active(self, active: np.ndarray) -> np.ndarray:
-        pinned = ~self.free.copy()
-        pinned[self.C[active]] = True
-        values = self.lift.copy()
-        values[self.C[active]] = self.alpha[active]
+    def solve(self, pinned: np.ndarray, values: np.ndarray, start=None, tol=None) -> np.ndarray:
+        """z with z[pinned] = values[pinned] and (K z - b) = 0 elsewhere, exactly up to round-off
+        (``start`` and ``tol`` are for iterative systems)."""
         fac = self._factored
         if fac is not None and self.refactor_above > 0:
             released = np.flatnonzero(fac.pinned & ~pinned)
@@ -201,16 +176,89 @@ class ActiveSetSolver:
         z[added] = values[added]
         return z
 
+    def work(self) -> dict:
+        return {"factorizations": self.factorizations, "extra_solves": self.extra_solves}
+
+
+class MultigridSystem:
+    """Solves with some dofs pinned by CG with a V-cycle truncated at the pins (``multigrid``),
+    from the previous iterate: one preconditioner per pin set, no factorisation of K."""
+
+    def __init__(self, K_ngs, b: np.ndarray, multilevel, edges: ContactEdges):
+        self.K_ngs, self.b, self.multilevel, self.edges = K_ngs, b, multilevel, edges
+        self.cg_iterations = 0
+        self.preconditioners = 0
+
+    def solve(self, pinned: np.ndarray, values: np.ndarray, start=None, tol: float = 0.0) -> np.ndarray:
+        """The same to max |K z - b| <= tol off the pins, from ``start`` (else zero)."""
+        free = ~pinned
+        z = np.where(pinned, values, 0.0 if start is None else start)
+        preconditioner = TruncatedVCycle(self.multilevel, self.K_ngs, free, self.edges)
+        self.preconditioners += 1
+        z, iterations = pcg(self.K_ngs, preconditioner, self.b, z, free, tol)
+        self.cg_iterations += iterations
+        return z
+
+    def work(self) -> dict:
+        return {"cg_iterations": self.cg_iterations, "preconditioners": self.preconditioners}
+
+
+class ActiveSetSolver:
+    """Primal-dual active set solver for min 1/2 z'Kz - b'z, z[~free] = lift[~free], z[C] >= alpha.
+
+    ``system`` solves the linear problem of one active set (a ``FactorisedSystem`` by default).
+    """
+
+    def __init__(self, K, b, free, C, alpha, K_ngs=None, lift=None, tol: float = DEFAULT_TOLERANCE,
+                 max_iterations: int = 500, system=None):
+        self.K = sp.csr_matrix(K)
+        self.b = np.asarray(b, float)
+        self.free = np.asarray(free, bool)
+        self.C = np.asarray(C, np.int64)
+        self.alpha = np.asarray(alpha, float)
+        self.lift = np.zeros(len(self.b)) if lift is None else np.where(self.free, 0.0, lift)
+        self.tol, self.max_iterations = tol, max_iterations
+        if not self.free[self.C].all():
+            raise ValueError("a constrained dof lies on the Dirichlet boundary")
+        self.load_scale = max(np.abs((self.b - self.K @ self.lift)[self.free]).max(initial=0.0), np.finfo(float).tiny)
+        if system is None:
+            system = FactorisedSystem(self.K, ngsolve_matrix(self.K) if K_ngs is None else K_ngs, self.b)
+        self.system = system
+
+    def kkt(self, z: np.ndarray, active: np.ndarray) -> tuple[KKT, np.ndarray]:
+        g = np.where(self.free, self.K @ z - self.b, 0.0)
+        lam, slack = g[self.C], z[self.C] - self.alpha
+        scale_z = max(np.abs(z[self.C]).max(initial=0.0), np.abs(self.alpha).max(initial=0.0), np.finfo(float).tiny)
+        off_active = g.copy()
+        off_active[self.C[active]] = 0.0
+        return KKT(
+            primal=float(max(0.0, -slack.min(initial=0.0)) / scale_z),
+            dual=float(max(0.0, -lam[active].min(initial=0.0)) / self.load_scale),
+            complementarity=float(np.abs(lam * slack).max(initial=0.0) / (self.load_scale * scale_z)),
+            stationarity=float(np.abs(off_active).max(initial=0.0) / self.load_scale),
+        ), lam
+
+    def _solve_active(self, active: np.ndarray, start: np.ndarray | None) -> np.ndarray:
+        """The active constraints as pins z_i = alpha_i, beside the Dirichlet pins."""
+        pinned = ~self.free.copy()
+        pinned[self.C[active]] = True
+        values = self.lift.copy()
+        values[self.C[active]] = self.alpha[active]
+        # Linear solves a tenth of the KKT tolerance deep, so that the stationarity they leave
+        # never decides the KKT check.
+        return self.system.solve(pinned, values, start, tol=0.1 * self.tol * self.load_scale)
+
     # -- the active set iteration ---------------------------------------------------------
-    def solve(self, initial_active: np.ndarray | None = None) -> QPSolution:
-        start = time.perf_counter()
+    def solve(self, initial_active: np.ndarray | None = None, start: np.ndarray | None = None) -> QPSolution:
+        """From a predicted active set and, for iterative systems, a start vector (nested iteration)."""
+        clock = time.perf_counter()
         m = len(self.C)
         active = np.zeros(m, dtype=bool) if initial_active is None else np.asarray(initial_active, bool).copy()
         seen: set[bytes] = set()
         pivoting = False
         status = f"not converged in {self.max_iterations} iterations"
         for iteration in range(1, self.max_iterations + 1):
-            z = self._solve_active(active)
+            z = self._solve_active(active, start if iteration == 1 else z)
             kkt, lam = self.kkt(z, active)
             if kkt.residual <= self.tol:
                 status = "converged"
@@ -219,7 +267,7 @@ class ActiveSetSolver:
             # Decisions use a fraction of the tolerance so that round-off never flips a row.
             slack = z[self.C] - self.alpha
             scale_z = max(np.abs(z[self.C]).max(), np.abs(self.alpha).max(initial=0.0), np.finfo(float).tiny)
-            leave = active & (lam < -0.1 * self.tol * self._load_scale)
+            leave = active & (lam < -0.1 * self.tol * self.load_scale)
             enter = ~active & (slack < -0.1 * self.tol * scale_z)
             if not (leave.any() or enter.any()):
                 status = f"stalled: KKT residual {kkt.residual:.2e} with a consistent active set"
@@ -239,8 +287,8 @@ class ActiveSetSolver:
             active = candidate
         return QPSolution(
             z=z, multipliers=lam, active=active, kkt=kkt, iterations=iteration,
-            factorizations=self.factorizations, extra_solves=self.extra_solves,
-            seconds=time.perf_counter() - start, status=status,
+            work=self.system.work(),
+            seconds=time.perf_counter() - clock, status=status,
         )
 
 
@@ -248,9 +296,19 @@ def _columns(n: int, columns: list) -> np.ndarray:
     return np.column_stack(columns) if columns else np.zeros((n, 0))
 
 
-def solve_contact_qp(qp, initial_active=None, textbook: bool = False, tol: float = DEFAULT_TOLERANCE) -> QPSolution:
-    """The harness's solver on a ``models.ContactQP``; ``textbook=True`` gives the reference PDAS
-    (cold start, refactorisation at every iteration) used by the benchmark and the tests."""
-    solver = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, K_ngs=qp.K_ngs, lift=qp.lift, tol=tol,
-                             refactor_above=0 if textbook else DEFAULT_REFACTOR_ABOVE)
-    return solver.solve(None if textbook else initial_active)
+def solve_contact_qp(qp, initial_active=None, textbook: bool = False, tol: float = DEFAULT_TOLERANCE,
+                     multilevel=None, start=None) -> QPSolution:
+    """The harness's solver on a ``models.ContactQP``: multigrid-preconditioned CG when the
+    mesh hierarchy's ``multilevel`` is given, else sparse Cholesky; ``textbook=True`` gives the
+    reference PDAS (cold start, refactorisation at every iteration) used by the benchmark and
+    the tests."""
+    if textbook:
+        system = FactorisedSystem(qp.K, qp.K_ngs, qp.b, refactor_above=0)
+    elif multilevel is not None:
+        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges(qp.problem.edge_dofs, qp.problem.end_dofs))
+    else:
+        system = FactorisedSystem(qp.K, qp.K_ngs, qp.b)
+    solver = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, tol=tol, system=system)
+    if textbook:
+        return solver.solve()
+    return solver.solve(initial_active, start)

@@ -13,6 +13,7 @@ from .discrete import discretise
 from .errors import error_norms, max_penetration
 from .mesh import mesh_hierarchy, mesh_size
 from .models import ContactModel, contact_qp
+from .multigrid import ContactEdges, Multilevel, nested_start
 from .solver import solve_contact_qp
 from .validate import validate_case
 
@@ -25,10 +26,17 @@ COLUMNS = [
 ngs.ngsglobals.msg_level = 0
 
 
-def solve_level(case: Case, problem, model: ContactModel, previous=None, textbook: bool = False):
-    """Solve one model on one level; return the row fields, u_h and its trace on Gamma_C."""
+def solve_level(case: Case, problem, model: ContactModel, previous=None, multilevel=None, coarse_vertex_values=None):
+    """Solve one model on one level; return the row fields, u_h and its trace on Gamma_C.
+
+    Nested iteration: ``previous`` (the coarser level's trace on Gamma_C) predicts the active
+    set, ``coarse_vertex_values`` (its u_h at the vertices) gives the multigrid its start.
+    """
     qp = contact_qp(case, problem, model)
-    solution = solve_contact_qp(qp, qp.predicted_active(previous), textbook=textbook)
+    start = None
+    if multilevel is not None and coarse_vertex_values is not None:
+        start = nested_start(multilevel, coarse_vertex_values, ContactEdges(problem.edge_dofs, problem.end_dofs), problem.ndof)
+    solution = solve_contact_qp(qp, qp.predicted_active(previous), multilevel=multilevel, start=start)
     u = qp.to_u(solution.z)
     trace_u = qp.trace_function(u, solution.active)
     row = {
@@ -47,17 +55,19 @@ def solve_level(case: Case, problem, model: ContactModel, previous=None, textboo
 def run_case(case: Case, models: list[ContactModel], levels: int, progress=None, on_level=None) -> list[dict]:
     """Rows of one case; ``on_level(case, model, level, problem, u, solution, trace_u)`` sees
     every solve (the report uses it to keep the finest solutions)."""
-    previous = {model.name: None for model in models}
+    previous = {model.name: (None, None) for model in models}
     rows = []
+    multilevel = None
     with ngs.TaskManager():
         for level, mesh in mesh_hierarchy(case, levels):
+            multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
             problem = discretise(case, mesh)
             h = mesh_size(mesh)
             for model in models:
                 if progress is not None:
                     progress.set_postfix_str(f"{case.name} {model.name} level {level} ndof {problem.ndof}")
-                fields, u, trace_u, solution = solve_level(case, problem, model, previous[model.name])
-                previous[model.name] = trace_u
+                fields, u, trace_u, solution = solve_level(case, problem, model, previous[model.name][0], multilevel, previous[model.name][1])
+                previous[model.name] = (trace_u, u[: multilevel.nvertices].copy())
                 rows.append({"case": case.name, "model": model.name, "level": level, "h": h,
                              "ndof": problem.ndof, **fields})
                 if on_level is not None:

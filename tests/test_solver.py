@@ -84,11 +84,11 @@ def test_fast_solver_equals_textbook_pdas(model_name):
     problem = problem_at("transition-r32", 3)
     qp = contact_qp(case, problem, MODELS[model_name])
     textbook = solve_contact_qp(qp, textbook=True)
-    assert textbook.factorizations == textbook.iterations
+    assert textbook.work["factorizations"] == textbook.iterations
     # A deliberately poor warm start: every constraint active.
     fast = solve_contact_qp(qp, initial_active=np.ones(len(qp.C), bool))
     assert textbook.status == fast.status == "converged"
-    assert fast.factorizations < textbook.factorizations
+    assert fast.work["factorizations"] < textbook.work["factorizations"]
     assert np.abs(fast.z - textbook.z).max() <= 1e-10 * np.abs(textbook.z).max()
 
 

@@ -1,0 +1,200 @@
+"""Multigrid for the contact solver: CG preconditioned by a V-cycle truncated at the active set.
+
+With the active set fixed, each step of the active set method is the linear problem
+K[F, F] z_F = b_F - K[F, P] z_P, the constraints in P acting as Dirichlet pins. A plain
+multigrid does not know the pins and its CG iteration count grows like h^{-1/2}; truncating the
+coarse spaces at the pins (Kornhuber, Numer. Math. 69 (1994); Graeser and Kornhuber, J. Comput.
+Math. 27 (2009)) keeps it bounded independently of h.
+
+The spaces, fine to coarse:
+  X_h in the contact model's variables z (P2; ``models``), then P1 on the finest mesh, then P1
+  on each coarser mesh of the hierarchy.
+The hierarchical P2 basis contains the P1 hat functions as its vertex functions, and the
+meshes are nested, so every coarse matrix (the P1 stiffness matrix of its mesh) is the exact
+Galerkin product R A P of the finer one: the V-cycle is a symmetric positive definite
+preconditioner. Truncation: a coarse hat whose prolongation is nonzero at a pinned fine variable
+is dropped, so every coarse correction vanishes on the pins and the coarse spaces are subspaces
+of {z: z_P = 0}. P1 prolongations have non-negative weights, so restricting the indicator of the
+pins finds exactly those hats.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+DIRICHLET = "dirichlet"
+
+
+class Multilevel:
+    """The P1 spaces of a mesh hierarchy refined in place (``mesh.mesh_hierarchy``): their
+    stiffness matrices and free dofs per level, and NGSolve's P1 prolongation between them.
+
+    Create it on the coarse mesh, call ``refined()`` after every refinement.
+    """
+
+    def __init__(self, mesh: ngs.Mesh):
+        self.mesh = mesh
+        self.fes = ngs.H1(mesh, order=1, dirichlet=DIRICHLET)
+        u, v = self.fes.TnT()
+        self._form = ngs.BilinearForm(ngs.grad(u) * ngs.grad(v) * ngs.dx)
+        self.matrices: list = []
+        self.free: list[np.ndarray] = []
+        self._add_level()
+
+    def _add_level(self) -> None:
+        self._form.Assemble()
+        self.matrices.append(self._form.mat)
+        self.free.append(np.array(self.fes.FreeDofs(), dtype=bool))
+
+    def refined(self) -> "Multilevel":
+        if self.mesh.levels != len(self.matrices) + 1:
+            raise RuntimeError("Multilevel.refined() must follow every refinement of its mesh, once")
+        self.fes.Update()
+        self._add_level()
+        return self
+
+    @property
+    def nvertices(self) -> int:
+        return self.matrices[-1].height
+
+    def truncated_pins(self, pinned_vertices: np.ndarray) -> list[np.ndarray]:
+        """Pinned P1 dofs per level, coarse to fine: a coarse hat is pinned when its prolongation
+        touches a pinned finer dof (or it lies on Gamma_u)."""
+        pins = [pinned_vertices | ~self.free[-1]]
+        prolongation = self.fes.Prolongation()
+        for level in range(len(self.matrices) - 1, 0, -1):
+            indicator = self.matrices[level].CreateColVector()
+            indicator.FV().NumPy()[:] = pins[0]
+            prolongation.Restrict(level, indicator)
+            coarse = indicator.FV().NumPy()[: self.matrices[level - 1].height] > 0
+            pins.insert(0, coarse | ~self.free[level - 1])
+        return pins
+
+
+def nested_start(multilevel: Multilevel, coarse_vertex_values: np.ndarray, edges: ContactEdges, ndof: int) -> np.ndarray:
+    """A start for the finest level's CG: the coarser level's u_h at the vertices, interpolated
+    by the P1 prolongation, in the model's variables (bubbles zero)."""
+    fine = multilevel.matrices[-1].CreateColVector()
+    fine[:] = 0.0
+    fine.FV().NumPy()[: len(coarse_vertex_values)] = coarse_vertex_values
+    multilevel.fes.Prolongation().Prolongate(len(multilevel.matrices) - 1, fine)
+    z = np.zeros(ndof)
+    edges.prolongate(fine.FV().NumPy(), z)
+    return z
+
+
+def _bits(mask: np.ndarray) -> ngs.BitArray:
+    return ngs.BitArray(np.asarray(mask, dtype=bool).tolist())
+
+
+@dataclass(frozen=True)
+class ContactEdges:
+    """Where the model's variables z differ from NGSolve's hierarchical ones: the bubble of
+    contact edge k is replaced by a combination of its ends (u = S z, ``models``). A P1 function
+    with vertex values c has z_e = (c_a + c_b)/2 there, and z = c at vertices, z_e = 0 elsewhere."""
+
+    edge_dofs: np.ndarray
+    end_dofs: np.ndarray
+
+    def prolongate(self, c: np.ndarray, z: np.ndarray) -> None:
+        """z += the model variables of the P1 function c (vertex dofs are 0..nv-1 in H1)."""
+        z[: len(c)] += c
+        z[self.edge_dofs] += 0.5 * (c[self.end_dofs[:, 0]] + c[self.end_dofs[:, 1]])
+
+    def restrict(self, r: np.ndarray, nv: int) -> np.ndarray:
+        """The transpose of ``prolongate``."""
+        c = r[:nv].copy()
+        half = 0.5 * r[self.edge_dofs]
+        np.add.at(c, self.end_dofs[:, 0], half)
+        np.add.at(c, self.end_dofs[:, 1], half)
+        return c
+
+
+class TruncatedVCycle:
+    """One symmetric V-cycle for K[F, F]: Gauss-Seidel on K (forward before, backward after the
+    coarse correction), then the truncated P1 levels down to a sparse Cholesky on the coarsest."""
+
+    def __init__(self, multilevel: Multilevel, K_ngs, free: np.ndarray, edges: ContactEdges):
+        nv = multilevel.nvertices
+        pinned_vertices = ~free[:nv]
+        ends = edges.end_dofs[~free[edges.edge_dofs]]
+        pinned_vertices[ends.ravel()] = True
+        self.multilevel, self.K, self.edges, self.nv = multilevel, K_ngs, edges, nv
+        self.free = free.astype(float)
+        self.pins = multilevel.truncated_pins(pinned_vertices)
+        self.keep = [(~p).astype(float) for p in self.pins]
+        self.smoother = K_ngs.CreateSmoother(_bits(free))
+        self.smoothers = [m.CreateSmoother(_bits(~p)) for m, p in zip(multilevel.matrices, self.pins)]
+        self.coarsest = multilevel.matrices[0].Inverse(_bits(~self.pins[0]), inverse="sparsecholesky")
+        self.prolongation = multilevel.fes.Prolongation()
+        self._work = [(m.CreateColVector(), m.CreateColVector(), m.CreateColVector()) for m in multilevel.matrices]
+        self._x, self._d = K_ngs.CreateColVector(), K_ngs.CreateColVector()
+
+    def _p1_cycle(self, level: int, d: np.ndarray) -> np.ndarray:
+        x, b, r = self._work[level]
+        b.FV().NumPy()[:] = d
+        if level == 0:
+            x.data = self.coarsest * b
+            return x.FV().NumPy().copy()
+        x[:] = 0.0
+        self.smoothers[level].Smooth(x, b)
+        r.data = b - self.multilevel.matrices[level] * x
+        r.FV().NumPy()[:] *= self.keep[level]
+        self.prolongation.Restrict(level, r)
+        nc = self.multilevel.matrices[level - 1].height
+        correction = self._p1_cycle(level - 1, r.FV().NumPy()[:nc] * self.keep[level - 1])
+        r[:] = 0.0
+        r.FV().NumPy()[:nc] = correction
+        self.prolongation.Prolongate(level, r)
+        x.FV().NumPy()[:] += r.FV().NumPy() * self.keep[level]
+        self.smoothers[level].SmoothBack(x, b)
+        return x.FV().NumPy().copy()
+
+    def apply(self, r, out) -> None:
+        """out = B r for NGSolve vectors (r vanishes on the pins; so does out)."""
+        x, d = self._x, self._d
+        x[:] = 0.0
+        self.smoother.Smooth(x, r)
+        d.data = r - self.K * x
+        d.FV().NumPy()[:] *= self.free
+        top = len(self.multilevel.matrices) - 1
+        correction = self._p1_cycle(top, self.edges.restrict(d.FV().NumPy(), self.nv) * self.keep[top])
+        self.edges.prolongate(correction, x.FV().NumPy())
+        self.smoother.SmoothBack(x, r)
+        out.data = x
+        out.FV().NumPy()[:] *= self.free
+
+
+def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, free: np.ndarray,
+        tol: float, max_iterations: int = 500) -> tuple[np.ndarray, int]:
+    """Solve K[F, F] z_F = rhs_F - K[F, P] z_P by preconditioned CG from the start z (whose pinned
+    entries stay), until max |residual| <= tol, checked on the true residual. All vector work is
+    NGSolve's (multithreaded, and no BLAS threads competing with its task manager)."""
+    mask = free.astype(float)
+    x, r, p, q, s = (K_ngs.CreateColVector() for _ in range(5))
+    x.FV().NumPy()[:] = z
+    iterations = 0
+    for _restart in range(3):
+        r.data = K_ngs * x
+        r.FV().NumPy()[:] = (rhs - r.FV().NumPy()) * mask
+        if np.abs(r.FV().NumPy()).max(initial=0.0) <= tol:
+            break
+        preconditioner.apply(r, s)
+        p.data = s
+        rs = ngs.InnerProduct(r, s)
+        while iterations < max_iterations:
+            iterations += 1
+            q.data = K_ngs * p
+            q.FV().NumPy()[:] *= mask
+            step = rs / ngs.InnerProduct(p, q)
+            x.data += step * p
+            r.data -= step * q
+            if np.abs(r.FV().NumPy()).max() <= 0.5 * tol:
+                break
+            preconditioner.apply(r, s)
+            rs_new = ngs.InnerProduct(r, s)
+            p.data = s + (rs_new / rs) * p
+            rs = rs_new
+    return x.FV().NumPy().copy(), iterations
