@@ -23,41 +23,48 @@ DEFAULT_SIZES = ((0.25, 3), (0.25, 4), (0.25, 5), (0.2, 6), (0.2, 7))
 TEXTBOOK_MAX_NDOF = 3_000_000
 QP_MAX_NDOF = 200_000
 COLUMNS = ["model", "ndof", "t_contact", "t_linear", "t_textbook", "t_qp", "ratio_linear", "speedup_textbook",
-           "speedup_qp", "iterations", "kkt_residual", "peak_rss_mb", "t_linear_cholesky", "t_linear_multigrid",
-           "multigrid_iterations"]
-# The unconstrained solve by multigrid-preconditioned CG is stopped where its residual is as
-# small, relative to the load, as the contact solve's KKT stationarity (<= 1e-10, MATH.md 6).
-MULTIGRID_TOLERANCE = 1e-12
+           "speedup_qp", "iterations", "kkt_residual", "peak_rss_mb", "contact_cg_iterations", "t_linear_multigrid",
+           "multigrid_iterations", "t_linear_cholesky", "t_linear_ngsolve_multigrid", "ngsolve_multigrid_iterations"]
+# NGSolve's own CG is stopped where its residual is as small, relative to the load, as the
+# contact solve's KKT stationarity (<= 1e-10, MATH.md 6).
+NGSOLVE_MULTIGRID_TOLERANCE = 1e-12
 
 
 def _problem(model_name: str, level: int, coarse_maxh: float | None):
-    """The discrete problem of ``level`` and the active set predicted from ``level - 1``."""
+    """The discrete problem of ``level`` on the study's hierarchy, with what nested iteration
+    brings from ``level - 1`` (solved by the harness's solver): predicted active set, start."""
     from .case import load_case
     from .discrete import discretise
     from .mesh import mesh_hierarchy
     from .models import MODELS, contact_qp
+    from .multigrid import ContactEdges, Multilevel, nested_start
     from .solver import solve_contact_qp
 
     case = dataclasses.replace(load_case(BENCH_CASE), maxh=coarse_maxh)
     model = MODELS[model_name]
-    previous = None
+    multilevel, previous, start = None, None, None
     for lev, mesh in mesh_hierarchy(case, level + 1):
+        multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
         if lev < level - 1:
             continue
-        qp = contact_qp(case, discretise(case, mesh), model)
+        problem = discretise(case, mesh)
+        qp = contact_qp(case, problem, model)
         if lev == level - 1:
-            coarse = solve_contact_qp(qp)
-            previous = qp.trace_function(qp.to_u(coarse.z), coarse.active)
-    return qp, qp.predicted_active(previous)
+            coarse = solve_contact_qp(qp, multilevel=multilevel)
+            u = qp.to_u(coarse.z)
+            previous = qp.trace_function(u, coarse.active)
+            vertex_values = u[: multilevel.nvertices].copy()
+        elif level > 0:
+            start = nested_start(multilevel, vertex_values, ContactEdges(problem.edge_dofs, problem.end_dofs), problem.ndof)
+    return qp, qp.predicted_active(previous), multilevel, start
 
 
-def _multigrid_linear_solve(level: int, coarse_maxh) -> dict:
-    """One unconstrained solve of the same P2 system by CG with NGSolve's geometric multigrid.
+def _ngsolve_multigrid_solve(level: int, coarse_maxh) -> dict:
+    """One unconstrained solve of the same P2 system by CG with NGSolve's own geometric
+    multigrid (P1 prolongation of the vertex dofs, P2 matrices on every level).
 
-    The multigrid needs NGSolve's own mesh hierarchy: the coarse mesh is refined in place
-    (netgen's red refinement, so the finest mesh and its numbering are those of the contact
-    problem) and the preconditioner gains a level at each assembly. Its setup time is what
-    the assemblies with the preconditioner cost beyond the same assemblies without it.
+    Its setup time is what the assemblies with the preconditioner cost beyond the same
+    assemblies without it.
     """
     import ngsolve as ngs
     from .case import load_case
@@ -86,7 +93,7 @@ def _multigrid_linear_solve(level: int, coarse_maxh) -> dict:
     rhs, solution = a.mat.CreateColVector(), a.mat.CreateColVector()
     rhs.FV().NumPy()[:] = np.where(problem.free, problem.b - problem.A @ problem.lift, 0.0)
     start = time.perf_counter()
-    solver = ngs.CGSolver(a.mat, preconditioner.mat, tol=MULTIGRID_TOLERANCE, maxiter=1000)
+    solver = ngs.CGSolver(a.mat, preconditioner.mat, tol=NGSOLVE_MULTIGRID_TOLERANCE, maxiter=1000)
     solution.data = solver * rhs
     seconds = time.perf_counter() - start
     residual = np.where(problem.free, rhs.FV().NumPy() - problem.A @ solution.FV().NumPy(), 0.0)
@@ -98,24 +105,34 @@ def _multigrid_linear_solve(level: int, coarse_maxh) -> dict:
 
 def _measure(method: str, model_name: str, level: int, coarse_maxh, connection):
     import ngsolve as ngs
-    from .solver import Cholesky, solve_contact_qp
+    from .multigrid import ContactEdges
+    from .solver import DEFAULT_TOLERANCE, ActiveSetSolver, Cholesky, MultigridSystem, solve_contact_qp
 
     ngs.ngsglobals.msg_level = 0
     with ngs.TaskManager():
-        if method == "multigrid":
-            out = _multigrid_linear_solve(level, coarse_maxh)
+        if method == "ngsolve_multigrid":
+            out = _ngsolve_multigrid_solve(level, coarse_maxh)
             out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
             connection.send(out)
             connection.close()
             return
-        qp, predicted = _problem(model_name, level, coarse_maxh)
+        qp, predicted, multilevel, start_vector = _problem(model_name, level, coarse_maxh)
         out = {"ndof": qp.problem.ndof}
         if method == "contact":
-            solution = solve_contact_qp(qp, predicted)
-            out |= {"t": solution.seconds, "iterations": solution.iterations, "kkt_residual": solution.kkt.residual}
-        elif method == "linear":
+            solution = solve_contact_qp(qp, predicted, multilevel=multilevel, start=start_vector)
+            out |= {"t": solution.seconds, "iterations": solution.iterations, "kkt_residual": solution.kkt.residual,
+                    "cg_iterations": solution.work["cg_iterations"]}
+        elif method == "multigrid":
+            # the contact solver's own back end, the same matrix K, no contact constraints,
+            # from zero, as deep as the contact solver's linear solves
+            system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges(qp.problem.edge_dofs, qp.problem.end_dofs))
+            load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
             start = time.perf_counter()
-            # the same matrix K and back end, no constraints
+            system.solve(~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * load_scale)
+            out |= {"t": time.perf_counter() - start, "iterations": system.cg_iterations}
+        elif method == "cholesky":
+            start = time.perf_counter()
+            # the same matrix K, no constraints
             Cholesky(qp.K_ngs, qp.free).solve(np.where(qp.free, qp.b - qp.K @ qp.lift, 0.0))
             out["t"] = time.perf_counter() - start
         elif method == "textbook":
@@ -158,25 +175,29 @@ def run_bench(sizes=DEFAULT_SIZES, models=("mean", "nodal"), qp_max_ndof=QP_MAX_
         for model in models:
             contact = measure("contact", model, level, coarse_maxh)
             ndof = contact["ndof"]
-            linear = measure("linear", model, level, coarse_maxh)
             multigrid = measure("multigrid", model, level, coarse_maxh)
+            cholesky = measure("cholesky", model, level, coarse_maxh)
+            ngsolve_multigrid = measure("ngsolve_multigrid", model, level, coarse_maxh)
             textbook = measure("textbook", model, level, coarse_maxh) if ndof <= textbook_max_ndof else {}
             qp = measure("qp", model, level, coarse_maxh) if ndof <= qp_max_ndof else {}
             row = {
-                # one linear solve with the faster back end at this size (issue 5)
-                "model": model, "ndof": ndof, "t_contact": contact["t"], "t_linear": min(linear["t"], multigrid["t"]),
-                "t_linear_cholesky": linear["t"], "t_linear_multigrid": multigrid["t"],
-                "multigrid_iterations": multigrid["iterations"],
+                # one linear solve with the fastest back end at this size (issue 5)
+                "model": model, "ndof": ndof, "t_contact": contact["t"],
+                "t_linear": min(multigrid["t"], cholesky["t"], ngsolve_multigrid["t"]),
+                "t_linear_multigrid": multigrid["t"], "multigrid_iterations": multigrid["iterations"],
+                "t_linear_cholesky": cholesky["t"], "t_linear_ngsolve_multigrid": ngsolve_multigrid["t"],
+                "ngsolve_multigrid_iterations": ngsolve_multigrid["iterations"],
                 "t_textbook": textbook.get("t", np.nan), "t_qp": qp.get("t", np.nan),
-                "iterations": contact["iterations"], "kkt_residual": contact["kkt_residual"],
-                "peak_rss_mb": contact["peak_rss_mb"],
+                "iterations": contact["iterations"], "contact_cg_iterations": contact["cg_iterations"],
+                "kkt_residual": contact["kkt_residual"], "peak_rss_mb": contact["peak_rss_mb"],
             }
             row["ratio_linear"] = row["t_contact"] / row["t_linear"]
             row["speedup_textbook"] = row["t_textbook"] / row["t_contact"]
             row["speedup_qp"] = row["t_qp"] / row["t_contact"]
             rows.append(row)
-            progress(f"{model:5s} ndof {ndof:>9d}  contact {row['t_contact']:7.2f} s  linear: cholesky "
-                     f"{row['t_linear_cholesky']:7.2f} s, multigrid {row['t_linear_multigrid']:7.2f} s  "
+            progress(f"{model:5s} ndof {ndof:>9d}  contact {row['t_contact']:7.2f} s  linear: multigrid "
+                     f"{row['t_linear_multigrid']:7.2f} s, cholesky {row['t_linear_cholesky']:7.2f} s, ngsolve "
+                     f"multigrid {row['t_linear_ngsolve_multigrid']:7.2f} s  "
                      f"textbook {row['t_textbook']:7.2f} s  qp {row['t_qp']:7.2f} s  rss {row['peak_rss_mb']:.0f} MB")
     return pd.DataFrame(rows, columns=COLUMNS)
 
@@ -202,8 +223,8 @@ def goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
         per_dof = times / frame.ndof
         return (per_dof.groupby(frame.model).max() / per_dof.groupby(frame.model).min()).max()
     out.append((f"time per dof within 2x over {frame.ndof.min()}..{frame.ndof.max()} dofs", spread(frame.t_contact) <= 2,
-                f"spread {spread(frame.t_contact):.2f}x (one linear solve alone: cholesky "
-                f"{spread(frame.t_linear_cholesky):.2f}x, multigrid {spread(frame.t_linear_multigrid):.2f}x)"))
+                f"spread {spread(frame.t_contact):.2f}x (one linear solve alone: multigrid "
+                f"{spread(frame.t_linear_multigrid):.2f}x, cholesky {spread(frame.t_linear_cholesky):.2f}x)"))
     out.append(("KKT residual <= 1e-10 at every size", bool((frame.kkt_residual <= 1e-10).all()),
                 f"max {frame.kkt_residual.max():.1e}"))
     return out

@@ -21,13 +21,16 @@ Exact and robust:
 * if an active set repeats while the residual is still large, it switches to Murty's
   least-index principal pivoting, finite for the positive definite Schur complement of K on C.
 
-Fast:
-* an active constraint is a Dirichlet condition on its variable: active dofs simply leave the
-  sparse Cholesky factorisation (NGSolve's ``sparsecholesky``);
-* one factorisation serves every later active set that differs from it in a few dofs: released
-  and newly pinned dofs enter a small bordered system (block elimination, a Schur complement of
-  their number), each costing one extra solve, cached across iterations;
-* nested iteration: the study passes the active set predicted by the previous level.
+Fast: an active constraint is a Dirichlet condition on its variable, so each iteration is a
+linear solve with some dofs pinned, done by one of two systems:
+* ``MultigridSystem`` (the study's, given the mesh hierarchy): CG preconditioned by a V-cycle
+  whose coarse spaces are truncated at the pins (``multigrid``), started from the previous
+  iterate; a solve costs about one unconstrained multigrid solve, linear in the number of dofs;
+* ``FactorisedSystem`` (a single mesh, and the textbook reference): NGSolve's sparse Cholesky,
+  one factorisation reused for later active sets that differ from it in a few dofs (a small
+  bordered system, one extra solve per changed dof).
+Nested iteration: the study passes the active set predicted by the previous level and, to the
+multigrid, the previous solution as a start.
 """
 from __future__ import annotations
 

@@ -4,10 +4,11 @@ import pytest
 import scipy.sparse as sp
 from qpsolvers import solve_qp
 
-from conftest import MODEL_NAMES, problem_at
+from conftest import MODEL_NAMES, problem_at, problem_with_hierarchy
 from harness.case import load_case
 from harness.models import MODELS, contact_qp
-from harness.solver import ActiveSetSolver, solve_contact_qp
+from harness.multigrid import ContactEdges, TruncatedVCycle
+from harness.solver import ActiveSetSolver, MultigridSystem, solve_contact_qp
 
 CROSS_CHECK_LEVELS = [0, 1, 2]   # 165, 609, 2337 dofs: all <= 3000
 
@@ -50,13 +51,14 @@ def test_solution_equals_independent_qp_solver(model_name, level):
     assert np.abs(ours - u_ref).max() <= 1e-8 * np.abs(u_ref).max()
 
 
+@pytest.mark.parametrize("backend", ["multigrid", "cholesky"])
 @pytest.mark.parametrize("model_name", MODEL_NAMES)
 @pytest.mark.parametrize("case_file", ["transition-r32", "tests/data/gap_case.py"])
-def test_every_solution_satisfies_kkt_conditions(model_name, case_file):
+def test_every_solution_satisfies_kkt_conditions(model_name, case_file, backend):
     case = load_case(case_file)
-    problem = problem_at(case_file, 3)
+    problem, multilevel = problem_with_hierarchy(case_file, 3)
     qp = contact_qp(case, problem, MODELS[model_name])
-    solution = solve_contact_qp(qp)
+    solution = solve_contact_qp(qp, multilevel=multilevel if backend == "multigrid" else None)
     assert solution.status == "converged"
     # Recompute every KKT condition, in NGSolve's hierarchical variables, independently of the solver.
     u, lam, active = qp.to_u(solution.z), solution.multipliers, solution.active
@@ -90,6 +92,63 @@ def test_fast_solver_equals_textbook_pdas(model_name):
     assert textbook.status == fast.status == "converged"
     assert fast.work["factorizations"] < textbook.work["factorizations"]
     assert np.abs(fast.z - textbook.z).max() <= 1e-10 * np.abs(textbook.z).max()
+
+
+@pytest.mark.parametrize("case_file", ["transition-r32", "tests/data/gap_case.py"])
+@pytest.mark.parametrize("model_name", MODEL_NAMES)
+def test_multigrid_solver_equals_textbook_pdas(model_name, case_file):
+    """The study's solver (truncated-multigrid CG, from a poor start: every constraint active)
+    and the textbook PDAS (cold, refactorised) agree to 1e-10."""
+    case = load_case(case_file)
+    problem, multilevel = problem_with_hierarchy(case_file, 3)
+    qp = contact_qp(case, problem, MODELS[model_name])
+    textbook = solve_contact_qp(qp, textbook=True)
+    fast = solve_contact_qp(qp, initial_active=np.ones(len(qp.C), bool), multilevel=multilevel)
+    assert textbook.status == fast.status == "converged"
+    assert fast.kkt.residual <= 1e-10
+    assert np.abs(fast.z - textbook.z).max() <= 1e-10 * np.abs(textbook.z).max()
+
+
+def _exact_pins(case_name, model_name, level):
+    problem, multilevel = problem_with_hierarchy(case_name, level)
+    qp = contact_qp(load_case(case_name), problem, MODELS[model_name])
+    active = solve_contact_qp(qp).active
+    pinned = ~qp.free
+    pinned[qp.C[active]] = True
+    return qp, multilevel, pinned
+
+
+@pytest.mark.parametrize("model_name", MODEL_NAMES)
+def test_truncated_vcycle_is_symmetric_positive_and_keeps_the_pins(model_name, rng):
+    """CG needs a symmetric positive definite preconditioner on the free dofs; the truncated
+    coarse spaces must never move a pinned dof."""
+    qp, multilevel, pinned = _exact_pins("transition-r32", model_name, 3)
+    vcycle = TruncatedVCycle(multilevel, qp.K_ngs, ~pinned, ContactEdges(qp.problem.edge_dofs, qp.problem.end_dofs))
+    vectors = [qp.K_ngs.CreateColVector() for _ in range(4)]
+    r, s, Br, Bs = vectors
+    r.FV().NumPy()[:] = np.where(pinned, 0.0, rng.standard_normal(len(pinned)))
+    s.FV().NumPy()[:] = np.where(pinned, 0.0, rng.standard_normal(len(pinned)))
+    vcycle.apply(r, Br)
+    vcycle.apply(s, Bs)
+    assert np.all(Br.FV().NumPy()[pinned] == 0.0)
+    sBr, rBs = s.FV().NumPy() @ Br.FV().NumPy(), r.FV().NumPy() @ Bs.FV().NumPy()
+    assert abs(sBr - rBs) <= 1e-12 * abs(sBr)
+    assert r.FV().NumPy() @ Br.FV().NumPy() > 0
+
+
+@pytest.mark.parametrize("model_name", MODEL_NAMES)
+def test_multigrid_cg_iterations_do_not_grow_under_refinement(model_name):
+    """Truncation makes the coarse spaces see the contact zone: with the exact active set pinned,
+    CG iterations from zero stay bounded as h halves (an untruncated multigrid grows like
+    h^(-1/2))."""
+    iterations = []
+    for level in (2, 3, 4, 5):
+        qp, multilevel, pinned = _exact_pins("transition-r32", model_name, level)
+        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges(qp.problem.edge_dofs, qp.problem.end_dofs))
+        values = np.where(qp.free, 0.0, qp.lift)
+        system.solve(pinned, values, tol=1e-11 * np.abs(qp.b).max())
+        iterations.append(system.cg_iterations)
+    assert max(iterations) <= min(iterations) + 3, iterations
 
 
 @pytest.mark.parametrize("seed", range(6))
