@@ -37,7 +37,7 @@ def _problem(model_name: str, level: int, coarse_maxh: float | None):
     from .discrete import discretise
     from .mesh import mesh_hierarchy
     from .models import MODELS, contact_qp
-    from .multigrid import ContactEdges, Multilevel, nested_start
+    from .multigrid import Multilevel, nested_start
     from .solver import solve_contact_qp
 
     case = dataclasses.replace(load_case(BENCH_CASE), maxh=coarse_maxh)
@@ -55,7 +55,7 @@ def _problem(model_name: str, level: int, coarse_maxh: float | None):
             previous = qp.trace_function(u, coarse.active)
             vertex_values = u[: multilevel.nvertices].copy()
         elif level > 0:
-            start = nested_start(multilevel, vertex_values, ContactEdges(problem.edge_dofs, problem.end_dofs), problem.ndof)
+            start = nested_start(multilevel, vertex_values, problem)
     return qp, qp.predicted_active(previous), multilevel, start
 
 
@@ -125,7 +125,7 @@ def _measure(method: str, model_name: str, level: int, coarse_maxh, connection):
         elif method == "multigrid":
             # the contact solver's own back end, the same matrix K, no contact constraints,
             # from zero, as deep as the contact solver's linear solves
-            system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges(qp.problem.edge_dofs, qp.problem.end_dofs))
+            system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
             load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
             start = time.perf_counter()
             system.solve(~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * load_scale)

@@ -73,15 +73,15 @@ class Multilevel:
         return pins
 
 
-def nested_start(multilevel: Multilevel, coarse_vertex_values: np.ndarray, edges: ContactEdges, ndof: int) -> np.ndarray:
+def nested_start(multilevel: Multilevel, coarse_vertex_values: np.ndarray, problem) -> np.ndarray:
     """A start for the finest level's CG: the coarser level's u_h at the vertices, interpolated
     by the P1 prolongation, in the model's variables (bubbles zero)."""
     fine = multilevel.matrices[-1].CreateColVector()
     fine[:] = 0.0
     fine.FV().NumPy()[: len(coarse_vertex_values)] = coarse_vertex_values
     multilevel.fes.Prolongation().Prolongate(len(multilevel.matrices) - 1, fine)
-    z = np.zeros(ndof)
-    edges.prolongate(fine.FV().NumPy(), z)
+    z = np.zeros(problem.ndof)
+    ContactEdges.of(problem).prolongate(fine.FV().NumPy(), z)
     return z
 
 
@@ -97,6 +97,15 @@ class ContactEdges:
 
     edge_dofs: np.ndarray
     end_dofs: np.ndarray
+
+    @classmethod
+    def of(cls, problem) -> "ContactEdges":
+        """From a ``discrete.DiscreteProblem``, whose P2 space must number vertex v's dof v."""
+        nv = problem.mesh.nv
+        if problem.fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, nv - 1)) != (nv - 1,) or \
+                not np.array_equal(problem.vertex_dofs, problem.trace.vertices):
+            raise RuntimeError("the P2 space does not number vertex dofs by vertex; the multigrid needs it")
+        return cls(problem.edge_dofs, problem.end_dofs)
 
     def prolongate(self, c: np.ndarray, z: np.ndarray) -> None:
         """z += the model variables of the P1 function c (vertex dofs are 0..nv-1 in H1)."""

@@ -308,7 +308,9 @@ def solve_contact_qp(qp, initial_active=None, textbook: bool = False, tol: float
     if textbook:
         system = FactorisedSystem(qp.K, qp.K_ngs, qp.b, refactor_above=0)
     elif multilevel is not None:
-        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges(qp.problem.edge_dofs, qp.problem.end_dofs))
+        if multilevel.nvertices != qp.problem.mesh.nv:
+            raise ValueError("the multilevel hierarchy does not end at this problem's mesh (refined() missed?)")
+        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
     else:
         system = FactorisedSystem(qp.K, qp.K_ngs, qp.b)
     solver = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, tol=tol, system=system)

@@ -13,7 +13,7 @@ from .discrete import discretise
 from .errors import error_norms, max_penetration
 from .mesh import mesh_hierarchy, mesh_size
 from .models import ContactModel, contact_qp
-from .multigrid import ContactEdges, Multilevel, nested_start
+from .multigrid import Multilevel, nested_start
 from .solver import solve_contact_qp
 from .validate import validate_case
 
@@ -35,7 +35,7 @@ def solve_level(case: Case, problem, model: ContactModel, previous=None, multile
     qp = contact_qp(case, problem, model)
     start = None
     if multilevel is not None and coarse_vertex_values is not None:
-        start = nested_start(multilevel, coarse_vertex_values, ContactEdges(problem.edge_dofs, problem.end_dofs), problem.ndof)
+        start = nested_start(multilevel, coarse_vertex_values, problem)
     solution = solve_contact_qp(qp, qp.predicted_active(previous), multilevel=multilevel, start=start)
     u = qp.to_u(solution.z)
     trace_u = qp.trace_function(u, solution.active)

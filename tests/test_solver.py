@@ -123,7 +123,7 @@ def test_truncated_vcycle_is_symmetric_positive_and_keeps_the_pins(model_name, r
     """CG needs a symmetric positive definite preconditioner on the free dofs; the truncated
     coarse spaces must never move a pinned dof."""
     qp, multilevel, pinned = _exact_pins("transition-r32", model_name, 3)
-    vcycle = TruncatedVCycle(multilevel, qp.K_ngs, ~pinned, ContactEdges(qp.problem.edge_dofs, qp.problem.end_dofs))
+    vcycle = TruncatedVCycle(multilevel, qp.K_ngs, ~pinned, ContactEdges.of(qp.problem))
     vectors = [qp.K_ngs.CreateColVector() for _ in range(4)]
     r, s, Br, Bs = vectors
     r.FV().NumPy()[:] = np.where(pinned, 0.0, rng.standard_normal(len(pinned)))
@@ -144,7 +144,7 @@ def test_multigrid_cg_iterations_do_not_grow_under_refinement(model_name):
     iterations = []
     for level in (2, 3, 4, 5):
         qp, multilevel, pinned = _exact_pins("transition-r32", model_name, level)
-        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges(qp.problem.edge_dofs, qp.problem.end_dofs))
+        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
         values = np.where(qp.free, 0.0, qp.lift)
         initial_residual = np.abs(np.where(pinned, 0.0, qp.b - qp.K @ values)).max()
         system.solve(pinned, values, tol=1e-10 * initial_residual)
