@@ -17,9 +17,9 @@ import numpy as np
 import pandas as pd
 
 BENCH_CASE = "transition-r32"
-# (coarse maxh, level): 9.2e3, 3.6e4, 1.4e5 dofs on the case's own hierarchy, then 1.06e6 and
-# 4.2e6 dofs on a slightly finer coarse mesh (its level 8 would need 9e6 dofs).
-DEFAULT_SIZES = ((0.25, 3), (0.25, 4), (0.25, 5), (0.2, 6), (0.2, 7))
+# (coarse maxh, level): 9.2e3 and 3.6e4 dofs on the case's own hierarchy, about 1.9e5 (where
+# the goal against a generic QP solver is set), then 1.0e6 and 4.1e6 dofs on finer coarse meshes.
+DEFAULT_SIZES = ((0.25, 3), (0.25, 4), (0.22, 5), (0.2, 6), (0.2, 7))
 TEXTBOOK_MAX_NDOF = 3_000_000
 QP_MAX_NDOF = 200_000
 COLUMNS = ["model", "ndof", "t_contact", "t_linear", "t_textbook", "t_qp", "ratio_linear", "speedup_textbook",
