@@ -28,6 +28,31 @@ COLUMNS = ["model", "ndof", "t_contact", "t_linear", "t_textbook", "t_qp", "rati
 # NGSolve's own CG is stopped where its residual is as small, relative to the load, as the
 # contact solve's KKT stationarity (<= 1e-10, MATH.md 6).
 NGSOLVE_MULTIGRID_TOLERANCE = 1e-12
+# A solve shorter than this is repeated (at most REPEATS times, on the same data, as timeit
+# does) and its fastest run kept: a single run of a few milliseconds measures the machine's
+# noise and first-touch page faults more than the solver.
+SHORT_SECONDS = 1.0
+REPEATS = 5
+
+
+def _fastest(solve) -> tuple[float, object]:
+    """(seconds, result) of the fastest of repeated calls of ``solve``, which returns
+    (seconds, result); repeated only while the runs are short."""
+    best, result, total = np.inf, None, 0.0
+    for _ in range(REPEATS):
+        seconds, out = solve()
+        if seconds < best:
+            best, result = seconds, out
+        total += seconds
+        if total >= SHORT_SECONDS:
+            break
+    return best, result
+
+
+def _timed(function, *args, **kwargs) -> tuple[float, object]:
+    start = time.perf_counter()
+    out = function(*args, **kwargs)
+    return time.perf_counter() - start, out
 
 
 def _problem(model_name: str, level: int, coarse_maxh: float | None):
@@ -92,10 +117,13 @@ def _ngsolve_multigrid_solve(level: int, coarse_maxh) -> dict:
     problem = discretise(case, mesh)
     rhs, solution = a.mat.CreateColVector(), a.mat.CreateColVector()
     rhs.FV().NumPy()[:] = np.where(problem.free, problem.b - problem.A @ problem.lift, 0.0)
-    start = time.perf_counter()
     solver = ngs.CGSolver(a.mat, preconditioner.mat, tol=NGSOLVE_MULTIGRID_TOLERANCE, maxiter=1000)
-    solution.data = solver * rhs
-    seconds = time.perf_counter() - start
+
+    def solve():
+        start = time.perf_counter()
+        solution.data = solver * rhs
+        return time.perf_counter() - start, None
+    seconds, _ = _fastest(solve)
     residual = np.where(problem.free, rhs.FV().NumPy() - problem.A @ solution.FV().NumPy(), 0.0)
     relative = np.abs(residual).max() / np.abs(rhs.FV().NumPy()).max()
     if relative > 1e-10:
@@ -119,25 +147,27 @@ def _measure(method: str, model_name: str, level: int, coarse_maxh, connection):
         qp, predicted, multilevel, start_vector = _problem(model_name, level, coarse_maxh)
         out = {"ndof": qp.problem.ndof}
         if method == "contact":
-            solution = solve_contact_qp(qp, predicted, multilevel=multilevel, start=start_vector)
-            out |= {"t": solution.seconds, "iterations": solution.iterations, "kkt_residual": solution.kkt.residual,
+            t, solution = _fastest(lambda: _seconds(solve_contact_qp(qp, predicted, multilevel=multilevel,
+                                                                     start=start_vector)))
+            out |= {"t": t, "iterations": solution.iterations, "kkt_residual": solution.kkt.residual,
                     "cg_iterations": solution.work["cg_iterations"]}
         elif method == "multigrid":
             # the contact solver's own back end, the same matrix K, no contact constraints,
             # from zero, as deep as the contact solver's linear solves
             system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
             load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
-            start = time.perf_counter()
-            system.solve(~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * load_scale)
-            out |= {"t": time.perf_counter() - start, "iterations": system.cg_iterations}
+            def solve():
+                system.cg_iterations = 0
+                return _timed(system.solve, ~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * load_scale)
+            out["t"], _ = _fastest(solve)
+            out["iterations"] = system.cg_iterations
         elif method == "cholesky":
-            start = time.perf_counter()
             # the same matrix K, no constraints
-            Cholesky(qp.K_ngs, qp.free).solve(np.where(qp.free, qp.b - qp.K @ qp.lift, 0.0))
-            out["t"] = time.perf_counter() - start
+            rhs = np.where(qp.free, qp.b - qp.K @ qp.lift, 0.0)
+            out["t"], _ = _fastest(lambda: _timed(lambda: Cholesky(qp.K_ngs, qp.free).solve(rhs)))
         elif method == "textbook":
-            solution = solve_contact_qp(qp, textbook=True)
-            out |= {"t": solution.seconds, "textbook_iterations": solution.iterations}
+            t, solution = _fastest(lambda: _seconds(solve_contact_qp(qp, textbook=True)))
+            out |= {"t": t, "textbook_iterations": solution.iterations}
         elif method == "qp":
             import scipy.sparse as sp
             from qpsolvers import solve_qp
@@ -146,12 +176,14 @@ def _measure(method: str, model_name: str, level: int, coarse_maxh, connection):
             K = sp.csc_matrix(qp.K[free][:, free])
             q = -(qp.b - qp.K @ qp.lift)[free]
             G = sp.csc_matrix((-np.ones(len(qp.C)), (np.arange(len(qp.C)), position[qp.C])), shape=(len(qp.C), len(free)))
-            start = time.perf_counter()
-            solve_qp(K, q, G=G, h=-qp.alpha, solver="clarabel")
-            out["t"] = time.perf_counter() - start
+            out["t"], _ = _fastest(lambda: _timed(solve_qp, K, q, G=G, h=-qp.alpha, solver="clarabel"))
     out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     connection.send(out)
     connection.close()
+
+
+def _seconds(solution) -> tuple[float, object]:
+    return solution.seconds, solution
 
 
 def measure(method: str, model_name: str, level: int, coarse_maxh=None) -> dict:

@@ -138,42 +138,55 @@ class TruncatedVCycle:
         self.smoothers = [m.CreateSmoother(_bits(~p)) for m, p in zip(multilevel.matrices, self.pins)]
         self.coarsest = multilevel.matrices[0].Inverse(_bits(~self.pins[0]), inverse="sparsecholesky")
         self.prolongation = multilevel.fes.Prolongation()
-        self._work = [(m.CreateColVector(), m.CreateColVector(), m.CreateColVector()) for m in multilevel.matrices]
-        self._x, self._d = K_ngs.CreateColVector(), K_ngs.CreateColVector()
+        # NGSolve work vectors with their NumPy views made once: a view costs microseconds, which
+        # on small meshes is a good part of a V-cycle
+        self._work = [_vectors(m, 3) for m in multilevel.matrices]
+        self._x, self._d = _vectors(K_ngs, 2)
 
     def _p1_cycle(self, level: int, d: np.ndarray) -> np.ndarray:
-        x, b, r = self._work[level]
-        b.FV().NumPy()[:] = d
+        (x, x_np), (b, b_np), (r, r_np) = self._work[level]
+        b_np[:] = d
         if level == 0:
             x.data = self.coarsest * b
-            return x.FV().NumPy().copy()
-        x[:] = 0.0
+            return x_np.copy()
+        x_np[:] = 0.0
         self.smoothers[level].Smooth(x, b)
         r.data = b - self.multilevel.matrices[level] * x
-        r.FV().NumPy()[:] *= self.keep[level]
+        r_np *= self.keep[level]
         self.prolongation.Restrict(level, r)
-        nc = self.multilevel.matrices[level - 1].height
-        correction = self._p1_cycle(level - 1, r.FV().NumPy()[:nc] * self.keep[level - 1])
-        r[:] = 0.0
-        r.FV().NumPy()[:nc] = correction
+        nc = len(self.keep[level - 1])
+        correction = self._p1_cycle(level - 1, r_np[:nc] * self.keep[level - 1])
+        r_np[:] = 0.0
+        r_np[:nc] = correction
         self.prolongation.Prolongate(level, r)
-        x.FV().NumPy()[:] += r.FV().NumPy() * self.keep[level]
+        x_np += r_np * self.keep[level]
         self.smoothers[level].SmoothBack(x, b)
-        return x.FV().NumPy().copy()
+        return x_np.copy()
 
     def apply(self, r, out) -> None:
         """out = B r for NGSolve vectors (r vanishes on the pins; so does out)."""
-        x, d = self._x, self._d
-        x[:] = 0.0
+        (x, x_np), (d, d_np) = self._x, self._d
+        x_np[:] = 0.0
         self.smoother.Smooth(x, r)
         d.data = r - self.K * x
-        d.FV().NumPy()[:] *= self.free
+        d_np *= self.free
         top = len(self.multilevel.matrices) - 1
-        correction = self._p1_cycle(top, self.edges.restrict(d.FV().NumPy(), self.nv) * self.keep[top])
-        self.edges.prolongate(correction, x.FV().NumPy())
+        correction = self._p1_cycle(top, self.edges.restrict(d_np, self.nv) * self.keep[top])
+        self.edges.prolongate(correction, x_np)
         self.smoother.SmoothBack(x, r)
         out.data = x
         out.FV().NumPy()[:] *= self.free
+
+
+def _vectors(matrix, count: int) -> list[tuple]:
+    """``count`` column vectors of ``matrix``, each with its NumPy view."""
+    vectors = [matrix.CreateColVector() for _ in range(count)]
+    return [(v, v.FV().NumPy()) for v in vectors]
+
+
+def _max_abs(a: np.ndarray) -> float:
+    """max |a| without a temporary the size of a."""
+    return max(a.max(initial=0.0), -a.min(initial=0.0))
 
 
 def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, free: np.ndarray,
@@ -182,13 +195,13 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
     entries stay), until max |residual| <= tol, checked on the true residual. All vector work is
     NGSolve's (multithreaded, and no BLAS threads competing with its task manager)."""
     mask = free.astype(float)
-    x, r, p, q, s = (K_ngs.CreateColVector() for _ in range(5))
-    x.FV().NumPy()[:] = z
+    (x, x_np), (r, r_np), (p, _), (q, q_np), (s, _) = _vectors(K_ngs, 5)
+    x_np[:] = z
     iterations = 0
     for _restart in range(3):
         r.data = K_ngs * x
-        r.FV().NumPy()[:] = (rhs - r.FV().NumPy()) * mask
-        if np.abs(r.FV().NumPy()).max(initial=0.0) <= tol:
+        r_np[:] = (rhs - r_np) * mask
+        if _max_abs(r_np) <= tol:
             break
         preconditioner.apply(r, s)
         p.data = s
@@ -196,14 +209,14 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
         while iterations < max_iterations:
             iterations += 1
             q.data = K_ngs * p
-            q.FV().NumPy()[:] *= mask
+            q_np *= mask
             step = rs / ngs.InnerProduct(p, q)
             x.data += step * p
             r.data -= step * q
-            if np.abs(r.FV().NumPy()).max() <= 0.5 * tol:
+            if _max_abs(r_np) <= 0.5 * tol:
                 break
             preconditioner.apply(r, s)
             rs_new = ngs.InnerProduct(r, s)
             p.data = s + (rs_new / rs) * p
             rs = rs_new
-    return x.FV().NumPy().copy(), iterations
+    return x_np.copy(), iterations
