@@ -3,7 +3,8 @@ generic QP solver, on the same discrete problems (transition-r32, both models).
 
 Every measurement of one (model, size) runs in its own fresh process, so that peak memory
 (ru_maxrss) belongs to that measurement alone and earlier sizes leave nothing behind. Times
-are of the solve only: assembly and the change of variables are shared by all methods.
+are of the solve only: assembly and the change of variables are shared by all methods. Short
+solves are repeated and the fastest run kept (``_fastest``).
 """
 from __future__ import annotations
 
