@@ -35,3 +35,4 @@ maxh = 0.25
 TRANSITION_WEIGHT = 0.1
 r, _ = polar()
 u = 0.5 * (r - x) * (-log(r / 2)) ** (-BETA) + TRANSITION_WEIGHT * transition(0.0)
+singular_points = [(0.0, 0.0)]  # f ~ r^{-1} |log r|^{-beta} there too

@@ -26,3 +26,5 @@ maxh = 0.25
 
 r = sqrt(x * x + y * y)
 u = -(r ** 1.5) * sin(1.5 * atan2(y, x))
+f = 0                         # u is harmonic
+singular_points = [(0.0, 0.0)]  # the transition point

@@ -30,6 +30,8 @@ maxh = 0.25
 
 r, theta = polar()
 u = -(r ** (2 / 3)) * sin(2 * theta / 3) + transition(0.5, binding_side="left")
+f = 0                                     # both terms are harmonic
+singular_points = [(0.0, 0.0), (0.5, 0.0)]  # the junction, the transition point
 # On the free part x > 1/2 the load g_C takes over the pressure (2/3) r^{-1/3} of u_s, so that
 # du/dn - g_C = 0 there: the contact-load generalisation of (2.4) (MATH.md Section 1).
 contact_load = IfPos(x - 0.5, (2 / 3) * x ** (-1 / 3), 0.0)

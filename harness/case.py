@@ -16,9 +16,14 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     regime                 optional, the regularity regime in words
     gap                    optional CoefficientFunction alpha: the constraint is u - alpha >= 0
     contact_load           optional CoefficientFunction g_C: du/dn - g_C >= 0 on Gamma_C
+    f                      optional volume load, -Laplace(u) in closed form (0 for a harmonic
+                           u): cheaper to evaluate than the derived one, and checked against it
+    singular_points        optional list of points (x, y) where u is singular, each a polygon
+                           corner; the error and load quadratures are graded there. Default:
+                           every point of the geometry. [] for a solution singular nowhere.
 
-From u the harness derives f = -Laplace(u), the Neumann data du/dn on Gamma_g and the
-Dirichlet data u on Gamma_u (Section 1 of MATH.md: nonzero Dirichlet data, a gap and a load on
+From u the harness derives f = -Laplace(u) (unless declared), the Neumann data du/dn on
+Gamma_g and the Dirichlet data u on Gamma_u (Section 1 of MATH.md: nonzero Dirichlet data, a gap and a load on
 Gamma_C are the paper's "straightforward" generalisations that make any u exact).
 """
 from __future__ import annotations
@@ -54,6 +59,8 @@ class Case:
     regime: str = ""
     gap: ngs.CoefficientFunction | None = None
     contact_load: ngs.CoefficientFunction | None = None
+    declared_f: object = None                  # the module's f: a number or a CoefficientFunction
+    singular_points: tuple | None = None
     source: str = ""
 
     @cached_property
@@ -61,9 +68,18 @@ class Case:
         return ngs.CF((self.u.Diff(ngs.x), self.u.Diff(ngs.y)))
 
     @cached_property
+    def laplacian_u(self) -> ngs.CoefficientFunction:
+        return self.u.Diff(ngs.x).Diff(ngs.x) + self.u.Diff(ngs.y).Diff(ngs.y)
+
+    @cached_property
     def f(self) -> ngs.CoefficientFunction:
-        """Volume load of (2.1): f = -Laplace(u)."""
-        return -(self.u.Diff(ngs.x).Diff(ngs.x) + self.u.Diff(ngs.y).Diff(ngs.y))
+        """Volume load of (2.1): f = -Laplace(u), as declared by the case or derived from u."""
+        return -self.laplacian_u if self.declared_f is None else ngs.CF(self.declared_f)
+
+    @property
+    def f_vanishes(self) -> bool:
+        """The case declares f = 0 (a harmonic u): the volume load needs no quadrature at all."""
+        return isinstance(self.declared_f, (int, float)) and self.declared_f == 0
 
     @property
     def gap_or_zero(self) -> ngs.CoefficientFunction:
@@ -107,9 +123,13 @@ def case_from_module(module, source: str) -> Case:
     if missing:
         raise CaseError(f"case {source} lacks required attribute(s): {', '.join(missing)}")
     fields = {key: getattr(module, key) for key in REQUIRED}
-    for key in ("expected_log_exponent", "regime", "gap", "contact_load"):
+    for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
+    if hasattr(module, "f"):
+        fields["declared_f"] = module.f
+    if fields.get("singular_points") is not None:
+        fields["singular_points"] = tuple(tuple(map(float, point)) for point in fields["singular_points"])
     for key in ("gap", "contact_load"):
         if fields.get(key) is not None:
             fields[key] = ngs.CF(fields[key])

@@ -1,8 +1,9 @@
 """The P2 discretisation of (2.5) on one mesh level: X_h, a(., .), L(.) and the Dirichlet lift.
 
 X_h is NGSolve's H1 space of order 2, whose basis is hierarchical: vertex hat functions and
-one bubble phi_e = -1/2 lambda_a lambda_b per edge (MATH.md Section 5). Matrices leave this
-module as scipy CSR in those hierarchical variables; the contact models change variables.
+one bubble phi_e = -1/2 lambda_a lambda_b per edge (MATH.md Section 5). The stiffness matrix is
+NGSolve's, with a scipy CSR view of the same memory (no copy); the contact models change
+variables.
 """
 from __future__ import annotations
 
@@ -13,18 +14,23 @@ import numpy as np
 import scipy.sparse as sp
 
 from .mesh import ContactTrace, contact_trace
+from .quadrature import ElementQuadrature
 
 ORDER = 2
-# Extra quadrature order for the load terms: f and g may be singular at corners.
-LOAD_BONUS_ORDER = 6
+# Gauss order of the volume load f v away from singular points (the graded rule near them):
+# see LOAD_ORDER_NOTE in tests/test_errors.py for the measurement that chose it.
+LOAD_ORDER = 4
+# Extra order for the boundary loads (g on Gamma_g, g_C on Gamma_C): O(h^-1) edges, cheap, and
+# g may be singular at a junction.
+BOUNDARY_LOAD_BONUS_ORDER = 6
 
 
 @dataclass
 class DiscreteProblem:
     mesh: ngs.Mesh
     fes: ngs.H1
-    A: sp.csr_matrix            # stiffness matrix a(phi_j, phi_i), all dofs
-    A_ngs: object               # the same, as assembled by NGSolve (factorised by the solver)
+    A: sp.csr_matrix            # stiffness matrix a(phi_j, phi_i), all dofs: a view of A_ngs
+    A_ngs: object               # the same, as assembled by NGSolve
     b: np.ndarray               # load vector L(phi_i), all dofs
     lift: np.ndarray            # Dirichlet data on Gamma_u dofs, zero elsewhere
     free: np.ndarray            # bool: dofs not on Gamma_u
@@ -32,6 +38,7 @@ class DiscreteProblem:
     edge_dofs: np.ndarray       # (m,) bubble dof of each contact edge
     end_dofs: np.ndarray        # (m, 2) vertex dofs of its end points
     vertex_dofs: np.ndarray     # dofs of trace.vertices, same order
+    quadrature: ElementQuadrature
 
     @property
     def ndof(self) -> int:
@@ -48,19 +55,38 @@ def _single_dof(fes, node) -> int:
     return dof
 
 
+def csr_view(matrix) -> sp.csr_matrix:
+    """A scipy CSR matrix on the memory of an NGSolve sparse matrix (values and column indices
+    shared, not copied); it keeps ``matrix`` alive."""
+    values, columns, pointers = matrix.CSR()
+    view = sp.csr_matrix((values.NumPy(), np.asarray(columns), np.asarray(pointers, dtype=np.int64)),
+                         shape=(matrix.height, matrix.width), copy=False)
+    view.owner = matrix
+    return view
+
+
+def load_vector(case, fes: ngs.H1, quadrature: ElementQuadrature) -> np.ndarray:
+    """L(v) of (2.5), plus the contact-boundary load g_C of the manufactured-solution
+    generalisation: du/dn = g_C + lambda on Gamma_C with lambda >= 0 the contact pressure."""
+    v = fes.TestFunction()
+    load = ngs.LinearForm(fes)
+    if not case.f_vanishes:
+        f = case.f.Compile()
+        for dx in quadrature.measures(LOAD_ORDER):
+            load += f * v * dx
+    n = ngs.specialcf.normal(2)
+    load += (case.grad_u * n) * v * ngs.ds("neumann", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
+    if case.contact_load is not None:
+        load += case.contact_load * v * ngs.ds("contact", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
+    load.Assemble()
+    return load.vec.FV().NumPy().copy()
+
+
 def discretise(case, mesh: ngs.Mesh) -> DiscreteProblem:
     fes = ngs.H1(mesh, order=ORDER, dirichlet="dirichlet")
     u, v = fes.TnT()
     a = ngs.BilinearForm(ngs.grad(u) * ngs.grad(v) * ngs.dx).Assemble()
-    n = ngs.specialcf.normal(2)
-    # L(v) of (2.5), plus the contact-boundary load g_C of the manufactured-solution
-    # generalisation: du/dn = g_C + lambda on Gamma_C with lambda >= 0 the contact pressure.
-    load = ngs.LinearForm(fes)
-    load += case.f * v * ngs.dx(bonus_intorder=LOAD_BONUS_ORDER)
-    load += (case.grad_u * n) * v * ngs.ds("neumann", bonus_intorder=LOAD_BONUS_ORDER)
-    if case.contact_load is not None:
-        load += case.contact_load * v * ngs.ds("contact", bonus_intorder=LOAD_BONUS_ORDER)
-    load.Assemble()
+    quadrature = ElementQuadrature.of(case, mesh)
 
     dirichlet = ngs.GridFunction(fes)
     dirichlet.Set(case.u, ngs.BND, definedon=mesh.Boundaries("dirichlet"))
@@ -73,11 +99,11 @@ def discretise(case, mesh: ngs.Mesh) -> DiscreteProblem:
                          for pair in trace.edge_vertices])
     if not free[edge_dofs].all() or not free[end_dofs].all():
         raise ValueError("Gamma_C touches Gamma_u; the paper (Section 2) assumes they do not")
-    # copy=True: CSR() returns views of memory owned by the BilinearForm a.
     return DiscreteProblem(
-        mesh=mesh, fes=fes, A=sp.csr_matrix(a.mat.CSR(), copy=True), A_ngs=a.mat, b=load.vec.FV().NumPy().copy(),
+        mesh=mesh, fes=fes, A=csr_view(a.mat), A_ngs=a.mat, b=load_vector(case, fes, quadrature),
         lift=lift, free=free, trace=trace, edge_dofs=edge_dofs, end_dofs=end_dofs,
         vertex_dofs=np.array([_single_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in trace.vertices]),
+        quadrature=quadrature,
     )
 
 

@@ -36,6 +36,32 @@ def mesh_hierarchy(case, levels: int):
         yield level, mesh
 
 
+def geometry_vertices(mesh: ngs.Mesh) -> np.ndarray:
+    """Mesh vertices at the points of the geometry: where two boundary segments of different
+    geometry lines meet (a corner, a label change, or a break such as a transition point on a
+    straight Gamma_C), read from netgen's segment table, whose ``index`` is the geometry line."""
+    segments = mesh.ngmesh.Elements1D().NumPy()
+    ends = (segments["nodes"][:, :2].astype(np.int64) - 1).ravel()
+    lines = np.repeat(segments["index"], 2)
+    lowest, highest = np.full(mesh.nv, np.iinfo(np.int32).max), np.full(mesh.nv, -1)
+    np.minimum.at(lowest, ends, lines)
+    np.maximum.at(highest, ends, lines)
+    return np.flatnonzero((highest >= 0) & (lowest != highest))
+
+
+def vertices_at(mesh: ngs.Mesh, points, tol: float = 1e-10) -> np.ndarray:
+    """Numbers of the mesh vertices at ``points``; ValueError naming a point that is no vertex."""
+    coords = np.array(mesh.ngmesh.Coordinates()[:, :2])
+    out = []
+    for point in np.asarray(points, float).reshape(-1, 2):
+        distance = np.hypot(*(coords - point).T)
+        nearest = int(np.argmin(distance))
+        if distance[nearest] > tol * max(1.0, np.abs(coords).max()):
+            raise ValueError(f"point ({point[0]:.4g}, {point[1]:.4g}) is not a vertex of the mesh: make it a polygon corner")
+        out.append(nearest)
+    return np.array(out, dtype=np.int64)
+
+
 def mesh_size(mesh: ngs.Mesh) -> float:
     """h of the paper: the largest element diameter (longest triangle edge)."""
     coords = np.array(mesh.ngmesh.Coordinates()[:, :2])

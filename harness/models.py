@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .discrete import ContactTraceFunction, DiscreteProblem
+from .discrete import ContactTraceFunction, DiscreteProblem, csr_view
 from .mesh import evaluate
 
 # Gauss-Legendre points on [0, 1] for edge means of the gap (exact for polynomial gaps of
@@ -84,7 +84,9 @@ class ContactModel:
     def lower_bounds(self, case, problem: DiscreteProblem) -> np.ndarray:
         """Gap values for the constrained variables, in the order of ``constrained_dofs``."""
         mesh, trace = problem.mesh, problem.trace
-        gap = case.gap_or_zero
+        if case.gap is None:
+            return np.zeros(len(trace.vertices) + len(trace.edges))
+        gap = case.gap
         at_vertices = evaluate(gap, mesh, trace.vertex_points)
         if self.name == "nodal":
             on_edges = evaluate(gap, mesh, trace.midpoints)
@@ -143,29 +145,40 @@ class ContactQP:
 
 
 def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix):
-    """K = S^T A S, as scipy CSR and as an NGSolve matrix.
+    """K = S^T A S, as an NGSolve matrix and a scipy view of it.
 
-    S differs from the identity only in the contact-edge rows, so K - A is supported on the
-    contact dofs and (each contact edge lying in one triangle) fits A's sparsity pattern: the
-    NGSolve matrix is a copy of A's with a few values changed, much cheaper than building one.
+    With S = I + D, D nonzero only in the rows E of the contact-edge bubbles,
+    K = A + P + P^T + D_E^T A_EE D_E with P = D_E^T A[E, :]: every term is built from the
+    O(|E|) rows of A at E, and (each contact edge lying in one triangle) fits A's sparsity
+    pattern, so K is a copy of A with those few values changed: no product of n x n matrices,
+    no format conversion.
     """
-    A = problem.A
-    D = (S - sp.identity(A.shape[0], format="csr")).tocsr()
-    delta = (D.T @ A + A @ D + D.T @ (A @ D)).tocoo()
-    K = (A + delta).tocsr()
-    n = A.shape[0]
-    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(A.indptr))
-    keys = rows * n + A.indices           # sorted: NGSolve stores sorted columns per row
-    wanted = delta.row.astype(np.int64) * n + delta.col
-    position = np.minimum(np.searchsorted(keys, wanted), len(keys) - 1)
-    if not (np.all(np.diff(keys) > 0) and np.array_equal(keys[position], wanted)):
-        from .solver import ngsolve_matrix
-        return K, ngsolve_matrix(K)
+    A, E = problem.A, problem.edge_dofs
+    D_E = (S[E] - sp.csr_matrix((np.ones(len(E)), (np.arange(len(E)), E)), shape=(len(E), A.shape[1]))).tocsr()
+    rows_E = A[E]
+    P = (D_E.T @ rows_E).tocoo()
+    Q = (D_E.T @ (rows_E[:, E] @ D_E)).tocoo()
+    rows = np.concatenate([P.row, P.col, Q.row]).astype(np.int64)
+    cols = np.concatenate([P.col, P.row, Q.col]).astype(np.int64)
     K_ngs = problem.A_ngs.CreateMatrix()
-    values = K_ngs.CSR()[0].NumPy()
-    values[:] = A.data
-    np.add.at(values, position, delta.data)
+    K = csr_view(K_ngs)
+    np.add.at(K.data, csr_positions(K, rows, cols), np.concatenate([P.data, P.data, Q.data]))
     return K, K_ngs
+
+
+def csr_positions(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Positions in ``M.data`` of the entries (rows[k], cols[k]), which must be in M's pattern
+    (column indices sorted within each row, as NGSolve stores them)."""
+    touched = np.unique(rows)
+    starts, lengths = M.indptr[touched], np.diff(M.indptr)[touched]
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    positions = np.repeat(starts - offsets, lengths) + np.arange(lengths.sum())
+    keys = np.repeat(touched, lengths) * M.shape[1] + M.indices[positions]
+    wanted = rows * M.shape[1] + cols
+    where = np.minimum(np.searchsorted(keys, wanted), len(keys) - 1)
+    if not (np.all(np.diff(keys) > 0) and np.array_equal(keys[where], wanted)):
+        raise RuntimeError("S^T A S does not fit the sparsity pattern of A: a contact edge outside one triangle?")
+    return positions[where]
 
 
 def contact_qp(case, problem: DiscreteProblem, model: ContactModel) -> ContactQP:

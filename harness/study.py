@@ -27,7 +27,8 @@ ngs.ngsglobals.msg_level = 0
 
 
 def solve_level(case: Case, problem, model: ContactModel, previous=None, multilevel=None, coarse_vertex_values=None):
-    """Solve one model on one level; return the row fields, u_h and its trace on Gamma_C.
+    """Solve one model on one level; return the row's solver fields, u_h, its trace on Gamma_C
+    and the solution (the errors of all models of a level come after, in one pass: ``run_case``).
 
     Nested iteration: ``previous`` (the coarser level's trace on Gamma_C) predicts the active
     set, ``coarse_vertex_values`` (its u_h at the vertices) gives the multigrid its start.
@@ -41,7 +42,6 @@ def solve_level(case: Case, problem, model: ContactModel, previous=None, multile
     trace_u = qp.trace_function(u, solution.active)
     row = {
         "n_contact_constraints": len(qp.C),
-        **error_norms(case, problem.gridfunction(u)),
         "max_penetration": max_penetration(case, problem.mesh, trace_u),
         "active_constraints": int(solution.active.sum()),
         "solver_iterations": solution.iterations,
@@ -63,17 +63,21 @@ def run_case(case: Case, models: list[ContactModel], levels: int, progress=None,
             multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
             problem = discretise(case, mesh)
             h = mesh_size(mesh)
+            level_rows, solutions = [], []
             for model in models:
                 if progress is not None:
                     progress.set_postfix_str(f"{case.name} {model.name} level {level} ndof {problem.ndof}")
                 fields, u, trace_u, solution = solve_level(case, problem, model, previous[model.name][0], multilevel, previous[model.name][1])
                 previous[model.name] = (trace_u, u[: multilevel.nvertices].copy())
-                rows.append({"case": case.name, "model": model.name, "level": level, "h": h,
-                             "ndof": problem.ndof, **fields})
+                level_rows.append({"case": case.name, "model": model.name, "level": level, "h": h,
+                                   "ndof": problem.ndof, **fields})
+                solutions.append(problem.gridfunction(u))
                 if on_level is not None:
                     on_level(case, model, level, problem, u, solution, trace_u)
                 if progress is not None:
                     progress.update(1)
+            for row, errors in zip(level_rows, error_norms(case, solutions, problem.quadrature)):
+                rows.append(row | errors)
     return rows
 
 

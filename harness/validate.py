@@ -3,15 +3,18 @@
 With gap alpha and contact load g_C the conditions read, on Gamma_C,
     u - alpha >= 0,   du/dn - g_C >= 0,   (u - alpha)(du/dn - g_C) = 0,
 which is what makes u the solution of the variational inequality (2.5) with the data the
-harness derives from it. They are sampled densely on the coarse contact trace.
+harness derives from it. They are sampled densely on the coarse contact trace. A declared
+volume load f must equal -Laplace(u) (sampled inside every coarse element), and declared
+singular points must be vertices of the mesh.
 """
 from __future__ import annotations
 
+import ngsolve as ngs
 import numpy as np
 
 from .case import CaseError
 from .geometry import LABELS
-from .mesh import boundary_labels, coarse_mesh, contact_trace, evaluate
+from .mesh import boundary_labels, coarse_mesh, contact_trace, evaluate, vertices_at
 
 SAMPLES_PER_EDGE = 64
 RELATIVE_TOLERANCE = 1e-8
@@ -28,11 +31,42 @@ def contact_samples(case, mesh):
     return points.reshape(-1, 2), excess.ravel(), flux.ravel()
 
 
+# barycentric coordinates of the points where a declared f is compared with -Laplace(u)
+_INTERIOR = np.array([[1 / 3, 1 / 3, 1 / 3], [0.6, 0.2, 0.2], [0.2, 0.6, 0.2], [0.2, 0.2, 0.6]])
+
+
+def interior_samples(mesh) -> np.ndarray:
+    """Points strictly inside every element of ``mesh``."""
+    coords = np.array(mesh.ngmesh.Coordinates()[:, :2])
+    triangles = np.array(mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=np.int64) - 1
+    return np.einsum("kv,evd->ekd", _INTERIOR, coords[triangles]).reshape(-1, 2)
+
+
+def check_declared_f(case, mesh) -> None:
+    if case.declared_f is None:
+        return
+    points = interior_samples(mesh)
+    derived = -evaluate(case.laplacian_u, mesh, points)
+    declared = evaluate(case.f, mesh, points)
+    scale = max(np.abs(evaluate(case.u.Diff(ngs.x).Diff(ngs.x), mesh, points)).max(),
+                np.abs(evaluate(case.u.Diff(ngs.y).Diff(ngs.y), mesh, points)).max(), 1e-300)
+    wrong = ~(np.abs(declared - derived) <= RELATIVE_TOLERANCE * scale)
+    if wrong.any():
+        k = int(np.argmax(wrong))
+        raise CaseError(f"case {case.name!r}: declared f is not -Laplace(u) at ({points[k, 0]:.4g}, {points[k, 1]:.4g}): "
+                        f"{declared[k]:.6e} against {derived[k]:.6e}")
+
+
 def validate_case(case) -> None:
     mesh = coarse_mesh(case)
     missing = [label for label in LABELS if label not in boundary_labels(mesh)]
     if missing:
         raise CaseError(f"case {case.name!r}: geometry has no boundary labelled {', '.join(missing)}")
+    try:
+        vertices_at(mesh, case.singular_points or ())
+    except ValueError as exc:
+        raise CaseError(f"case {case.name!r}: singular point {exc}") from None
+    check_declared_f(case, mesh)
     points, excess, flux = contact_samples(case, mesh)
     if not (np.all(np.isfinite(excess)) and np.all(np.isfinite(flux))):
         bad = points[~(np.isfinite(excess) & np.isfinite(flux))][0]

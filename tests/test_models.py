@@ -116,3 +116,14 @@ def test_gap_bounds_are_gap_values_or_edge_means(model_name):
     else:
         expected = evaluate(case.gap, problem.mesh, problem.trace.points(GAUSS_T)) @ GAUSS_W
     np.testing.assert_allclose(alpha[nv:], expected, atol=1e-12)
+
+
+@pytest.mark.parametrize("model_name", MODEL_NAMES)
+def test_transformed_matrix_is_s_transpose_a_s_in_place_of_a(small_problem, model_name):
+    """K built from the contact rows of A alone equals the full product S^T A S, and is a view
+    of its NGSolve matrix (no scipy copy)."""
+    qp = contact_qp(load_case("transition-r32"), small_problem, MODELS[model_name])
+    full = (qp.S.T @ small_problem.A @ qp.S).toarray()
+    np.testing.assert_allclose(qp.K.toarray(), full, atol=1e-13 * np.abs(full).max())
+    assert np.shares_memory(qp.K.data, qp.K_ngs.CSR()[0].NumPy())
+    assert np.shares_memory(small_problem.A.data, small_problem.A_ngs.CSR()[0].NumPy())

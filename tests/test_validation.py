@@ -1,4 +1,5 @@
 """The harness refuses a case whose exact solution breaks the Signorini conditions (2.4)."""
+import dataclasses
 from pathlib import Path
 
 import pytest
@@ -33,3 +34,16 @@ def test_missing_label_is_refused():
 def test_unknown_case_lists_known_ones():
     with pytest.raises(CaseError, match="known cases: .*transition-r32"):
         load_case("no-such-case")
+
+
+@pytest.mark.parametrize("case_name, wrong_f", [("transition-r32", 1.0), ("borderline-h2", 0)])
+def test_declared_f_that_is_not_minus_laplacian_is_refused(case_name, wrong_f):
+    case = dataclasses.replace(registered_cases()[case_name], declared_f=wrong_f)
+    with pytest.raises(CaseError, match=r"declared f is not -Laplace\(u\) at \("):
+        validate_case(case)
+
+
+def test_singular_point_off_the_mesh_vertices_is_refused():
+    case = dataclasses.replace(registered_cases()["transition-r32"], singular_points=((0.3, 0.0),))
+    with pytest.raises(CaseError, match=r"\(0.3, 0\) is not a vertex of the mesh"):
+        validate_case(case)
