@@ -79,7 +79,7 @@ def _problem(model_name: str, level: int, coarse_maxh: float | None):
         if lev < level - 1:
             continue
         problem = discretise(case, mesh)
-        qp = contact_qp(case, problem, model)
+        qp = contact_qp(case, problem, model, take_stiffness=True)
         if lev == level - 1:
             coarse = solve_contact_qp(qp, multilevel=multilevel)
             u = qp.to_u(coarse.z)

@@ -29,8 +29,8 @@ BOUNDARY_LOAD_BONUS_ORDER = 6
 class DiscreteProblem:
     mesh: ngs.Mesh
     fes: ngs.H1
-    A: sp.csr_matrix            # stiffness matrix a(phi_j, phi_i), all dofs: a view of A_ngs
-    A_ngs: object               # the same, as assembled by NGSolve
+    _A: sp.csr_matrix | None    # stiffness matrix a(phi_j, phi_i), all dofs: a view of _A_ngs
+    _A_ngs: object              # the same, as assembled by NGSolve
     b: np.ndarray               # load vector L(phi_i), all dofs
     lift: np.ndarray            # Dirichlet data on Gamma_u dofs, zero elsewhere
     free: np.ndarray            # bool: dofs not on Gamma_u
@@ -43,6 +43,26 @@ class DiscreteProblem:
     @property
     def ndof(self) -> int:
         return self.fes.ndof
+
+    @property
+    def A(self) -> sp.csr_matrix:
+        return self._stiffness()[0]
+
+    @property
+    def A_ngs(self):
+        return self._stiffness()[1]
+
+    def _stiffness(self):
+        if self._A is None:
+            raise RuntimeError("the stiffness matrix of this level was taken by its last contact QP (take_stiffness)")
+        return self._A, self._A_ngs
+
+    def take_stiffness(self):
+        """(A, A_ngs), handed over for good: the last method of a level changes A's values in
+        place into its own matrix (``models.contact_qp``), so a level holds one matrix, not two."""
+        taken = self._stiffness()
+        self._A = self._A_ngs = None
+        return taken
 
     def gridfunction(self, vector: np.ndarray) -> ngs.GridFunction:
         gf = ngs.GridFunction(self.fes)
@@ -100,7 +120,7 @@ def discretise(case, mesh: ngs.Mesh) -> DiscreteProblem:
     if not free[edge_dofs].all() or not free[end_dofs].all():
         raise ValueError("Gamma_C touches Gamma_u; the paper (Section 2) assumes they do not")
     return DiscreteProblem(
-        mesh=mesh, fes=fes, A=csr_view(a.mat), A_ngs=a.mat, b=load_vector(case, fes, quadrature),
+        mesh=mesh, fes=fes, _A=csr_view(a.mat), _A_ngs=a.mat, b=load_vector(case, fes, quadrature),
         lift=lift, free=free, trace=trace, edge_dofs=edge_dofs, end_dofs=end_dofs,
         vertex_dofs=np.array([_single_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in trace.vertices]),
         quadrature=quadrature,

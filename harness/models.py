@@ -144,14 +144,15 @@ class ContactQP:
         return ContactTraceFunction.of(problem, u, end_active, active[nv:])
 
 
-def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix):
-    """K = S^T A S, as an NGSolve matrix and a scipy view of it.
+def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix, take: bool = False):
+    """K = S^T A S, as a scipy view and its NGSolve matrix.
 
     With S = I + D, D nonzero only in the rows E of the contact-edge bubbles,
     K = A + P + P^T + D_E^T A_EE D_E with P = D_E^T A[E, :]: every term is built from the
     O(|E|) rows of A at E, and (each contact edge lying in one triangle) fits A's sparsity
-    pattern, so K is a copy of A with those few values changed: no product of n x n matrices,
-    no format conversion.
+    pattern, so K is A with those few values changed: no product of n x n matrices, no format
+    conversion. K goes into a copy of A, or, with ``take``, into A's own memory
+    (``DiscreteProblem.take_stiffness``).
     """
     A, E = problem.A, problem.edge_dofs
     D_E = (S[E] - sp.csr_matrix((np.ones(len(E)), (np.arange(len(E)), E)), shape=(len(E), A.shape[1]))).tocsr()
@@ -160,9 +161,13 @@ def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix):
     Q = (D_E.T @ (rows_E[:, E] @ D_E)).tocoo()
     rows = np.concatenate([P.row, P.col, Q.row]).astype(np.int64)
     cols = np.concatenate([P.col, P.row, Q.col]).astype(np.int64)
-    K_ngs = problem.A_ngs.CreateMatrix()
-    K = csr_view(K_ngs)
-    np.add.at(K.data, csr_positions(K, rows, cols), np.concatenate([P.data, P.data, Q.data]))
+    positions = csr_positions(A, rows, cols)
+    if take:
+        K, K_ngs = problem.take_stiffness()
+    else:
+        K_ngs = problem.A_ngs.CreateMatrix()
+        K = csr_view(K_ngs)
+    np.add.at(K.data, positions, np.concatenate([P.data, P.data, Q.data]))
     return K, K_ngs
 
 
@@ -181,9 +186,11 @@ def csr_positions(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.nd
     return positions[where]
 
 
-def contact_qp(case, problem: DiscreteProblem, model: ContactModel) -> ContactQP:
+def contact_qp(case, problem: DiscreteProblem, model: ContactModel, take_stiffness: bool = False) -> ContactQP:
+    """The model's QP on ``problem``; ``take_stiffness`` for the last model of a level: its K
+    is made in the memory of the stiffness matrix, which the problem no longer has after."""
     S = model.transform(problem)
-    K, K_ngs = transformed_matrix(problem, S)
+    K, K_ngs = transformed_matrix(problem, S, take=take_stiffness)
     return ContactQP(model, problem, S, K, K_ngs, S.T @ problem.b, model.constrained_dofs(problem),
                      model.lower_bounds(case, problem))
 

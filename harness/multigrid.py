@@ -194,7 +194,7 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
     """Solve K[F, F] z_F = rhs_F - K[F, P] z_P by preconditioned CG from the start z (whose pinned
     entries stay), until max |residual| <= tol, checked on the true residual. All vector work is
     NGSolve's (multithreaded, and no BLAS threads competing with its task manager)."""
-    mask = free.astype(float)
+    mask = preconditioner.free      # the float indicator of ``free``, made once per pin set
     (x, x_np), (r, r_np), (p, _), (q, q_np), (s, _) = _vectors(K_ngs, 5)
     x_np[:] = z
     iterations = 0

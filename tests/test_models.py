@@ -127,3 +127,17 @@ def test_transformed_matrix_is_s_transpose_a_s_in_place_of_a(small_problem, mode
     np.testing.assert_allclose(qp.K.toarray(), full, atol=1e-13 * np.abs(full).max())
     assert np.shares_memory(qp.K.data, qp.K_ngs.CSR()[0].NumPy())
     assert np.shares_memory(small_problem.A.data, small_problem.A_ngs.CSR()[0].NumPy())
+
+
+def test_last_model_takes_the_stiffness_matrix_memory(small_problem):
+    """With take_stiffness the level keeps one matrix: K is made in A's own memory, and the
+    problem refuses to hand out A afterwards instead of handing out K under A's name."""
+    case = load_case("transition-r32")
+    problem = discretise(case, small_problem.mesh)
+    A_values = problem.A_ngs.CSR()[0].NumPy()
+    copied = contact_qp(case, problem, MODELS["mean"])
+    taken = contact_qp(case, problem, MODELS["mean"], take_stiffness=True)
+    assert np.shares_memory(taken.K.data, A_values)
+    np.testing.assert_array_equal(taken.K.toarray(), copied.K.toarray())
+    with pytest.raises(RuntimeError, match="taken by its last contact QP"):
+        problem.A
