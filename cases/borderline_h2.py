@@ -35,4 +35,10 @@ maxh = 0.25
 TRANSITION_WEIGHT = 0.1
 r, _ = polar()
 u = 0.5 * (r - x) * (-log(r / 2)) ** (-BETA) + TRANSITION_WEIGHT * transition(0.0)
+# f = -Laplace(u) in closed form (the transition part is harmonic): with s = log(2/r) and
+# L = s^-beta, Laplace((r - x)/2 L) = L/(2r) + (3/2)(1 - x/r) L' + (r - x)/2 L'',
+# L' = beta s^(-beta-1)/r, L'' = beta r^-2 ((beta+1) s^(-beta-2) - s^(-beta-1)).
+s = -log(r / 2)
+f = -(0.5 * s ** (-BETA) + BETA * (r - x) / r * s ** (-BETA - 1)
+      + 0.5 * BETA * (BETA + 1) * (r - x) / r * s ** (-BETA - 2)) / r
 singular_points = [(0.0, 0.0)]  # f ~ r^{-1} |log r|^{-beta} there too

@@ -8,7 +8,7 @@ Regularity: max(0, x)^3 has a jump in its third derivative, so u is in H^{7/2 - 
 nu = 7/2 > 5/2. Remark 4.9 proves h^{7/4} without and h^2 with finitely many transitions;
 P2 cannot do better than h^2, the expected rate.
 """
-from ngsolve import IfPos, cos, x, y
+from ngsolve import IfPos, cos, sin, x, y
 
 from harness.geometry import contact_strip
 
@@ -23,5 +23,6 @@ geometry = contact_strip(breaks=[0.0])
 maxh = 0.25
 
 u = IfPos(-x, -x * x * x, 0.0) - y * IfPos(x, x * x * x, 0.0) + y * y * cos(x + y)
+f = IfPos(-x, 6 * x, 0.0) + IfPos(x, 6 * x * y, 0.0) + (2 * y * y - 2) * cos(x + y) + 4 * y * sin(x + y)
 # singular nowhere: D^3 u jumps across x = 0, a line no quadrature rule needs grading for
 singular_points = []

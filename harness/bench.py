@@ -186,18 +186,48 @@ def _measure(method: str, model_name: str, level: int, coarse_maxh, connection):
     connection.close()
 
 
-def measure(method: str, model_name: str, level: int, coarse_maxh=None) -> dict:
+def _measure_study(connection):
+    """The default profile's study (every registered case, both models), as `make report`
+    runs it, without the report: wall time, the sum of its contact solves, where the rest goes."""
+    from .case import registered_cases
+    from .models import MODELS
+    from .study import PROFILES, run_study
+
+    frame = run_study(list(registered_cases().values()), list(MODELS.values()), PROFILES["default"]["levels"],
+                      show_progress=False)
+    wall, solves = frame.attrs["wall_seconds"], float(frame.solve_seconds.sum())
+    phases = frame.attrs["phase_seconds"]
+    connection.send({
+        "levels": PROFILES["default"]["levels"], "rows": len(frame), "finest_ndof": int(frame.ndof.max()),
+        "wall_seconds": wall, "solve_seconds": solves, "ratio": wall / solves,
+        **{f"share_{phase}": seconds / wall for phase, seconds in phases.items()},
+        "max_kkt_residual": float(frame.kkt_residual.max()),
+        "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+    })
+    connection.close()
+
+
+def _in_fresh_process(target, args: tuple, what: str) -> dict:
     ctx = mp.get_context("spawn")
     receiver, sender = ctx.Pipe(duplex=False)
-    process = ctx.Process(target=_measure, args=(method, model_name, level, coarse_maxh, sender))
+    process = ctx.Process(target=target, args=(*args, sender))
     process.start()
     sender.close()
     try:
         result = receiver.recv()
     except EOFError:
-        raise RuntimeError(f"bench process for {method}/{model_name}/level {level} died (out of memory?)") from None
+        raise RuntimeError(f"bench process for {what} died (out of memory?)") from None
     process.join()
     return result
+
+
+def measure(method: str, model_name: str, level: int, coarse_maxh=None) -> dict:
+    return _in_fresh_process(_measure, (method, model_name, level, coarse_maxh), f"{method}/{model_name}/level {level}")
+
+
+def measure_study() -> pd.DataFrame:
+    """The `study` row: one default-profile study in a fresh process."""
+    return pd.DataFrame([_in_fresh_process(_measure_study, (), "the default study")])
 
 
 def run_bench(sizes=DEFAULT_SIZES, models=("mean", "nodal"), qp_max_ndof=QP_MAX_NDOF,
@@ -260,6 +290,16 @@ def goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
     out.append(("KKT residual <= 1e-10 at every size", bool((frame.kkt_residual <= 1e-10).all()),
                 f"max {frame.kkt_residual.max():.1e}"))
     return out
+
+
+def study_goals(study: pd.DataFrame) -> list[tuple[str, bool, str]]:
+    """The goal of the study-pipeline issue: a study costs at most 3x its contact solves."""
+    (row,) = study.to_dict("records")
+    shares = ", ".join(f"{k[len('share_'):]} {v:.0%}" for k, v in row.items() if k.startswith("share_"))
+    return [("default study wall <= 3x the sum of its contact solves", row["ratio"] <= 3.0,
+             f"{row['wall_seconds']:.1f} s / {row['solve_seconds']:.1f} s = {row['ratio']:.2f}x ({shares})"),
+            ("KKT residual <= 1e-10 in every row of the study", row["max_kkt_residual"] <= 1e-10,
+             f"max {row['max_kkt_residual']:.1e}")]
 
 
 def write_bench(frame: pd.DataFrame, path: Path) -> Path:

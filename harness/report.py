@@ -25,14 +25,8 @@ from .models import MODELS
 from .rates import normalised_errors, pairwise_rates, rate_table
 from .results import ensure_writable, write_atomic, write_csv
 from .snapshots import SnapshotCollector, load_snapshots
-from .study import progress_bar, run_study
+from .study import PROFILES, progress_bar, run_study
 
-PROFILES = {
-    # finest levels: about 5.8e5 dofs (transition geometry), well inside 10 minutes on 2 cores
-    "default": {"levels": 7},
-    # finest levels: about 2.3e6 dofs
-    "fine": {"levels": 8},
-}
 PACKAGE = Path(__file__).resolve().parent
 REPOSITORY = PACKAGE.parent
 

@@ -14,8 +14,7 @@ from harness.errors import NORMS, error_norms, max_penetration
 from harness.mesh import mesh_hierarchy
 from harness.models import MODELS
 from harness.quadrature import ElementQuadrature
-from harness.report import PROFILES
-from harness.study import run_case, solve_level
+from harness.study import PROFILES, run_case, solve_level
 
 FINEST_DEFAULT_LEVEL = PROFILES["default"]["levels"] - 1
 REFERENCE_ORDER, REFERENCE_DEPTH = 20, 22
