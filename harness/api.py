@@ -1,28 +1,29 @@
 """The Python API, for scripts and notebooks:
 
     >>> import harness
-    >>> df = harness.run(["transition-r32"], models="all", levels=5)
-    >>> harness.cases()
+    >>> df = harness.run(["transition-r32"], methods="all", levels=5)
+    >>> harness.cases(), harness.method_table()
 """
 from __future__ import annotations
 
 import pandas as pd
 
 from .case import Case, fraction, load_case, registered_cases
-from .models import MODELS, get_model
+from .methods import METHODS, methods_named
 from .study import run_study
 
 
-def models_named(name: str):
-    return list(MODELS.values()) if name == "all" else [get_model(name)]
-
-
-def run(cases, models: str = "all", levels: int = 5, show_progress: bool = True, on_level=None) -> pd.DataFrame:
-    """Run a convergence study; ``cases`` are names, paths or Case objects (or one of them)."""
+def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_level=None,
+        models=None) -> pd.DataFrame:
+    """Run a convergence study; ``cases`` are names, paths or Case objects (or one of them);
+    ``methods`` names, groups ('paper' = mean + nodal) or 'all' (``models`` is the old name:
+    'all' there means the paper's two models)."""
     if isinstance(cases, (str, Case)):
         cases = [cases]
+    if models is not None:
+        methods = "paper" if models == "all" else models
     loaded = [c if isinstance(c, Case) else load_case(c) for c in cases]
-    return run_study(loaded, models_named(models), levels, show_progress=show_progress, on_level=on_level)
+    return run_study(loaded, methods_named(methods), levels, show_progress=show_progress, on_level=on_level)
 
 
 def case_table(cases=None) -> pd.DataFrame:
@@ -35,4 +36,11 @@ def case_table(cases=None) -> pd.DataFrame:
     } for c in cases])
 
 
+def method_table() -> pd.DataFrame:
+    """One row per method: order, how it imposes contact, where it comes from."""
+    return pd.DataFrame([{"method": m.name, "order": m.order, "contact condition": m.contact,
+                          "reference": m.reference} for m in METHODS.values()])
+
+
 cases = case_table
+

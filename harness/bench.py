@@ -23,7 +23,7 @@ BENCH_CASE = "transition-r32"
 DEFAULT_SIZES = ((0.25, 3), (0.25, 4), (0.22, 5), (0.2, 6), (0.2, 7))
 TEXTBOOK_MAX_NDOF = 3_000_000
 QP_MAX_NDOF = 200_000
-COLUMNS = ["model", "ndof", "t_contact", "t_linear", "t_textbook", "t_qp", "ratio_linear", "speedup_textbook",
+COLUMNS = ["method", "ndof", "t_contact", "t_linear", "t_textbook", "t_qp", "ratio_linear", "speedup_textbook",
            "speedup_qp", "iterations", "kkt_residual", "peak_rss_mb", "contact_cg_iterations", "t_linear_multigrid",
            "multigrid_iterations", "t_linear_cholesky", "t_linear_ngsolve_multigrid", "ngsolve_multigrid_iterations"]
 # NGSolve's own CG is stopped where its residual is as small, relative to the load, as the
@@ -67,19 +67,20 @@ def _problem(model_name: str, level: int, coarse_maxh: float | None):
     from .case import load_case
     from .discrete import discretise
     from .mesh import mesh_hierarchy
-    from .models import MODELS, contact_qp
+    from .methods import get_method
+    from .models import contact_qp
     from .multigrid import Multilevel, nested_start
     from .solver import solve_contact_qp
 
     case = dataclasses.replace(load_case(BENCH_CASE), maxh=coarse_maxh)
-    model = MODELS[model_name]
+    method = get_method(model_name)
     multilevel, previous, start = None, None, None
     for lev, mesh in mesh_hierarchy(case, level + 1):
         multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
         if lev < level - 1:
             continue
-        problem = discretise(case, mesh)
-        qp = contact_qp(case, problem, model, take_stiffness=True)
+        problem = discretise(case, mesh, method.order)
+        qp = contact_qp(case, problem, method.cone, take_stiffness=True)
         if lev == level - 1:
             coarse = solve_contact_qp(qp, multilevel=multilevel)
             u = qp.to_u(coarse.z)
@@ -187,13 +188,13 @@ def _measure(method: str, model_name: str, level: int, coarse_maxh, connection):
 
 
 def _measure_study(connection):
-    """The default profile's study (every registered case, both models), as `make report`
+    """The default profile's study (every registered case and method), as `make report`
     runs it, without the report: wall time, the sum of its contact solves, where the rest goes."""
     from .case import registered_cases
-    from .models import MODELS
+    from .methods import METHODS
     from .study import PROFILES, run_study
 
-    frame = run_study(list(registered_cases().values()), list(MODELS.values()), PROFILES["default"]["levels"],
+    frame = run_study(list(registered_cases().values()), list(METHODS.values()), PROFILES["default"]["levels"],
                       show_progress=False)
     wall, solves = frame.attrs["wall_seconds"], float(frame.solve_seconds.sum())
     phases = frame.attrs["phase_seconds"]
@@ -244,7 +245,7 @@ def run_bench(sizes=DEFAULT_SIZES, models=("mean", "nodal"), qp_max_ndof=QP_MAX_
             qp = measure("qp", model, level, coarse_maxh) if ndof <= qp_max_ndof else {}
             row = {
                 # one linear solve with the fastest back end at this size (issue 5)
-                "model": model, "ndof": ndof, "t_contact": contact["t"],
+                "method": model, "ndof": ndof, "t_contact": contact["t"],
                 "t_linear": min(multigrid["t"], cholesky["t"], ngsolve_multigrid["t"]),
                 "t_linear_multigrid": multigrid["t"], "multigrid_iterations": multigrid["iterations"],
                 "t_linear_cholesky": cholesky["t"], "t_linear_ngsolve_multigrid": ngsolve_multigrid["t"],
@@ -274,7 +275,7 @@ def goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
         tb = big.speedup_textbook.dropna()
         if len(tb):
             out.append((">= 5x faster than textbook PDAS at >= 1M dofs", tb.min() >= 5, f"least {tb.min():.1f}x"))
-        mem = big.sort_values("ndof").groupby("model").peak_rss_mb.first()
+        mem = big.sort_values("ndof").groupby("method").peak_rss_mb.first()
         out.append(("peak memory <= 3 GB at ~1M dofs (smallest size >= 1M)", mem.max() <= 3072, f"max {mem.max():.0f} MB"))
     near = frame.dropna(subset=["speedup_qp"])
     if len(near):
@@ -283,7 +284,7 @@ def goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
                     f"least {largest.speedup_qp.min():.1f}x at {largest.ndof.max()} dofs"))
     def spread(times):
         per_dof = times / frame.ndof
-        return (per_dof.groupby(frame.model).max() / per_dof.groupby(frame.model).min()).max()
+        return (per_dof.groupby(frame.method).max() / per_dof.groupby(frame.method).min()).max()
     out.append((f"time per dof within 2x over {frame.ndof.min()}..{frame.ndof.max()} dofs", spread(frame.t_contact) <= 2,
                 f"spread {spread(frame.t_contact):.2f}x (one linear solve alone: multigrid "
                 f"{spread(frame.t_linear_multigrid):.2f}x, cholesky {spread(frame.t_linear_cholesky):.2f}x)"))

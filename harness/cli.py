@@ -1,4 +1,4 @@
-"""Command line: python -m harness {run, cases, rates, report, bench}.
+"""Command line: python -m harness {run, cases, methods, rates, report, bench}.
 
 Bad input ends with one line on stderr and a non-zero exit status, before anything that
 exists on disk is touched.
@@ -43,20 +43,35 @@ def cmd_cases(args) -> int:
     return 0
 
 
+def cmd_methods(args) -> int:
+    from .api import method_table
+    with pd.option_context("display.max_colwidth", 80, "display.width", 220):
+        print(method_table().to_string(index=False))
+    return 0
+
+
+def selected_methods(args) -> list:
+    """--method (repeatable: a name, 'paper' or 'all'), or the old --model ('all' = paper)."""
+    from .methods import methods_named
+    names = list(args.method or [])
+    if args.model:
+        names.append("paper" if args.model == "all" else args.model)
+    return methods_named(names or ["all"])
+
+
 def cmd_run(args) -> int:
-    from .api import models_named
     from .case import load_case
     from .results import ensure_writable, write_csv
     from .study import run_study
 
-    models = models_named(args.model)
+    methods = selected_methods(args)
     cases = [load_case(spec) for spec in args.case]
     out = ensure_writable(Path(args.out))
-    frame = run_study(cases, models, args.levels, show_progress=not args.quiet)
+    frame = run_study(cases, methods, args.levels, show_progress=not args.quiet)
     path = write_csv(frame, out / "results.csv")
     if not args.quiet:
         with pd.option_context("display.width", 200, "display.max_columns", 30):
-            print(frame[["case", "model", "level", "h", "ndof", "err_h1", "max_penetration",
+            print(frame[["case", "method", "level", "h", "ndof", "err_h1", "max_penetration",
                          "solver_iterations", "kkt_residual", "status"]].to_string(index=False))
     print(f"wrote {path}")
     return 0 if (frame["status"] == "converged").all() else 1
@@ -71,17 +86,41 @@ def _known_cases(extra_specs) -> dict:
     return cases
 
 
-def read_results(path: Path) -> pd.DataFrame:
-    from .study import COLUMNS
+# What `rates` needs of a results file: the errors, and each row's theory (written by the study
+# since the method axis; older files, with a `model` column, get it from their case files).
+RATE_INPUT = ["case", "method", "order", "level", "h", "err_h1", "expected_rate", "expected_log_exponent", "reference"]
+
+
+def read_results(path: Path, extra_cases=None) -> pd.DataFrame:
     if not path.is_file():
         raise FileNotFoundError(f"results file not found: {path}")
     try:
         frame = pd.read_csv(path)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise ValueError(f"{path} is not a results CSV: {exc}") from exc
-    missing = [c for c in COLUMNS if c not in frame.columns]
+    if "model" in frame.columns and "method" not in frame.columns:
+        frame = _from_model_column(frame, _known_cases(extra_cases), path)
+    missing = [c for c in RATE_INPUT if c not in frame.columns]
     if missing:
         raise ValueError(f"{path} is not a results CSV: missing column(s) {', '.join(missing)}")
+    return frame
+
+
+def _from_model_column(frame: pd.DataFrame, cases: dict, path: Path) -> pd.DataFrame:
+    """A results file of harness 0.1 (one `model` column, the P2 models only, no theory in the
+    rows): read `model` as `method`, order 2, and the theory from the case files."""
+    from .methods import get_method
+    unknown = sorted(set(frame.case) - set(cases))
+    if unknown:
+        raise ValueError(f"{path} has a `model` column (harness 0.1) and cases {', '.join(unknown)} that are not "
+                         f"registered: pass their case files with --case")
+    print(f"{path}: a `model` column (harness 0.1) read as `method`", file=sys.stderr)
+    frame = frame.rename(columns={"model": "method"})
+    frame.insert(frame.columns.get_loc("method") + 1, "order", 2)
+    theory = {(c, m): get_method(m).expected(cases[c]) for c, m in frame[["case", "method"]].drop_duplicates().itertuples(index=False)}
+    frame["expected_rate"] = [theory[k].rate for k in zip(frame.case, frame.method)]
+    frame["expected_log_exponent"] = [theory[k].log_exponent for k in zip(frame.case, frame.method)]
+    frame["reference"] = [theory[k].reference for k in zip(frame.case, frame.method)]
     return frame
 
 
@@ -89,8 +128,8 @@ def cmd_rates(args) -> int:
     from .rates import rate_table
     from .results import ensure_writable, write_csv
     path = Path(args.results)
-    frame = read_results(path)
-    table = rate_table(frame, _known_cases(args.case), levels=args.fit_levels)
+    frame = read_results(path, args.case)
+    table = rate_table(frame, levels=args.fit_levels)
     ensure_writable(path.parent)
     out = write_csv(table, path.parent / "rates.csv")
     with pd.option_context("display.width", 200, "display.max_colwidth", 60):
@@ -102,7 +141,7 @@ def cmd_rates(args) -> int:
 def cmd_report(args) -> int:
     from .report import make_report
     path = make_report(args.profile, Path(args.results), Path(args.report), args.case,
-                       show_progress=not args.quiet, levels=args.levels)
+                       show_progress=not args.quiet, levels=args.levels, methods=selected_methods(args))
     print(f"wrote {path}")
     return 0
 
@@ -117,12 +156,12 @@ def cmd_bench(args) -> int:
         study = measure_study()
         path = write_bench(study, out.with_name(out.stem + "_study.csv"))
         with pd.option_context("display.width", 220, "display.max_columns", 20):
-            print("study (default profile, every case, both models):")
+            print("study (default profile, every case and method):")
             print(study.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
         lines += study_goals(study)
         print(f"wrote {path}")
     if args.only != "study":
-        frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.model or ("mean", "nodal")))
+        frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.method or ("mean", "nodal")))
         path = write_bench(frame, out)
         with pd.option_context("display.width", 220, "display.max_columns", 20):
             print(frame.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
@@ -143,6 +182,19 @@ def _sizes(text: str) -> list[tuple[float, int]]:
     return sizes
 
 
+def _method_names() -> list[str]:
+    from .methods import METHODS
+    return list(METHODS)
+
+
+def add_method_options(p) -> None:
+    from .methods import method_choices
+    p.add_argument("--method", action="append", choices=method_choices(),
+                   help="a method, 'paper' (mean and nodal) or 'all' (the default); repeat for several")
+    p.add_argument("--model", choices=["mean", "nodal", "all"],
+                   help="the paper's models, as before the method axis ('all' = paper)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="python -m harness", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -150,10 +202,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("cases", help="list the registered cases with regularity and expected rate")
     p.set_defaults(func=cmd_cases)
 
+    p = sub.add_parser("methods", help="list the discretisations: order, contact condition, reference")
+    p.set_defaults(func=cmd_methods)
+
     p = sub.add_parser("run", help="run a convergence study and write DIR/results.csv")
     p.add_argument("--case", action="append", required=True, metavar="NAME|PATH",
                    help="a registered case name or a case file; repeat for several")
-    p.add_argument("--model", default="all", choices=["mean", "nodal", "all"])
+    add_method_options(p)
     p.add_argument("--levels", type=_positive_int, default=5, help="number of mesh levels (0..L-1)")
     p.add_argument("--out", default="results", metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bar or table")
@@ -162,13 +217,15 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("rates", help="fit rates of a results CSV; writes rates.csv beside it")
     p.add_argument("results", metavar="RESULTS.csv")
     p.add_argument("--fit-levels", type=_positive_int, default=3, help="levels in the asymptotic fit (>= 3)")
-    p.add_argument("--case", action="append", metavar="PATH", help="case file for results of unregistered cases")
+    p.add_argument("--case", action="append", metavar="PATH",
+                   help="case file, for results of harness 0.1 (a `model` column) of unregistered cases")
     p.set_defaults(func=cmd_rates)
 
     p = sub.add_parser("report", help="run the study (reusing unchanged results) and render the report")
     p.add_argument("--profile", default="default", choices=["default", "fine"])
     p.add_argument("--levels", type=_positive_int, help="override the profile's number of levels")
     p.add_argument("--case", action="append", metavar="NAME", help="only these registered cases")
+    add_method_options(p)
     p.add_argument("--results", default="results", metavar="DIR")
     p.add_argument("--report", default="report", metavar="DIR")
     p.add_argument("--quiet", action="store_true")
@@ -177,7 +234,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="contact solve vs one linear solve, textbook PDAS and Clarabel")
     p.add_argument("--sizes", type=_sizes, default=None, metavar="MAXH:LEVEL,...",
                    help="coarse mesh size and level of each problem (default: 9e3 to 4.2e6 dofs)")
-    p.add_argument("--model", action="append", choices=["mean", "nodal"], help="default: both")
+    p.add_argument("--method", action="append", choices=_method_names(), help="default: mean and nodal")
     p.add_argument("--only", choices=["study", "solver"], help="only the study row, or only the solver table")
     p.add_argument("--out", default="results/bench.csv", metavar="CSV",
                    help="the solver table; the study row goes beside it, as <name>_study.csv")

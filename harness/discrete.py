@@ -1,7 +1,8 @@
-"""The P2 discretisation of (2.5) on one mesh level: X_h, a(., .), L(.) and the Dirichlet lift.
+"""The conforming discretisation of (2.5) on one mesh level: X_h, a(., .), L(.), Dirichlet lift.
 
-X_h is NGSolve's H1 space of order 2, whose basis is hierarchical: vertex hat functions and
-one bubble phi_e = -1/2 lambda_a lambda_b per edge (MATH.md Section 5). The stiffness matrix is
+X_h is NGSolve's H1 space of order 2 (the paper's P2) or 1 (the P1 baseline). Its basis is
+hierarchical: vertex hat functions and, for order 2, one bubble phi_e = -1/2 lambda_a lambda_b
+per edge (MATH.md Section 5). The stiffness matrix is
 NGSolve's, with a scipy CSR view of the same memory (no copy); the contact models change
 variables.
 """
@@ -16,7 +17,6 @@ import scipy.sparse as sp
 from .mesh import ContactTrace, contact_trace
 from .quadrature import ElementQuadrature
 
-ORDER = 2
 # Gauss order of the volume load f v away from singular points (the graded rule near them):
 # see LOAD_ORDER_NOTE in tests/test_errors.py for the measurement that chose it.
 LOAD_ORDER = 4
@@ -35,14 +35,22 @@ class DiscreteProblem:
     lift: np.ndarray            # Dirichlet data on Gamma_u dofs, zero elsewhere
     free: np.ndarray            # bool: dofs not on Gamma_u
     trace: ContactTrace
-    edge_dofs: np.ndarray       # (m,) bubble dof of each contact edge
-    end_dofs: np.ndarray        # (m, 2) vertex dofs of its end points
+    edge_dofs: np.ndarray       # (m,) bubble dof of each contact edge; empty for order 1
+    end_dofs: np.ndarray        # (m, 2) vertex dofs of the end points of each contact edge
     vertex_dofs: np.ndarray     # dofs of trace.vertices, same order
     quadrature: ElementQuadrature
 
     @property
     def ndof(self) -> int:
         return self.fes.ndof
+
+    @property
+    def order(self) -> int:
+        return self.fes.globalorder
+
+    def bubbles(self, u: np.ndarray) -> np.ndarray:
+        """The bubble coefficient of u on each contact edge (zero for order 1)."""
+        return u[self.edge_dofs] if len(self.edge_dofs) else np.zeros(len(self.trace.edges))
 
     @property
     def A(self) -> sp.csr_matrix:
@@ -102,11 +110,15 @@ def load_vector(case, fes: ngs.H1, quadrature: ElementQuadrature) -> np.ndarray:
     return load.vec.FV().NumPy().copy()
 
 
-def discretise(case, mesh: ngs.Mesh) -> DiscreteProblem:
-    fes = ngs.H1(mesh, order=ORDER, dirichlet="dirichlet")
+def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadrature | None = None) -> DiscreteProblem:
+    """X_h of ``order`` on ``mesh``; ``quadrature`` (made here if not given) is shared by the
+    problems of one level."""
+    if order not in (1, 2):
+        raise ValueError(f"order must be 1 or 2, got {order}")
+    fes = ngs.H1(mesh, order=order, dirichlet="dirichlet")
     u, v = fes.TnT()
     a = ngs.BilinearForm(ngs.grad(u) * ngs.grad(v) * ngs.dx).Assemble()
-    quadrature = ElementQuadrature.of(case, mesh)
+    quadrature = quadrature or ElementQuadrature.of(case, mesh)
 
     dirichlet = ngs.GridFunction(fes)
     dirichlet.Set(case.u, ngs.BND, definedon=mesh.Boundaries("dirichlet"))
@@ -114,7 +126,8 @@ def discretise(case, mesh: ngs.Mesh) -> DiscreteProblem:
     lift = np.where(free, 0.0, dirichlet.vec.FV().NumPy())
 
     trace = contact_trace(mesh)
-    edge_dofs = np.array([_single_dof(fes, ngs.NodeId(ngs.EDGE, int(e))) for e in trace.edges])
+    edge_dofs = np.array([_single_dof(fes, ngs.NodeId(ngs.EDGE, int(e))) for e in trace.edges] if order == 2 else [],
+                         dtype=np.int64)
     end_dofs = np.array([[_single_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in pair]
                          for pair in trace.edge_vertices])
     if not free[edge_dofs].all() or not free[end_dofs].all():
@@ -129,7 +142,8 @@ def discretise(case, mesh: ngs.Mesh) -> DiscreteProblem:
 
 @dataclass(frozen=True)
 class ContactTraceFunction:
-    """The trace on Gamma_C of a P2 function: on edge t_i, v(t) = (1-t) v_a + t v_b - c t(1-t)/2.
+    """The trace on Gamma_C of a P2 (or P1: c = 0) function: on edge t_i,
+    v(t) = (1-t) v_a + t v_b - c t(1-t)/2.
 
     Kept independently of the mesh so that it survives refinement: the next level uses it to
     predict its active set (nested iteration), the errors module to find the largest
@@ -147,10 +161,10 @@ class ContactTraceFunction:
     @classmethod
     def of(cls, problem: DiscreteProblem, u: np.ndarray, end_active=None, edge_active=None) -> "ContactTraceFunction":
         ends = u[problem.end_dofs]
-        m = len(problem.edge_dofs)
+        m = len(problem.trace.edges)
         end_active = np.zeros((m, 2), bool) if end_active is None else np.asarray(end_active, bool)
-        edge_active = np.zeros(m, bool) if edge_active is None else np.asarray(edge_active, bool)
-        return cls(problem.trace.a, problem.trace.b, ends[:, 0], ends[:, 1], u[problem.edge_dofs], end_active, edge_active)
+        edge_active = np.zeros(m, bool) if edge_active is None or not len(edge_active) else np.asarray(edge_active, bool)
+        return cls(problem.trace.a, problem.trace.b, ends[:, 0], ends[:, 1], problem.bubbles(u), end_active, edge_active)
 
     def value(self, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Value on edge[k] at parameter t[k] (broadcasting)."""

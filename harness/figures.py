@@ -12,7 +12,16 @@ import numpy as np  # noqa: E402
 
 from .case import fraction  # noqa: E402
 
-MODEL_STYLE = {"mean": dict(color="tab:blue", marker="o"), "nodal": dict(color="tab:orange", marker="s")}
+METHOD_STYLE = {"mean": dict(color="tab:blue", marker="o"), "nodal": dict(color="tab:orange", marker="s"),
+                "p1": dict(color="tab:green", marker="^")}
+_OTHER_COLORS = ["tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
+
+
+def style(method: str) -> dict:
+    """A fixed colour and marker per method (methods added later get the next free colour)."""
+    if method not in METHOD_STYLE:
+        METHOD_STYLE[method] = dict(color=_OTHER_COLORS[(len(METHOD_STYLE) - 3) % len(_OTHER_COLORS)], marker="D")
+    return METHOD_STYLE[method]
 FORMATS = ("png", "pdf")
 
 
@@ -42,23 +51,26 @@ def _slope_marker(ax, h, e, rate, label):
 
 
 def convergence(case, results, folder: Path) -> dict[str, Path]:
-    """log-log H^1 error against h, both models, with the theorem's bound through the finest point."""
+    """log-log H^1 error against h, every method, each with its theory's bound (dashed, in its
+    colour) through its finest point."""
     fig, ax = plt.subplots(figsize=(5.2, 4.0))
-    p, q = case.expected_rate, case.expected_log_exponent
-    for model, g in results.groupby("model"):
+    for method, g in results.groupby("method", sort=False):
         g = g.sort_values("h")
-        ax.loglog(g.h, g.err_h1, label=f"{model}", lw=1.2, ms=5, **MODEL_STYLE.get(model, {}))
-    g = results.sort_values("h")
-    h = np.geomspace(g.h.min(), g.h.max(), 50)
-    bound = h**p * np.abs(np.log(h)) ** q
-    anchor = g.err_h1.iloc[0] / (g.h.iloc[0] ** p * abs(np.log(g.h.iloc[0])) ** q)
-    ax.loglog(h, anchor * bound, "k--", lw=0.9, label=f"theorem: {_bound_tex(p, q)}")
+        ax.loglog(g.h, g.err_h1, label=method, lw=1.2, ms=5, **style(method))
+    theories = results.groupby(["expected_rate", "expected_log_exponent"], sort=False).method.unique()
+    for (p, q), methods in theories.items():
+        g = results[results.method == methods[0]].sort_values("h")
+        h = np.geomspace(g.h.min(), g.h.max(), 50)
+        anchor = g.err_h1.iloc[0] / (g.h.iloc[0] ** p * abs(np.log(g.h.iloc[0])) ** q)
+        ax.loglog(h, anchor * h**p * np.abs(np.log(h)) ** q, "--", color=style(methods[0])["color"], lw=0.8,
+                  label=f"theory ({', '.join(methods)}): {_bound_tex(p, q)}")
+    g = results[results.order == results.order.max()]
     hs = np.sort(g.h.unique())[::-1]
     es = g.groupby("h").err_h1.max().reindex(hs).to_numpy()
-    _slope_marker(ax, hs, es, p, fraction(p))
+    _slope_marker(ax, hs, es, case.expected_rate, fraction(case.expected_rate))
     ax.set_xlabel("h (largest element diameter)")
     ax.set_ylabel(r"$\|u-u_h\|_{H^1(\Omega)}$")
-    ax.set_title(f"{case.name}: Theorem {case.theorem}", fontsize=10)
+    ax.set_title(f"{case.name}: P2 Theorem {case.theorem}", fontsize=10)
     ax.grid(True, which="both", alpha=0.25)
     ax.legend(fontsize=8)
     return save(fig, folder, f"{case.name}_convergence")
@@ -70,10 +82,10 @@ def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
     first = next(iter(snapshots.values()))
     top.plot(first["s"], first["u"] - first["gap"], "k-", lw=1.0, label=r"exact $u-\alpha$")
     bottom.plot(first["s"], first["exact_pressure"], "k-", lw=1.0, label=r"exact $\partial_n u - g_C$")
-    for model, snap in snapshots.items():
-        style = MODEL_STYLE.get(model, {})
-        top.plot(snap["s"], snap["u_h"] - snap["gap"], color=style.get("color"), lw=1.0, ls="--", label=f"{model}: $u_h-\\alpha$")
-        bottom.step(snap["edge_s"], snap["pressure"], where="mid", color=style.get("color"), lw=1.0, label=f"{model}: discrete pressure")
+    for method, snap in snapshots.items():
+        color = style(method)["color"]
+        top.plot(snap["s"], snap["u_h"] - snap["gap"], color=color, lw=1.0, ls="--", label=f"{method}: $u_h-\\alpha$")
+        bottom.step(snap["edge_s"], snap["pressure"], where="mid", color=color, lw=1.0, label=f"{method}: discrete pressure")
     free = first["u"] - first["gap"] > 1e-12 * max(1.0, np.abs(first["u"]).max())
     for ax in (top, bottom):
         ax.axhline(0, color="0.6", lw=0.6)
@@ -83,7 +95,7 @@ def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
     top.set_ylabel(r"$u_h - \alpha$ on $\Gamma_C$")
     bottom.set_ylabel("contact pressure")
     bottom.set_xlabel(r"coordinate along $\Gamma_C$ (x for a horizontal $\Gamma_C$); shaded: exact contact zone")
-    top.set_title(f"{case.name}: finest level, both models", fontsize=10)
+    top.set_title(f"{case.name}: finest level of each method", fontsize=10)
     return save(fig, folder, f"{case.name}_contact")
 
 
@@ -94,27 +106,52 @@ def domain(case, snapshot: dict, folder: Path) -> dict[str, Path]:
     ax.tricontour(tri, snapshot["values"], levels=12, colors="k", linewidths=0.3)
     fig.colorbar(shading, ax=ax, shrink=0.85)
     ax.set_aspect("equal")
-    ax.set_title(f"{case.name}: $u_h$ (model nodal)", fontsize=10)
+    ax.set_title(f"{case.name}: $u_h$ ({snapshot.get('method', 'nodal')})", fontsize=10)
     return save(fig, folder, f"{case.name}_solution")
 
 
 def summary(rates, folder: Path) -> dict[str, Path]:
-    """Fitted against expected rates, every case x model, with the +-0.1 verdict band."""
+    """Fitted against expected rates, every case x method, with the +-0.1 verdict band."""
     fig, ax = plt.subplots(figsize=(5.0, 4.4))
     lo, hi = 0.3, 2.3
     ax.plot([lo, hi], [lo, hi], "k-", lw=0.8)
     ax.fill_between([lo, hi], [lo - 0.1, hi - 0.1], [lo + 0.1, hi + 0.1], color="0.9")
-    for model, g in rates.groupby("model"):
-        offset = -0.02 if model == "mean" else 0.02
+    methods = list(dict.fromkeys(rates.method))
+    for k, (method, g) in enumerate(rates.groupby("method", sort=False)):
+        offset = 0.03 * (k - (len(methods) - 1) / 2)
         ax.errorbar(g.expected_rate + offset, g.fitted_rate, yerr=g.fitted_rate_se.fillna(0), ls="none",
-                    label=model, ms=6, **MODEL_STYLE.get(model, {}))
+                    label=method, ms=6, **style(method))
     for _, row in rates.drop_duplicates("case").iterrows():
         ax.annotate(row.case, (row.expected_rate, row.fitted_rate), textcoords="offset points",
                     xytext=(8, -10), fontsize=7)
     ax.set_xlim(lo, hi), ax.set_ylim(lo, hi)
-    ax.set_xlabel("theorem rate p")
+    ax.set_xlabel("rate p of the method's theory")
     ax.set_ylabel("fitted rate (last levels)")
     ax.set_title("Fitted H¹ rates against the theorems", fontsize=10)
     ax.grid(True, alpha=0.25)
     ax.legend(fontsize=8, loc="upper left")
     return save(fig, folder, "summary_rates")
+
+
+def efficiency(case, results, target: float, folder: Path) -> dict[str, Path]:
+    """H^1 error against ndof and against time (cumulated over the levels, as nested iteration
+    needs them: solid the whole study, dashed the contact solves alone), every method."""
+    fig, (by_ndof, by_time) = plt.subplots(1, 2, figsize=(9.6, 3.9), sharey=True)
+    for method, g in results.groupby("method", sort=False):
+        g = g.sort_values("level")
+        st = style(method)
+        by_ndof.loglog(g.ndof, g.err_h1, label=method, lw=1.2, ms=5, **st)
+        by_time.loglog(g.total_seconds.cumsum(), g.err_h1, label=f"{method}: whole study", lw=1.2, ms=5, **st)
+        by_time.loglog(g.solve_seconds.cumsum(), g.err_h1, ls="--", lw=0.9, color=st["color"],
+                       label=f"{method}: contact solves")
+    for ax in (by_ndof, by_time):
+        ax.axhline(target, color="0.4", lw=0.7, ls=":")
+        ax.grid(True, which="both", alpha=0.25)
+    by_ndof.annotate("target", (by_ndof.get_xlim()[0], target), textcoords="offset points", xytext=(4, 3), fontsize=7)
+    by_ndof.set_xlabel("ndof")
+    by_ndof.set_ylabel(r"$\|u-u_h\|_{H^1(\Omega)}$")
+    by_time.set_xlabel("seconds, summed over the levels so far")
+    by_ndof.legend(fontsize=7)
+    by_time.legend(fontsize=6)
+    fig.suptitle(f"{case.name}: error against cost", fontsize=10)
+    return save(fig, folder, f"{case.name}_efficiency")

@@ -1,9 +1,11 @@
-"""The two discrete contact models of the paper, as bound constraints in their own variables.
+"""Discrete contact cones given by nodal functionals, as bound constraints in their own variables.
 
-* ``mean`` -- K_h (Section 3): v_h(x_i) >= 0 at the vertices of Gamma_C and
-  int_{t_i} v_h >= 0 on every contact edge; the degrees of freedom of J_h.
-* ``nodal`` -- K~_h (Section 5, before (5.1)): v_h >= 0 at the vertices and at the edge
-  midpoints x_{i+1/2} of Gamma_C; the degrees of freedom of the Lagrange interpolant I_h.
+A cone (``ContactModel``) asks v_h >= alpha at the vertices of Gamma_C and, for P2, one
+functional per contact edge:
+* ``mean`` -- K_h (Section 3): int_{t_i} v_h >= int_{t_i} alpha; the degrees of freedom of J_h;
+* ``midpoint`` -- K~_h (Section 5, before (5.1)): v_h >= alpha at the edge midpoints
+  x_{i+1/2}; the degrees of freedom of the Lagrange interpolant I_h;
+* none -- P1, whose trace is linear: the vertex values alone make the cone exact.
 
 On a straight edge [a, b] the P2 trace is v(t) = (1-t) v_a + t v_b - c_e t(1-t)/2 with c_e the
 hierarchical bubble coefficient, so
@@ -30,13 +32,29 @@ _GL_T, _GL_W = np.polynomial.legendre.leggauss(8)
 _GL_T, _GL_W = 0.5 * (_GL_T + 1.0), 0.5 * _GL_W
 
 
+# Each edge functional as a rule sum_k w_k v(t_k) on [0, 1], exact for quadratics: the midpoint
+# value, or Simpson's rule for the edge mean.
+EDGE_RULES = {"midpoint": ((0.5, 1.0),), "mean": ((0.0, 1 / 6), (0.5, 4 / 6), (1.0, 1 / 6))}
+
+
 @dataclass(frozen=True)
 class ContactModel:
-    name: str
-    description: str
-    # The edge functional as a rule sum_k w_k v(t_k) on [0, 1], exact for quadratics:
-    # the midpoint value (nodal) or Simpson's rule for the edge mean (mean).
-    edge_rule: tuple[tuple[float, float], ...]
+    """v_h >= alpha at the vertices of Gamma_C and, if ``edge_functional`` is given ("mean" or
+    "midpoint"), that functional of v_h >= the same of alpha on every contact edge."""
+
+    edge_functional: str | None = None
+
+    def __post_init__(self):
+        if self.edge_functional not in (None, *EDGE_RULES):
+            raise ValueError(f"edge functional must be one of {', '.join(EDGE_RULES)} or None, got {self.edge_functional!r}")
+
+    @property
+    def edge_rule(self) -> tuple[tuple[float, float], ...]:
+        return EDGE_RULES.get(self.edge_functional, ())
+
+    def _check(self, problem: DiscreteProblem) -> None:
+        if (self.edge_functional is not None) != bool(len(problem.edge_dofs)):
+            raise ValueError(f"a cone with edge functional {self.edge_functional!r} does not fit an order-{problem.order} space")
 
     @property
     def bubble_value(self) -> float:
@@ -54,16 +72,17 @@ class ContactModel:
         Edge row: (v_a + v_b)/2 + bubble_value * c_e, i.e. c_e/8 (midpoint) or c_e/12 (mean).
         """
         nv, ne = len(problem.vertex_dofs), len(problem.edge_dofs)
+        ends = problem.end_dofs[:ne]           # no edge rows for P1
         edge_rows = nv + np.arange(ne)
         rows = np.concatenate([np.arange(nv), edge_rows, edge_rows, edge_rows])
-        cols = np.concatenate([problem.vertex_dofs, problem.end_dofs[:, 0], problem.end_dofs[:, 1], problem.edge_dofs])
+        cols = np.concatenate([problem.vertex_dofs, ends[:, 0], ends[:, 1], problem.edge_dofs])
         vals = np.concatenate([np.ones(nv), np.full(2 * ne, 0.5), np.full(ne, self.bubble_value)])
         return sp.csr_matrix((vals, (rows, cols)), shape=(nv + ne, problem.ndof))
 
     def constraint_values(self, problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
         return self.constraint_matrix(problem) @ u
 
-    def edge_functional(self, problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
+    def edge_values(self, problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
         return self.constraint_values(problem, u)[len(problem.vertex_dofs):]
 
     def constrained_dofs(self, problem: DiscreteProblem) -> np.ndarray:
@@ -72,8 +91,10 @@ class ContactModel:
 
     def transform(self, problem: DiscreteProblem) -> sp.csr_matrix:
         """S with u = S z: identity except the rows of the contact-edge bubbles."""
-        n, w = problem.ndof, self.weight
-        edge, ends = problem.edge_dofs, problem.end_dofs
+        n, edge, ends = problem.ndof, problem.edge_dofs, problem.end_dofs
+        if not len(edge):
+            return sp.identity(n, format="csr")
+        w = self.weight
         diagonal = np.ones(n)
         diagonal[edge] = -2.0 * w
         rows = np.concatenate([np.arange(n), edge, edge])
@@ -84,14 +105,17 @@ class ContactModel:
     def lower_bounds(self, case, problem: DiscreteProblem) -> np.ndarray:
         """Gap values for the constrained variables, in the order of ``constrained_dofs``."""
         mesh, trace = problem.mesh, problem.trace
+        n_edges = len(problem.edge_dofs)
         if case.gap is None:
-            return np.zeros(len(trace.vertices) + len(trace.edges))
+            return np.zeros(len(trace.vertices) + n_edges)
         gap = case.gap
         at_vertices = evaluate(gap, mesh, trace.vertex_points)
-        if self.name == "nodal":
+        if self.edge_functional == "midpoint":
             on_edges = evaluate(gap, mesh, trace.midpoints)
-        else:
+        elif self.edge_functional == "mean":
             on_edges = evaluate(gap, mesh, trace.points(_GL_T)) @ _GL_W
+        else:
+            on_edges = np.zeros(0)
         return np.concatenate([at_vertices, on_edges])
 
 
@@ -134,7 +158,8 @@ class ContactQP:
         if previous is None:
             return None
         trace = self.problem.trace
-        return np.concatenate([previous.vertex_status(trace.vertex_points), previous.edge_status(trace.midpoints)])
+        edges = previous.edge_status(trace.midpoints) if len(self.problem.edge_dofs) else np.zeros(0, bool)
+        return np.concatenate([previous.vertex_status(trace.vertex_points), edges])
 
     def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
         problem = self.problem
@@ -189,20 +214,8 @@ def csr_positions(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.nd
 def contact_qp(case, problem: DiscreteProblem, model: ContactModel, take_stiffness: bool = False) -> ContactQP:
     """The model's QP on ``problem``; ``take_stiffness`` for the last model of a level: its K
     is made in the memory of the stiffness matrix, which the problem no longer has after."""
+    model._check(problem)
     S = model.transform(problem)
     K, K_ngs = transformed_matrix(problem, S, take=take_stiffness)
     return ContactQP(model, problem, S, K, K_ngs, S.T @ problem.b, model.constrained_dofs(problem),
                      model.lower_bounds(case, problem))
-
-
-MODELS = {
-    "mean": ContactModel("mean", "K_h: vertex values and edge means >= 0 (Section 3)",
-                         ((0.0, 1 / 6), (0.5, 4 / 6), (1.0, 1 / 6))),
-    "nodal": ContactModel("nodal", "K~_h: vertex and midpoint values >= 0 (Section 5)", ((0.5, 1.0),)),
-}
-
-
-def get_model(name: str) -> ContactModel:
-    if name not in MODELS:
-        raise ValueError(f"unknown model {name!r}; expected one of: {', '.join(MODELS)}, all")
-    return MODELS[name]

@@ -104,8 +104,9 @@ class ContactEdges:
         nv = problem.mesh.nv
         if problem.fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, nv - 1)) != (nv - 1,) or \
                 not np.array_equal(problem.vertex_dofs, problem.trace.vertices):
-            raise RuntimeError("the P2 space does not number vertex dofs by vertex; the multigrid needs it")
-        return cls(problem.edge_dofs, problem.end_dofs)
+            raise RuntimeError("the space does not number vertex dofs by vertex; the multigrid needs it")
+        ends = problem.end_dofs if len(problem.edge_dofs) else np.zeros((0, 2), dtype=np.int64)
+        return cls(problem.edge_dofs, ends)
 
     def prolongate(self, c: np.ndarray, z: np.ndarray) -> None:
         """z += the model variables of the P1 function c (vertex dofs are 0..nv-1 in H1)."""
@@ -123,7 +124,8 @@ class ContactEdges:
 
 class TruncatedVCycle:
     """One symmetric V-cycle for K[F, F]: Gauss-Seidel on K (forward before, backward after the
-    coarse correction), then the truncated P1 levels down to a sparse Cholesky on the coarsest."""
+    coarse correction), then the truncated P1 levels down to a sparse Cholesky on the coarsest.
+    For a P1 problem K is the finest P1 level itself: the cycle starts there."""
 
     def __init__(self, multilevel: Multilevel, K_ngs, free: np.ndarray, edges: ContactEdges):
         nv = multilevel.nvertices
@@ -134,7 +136,8 @@ class TruncatedVCycle:
         self.free = free.astype(float)
         self.pins = multilevel.truncated_pins(pinned_vertices)
         self.keep = [(~p).astype(float) for p in self.pins]
-        self.smoother = K_ngs.CreateSmoother(_bits(free))
+        self.fine_is_p1 = K_ngs.height == nv
+        self.smoother = None if self.fine_is_p1 else K_ngs.CreateSmoother(_bits(free))
         self.smoothers = [m.CreateSmoother(_bits(~p)) for m, p in zip(multilevel.matrices, self.pins)]
         self.coarsest = multilevel.matrices[0].Inverse(_bits(~self.pins[0]), inverse="sparsecholesky")
         self.prolongation = multilevel.fes.Prolongation()
@@ -166,11 +169,17 @@ class TruncatedVCycle:
     def apply(self, r, out) -> None:
         """out = B r for NGSolve vectors (r vanishes on the pins; so does out)."""
         (x, x_np), (d, d_np) = self._x, self._d
+        top = len(self.multilevel.matrices) - 1
+        if self.fine_is_p1:
+            # K is the top P1 matrix (S = I for P1) with the same pins: one P1 V-cycle
+            x_np[:] = self._p1_cycle(top, r.FV().NumPy() * self.keep[top])
+            out.data = x
+            out.FV().NumPy()[:] *= self.free
+            return
         x_np[:] = 0.0
         self.smoother.Smooth(x, r)
         d.data = r - self.K * x
         d_np *= self.free
-        top = len(self.multilevel.matrices) - 1
         correction = self._p1_cycle(top, self.edges.restrict(d_np, self.nv) * self.keep[top])
         self.edges.prolongate(correction, x_np)
         self.smoother.SmoothBack(x, r)

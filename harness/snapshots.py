@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from .mesh import evaluate
+from .study import study_levels
 
 PICTURE_LEVEL = 3
 SAMPLES_PER_EDGE = 9
@@ -19,7 +20,8 @@ def contact_pressure(problem, multipliers: np.ndarray) -> np.ndarray:
     Its integral over Gamma_C is the total discrete contact force sum(lambda)."""
     lengths = problem.trace.lengths
     nv = len(problem.vertex_dofs)
-    lam_vertex, lam_edge = multipliers[:nv], multipliers[nv:]
+    lam_vertex = multipliers[:nv]
+    lam_edge = multipliers[nv:] if len(problem.edge_dofs) else np.zeros(len(lengths))   # P1: vertices only
     index = np.searchsorted(problem.trace.vertices, problem.trace.edge_vertices)
     adjacent_length = np.bincount(index.ravel(), weights=np.repeat(lengths, 2), minlength=nv)
     share = lam_vertex[index] * (lengths[:, None] / adjacent_length[index])
@@ -59,25 +61,29 @@ def domain_snapshot(problem, u: np.ndarray) -> dict:
 
 
 class SnapshotCollector:
-    """``on_level`` hook of the study: keeps the finest contact snapshot of each (case, model)
-    and the domain picture of each case (model `nodal`, level PICTURE_LEVEL or the finest)."""
+    """``on_level`` hook of the study: keeps the finest contact snapshot of each (case, method)
+    and the domain picture of each case (method `nodal` if it runs, else the first; level
+    PICTURE_LEVEL or the finest)."""
 
-    def __init__(self, levels: int):
-        self.levels = levels
+    def __init__(self, levels: int, methods):
+        self.finest = {m.name: study_levels(m, levels) - 1 for m in methods}
+        self.picture_method = "nodal" if "nodal" in self.finest else next(iter(self.finest))
+        self.picture_level = min(PICTURE_LEVEL, self.finest[self.picture_method])
         self.contact: dict[tuple[str, str], dict] = {}
         self.domain: dict[str, dict] = {}
 
-    def __call__(self, case, model, level, problem, u, solution, trace_u):
-        if level == self.levels - 1:
-            self.contact[(case.name, model.name)] = contact_snapshot(case, problem, trace_u, solution.multipliers)
-        if model.name == "nodal" and level == min(PICTURE_LEVEL, self.levels - 1):
-            self.domain[case.name] = domain_snapshot(problem, u)
+    def __call__(self, case, method, level, problem, solve):
+        if level == self.finest[method.name]:
+            self.contact[(case.name, method.name)] = contact_snapshot(case, problem, solve.trace_u,
+                                                                      solve.solution.multipliers)
+        if method.name == self.picture_method and level == self.picture_level:
+            self.domain[case.name] = domain_snapshot(problem, solve.u) | {"method": np.array(method.name)}
 
     def save(self, case_name: str, path: Path) -> None:
         arrays = {}
-        for (name, model), snap in self.contact.items():
+        for (name, method), snap in self.contact.items():
             if name == case_name:
-                arrays.update({f"contact_{model}_{k}": v for k, v in snap.items()})
+                arrays.update({f"contact__{method}__{k}": v for k, v in snap.items()})
         if case_name in self.domain:
             arrays.update({f"domain_{k}": v for k, v in self.domain[case_name].items()})
         tmp = path.with_suffix(".tmp.npz")
@@ -86,13 +92,13 @@ class SnapshotCollector:
 
 
 def load_snapshots(path: Path) -> tuple[dict, dict]:
-    """(contact snapshots by model, domain snapshot) of one case."""
+    """(contact snapshots by method, domain snapshot) of one case."""
     data = np.load(path)
     contact, domain = {}, {}
     for key in data.files:
-        if key.startswith("contact_"):
-            _, model, field = key.split("_", 2)
-            contact.setdefault(model, {})[field] = data[key]
+        if key.startswith("contact__"):
+            _, method, field = key.split("__", 2)
+            contact.setdefault(method, {})[field] = data[key]
         elif key.startswith("domain_"):
             domain[key[len("domain_"):]] = data[key]
     return contact, domain

@@ -1,5 +1,5 @@
-"""A convergence study: case -> mesh hierarchy -> discrete problem -> contact model -> solve
--> errors -> one tidy row per (case, model, level)."""
+"""A convergence study: case -> mesh hierarchy -> discrete problems -> methods -> solve ->
+errors -> one tidy row per (case, method, level)."""
 from __future__ import annotations
 
 import time
@@ -12,17 +12,19 @@ from tqdm import tqdm
 
 from .case import Case
 from .discrete import discretise
-from .errors import error_norms, max_penetration
+from .errors import error_norms
 from .mesh import mesh_hierarchy, mesh_size
-from .models import ContactModel, contact_qp
-from .multigrid import Multilevel, nested_start
-from .solver import solve_contact_qp
+from .methods import Method
+from .multigrid import Multilevel
+from .quadrature import ElementQuadrature
 from .validate import validate_case
 
 COLUMNS = [
-    "case", "model", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
+    "case", "method", "order", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
     "err_l2", "max_penetration", "active_constraints", "solver_iterations", "kkt_residual",
-    "solve_seconds", "status",
+    "solve_seconds", "total_seconds", "status",
+    # what `rates` needs to fit a results file on its own: the case and the method's theory
+    "nu", "expected_rate", "expected_log_exponent", "reference", "case_source",
 ]
 
 ngs.ngsglobals.msg_level = 0
@@ -57,75 +59,79 @@ class Phases:
 
 
 
-def solve_level(case: Case, problem, model: ContactModel, previous=None, multilevel=None, coarse_vertex_values=None,
-                phases: Phases | None = None, last: bool = False):
-    """Solve one model on one level; return the row's solver fields, u_h, its trace on Gamma_C
-    and the solution (the errors of all models of a level come after, in one pass: ``run_case``).
+def study_levels(method: Method, levels: int) -> int:
+    """Levels a method runs in a study of ``levels`` levels: more for P1, so that every method
+    ends at about the same number of dofs (``methods.base.EXTRA_LEVELS``)."""
+    return levels + method.extra_levels
 
-    Nested iteration: ``previous`` (the coarser level's trace on Gamma_C) predicts the active
-    set, ``coarse_vertex_values`` (its u_h at the vertices) gives the multigrid its start.
-    ``last``: the level's last model, which takes the stiffness matrix's memory for its own.
+
+def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_level=None,
+             phases: Phases | None = None) -> list[dict]:
+    """Rows of one case; ``on_level(case, method, level, problem, solve)`` sees every solve
+    (``solve``: a ``methods.LevelSolve``; the report keeps the finest solutions).
+
+    Per level: one mesh, one discrete problem per finite element order shared by the methods
+    of that order (the last of them takes its stiffness matrix), one error integration for all.
+    ``total_seconds`` of a row: what the level costs that method alone -- the refinement, its
+    order's assembly, its own set-up and solve, and an even share of the error integration.
     """
     phases = phases or Phases()
-    with phases("setup"):
-        qp = contact_qp(case, problem, model, take_stiffness=last)
-        start = None
-        if multilevel is not None and coarse_vertex_values is not None:
-            start = nested_start(multilevel, coarse_vertex_values, problem)
-        predicted = qp.predicted_active(previous)
-    with phases("solve"):
-        solution = solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)
-    with phases("errors"):
-        u = qp.to_u(solution.z)
-        trace_u = qp.trace_function(u, solution.active)
-        row = {
-            "n_contact_constraints": len(qp.C),
-            "max_penetration": max_penetration(case, problem.mesh, trace_u),
-            "active_constraints": int(solution.active.sum()),
-            "solver_iterations": solution.iterations,
-            "kkt_residual": solution.kkt.residual,
-            "solve_seconds": solution.seconds,
-            "status": solution.status,
-        }
-    return row, u, trace_u, solution
-
-
-def run_case(case: Case, models: list[ContactModel], levels: int, progress=None, on_level=None,
-             phases: Phases | None = None) -> list[dict]:
-    """Rows of one case; ``on_level(case, model, level, problem, u, solution, trace_u)`` sees
-    every solve (the report uses it to keep the finest solutions)."""
-    phases = phases or Phases()
-    previous = {model.name: (None, None) for model in models}
+    carry: dict[str, tuple | None] = {m.name: None for m in methods}
     rows = []
     multilevel = None
+    expectations = {m.name: m.expected(case) for m in methods}
+    total_levels = max(study_levels(m, levels) for m in methods)
     with ngs.TaskManager():
-        hierarchy = mesh_hierarchy(case, levels)
-        for level in range(levels):
+        hierarchy = mesh_hierarchy(case, total_levels)
+        for level in range(total_levels):
+            clock = time.perf_counter()
             with phases("mesh"):
                 _, mesh = next(hierarchy)
                 multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
                 h = mesh_size(mesh)
-            with phases("assembly"):
-                problem = discretise(case, mesh)
+                quadrature = ElementQuadrature.of(case, mesh)
+            mesh_seconds = time.perf_counter() - clock
+            active = [m for m in methods if level < study_levels(m, levels)]
+            problems, assembly_seconds = {}, {}
+            for order in sorted({m.order for m in active}, reverse=True):
+                clock = time.perf_counter()
+                with phases("assembly"):
+                    problems[order] = discretise(case, mesh, order, quadrature)
+                assembly_seconds[order] = time.perf_counter() - clock
             level_rows, solutions = [], []
-            for model in models:
+            for method in active:
+                problem = problems[method.order]
                 if progress is not None:
-                    progress.set_postfix_str(f"{case.name} {model.name} level {level} ndof {problem.ndof}")
-                fields, u, trace_u, solution = solve_level(case, problem, model, previous[model.name][0], multilevel,
-                                                           previous[model.name][1], phases, last=model is models[-1])
-                previous[model.name] = (trace_u, u[: multilevel.nvertices].copy())
-                level_rows.append({"case": case.name, "model": model.name, "level": level, "h": h,
-                                   "ndof": problem.ndof, **fields})
-                solutions.append(problem.gridfunction(u))
+                    progress.set_postfix_str(f"{case.name} {method.name} level {level} ndof {problem.ndof}")
+                last = method is [m for m in active if m.order == method.order][-1]
+                clock = time.perf_counter()
+                solve = method.solve(case, problem, carry[method.name], multilevel, take_stiffness=last, phases=phases)
+                own_seconds = time.perf_counter() - clock
+                carry[method.name] = solve.carry
+                expectation = expectations[method.name]
+                level_rows.append({
+                    "case": case.name, "method": method.name, "order": method.order, "level": level, "h": h,
+                    "ndof": problem.ndof, **solve.fields,
+                    "total_seconds": mesh_seconds + assembly_seconds[method.order] + own_seconds,
+                    "nu": case.nu, "expected_rate": expectation.rate, "expected_log_exponent": expectation.log_exponent,
+                    "reference": expectation.reference, "case_source": case.source,
+                })
+                solutions.append(problem.gridfunction(solve.u))
                 if on_level is not None:
                     with phases("hooks"):
-                        on_level(case, model, level, problem, u, solution, trace_u)
+                        on_level(case, method, level, problem, solve)
                 if progress is not None:
                     progress.update(1)
+            clock = time.perf_counter()
             with phases("errors"):
-                errors = error_norms(case, solutions, problem.quadrature)
-            rows += [row | norms for row, norms in zip(level_rows, errors)]
+                errors = error_norms(case, solutions, quadrature)
+            share = (time.perf_counter() - clock) / len(level_rows)
+            rows += [row | norms | {"total_seconds": row["total_seconds"] + share} for row, norms in zip(level_rows, errors)]
     return rows
+
+
+def total_solves(methods: list[Method], levels: int) -> int:
+    return sum(study_levels(m, levels) for m in methods)
 
 
 def progress_bar(total: int, show: bool = True):
@@ -133,10 +139,11 @@ def progress_bar(total: int, show: bool = True):
     return tqdm(total=total, disable=not show, unit="solve", dynamic_ncols=True)
 
 
-def run_study(cases: list[Case], models: list[ContactModel], levels: int, show_progress: bool = True,
+def run_study(cases: list[Case], methods: list[Method], levels: int, show_progress: bool = True,
               on_level=None, progress=None) -> pd.DataFrame:
-    """Every case x model x level; one tidy row each (columns ``COLUMNS``). ``progress``: a
-    bar shared with a larger run (else one is made)."""
+    """Every case x method x level; one tidy row each (columns ``COLUMNS``). ``levels`` counts
+    the P2 levels (P1 runs one more: ``study_levels``). ``progress``: a bar shared with a
+    larger run (else one is made)."""
     if levels < 1:
         raise ValueError(f"levels must be a positive integer, got {levels}")
     for case in cases:
@@ -145,10 +152,10 @@ def run_study(cases: list[Case], models: list[ContactModel], levels: int, show_p
     start = time.perf_counter()
     phases = Phases()
     own = progress is None
-    progress = progress_bar(len(cases) * len(models) * levels, show_progress) if own else progress
+    progress = progress_bar(len(cases) * total_solves(methods, levels), show_progress) if own else progress
     try:
         for case in cases:
-            rows += run_case(case, models, levels, progress, on_level, phases)
+            rows += run_case(case, methods, levels, progress, on_level, phases)
     finally:
         if own:
             progress.close()

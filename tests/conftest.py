@@ -4,25 +4,28 @@ import pytest
 from harness.case import load_case
 from harness.discrete import discretise
 from harness.mesh import mesh_hierarchy
-from harness.models import MODELS
+from harness.methods import METHODS
 from harness.multigrid import Multilevel
 
+# The paper's P2 cones by method name (the cone-level tests), and every registered method.
+MODELS = {name: m.cone for name, m in METHODS.items() if m.order == 2}
 MODEL_NAMES = list(MODELS)
+METHOD_NAMES = list(METHODS)
 
 
-def problem_at(case_name: str, level: int):
+def problem_at(case_name: str, level: int, order: int = 2):
     for lev, mesh in mesh_hierarchy(load_case(case_name), level + 1):
         if lev == level:
-            return discretise(load_case(case_name), mesh)
+            return discretise(load_case(case_name), mesh, order)
 
 
-def problem_with_hierarchy(case_name: str, level: int):
+def problem_with_hierarchy(case_name: str, level: int, order: int = 2):
     """The problem of ``level`` and the multigrid's P1 hierarchy of levels 0..level."""
     case = load_case(case_name)
     multilevel = None
     for lev, mesh in mesh_hierarchy(case, level + 1):
         multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
-    return discretise(case, mesh), multilevel
+    return discretise(case, mesh, order), multilevel
 
 
 @pytest.fixture(scope="session")

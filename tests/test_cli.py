@@ -15,18 +15,36 @@ def harness(*args, cwd=None):
     return subprocess.run([sys.executable, "-m", "harness", *args], capture_output=True, text=True, cwd=ROOT)
 
 
-def test_run_writes_one_tidy_row_per_case_model_level(tmp_path):
-    done = harness("run", "--case", "transition-r32", "--model", "all", "--levels", "2", "--out", str(tmp_path), "--quiet")
+def test_run_writes_one_tidy_row_per_case_method_level(tmp_path):
+    done = harness("run", "--case", "transition-r32", "--method", "all", "--levels", "2", "--out", str(tmp_path), "--quiet")
     assert done.returncode == 0, done.stderr
     frame = pd.read_csv(tmp_path / "results.csv")
     assert list(frame.columns) == COLUMNS
-    assert len(frame) == 4 and set(frame.model) == {"mean", "nodal"}
+    # P1 runs one level more, to reach the dofs of P2's finest level
+    assert frame.groupby("method")["level"].max().to_dict() == {"mean": 1, "nodal": 1, "p1": 2}
     assert (frame.kkt_residual <= 1e-10).all() and (frame.status == "converged").all()
+
+
+@pytest.mark.parametrize("option, methods", [(["--model", "all"], {"mean", "nodal"}), (["--model", "nodal"], {"nodal"}),
+                                             (["--method", "paper"], {"mean", "nodal"}),
+                                             (["--method", "p1", "--method", "mean"], {"mean", "p1"})])
+def test_method_and_old_model_options_select_methods(tmp_path, option, methods):
+    done = harness("run", "--case", "transition-r32", *option, "--levels", "1", "--out", str(tmp_path), "--quiet")
+    assert done.returncode == 0, done.stderr
+    assert set(pd.read_csv(tmp_path / "results.csv").method) == methods
+
+
+def test_methods_lists_order_contact_condition_and_reference():
+    done = harness("methods")
+    assert done.returncode == 0
+    for text in ("mean", "nodal", "p1", "Section 3", "Section 5", "Drouet & Hild"):
+        assert text in done.stdout
 
 
 @pytest.mark.parametrize("args, message", [
     (["--case", "no-such-case"], "known cases"),
     (["--case", "transition-r32", "--model", "both"], "--model"),
+    (["--case", "transition-r32", "--method", "p3"], "--method"),
     (["--case", "transition-r32", "--levels", "0"], "positive integer"),
     (["--case", "transition-r32", "--levels", "three"], "positive integer"),
     (["--case", "tests/data/bad_sign_case.py"], "violates the Signorini condition"),
@@ -68,6 +86,29 @@ def test_rates_command_writes_rates_beside_results(tmp_path):
     done = harness("rates", str(tmp_path / "results.csv"))
     assert done.returncode == 0, done.stderr
     rates = pd.read_csv(tmp_path / "rates.csv")
-    assert list(rates.columns) == ["case", "model", "theorem", "expected_rate", "expected_log_exponent",
+    assert list(rates.columns) == ["case", "method", "order", "reference", "expected_rate", "expected_log_exponent",
                                    "fitted_rate", "fitted_rate_se", "pairwise_rates", "verdict"]
-    assert len(rates) == 2
+    assert len(rates) == 3
+
+
+def test_case_file_by_path_runs_every_method_and_rates_needs_no_case_option(tmp_path):
+    """The results carry each row's theory, so `rates` fits a CSV of an unregistered case alone."""
+    case = str(ROOT / "tests" / "data" / "gap_case.py")
+    assert harness("run", "--case", case, "--method", "all", "--levels", "3", "--out", str(tmp_path), "--quiet").returncode == 0
+    done = harness("rates", str(tmp_path / "results.csv"))
+    assert done.returncode == 0, done.stderr
+    rates = pd.read_csv(tmp_path / "rates.csv")
+    assert set(rates.method) == {"mean", "nodal", "p1"} and (rates.case == "gap-transition").all()
+    assert dict(zip(rates.method, rates.expected_rate)) == {"mean": 1.5, "nodal": 1.5, "p1": 1.0}
+
+
+def test_old_results_with_a_model_column_are_read(tmp_path):
+    """Results of harness 0.1 (`model`, no theory in the rows) still fit, with a note."""
+    old = tmp_path / "results.csv"
+    pd.DataFrame({"case": "smooth", "model": "nodal", "level": [0, 1, 2], "h": [0.4, 0.2, 0.1],
+                  "err_h1": [1e-2, 2.5e-3, 6.25e-4]}).to_csv(old, index=False)
+    done = harness("rates", str(old))
+    assert done.returncode == 0, done.stderr
+    assert "`model` column" in done.stderr
+    rates = pd.read_csv(tmp_path / "rates.csv")
+    assert rates.method.tolist() == ["nodal"] and rates.fitted_rate.iloc[0] == pytest.approx(2.0)

@@ -6,15 +6,15 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 
-from conftest import MODEL_NAMES
+from conftest import METHOD_NAMES, MODEL_NAMES, MODELS
 from harness import discrete
 from harness.case import registered_cases
 from harness.discrete import ContactTraceFunction, discretise, load_vector
 from harness.errors import NORMS, error_norms, max_penetration
 from harness.mesh import mesh_hierarchy
-from harness.models import MODELS
+from harness.methods import METHODS
 from harness.quadrature import ElementQuadrature
-from harness.study import PROFILES, run_case, solve_level
+from harness.study import PROFILES, run_case
 
 FINEST_DEFAULT_LEVEL = PROFILES["default"]["levels"] - 1
 REFERENCE_ORDER, REFERENCE_DEPTH = 20, 22
@@ -27,32 +27,33 @@ def reference_quadrature(case, mesh) -> ElementQuadrature:
                                 depth=REFERENCE_DEPTH, order=REFERENCE_ORDER)
 
 
-class Finest:
-    """on_level hook keeping the finest level's solutions."""
+class ReferenceErrors:
+    """on_level hook: the errors of every solution on ``level``, by the reference integration,
+    computed while that level's mesh is the current one."""
 
     def __init__(self, level):
-        self.level, self.solutions, self.problem = level, {}, None
+        self.level, self.errors, self.quadrature = level, {}, None
 
-    def __call__(self, case, model, level, problem, u, solution, trace_u):
+    def __call__(self, case, method, level, problem, solve):
         if level == self.level:
-            self.problem = problem
-            self.solutions[model.name] = problem.gridfunction(u)
+            self.quadrature = self.quadrature or reference_quadrature(case, problem.mesh)
+            (self.errors[method.name],) = error_norms(case, [problem.gridfunction(solve.u)], self.quadrature,
+                                                      order=REFERENCE_ORDER)
 
 
 @pytest.mark.parametrize("case_name", list(registered_cases()))
 def test_errors_agree_with_a_much_finer_integration_on_the_finest_default_level(case_name):
     """Issue 12's accuracy proof: the study's errors (graded rule at the declared singular
     points, Gauss order 6 elsewhere) against grading at every geometry point, depth 22 and
-    order 20 everywhere, to 0.1%, both models, on the finest level of `make report`."""
+    order 20 everywhere, to 0.1%, every method, on the finest P2 level of `make report` (P2's
+    finest level; P1 ends one level later, on a mesh of the same dofs)."""
     case = registered_cases()[case_name]
-    finest = Finest(FINEST_DEFAULT_LEVEL)
+    reference = ReferenceErrors(FINEST_DEFAULT_LEVEL)
     with ngs.TaskManager():
-        rows = run_case(case, list(MODELS.values()), FINEST_DEFAULT_LEVEL + 1, on_level=finest)
-        names = list(finest.solutions)
-        reference = error_norms(case, [finest.solutions[n] for n in names],
-                                reference_quadrature(case, finest.problem.mesh), order=REFERENCE_ORDER)
-    for name, ref in zip(names, reference):
-        (row,) = [r for r in rows if r["model"] == name and r["level"] == FINEST_DEFAULT_LEVEL]
+        rows = run_case(case, list(METHODS.values()), FINEST_DEFAULT_LEVEL + 1, on_level=reference)
+    assert set(reference.errors) == set(METHODS)
+    for name, ref in reference.errors.items():
+        (row,) = [r for r in rows if r["method"] == name and r["level"] == FINEST_DEFAULT_LEVEL]
         for norm in NORMS:
             assert abs(row[norm] - ref[norm]) <= 1e-3 * ref[norm], (name, norm, row[norm], ref[norm])
 
@@ -73,8 +74,8 @@ def test_load_quadrature_changes_no_error_by_more_than_1e_4(case_name, monkeypat
         errors = []
         for b in (problem.b, fine_load):
             variant = dataclasses.replace(problem, b=b)
-            _, u, _, _ = solve_level(case, variant, MODELS["nodal"])
-            errors.append(error_norms(case, [variant.gridfunction(u)], problem.quadrature)[0]["err_h1"])
+            solve = METHODS["nodal"].solve(case, variant, None, None)
+            errors.append(error_norms(case, [variant.gridfunction(solve.u)], problem.quadrature)[0]["err_h1"])
     assert abs(errors[0] - errors[1]) <= 1e-4 * errors[1], errors
 
 
@@ -118,8 +119,18 @@ def test_penetration_sees_the_dip_between_nodes(small_problem):
 @pytest.mark.parametrize("model_name", MODEL_NAMES)
 def test_discrete_solutions_are_nonconforming_only_between_nodes(small_problem, model_name):
     case = registered_cases()["transition-r32"]
-    row, u, trace_u, solution = solve_level(case, small_problem, MODELS[model_name])
+    solve = METHODS[model_name].solve(case, small_problem, None, None)
     # nodes satisfy the constraints, so any penetration is between them and small
-    assert (MODELS[model_name].constraint_values(small_problem, u) >= -1e-12).all()
-    assert row["max_penetration"] >= -1e-14
-    assert row["max_penetration"] < 0.1 * np.abs(u).max()
+    assert (MODELS[model_name].constraint_values(small_problem, solve.u) >= -1e-12).all()
+    assert solve.fields["max_penetration"] >= -1e-14
+    assert solve.fields["max_penetration"] < 0.1 * np.abs(solve.u).max()
+
+
+def test_p1_solution_is_conforming_on_the_whole_contact_boundary():
+    """P1's cone is exact: nonnegative vertex values make a linear trace nonnegative everywhere."""
+    from conftest import problem_at
+    case = registered_cases()["transition-r32"]
+    problem = problem_at("transition-r32", 3, order=1)
+    solve = METHODS["p1"].solve(case, problem, None, None)
+    assert solve.fields["status"] == "converged" and solve.fields["kkt_residual"] <= 1e-10
+    assert solve.fields["max_penetration"] <= 1e-14 * np.abs(solve.u).max()

@@ -3,10 +3,10 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 
-from conftest import MODEL_NAMES
+from conftest import MODEL_NAMES, MODELS
 from harness.discrete import ContactTraceFunction
 from harness.mesh import evaluate
-from harness.models import MODELS, contact_qp
+from harness.models import contact_qp
 from harness.case import load_case
 from harness.discrete import discretise
 from harness.mesh import coarse_mesh
@@ -34,19 +34,19 @@ def test_vertex_constraints_are_point_values(small_problem, rng):
 def test_nodal_edge_constraints_are_midpoint_values(small_problem, rng):
     u, gf = random_gridfunction(small_problem, rng)
     direct = evaluate(gf, small_problem.mesh, small_problem.trace.midpoints)
-    np.testing.assert_allclose(MODELS["nodal"].edge_functional(small_problem, u), direct, atol=1e-12)
+    np.testing.assert_allclose(MODELS["nodal"].edge_values(small_problem, u), direct, atol=1e-12)
 
 
 def test_mean_edge_constraints_are_edge_means(small_problem, rng):
     u, gf = random_gridfunction(small_problem, rng)
     means = evaluate(gf, small_problem.mesh, small_problem.trace.points(GAUSS_T)) @ GAUSS_W
-    np.testing.assert_allclose(MODELS["mean"].edge_functional(small_problem, u), means, atol=1e-12)
+    np.testing.assert_allclose(MODELS["mean"].edge_values(small_problem, u), means, atol=1e-12)
 
 
 def test_edge_mean_equals_ngsolve_boundary_integral(small_problem, rng):
     """Sum over Gamma_C of |t_i| * mean_i equals NGSolve's own integral of u_h over Gamma_C."""
     u, gf = random_gridfunction(small_problem, rng)
-    means = MODELS["mean"].edge_functional(small_problem, u)
+    means = MODELS["mean"].edge_values(small_problem, u)
     total = ngs.Integrate(gf, small_problem.mesh, definedon=small_problem.mesh.Boundaries("contact"))
     assert abs((means * small_problem.trace.lengths).sum() - total) < 1e-12 * max(1, abs(total))
 
@@ -99,7 +99,7 @@ def test_nodal_cone_lies_in_mean_cone(small_problem, rng):
     zm[edge] = 0.0
     zm[small_problem.end_dofs[0]] = 1.0
     u = Sm @ zm
-    midpoint = MODELS["nodal"].edge_functional(small_problem, u)[0]
+    midpoint = MODELS["nodal"].edge_values(small_problem, u)[0]
     assert midpoint < 0 and (MODELS["mean"].constraint_values(small_problem, u) >= 0).all()
 
 

@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from conftest import MODEL_NAMES, problem_with_hierarchy
+from conftest import METHOD_NAMES, problem_with_hierarchy
+from harness.methods import METHODS
 from harness.case import load_case
-from harness.models import MODELS, contact_qp
+from harness.models import contact_qp
 from harness.multigrid import ContactEdges, TruncatedVCycle
 from harness.solver import MultigridSystem, solve_contact_qp
 
@@ -35,16 +36,17 @@ def test_p1_coarse_matrices_are_galerkin_products_of_the_finer():
         assert P.min() >= 0.0   # what lets restriction of the pin indicator find the truncated hats
 
 
-def _exact_pins(case_name, model_name, level):
-    problem, multilevel = problem_with_hierarchy(case_name, level)
-    qp = contact_qp(load_case(case_name), problem, MODELS[model_name])
+def _exact_pins(case_name, method_name, level):
+    method = METHODS[method_name]
+    problem, multilevel = problem_with_hierarchy(case_name, level, method.order)
+    qp = contact_qp(load_case(case_name), problem, method.cone)
     active = solve_contact_qp(qp).active
     pinned = ~qp.free
     pinned[qp.C[active]] = True
     return qp, multilevel, pinned
 
 
-@pytest.mark.parametrize("model_name", MODEL_NAMES)
+@pytest.mark.parametrize("model_name", METHOD_NAMES)
 def test_truncated_vcycle_is_symmetric_positive_and_keeps_the_pins(model_name, rng):
     """CG needs a symmetric positive definite preconditioner on the free dofs; the truncated
     coarse spaces must never move a pinned dof."""
@@ -62,7 +64,7 @@ def test_truncated_vcycle_is_symmetric_positive_and_keeps_the_pins(model_name, r
     assert r.FV().NumPy() @ Br.FV().NumPy() > 0
 
 
-@pytest.mark.parametrize("model_name", MODEL_NAMES)
+@pytest.mark.parametrize("model_name", METHOD_NAMES)
 def test_multigrid_cg_iterations_do_not_grow_under_refinement(model_name):
     """Truncation makes the coarse spaces see the contact zone: with the exact active set pinned,
     CG iterations from zero stay bounded as h halves (an untruncated multigrid grows like

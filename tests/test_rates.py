@@ -1,8 +1,8 @@
-"""The theorems, one by one: every case x both models converges at least at its theorem's rate."""
+"""The theorems, one by one: every case x method converges at least at its own theory's rate."""
 import numpy as np
 import pytest
 
-from conftest import MODEL_NAMES
+from conftest import METHOD_NAMES, MODEL_NAMES
 from harness import run
 from harness.case import registered_cases
 from harness.rates import fit_rate, normalised_errors, pairwise_rates, rate_table
@@ -14,39 +14,39 @@ CASES = registered_cases()
 
 @pytest.fixture(scope="module")
 def study():
-    return run(list(CASES.values()), models="all", levels=RATE_LEVELS, show_progress=False)
+    return run(list(CASES.values()), methods="all", levels=RATE_LEVELS, show_progress=False)
 
 
 @pytest.fixture(scope="module")
 def rates(study):
-    return rate_table(study, CASES).set_index(["case", "model"])
+    return rate_table(study).set_index(["case", "method"])
 
 
-@pytest.mark.parametrize("model", MODEL_NAMES)
+@pytest.mark.parametrize("method", METHOD_NAMES)
 @pytest.mark.parametrize("case_name", list(CASES))
-def test_fitted_h1_rate_reaches_theorem_rate(rates, case_name, model):
-    row = rates.loc[(case_name, model)]
+def test_fitted_h1_rate_reaches_its_theory_rate(rates, case_name, method):
+    row = rates.loc[(case_name, method)]
     assert row.fitted_rate >= row.expected_rate - 0.1, row.pairwise_rates
 
 
 @pytest.mark.parametrize("model", MODEL_NAMES)
 def test_transition_rate_between_last_two_levels_is_three_halves(study, model):
     """Issue 2's acceptance: transition-r32, >= 5 levels, last pairwise rate >= 1.4."""
-    g = study[(study.case == "transition-r32") & (study.model == model)]
+    g = study[(study.case == "transition-r32") & (study.method == model)]
     assert len(g) >= 5 and pairwise_rates(g.h, g.err_h1)[-1] >= 1.4
 
 
 @pytest.mark.parametrize("model", MODEL_NAMES)
 def test_borderline_error_over_h_log_quarter_does_not_grow(study, model):
     """Thm 4.2 ii / 5.2 ii: e / (h |log h|^{1/4}) stays bounded over the last levels."""
-    g = study[(study.case == "borderline-h2") & (study.model == model)]
+    g = study[(study.case == "borderline-h2") & (study.method == model)]
     normalised = normalised_errors(g.h, g.err_h1, 1.0, 0.25)[-3:]
     assert np.all(np.diff(normalised) <= 0), normalised
 
 
-@pytest.mark.parametrize("model", MODEL_NAMES)
-def test_every_discrete_solution_satisfies_kkt(study, model):
-    g = study[study.model == model]
+@pytest.mark.parametrize("method", METHOD_NAMES)
+def test_every_discrete_solution_satisfies_kkt(study, method):
+    g = study[study.method == method]
     assert (g.status == "converged").all() and (g.kkt_residual <= 1e-10).all()
 
 

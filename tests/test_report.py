@@ -21,7 +21,8 @@ def report(tmp_path_factory):
 def test_results_rates_and_provenance_are_written(report):
     root, _ = report
     results = pd.read_csv(root / "results" / "results.csv")
-    assert set(results.case) == set(CASES) and len(results) == len(CASES) * 2 * 3
+    # mean and nodal on 3 levels, p1 on 4
+    assert set(results.case) == set(CASES) and len(results) == len(CASES) * (2 * 3 + 4)
     rates = pd.read_csv(root / "results" / "rates.csv")
     assert {"fitted_rate", "fitted_rate_se", "pairwise_rates", "verdict"} <= set(rates.columns)
     meta = json.loads((root / "results" / "provenance.json").read_text())
@@ -33,7 +34,7 @@ def test_results_rates_and_provenance_are_written(report):
 def test_every_figure_exists_as_png_and_pdf(report):
     root, _ = report
     figures = root / "report" / "figures"
-    stems = ["summary_rates"] + [f"{c}_{kind}" for c in CASES for kind in ("convergence", "contact", "solution")]
+    stems = ["summary_rates"] + [f"{c}_{kind}" for c in CASES for kind in ("convergence", "contact", "solution", "efficiency")]
     for stem in stems:
         for ext in ("png", "pdf"):
             assert (figures / f"{stem}.{ext}").stat().st_size > 1000, stem
@@ -44,7 +45,16 @@ def test_report_sets_measured_rates_against_theorems(report):
     text = html.read_text()
     assert "Theorem 4.1 ii, 5.1 ii" in text and "verdict" in text and "data:image/png;base64" in text
     markdown = (root / "report" / "report.md").read_text()
-    assert "| case | model | theorem | expected |" in markdown and "figures/transition-r32_convergence.png" in markdown
+    assert "| case | method | theory | expected |" in markdown and "figures/transition-r32_convergence.png" in markdown
+
+
+def test_report_answers_whether_p2_is_worth_it(report):
+    root, html = report
+    text = html.read_text()
+    assert "Is P2 worth it?" in text and "transition-r32: The claim" in text
+    efficiency = pd.read_csv(root / "results" / "efficiency.csv")
+    assert set(efficiency.method) == {"mean", "nodal", "p1"}
+    assert (efficiency.ndof > 0).all() and (efficiency.total_seconds > 0).all()
 
 
 def test_unchanged_results_are_reused(report, capsys):

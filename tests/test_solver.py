@@ -4,27 +4,29 @@ import pytest
 import scipy.sparse as sp
 from qpsolvers import solve_qp
 
-from conftest import MODEL_NAMES, problem_at, problem_with_hierarchy
+from conftest import METHOD_NAMES, problem_at, problem_with_hierarchy
 from harness.case import load_case
-from harness.models import MODELS, contact_qp
+from harness.methods import METHODS
+from harness.models import contact_qp
 from harness.solver import ActiveSetSolver, solve_contact_qp
 
 CROSS_CHECK_LEVELS = [0, 1, 2]   # 165, 609, 2337 dofs: all <= 3000
 
 
 def hierarchical_qp(case, problem, model):
-    """The same QP in NGSolve's own hierarchical variables, constraints as general rows G u >= alpha."""
+    """The same QP in NGSolve's own hierarchical variables, constraints as general rows G u >= alpha
+    (P1: vertex rows only)."""
     free = np.flatnonzero(problem.free)
     A = problem.A[free][:, free]
     q = -(problem.b - problem.A @ problem.lift)[free]
-    nv, w = len(problem.vertex_dofs), model.weight
+    nv = len(problem.vertex_dofs)
     rows, cols, vals = [], [], []
     position = np.full(problem.ndof, -1)
     position[free] = np.arange(len(free))
     for k, dof in enumerate(problem.vertex_dofs):
         rows.append(k), cols.append(position[dof]), vals.append(1.0)
     for k, (edge, (a, b)) in enumerate(zip(problem.edge_dofs, problem.end_dofs)):
-        for dof, val in ((a, 0.5), (b, 0.5), (edge, -0.5 / w)):
+        for dof, val in ((a, 0.5), (b, 0.5), (edge, -0.5 / model.weight)):
             rows.append(nv + k), cols.append(position[dof]), vals.append(val)
     G = sp.csr_matrix((vals, (rows, cols)), shape=(nv + len(problem.edge_dofs), len(free)))
     alpha = contact_qp(case, problem, model).alpha
@@ -32,13 +34,14 @@ def hierarchical_qp(case, problem, model):
 
 
 @pytest.mark.parametrize("level", CROSS_CHECK_LEVELS)
-@pytest.mark.parametrize("model_name", MODEL_NAMES)
-def test_solution_equals_independent_qp_solver(model_name, level):
-    """Clarabel (interior point), given K_h or K~_h as general linear rows in NGSolve's
-    hierarchical variables, finds the same u_h to 1e-8."""
+@pytest.mark.parametrize("method_name", METHOD_NAMES)
+def test_solution_equals_independent_qp_solver(method_name, level):
+    """Clarabel (interior point), given the method's cone (K_h, K~_h, or the P1 vertex cone) as
+    general linear rows in NGSolve's hierarchical variables, finds the same u_h to 1e-8."""
     case = load_case("transition-r32")
-    problem = problem_at("transition-r32", level)
-    model = MODELS[model_name]
+    method = METHODS[method_name]
+    problem = problem_at("transition-r32", level, method.order)
+    model = method.cone
     qp = contact_qp(case, problem, model)
     ours = qp.to_u(solve_contact_qp(qp).z)
     A, q, G, alpha, free = hierarchical_qp(case, problem, model)
@@ -51,17 +54,18 @@ def test_solution_equals_independent_qp_solver(model_name, level):
 
 
 @pytest.mark.parametrize("backend", ["multigrid", "cholesky"])
-@pytest.mark.parametrize("model_name", MODEL_NAMES)
+@pytest.mark.parametrize("method_name", METHOD_NAMES)
 @pytest.mark.parametrize("case_file", ["transition-r32", "tests/data/gap_case.py"])
-def test_every_solution_satisfies_kkt_conditions(model_name, case_file, backend):
+def test_every_solution_satisfies_kkt_conditions(method_name, case_file, backend):
     case = load_case(case_file)
-    problem, multilevel = problem_with_hierarchy(case_file, 3)
-    qp = contact_qp(case, problem, MODELS[model_name])
+    method = METHODS[method_name]
+    problem, multilevel = problem_with_hierarchy(case_file, 3, method.order)
+    qp = contact_qp(case, problem, method.cone)
     solution = solve_contact_qp(qp, multilevel=multilevel if backend == "multigrid" else None)
     assert solution.status == "converged"
     # Recompute every KKT condition, in NGSolve's hierarchical variables, independently of the solver.
     u, lam, active = qp.to_u(solution.z), solution.multipliers, solution.active
-    model = MODELS[model_name]
+    model = method.cone
     g = problem.A @ u - problem.b
     scale = np.abs((problem.b - problem.A @ problem.lift)[problem.free]).max()
     contact = model.constrained_dofs(problem)
@@ -78,13 +82,14 @@ def test_every_solution_satisfies_kkt_conditions(model_name, case_file, backend)
     np.testing.assert_allclose(u[~problem.free], problem.lift[~problem.free], atol=1e-14)  # Dirichlet data
 
 
-@pytest.mark.parametrize("model_name", MODEL_NAMES)
-def test_factorised_solver_equals_textbook_pdas(model_name):
+@pytest.mark.parametrize("method_name", METHOD_NAMES)
+def test_factorised_solver_equals_textbook_pdas(method_name):
     """The single-mesh solver (one factorisation, bordered updates, warm-started) and the textbook
     PDAS (cold, refactorised) agree to 1e-10."""
     case = load_case("transition-r32")
-    problem = problem_at("transition-r32", 3)
-    qp = contact_qp(case, problem, MODELS[model_name])
+    method = METHODS[method_name]
+    problem = problem_at("transition-r32", 3, method.order)
+    qp = contact_qp(case, problem, method.cone)
     textbook = solve_contact_qp(qp, textbook=True)
     assert textbook.work["factorizations"] == textbook.iterations
     # A deliberately poor warm start: every constraint active.
@@ -95,13 +100,15 @@ def test_factorised_solver_equals_textbook_pdas(model_name):
 
 
 @pytest.mark.parametrize("case_file", ["transition-r32", "tests/data/gap_case.py"])
-@pytest.mark.parametrize("model_name", MODEL_NAMES)
-def test_multigrid_solver_equals_textbook_pdas(model_name, case_file):
+@pytest.mark.parametrize("method_name", METHOD_NAMES)
+def test_multigrid_solver_equals_textbook_pdas(method_name, case_file):
     """The study's solver (truncated-multigrid CG, from a poor start: every constraint active)
-    and the textbook PDAS (cold, refactorised) agree to 1e-10."""
+    and the textbook PDAS (cold, refactorised) agree to 1e-10; for P1 the V-cycle starts at
+    the finest P1 level itself."""
     case = load_case(case_file)
-    problem, multilevel = problem_with_hierarchy(case_file, 3)
-    qp = contact_qp(case, problem, MODELS[model_name])
+    method = METHODS[method_name]
+    problem, multilevel = problem_with_hierarchy(case_file, 3, method.order)
+    qp = contact_qp(case, problem, method.cone)
     textbook = solve_contact_qp(qp, textbook=True)
     fast = solve_contact_qp(qp, initial_active=np.ones(len(qp.C), bool), multilevel=multilevel)
     assert textbook.status == fast.status == "converged"
