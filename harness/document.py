@@ -24,6 +24,7 @@ tr.below td.verdict { color: #a11; font-weight: bold; }
 .figures { display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start; }
 figure { flex: 1 1 45%; min-width: 320px; max-width: 49%; margin: .5em 0; }
 figure img { width: 100%; border: 1px solid #eee; }
+.figures.wide figure { flex-basis: 100%; max-width: 100%; }
 figcaption { font-size: .85em; color: #555; }
 code { background: #f4f4f4; padding: 0 .2em; }
 .meta { color: #555; font-size: .9em; }
@@ -44,9 +45,9 @@ class Document:
     def table(self, frame: pd.DataFrame, verdict_column: str | None = None):
         self.blocks.append(("table", frame, verdict_column))
 
-    def figures(self, items: list[tuple[Path, str]]):
-        """(PNG path, caption) pairs shown side by side."""
-        self.blocks.append(("figures", items))
+    def figures(self, items: list[tuple[Path, str]], wide: bool = False):
+        """(PNG path, caption) pairs shown side by side; ``wide``: each the full page width."""
+        self.blocks.append(("figures", items, wide))
 
     # -- rendering ------------------------------------------------------------------------
     def markdown(self, relative_to: Path) -> str:
@@ -92,7 +93,7 @@ class Document:
                 rows.append("</tbody></table>")
                 parts.append("".join(rows))
             elif kind == "figures":
-                parts.append("<div class='figures'>")
+                parts.append(f"<div class='figures{' wide' if block[2] else ''}'>")
                 for path, caption in block[1]:
                     data = base64.b64encode(Path(path).read_bytes()).decode()
                     parts.append(f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,{data}'>"

@@ -135,13 +135,13 @@ def summary(rates, folder: Path) -> dict[str, Path]:
 
 def efficiency(case, results, target: float, folder: Path) -> dict[str, Path]:
     """H^1 error against ndof and against time (cumulated over the levels, as nested iteration
-    needs them: solid the whole study, dashed the contact solves alone), every method."""
+    needs them: solid everything from mesh to solve, dashed the contact solves alone), every method."""
     fig, (by_ndof, by_time) = plt.subplots(1, 2, figsize=(9.6, 3.9), sharey=True)
     for method, g in results.groupby("method", sort=False):
         g = g.sort_values("level")
         st = style(method)
         by_ndof.loglog(g.ndof, g.err_h1, label=method, lw=1.2, ms=5, **st)
-        by_time.loglog(g.total_seconds.cumsum(), g.err_h1, label=f"{method}: whole study", lw=1.2, ms=5, **st)
+        by_time.loglog(g.total_seconds.cumsum(), g.err_h1, label=f"{method}: mesh to solve", lw=1.2, ms=5, **st)
         by_time.loglog(g.solve_seconds.cumsum(), g.err_h1, ls="--", lw=0.9, color=st["color"],
                        label=f"{method}: contact solves")
     for ax in (by_ndof, by_time):

@@ -166,7 +166,10 @@ class ContactQP:
         nv = len(problem.vertex_dofs)
         vertex_active = dict(zip(problem.trace.vertices.tolist(), active[:nv]))
         end_active = np.vectorize(vertex_active.get, otypes=[bool])(problem.trace.edge_vertices)
-        return ContactTraceFunction.of(problem, u, end_active, active[nv:])
+        # Without edge constraints (P1) an edge is in contact when both its ends are: the linear
+        # trace then vanishes on all of it, and the fine vertex at its midpoint inherits that.
+        edge_active = active[nv:] if len(problem.edge_dofs) else end_active.all(axis=1)
+        return ContactTraceFunction.of(problem, u, end_active, edge_active)
 
 
 def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix, take: bool = False):
