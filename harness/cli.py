@@ -156,7 +156,7 @@ def cmd_bench(args) -> int:
         study = measure_study()
         path = write_bench(study, out.with_name(out.stem + "_study.csv"))
         with pd.option_context("display.width", 220, "display.max_columns", 20):
-            print("study (default profile, every case and method):")
+            print("study (default profile, every case; the paper's methods, then every method):")
             print(study.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
         lines += study_goals(study)
         print(f"wrote {path}")

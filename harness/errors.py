@@ -3,7 +3,7 @@
 The theorems bound ||u - u_h||_{H^1}. All norms of every solution on one mesh (the methods of a
 level share it) come from one integration over the elements (``quadrature``): the graded rule
 on the elements touching a singular point, where an O(1) share of the error lives, and Gauss
-order ``ERROR_ORDER`` on every other element. tests/test_errors.py checks the result against a
+order ``error_order`` on every other element. tests/test_errors.py checks the result against a
 much more accurate reference integration, to 0.1%, on every case's finest default level.
 """
 
@@ -16,18 +16,22 @@ from .discrete import ContactTraceFunction
 from .mesh import evaluate
 from .quadrature import ElementQuadrature
 
-# Gauss order on the elements away from singular points: (u - u_h)^2 is a polynomial of degree
-# 6 plus smooth higher-order terms there; order 6 keeps every case within 3e-5 of order 20
-# (measured at level 5; tests/test_errors.py holds it to 1e-3 on the finest default level).
-ERROR_ORDER = 6
+def error_order(fe_order: int) -> int:
+    """Gauss order on the elements away from singular points. There u - u_h for elements of
+    order k is, to leading order, a polynomial of degree k + 1, so (u - u_h)^2 one of degree
+    2k + 2, which this order integrates exactly: 6 for P2 (within 3e-5 of order 20 on every
+    case), 4 for P1. tests/test_errors.py holds both to 1e-3 against a much finer integration."""
+    return 2 * fe_order + 2
 PENETRATION_SAMPLES_PER_EDGE = 33
 NORMS = ("err_h1", "err_h1_semi", "err_l2")
 
 
 def error_norms(case, solutions: list[ngs.GridFunction], quadrature: ElementQuadrature,
-                order: int = ERROR_ORDER) -> list[dict]:
+                order: int | None = None) -> list[dict]:
     """H^1, H^1-semi and L^2 errors of each of ``solutions`` (GridFunctions on one mesh): u and
-    grad u are evaluated once per quadrature point for all of them."""
+    grad u are evaluated once per quadrature point for all of them, with the Gauss order the
+    highest-order solution needs (``error_order``) unless ``order`` is given."""
+    order = order or error_order(max(gfu.space.globalorder for gfu in solutions))
     squares = []
     for gfu in solutions:
         diff = case.u - gfu

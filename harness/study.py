@@ -88,7 +88,8 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
             with phases("mesh"):
                 _, mesh = next(hierarchy)
                 multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
-                h = mesh_size(mesh)
+                # red refinement halves every edge, so h halves exactly: measured once
+                h = mesh_size(mesh) if level == 0 else h / 2
                 quadrature = ElementQuadrature.of(case, mesh)
             mesh_seconds = time.perf_counter() - clock
             active = [m for m in methods if level < study_levels(m, levels)]

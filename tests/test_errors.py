@@ -134,3 +134,25 @@ def test_p1_solution_is_conforming_on_the_whole_contact_boundary():
     solve = METHODS["p1"].solve(case, problem, None, None)
     assert solve.fields["status"] == "converged" and solve.fields["kkt_residual"] <= 1e-10
     assert solve.fields["max_penetration"] <= 1e-14 * np.abs(solve.u).max()
+
+
+@pytest.mark.parametrize("case_name", ["wedge-r23", "transition-r32"])
+def test_red_refinement_halves_h_exactly(case_name):
+    """The study measures h on level 0 and halves it per level: netgen's red refinement splits
+    every edge in two."""
+    from harness.mesh import mesh_size
+    sizes = [mesh_size(mesh) for _, mesh in mesh_hierarchy(registered_cases()[case_name], 5)]
+    np.testing.assert_allclose(sizes, sizes[0] / 2.0 ** np.arange(5), rtol=1e-12)
+
+
+@pytest.mark.parametrize("case_name", list(registered_cases()))
+def test_p1_errors_with_their_own_order_agree_with_a_much_finer_integration(case_name):
+    """A level where P1 runs alone integrates with Gauss order 4 (2k + 2): within 0.1% of the
+    reference integration, on the finest P2 level of `make report`."""
+    case = registered_cases()[case_name]
+    reference = ReferenceErrors(FINEST_DEFAULT_LEVEL)
+    with ngs.TaskManager():
+        rows = run_case(case, [METHODS["p1"]], FINEST_DEFAULT_LEVEL, on_level=reference)
+    (row,) = [r for r in rows if r["level"] == FINEST_DEFAULT_LEVEL]
+    for norm in NORMS:
+        assert abs(row[norm] - reference.errors["p1"][norm]) <= 1e-3 * reference.errors["p1"][norm], norm

@@ -2,8 +2,17 @@
 method. Its trace is linear on each contact edge, so the cone is exact: u_h >= 0 on all of
 Gamma_C (no penetration between nodes, unlike K_h and K~_h).
 
-Expected H^1 rate h^{min(nu - 1, 1)}:
-REFERENCES
+Expected H^1 rate h^{min(nu - 1, 1)}, no log factor:
+* F. Ben Belgacem, SIAM J. Numer. Anal. 37 (2000) 1198-1216, the paper's reference [3], which
+  its Section 1 cites for the quasi-optimal analysis of linear elements; the paper (Section 2,
+  after Remark 2.2) adds that affine elements cannot profit from regularity beyond H^2 ("the
+  effective useful regularity is that of H^2"): the rate stops at 1. (Its exact statements and
+  regime assumptions were not reachable from this sandbox.)
+* G. Drouet and P. Hild, SIAM J. Numer. Anal. 53 (2015) 1488-1507: optimal H^1 estimates for
+  linear (and quadratic) elements, 2D and 3D, "with the only standard Sobolev regularity" and
+  no assumption on the contact set -- in particular order h for u in H^2 with P1, without the
+  finite-transition assumption or a |log h| factor. (Read here from the abstract: its full text,
+  and so its theorem numbers, were not reachable from this sandbox.)
 """
 from harness.methods.base import BoundConstrained, Expectation
 from harness.models import ContactModel
@@ -13,7 +22,7 @@ def expected(case) -> Expectation:
     return Expectation(min(case.nu - 1.0, 1.0), 0.0, REFERENCE)
 
 
-REFERENCE = "REF"
+REFERENCE = "Drouet & Hild 2015 (SINUM 53); Ben Belgacem 2000 (SINUM 37)"
 
 method = BoundConstrained(
     name="p1",
