@@ -1,0 +1,33 @@
+"""Cost at equal accuracy: interpolation between measured levels, never extrapolation."""
+import numpy as np
+import pandas as pd
+import pytest
+
+from harness.efficiency import at_target, efficiency_table
+
+
+def test_cost_at_a_target_interpolates_log_log_between_the_levels_around_it():
+    ndof = np.array([1e2, 4e2, 1.6e3, 6.4e3])
+    err = 0.3 * ndof ** -0.75                  # rate 3/2 in h
+    target = 0.3 * 1000.0 ** -0.75
+    assert at_target(err, ndof, target) == pytest.approx(1000.0, rel=1e-12)
+    assert np.isnan(at_target(err, ndof, err[-1] / 2))     # not reached: no extrapolation
+
+
+def synthetic(method, order, c, rate, levels):
+    h = 0.5 ** np.arange(levels)
+    ndof = (4 if order == 2 else 1) * 16 * 4.0 ** np.arange(levels)
+    return pd.DataFrame({"case": "c", "method": method, "order": order, "level": np.arange(levels), "h": h,
+                         "ndof": ndof, "err_h1": c * h ** rate, "solve_seconds": 1e-6 * ndof, "total_seconds": 3e-6 * ndof})
+
+
+def test_p2_with_a_higher_rate_needs_fewer_dofs_and_the_ratios_are_relative_to_p1():
+    results = pd.concat([synthetic("nodal", 2, 1.0, 2.0, 5), synthetic("p1", 1, 1.0, 1.0, 6)], ignore_index=True)
+    table = efficiency_table(results).set_index("method")
+    # the target is P1's finest error, which P1 reaches on its last level
+    assert table.target_err_h1.iloc[0] == pytest.approx(0.5 ** 5)
+    assert table.loc["p1", "ndof"] == pytest.approx(16 * 4.0 ** 5)
+    assert table.loc["p1", "p1_over_ndof"] == pytest.approx(1.0)
+    # nodal reaches 2^-5 = h^2 at h = 2^-2.5: ndof 64 * 4^2.5 = 2048
+    assert table.loc["nodal", "ndof"] == pytest.approx(2048.0, rel=1e-12)
+    assert table.loc["nodal", "p1_over_ndof"] == pytest.approx(16 * 4.0 ** 5 / 2048.0)
