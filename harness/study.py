@@ -81,6 +81,7 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
     multilevel = None
     expectations = {m.name: m.expected(case) for m in methods}
     total_levels = max(study_levels(m, levels) for m in methods)
+    h = None
     with ngs.TaskManager():
         hierarchy = mesh_hierarchy(case, total_levels)
         for level in range(total_levels):

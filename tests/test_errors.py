@@ -6,7 +6,7 @@ import ngsolve as ngs
 import numpy as np
 import pytest
 
-from conftest import METHOD_NAMES, MODEL_NAMES, MODELS
+from conftest import MODEL_NAMES, MODELS
 from harness import discrete
 from harness.case import registered_cases
 from harness.discrete import ContactTraceFunction, discretise, load_vector
