@@ -91,10 +91,12 @@ class Case:
 
     @property
     def expected_bound(self) -> str:
-        bound = f"h^{fraction(self.expected_rate)}"
-        if self.expected_log_exponent:
-            bound += f" |log h|^{fraction(self.expected_log_exponent)}"
-        return bound
+        return bound_text(self.expected_rate, self.expected_log_exponent)
+
+
+def bound_text(rate: float, log_exponent: float = 0.0) -> str:
+    """The bound C h^p |log h|^q in words, e.g. 'h^1 |log h|^1/4'."""
+    return f"h^{fraction(rate)}" + (f" |log h|^{fraction(log_exponent)}" if log_exponent else "")
 
 
 def fraction(value: float) -> str:

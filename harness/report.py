@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 
 from . import __version__, figures
-from .case import Case, fraction, registered_cases
+from .case import Case, bound_text, fraction, registered_cases
 from .document import Document
 from .efficiency import efficiency_table, verdicts
 from .methods import methods_named
@@ -100,10 +100,6 @@ def _fmt(value, spec=".3e"):
     return "" if value is None or (isinstance(value, float) and not np.isfinite(value)) else format(value, spec)
 
 
-def _bound(p: float, q: float) -> str:
-    return f"h^{fraction(p)}" + (f" |log h|^{fraction(q)}" if q else "")
-
-
 def level_table(group: pd.DataFrame) -> pd.DataFrame:
     group = group.sort_values("level")
     rates = np.concatenate([[np.nan], pairwise_rates(group.h, group.err_h1)])
@@ -112,7 +108,7 @@ def level_table(group: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame({
         "level": group.level, "h": [_fmt(v, ".4f") for v in group.h], "ndof": group.ndof,
         "err_h1": [_fmt(v) for v in group.err_h1], "rate": [_fmt(v, ".3f") for v in rates],
-        f"err / {_bound(p, q)}": [_fmt(v) for v in normalised],
+        f"err / {bound_text(p, q)}": [_fmt(v) for v in normalised],
         "err_l2": [_fmt(v) for v in group.err_l2],
         "max penetration": [_fmt(v, ".2e") for v in group.max_penetration],
         "active / constraints": [f"{a} / {n}" for a, n in zip(group.active_constraints, group.n_contact_constraints)],
@@ -125,7 +121,7 @@ def level_table(group: pd.DataFrame) -> pd.DataFrame:
 def summary_table(rates: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame({
         "case": rates.case, "method": rates.method, "theory": rates.reference,
-        "expected": [_bound(p, q) for p, q in zip(rates.expected_rate, rates.expected_log_exponent)],
+        "expected": [bound_text(p, q) for p, q in zip(rates.expected_rate, rates.expected_log_exponent)],
         "fitted rate": [f"{p:.3f} ± {se:.3f}" for p, se in zip(rates.fitted_rate, rates.fitted_rate_se)],
         "pairwise rates": rates.pairwise_rates, "verdict": rates.verdict,
     })

@@ -14,7 +14,7 @@ from typing import Callable
 
 import numpy as np
 
-from ..case import fraction
+from ..case import bound_text
 from ..errors import max_penetration
 from ..models import ContactModel, contact_qp
 from ..multigrid import nested_start
@@ -36,8 +36,7 @@ class Expectation:
 
     @property
     def bound(self) -> str:
-        text = f"h^{fraction(self.rate)}"
-        return text + (f" |log h|^{fraction(self.log_exponent)}" if self.log_exponent else "")
+        return bound_text(self.rate, self.log_exponent)
 
 
 @dataclass
