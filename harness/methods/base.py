@@ -14,7 +14,6 @@ from typing import Callable
 
 import numpy as np
 
-from ..case import bound_text
 from ..errors import max_penetration
 from ..models import ContactModel, contact_qp
 from ..multigrid import nested_start
@@ -33,10 +32,6 @@ class Expectation:
     rate: float
     log_exponent: float
     reference: str
-
-    @property
-    def bound(self) -> str:
-        return bound_text(self.rate, self.log_exponent)
 
 
 @dataclass
