@@ -39,7 +39,7 @@ def case_table(cases=None) -> pd.DataFrame:
 def method_table() -> pd.DataFrame:
     """One row per method: order, how it imposes contact, where it comes from."""
     return pd.DataFrame([{"method": m.name, "order": m.order, "contact condition": m.contact,
-                          "reference": m.reference} for m in METHODS.values()])
+                          "parameters": m.parameter_text, "reference": m.reference} for m in METHODS.values()])
 
 
 cases = case_table

@@ -80,6 +80,7 @@ class ContactTrace:
     a: np.ndarray              # (m, 2) coordinates of the first end point
     b: np.ndarray              # (m, 2) coordinates of the second end point
     normals: np.ndarray        # (m, 2) outward unit normals
+    opposite: np.ndarray       # (m,) vertex number of the third vertex of each edge's triangle
 
     @property
     def vertices(self) -> np.ndarray:
@@ -106,7 +107,7 @@ class ContactTrace:
 
 
 def contact_trace(mesh: ngs.Mesh) -> ContactTrace:
-    edges, verts, normals = [], [], []
+    edges, verts, normals, opposite = [], [], [], []
     for el in mesh.Elements(ngs.BND):
         if el.mat != CONTACT:
             continue
@@ -123,11 +124,13 @@ def contact_trace(mesh: ngs.Mesh) -> ContactTrace:
         edges.append(edge.nr)
         verts.append((va.nr, vb.nr))
         normals.append(normal)
+        opposite.append(third.nr)
     if not edges:
         raise ValueError("the mesh has no boundary edge labelled 'contact'")
     verts = np.array(verts, dtype=np.int64)
     coords = np.array([mesh[ngs.NodeId(ngs.VERTEX, int(v))].point for v in verts.ravel()]).reshape(-1, 2, 2)
-    return ContactTrace(np.array(edges, dtype=np.int64), verts, coords[:, 0], coords[:, 1], np.array(normals))
+    return ContactTrace(np.array(edges, dtype=np.int64), verts, coords[:, 0], coords[:, 1], np.array(normals),
+                        np.array(opposite, dtype=np.int64))
 
 
 def evaluate(cf: ngs.CoefficientFunction, mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:

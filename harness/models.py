@@ -222,3 +222,17 @@ def contact_qp(case, problem: DiscreteProblem, model: ContactModel, take_stiffne
     K, K_ngs = transformed_matrix(problem, S, take=take_stiffness)
     return ContactQP(model, problem, S, K, K_ngs, S.T @ problem.b, model.constrained_dofs(problem),
                      model.lower_bounds(case, problem))
+
+
+def contact_pressure(problem, multipliers: np.ndarray) -> np.ndarray:
+    """Discrete contact pressure per contact edge: the edge multiplier plus each end point's
+    multiplier shared among its edges in proportion to length, divided by the edge length.
+    Its integral over Gamma_C is the total discrete contact force sum(lambda)."""
+    lengths = problem.trace.lengths
+    nv = len(problem.vertex_dofs)
+    lam_vertex = multipliers[:nv]
+    lam_edge = multipliers[nv:] if len(problem.edge_dofs) else np.zeros(len(lengths))   # P1: vertices only
+    index = np.searchsorted(problem.trace.vertices, problem.trace.edge_vertices)
+    adjacent_length = np.bincount(index.ravel(), weights=np.repeat(lengths, 2), minlength=nv)
+    share = lam_vertex[index] * (lengths[:, None] / adjacent_length[index])
+    return (lam_edge + share.sum(axis=1)) / lengths

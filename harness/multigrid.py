@@ -73,15 +73,16 @@ class Multilevel:
         return pins
 
 
-def nested_start(multilevel: Multilevel, coarse_vertex_values: np.ndarray, problem) -> np.ndarray:
+def nested_start(multilevel: Multilevel, coarse_vertex_values: np.ndarray, problem, edges=None) -> np.ndarray:
     """A start for the finest level's CG: the coarser level's u_h at the vertices, interpolated
-    by the P1 prolongation, in the model's variables (bubbles zero)."""
+    by the P1 prolongation, in the variables of ``edges`` (default: the contact model's;
+    bubbles zero)."""
     fine = multilevel.matrices[-1].CreateColVector()
     fine[:] = 0.0
     fine.FV().NumPy()[: len(coarse_vertex_values)] = coarse_vertex_values
     multilevel.fes.Prolongation().Prolongate(len(multilevel.matrices) - 1, fine)
     z = np.zeros(problem.ndof)
-    ContactEdges.of(problem).prolongate(fine.FV().NumPy(), z)
+    (ContactEdges.of(problem) if edges is None else edges).prolongate(fine.FV().NumPy(), z)
     return z
 
 
@@ -125,21 +126,34 @@ class ContactEdges:
 class TruncatedVCycle:
     """One symmetric V-cycle for K[F, F]: Gauss-Seidel on K (forward before, backward after the
     coarse correction), then the truncated P1 levels down to a sparse Cholesky on the coarsest.
-    For a P1 problem K is the finest P1 level itself: the cycle starts there."""
+    For a P1 problem K is the finest P1 level itself: the cycle starts there.
 
-    def __init__(self, multilevel: Multilevel, K_ngs, free: np.ndarray, edges: ContactEdges):
+    ``stiff_vertices``: vertices whose rows carry a boundary term much stiffer than A (an
+    active penalty or Nitsche term, (1/eps) with eps ~ h), which the coarse spaces, made of A,
+    do not see: they are truncated there as at a pin -- nearly a pin is what such a term
+    makes of a vertex -- while the finest smoother still relaxes them.
+    """
+
+    def __init__(self, multilevel: Multilevel, K_ngs, free: np.ndarray, edges: ContactEdges,
+                 stiff_vertices: np.ndarray | None = None):
         nv = multilevel.nvertices
         pinned_vertices = ~free[:nv]
         ends = edges.end_dofs[~free[edges.edge_dofs]]
         pinned_vertices[ends.ravel()] = True
         self.multilevel, self.K, self.edges, self.nv = multilevel, K_ngs, edges, nv
         self.free = free.astype(float)
-        self.pins = multilevel.truncated_pins(pinned_vertices)
-        self.keep = [(~p).astype(float) for p in self.pins]
         self.fine_is_p1 = K_ngs.height == nv
+        truncated = pinned_vertices if stiff_vertices is None else pinned_vertices | stiff_vertices
+        self.pins = multilevel.truncated_pins(truncated)
+        if self.fine_is_p1:
+            self.pins[-1] = pinned_vertices     # the finest level smooths the stiff vertices too
+        self.keep = [(~p).astype(float) for p in self.pins]
         self.smoother = None if self.fine_is_p1 else K_ngs.CreateSmoother(_bits(free))
-        self.smoothers = [m.CreateSmoother(_bits(~p)) for m, p in zip(multilevel.matrices, self.pins)]
-        self.coarsest = multilevel.matrices[0].Inverse(_bits(~self.pins[0]), inverse="sparsecholesky")
+        # a P1 problem's own matrix is the top P1 level (the same as A for the cone methods,
+        # A plus its Gamma_C terms for penalty and Nitsche)
+        self.matrices = [*multilevel.matrices[:-1], K_ngs if self.fine_is_p1 else multilevel.matrices[-1]]
+        self.smoothers = [m.CreateSmoother(_bits(~p)) for m, p in zip(self.matrices, self.pins)]
+        self.coarsest = self.matrices[0].Inverse(_bits(~self.pins[0]), inverse="sparsecholesky")
         self.prolongation = multilevel.fes.Prolongation()
         # NGSolve work vectors with their NumPy views made once: a view costs microseconds, which
         # on small meshes is a good part of a V-cycle
@@ -154,7 +168,7 @@ class TruncatedVCycle:
             return x_np.copy()
         x_np[:] = 0.0
         self.smoothers[level].Smooth(x, b)
-        r.data = b - self.multilevel.matrices[level] * x
+        r.data = b - self.matrices[level] * x
         r_np *= self.keep[level]
         self.prolongation.Restrict(level, r)
         nc = len(self.keep[level - 1])

@@ -14,21 +14,7 @@ PICTURE_LEVEL = 3
 SAMPLES_PER_EDGE = 9
 
 
-def contact_pressure(problem, multipliers: np.ndarray) -> np.ndarray:
-    """Discrete contact pressure per contact edge: the edge multiplier plus each end point's
-    multiplier shared among its edges in proportion to length, divided by the edge length.
-    Its integral over Gamma_C is the total discrete contact force sum(lambda)."""
-    lengths = problem.trace.lengths
-    nv = len(problem.vertex_dofs)
-    lam_vertex = multipliers[:nv]
-    lam_edge = multipliers[nv:] if len(problem.edge_dofs) else np.zeros(len(lengths))   # P1: vertices only
-    index = np.searchsorted(problem.trace.vertices, problem.trace.edge_vertices)
-    adjacent_length = np.bincount(index.ravel(), weights=np.repeat(lengths, 2), minlength=nv)
-    share = lam_vertex[index] * (lengths[:, None] / adjacent_length[index])
-    return (lam_edge + share.sum(axis=1)) / lengths
-
-
-def contact_snapshot(case, problem, trace_u, multipliers) -> dict:
+def contact_snapshot(case, problem, trace_u, pressure) -> dict:
     """u_h, gap, exact u and pressures along Gamma_C, ordered by the coordinate along it."""
     trace = problem.trace
     t = np.linspace(0.0, 1.0, SAMPLES_PER_EDGE)
@@ -47,7 +33,7 @@ def contact_snapshot(case, problem, trace_u, multipliers) -> dict:
     return {
         **{key: np.ravel(value)[order] for key, value in along.items()},
         "edge_s": edge_s[edge_order], "edge_lengths": trace.lengths[edge_order],
-        "pressure": contact_pressure(problem, multipliers)[edge_order],
+        "pressure": pressure[edge_order],
     }
 
 
@@ -74,8 +60,7 @@ class SnapshotCollector:
 
     def __call__(self, case, method, level, problem, solve):
         if level == self.finest[method.name]:
-            self.contact[(case.name, method.name)] = contact_snapshot(case, problem, solve.trace_u,
-                                                                      solve.solution.multipliers)
+            self.contact[(case.name, method.name)] = contact_snapshot(case, problem, solve.trace_u, solve.pressure)
         if method.name == self.picture_method and level == self.picture_level:
             self.domain[case.name] = domain_snapshot(problem, solve.u) | {"method": np.array(method.name)}
 

@@ -187,8 +187,9 @@ class MultigridSystem:
     """Solves with some dofs pinned by CG with a V-cycle truncated at the pins (``multigrid``),
     from the previous iterate: one preconditioner per pin set, no factorisation of K."""
 
-    def __init__(self, K_ngs, b: np.ndarray, multilevel, edges: ContactEdges):
+    def __init__(self, K_ngs, b: np.ndarray, multilevel, edges: ContactEdges, stiff_vertices=None):
         self.K_ngs, self.b, self.multilevel, self.edges = K_ngs, b, multilevel, edges
+        self.stiff_vertices = stiff_vertices        # see ``multigrid.TruncatedVCycle``
         self.cg_iterations = 0
         self.preconditioners = 0
 
@@ -196,7 +197,7 @@ class MultigridSystem:
         """The same to max |K z - b| <= tol off the pins, from ``start`` (else zero)."""
         free = ~pinned
         z = np.where(pinned, values, 0.0 if start is None else start)
-        preconditioner = TruncatedVCycle(self.multilevel, self.K_ngs, free, self.edges)
+        preconditioner = TruncatedVCycle(self.multilevel, self.K_ngs, free, self.edges, self.stiff_vertices)
         self.preconditioners += 1
         z, iterations = pcg(self.K_ngs, preconditioner, self.b, z, free, tol)
         self.cg_iterations += iterations

@@ -20,9 +20,9 @@ from .quadrature import ElementQuadrature
 from .validate import validate_case
 
 COLUMNS = [
-    "case", "method", "order", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
-    "err_l2", "max_penetration", "active_constraints", "solver_iterations", "kkt_residual",
-    "solve_seconds", "total_seconds", "status",
+    "case", "method", "order", "parameters", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
+    "err_l2", "max_penetration", "min_pressure", "active_constraints", "solver_iterations", "linear_iterations",
+    "kkt_residual", "solve_seconds", "total_seconds", "status",
     # what `rates` needs to fit a results file on its own: the case and the method's theory
     "nu", "expected_rate", "expected_log_exponent", "reference", "case_source",
 ]
@@ -112,7 +112,8 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
                 carry[method.name] = solve.carry
                 expectation = expectations[method.name]
                 level_rows.append({
-                    "case": case.name, "method": method.name, "order": method.order, "level": level, "h": h,
+                    "case": case.name, "method": method.name, "order": method.order,
+                    "parameters": method.parameter_text, "level": level, "h": h,
                     "ndof": problem.ndof, **solve.fields,
                     "total_seconds": mesh_seconds + assembly_seconds[method.order] + own_seconds,
                     "nu": case.nu, "expected_rate": expectation.rate, "expected_log_exponent": expectation.log_exponent,

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from conftest import METHOD_NAMES, problem_with_hierarchy
+from conftest import CONE_NAMES, problem_with_hierarchy
 from harness.methods import METHODS
 from harness.case import load_case
 from harness.models import contact_qp
@@ -46,7 +46,7 @@ def _exact_pins(case_name, method_name, level):
     return qp, multilevel, pinned
 
 
-@pytest.mark.parametrize("model_name", METHOD_NAMES)
+@pytest.mark.parametrize("model_name", CONE_NAMES)
 def test_truncated_vcycle_is_symmetric_positive_and_keeps_the_pins(model_name, rng):
     """CG needs a symmetric positive definite preconditioner on the free dofs; the truncated
     coarse spaces must never move a pinned dof."""
@@ -64,7 +64,7 @@ def test_truncated_vcycle_is_symmetric_positive_and_keeps_the_pins(model_name, r
     assert r.FV().NumPy() @ Br.FV().NumPy() > 0
 
 
-@pytest.mark.parametrize("model_name", METHOD_NAMES)
+@pytest.mark.parametrize("model_name", CONE_NAMES)
 def test_multigrid_cg_iterations_do_not_grow_under_refinement(model_name):
     """Truncation makes the coarse spaces see the contact zone: with the exact active set pinned,
     CG iterations from zero stay bounded as h halves (an untruncated multigrid grows like

@@ -5,6 +5,7 @@ import pytest
 from conftest import METHOD_NAMES, MODEL_NAMES
 from harness import run
 from harness.case import registered_cases
+from harness.methods import METHODS
 from harness.rates import fit_rate, normalised_errors, pairwise_rates, rate_table
 
 # Levels 0..5: the finest has about 1.2e5 to 1.4e5 dofs, in the asymptotic range of every case.
@@ -22,11 +23,22 @@ def rates(study):
     return rate_table(study).set_index(["case", "method"])
 
 
-@pytest.mark.parametrize("method", METHOD_NAMES)
-@pytest.mark.parametrize("case_name", list(CASES))
+# (case, method) pairs with a proven rate, and those without (e.g. penalty and Nitsche below H^{3/2})
+PAIRS = [(c, m) for c in CASES for m in METHOD_NAMES]
+PROVEN = [(c, m) for c, m in PAIRS if np.isfinite(METHODS[m].expected(CASES[c]).rate)]
+UNPROVEN = [(c, m) for c, m in PAIRS if (c, m) not in PROVEN]
+
+
+@pytest.mark.parametrize("case_name, method", PROVEN)
 def test_fitted_h1_rate_reaches_its_theory_rate(rates, case_name, method):
     row = rates.loc[(case_name, method)]
     assert row.fitted_rate >= row.expected_rate - 0.1, row.pairwise_rates
+
+
+@pytest.mark.parametrize("case_name, method", UNPROVEN)
+def test_rate_without_theory_is_measured_and_says_so(rates, case_name, method):
+    row = rates.loc[(case_name, method)]
+    assert row.verdict == "no theory" and np.isfinite(row.fitted_rate) and row.fitted_rate > 0
 
 
 @pytest.mark.parametrize("model", MODEL_NAMES)
@@ -45,7 +57,8 @@ def test_borderline_error_over_h_log_quarter_does_not_grow(study, model):
 
 
 @pytest.mark.parametrize("method", METHOD_NAMES)
-def test_every_discrete_solution_satisfies_kkt(study, method):
+def test_every_discrete_solution_is_solved_to_its_residual_tolerance(study, method):
+    """KKT residual of the cones, relative Newton residual of penalty and Nitsche: <= 1e-10."""
     g = study[study.method == method]
     assert (g.status == "converged").all() and (g.kkt_residual <= 1e-10).all()
 

@@ -4,7 +4,7 @@ import pytest
 import scipy.sparse as sp
 from qpsolvers import solve_qp
 
-from conftest import METHOD_NAMES, problem_at, problem_with_hierarchy
+from conftest import CONE_NAMES, problem_at, problem_with_hierarchy
 from harness.case import load_case
 from harness.methods import METHODS
 from harness.models import contact_qp
@@ -34,7 +34,7 @@ def hierarchical_qp(case, problem, model):
 
 
 @pytest.mark.parametrize("level", CROSS_CHECK_LEVELS)
-@pytest.mark.parametrize("method_name", METHOD_NAMES)
+@pytest.mark.parametrize("method_name", CONE_NAMES)
 def test_solution_equals_independent_qp_solver(method_name, level):
     """Clarabel (interior point), given the method's cone (K_h, K~_h, or the P1 vertex cone) as
     general linear rows in NGSolve's hierarchical variables, finds the same u_h to 1e-8."""
@@ -54,7 +54,7 @@ def test_solution_equals_independent_qp_solver(method_name, level):
 
 
 @pytest.mark.parametrize("backend", ["multigrid", "cholesky"])
-@pytest.mark.parametrize("method_name", METHOD_NAMES)
+@pytest.mark.parametrize("method_name", CONE_NAMES)
 @pytest.mark.parametrize("case_file", ["transition-r32", "tests/data/gap_case.py"])
 def test_every_solution_satisfies_kkt_conditions(method_name, case_file, backend):
     case = load_case(case_file)
@@ -82,7 +82,7 @@ def test_every_solution_satisfies_kkt_conditions(method_name, case_file, backend
     np.testing.assert_allclose(u[~problem.free], problem.lift[~problem.free], atol=1e-14)  # Dirichlet data
 
 
-@pytest.mark.parametrize("method_name", METHOD_NAMES)
+@pytest.mark.parametrize("method_name", CONE_NAMES)
 def test_factorised_solver_equals_textbook_pdas(method_name):
     """The single-mesh solver (one factorisation, bordered updates, warm-started) and the textbook
     PDAS (cold, refactorised) agree to 1e-10."""
@@ -100,7 +100,7 @@ def test_factorised_solver_equals_textbook_pdas(method_name):
 
 
 @pytest.mark.parametrize("case_file", ["transition-r32", "tests/data/gap_case.py"])
-@pytest.mark.parametrize("method_name", METHOD_NAMES)
+@pytest.mark.parametrize("method_name", CONE_NAMES)
 def test_multigrid_solver_equals_textbook_pdas(method_name, case_file):
     """The study's solver (truncated-multigrid CG, from a poor start: every constraint active)
     and the textbook PDAS (cold, refactorised) agree to 1e-10; for P1 the V-cycle starts at

@@ -3,16 +3,21 @@
 
     >>> from harness.methods import METHODS, methods_named
     >>> methods_named(["paper", "p1"])     # mean, nodal, p1
+    >>> methods_named("nitsche:gamma0=0.5,theta=-1")   # a method with other parameter values
 """
 from __future__ import annotations
 
 import importlib
 import pkgutil
 
-from .base import BoundConstrained, Expectation, LevelSolve, Method
+from .base import BoundConstrained, Expectation, LevelSolve, Method, WeakContact
 
 # Named groups besides the method names themselves.
-GROUPS = {"paper": ("mean", "nodal")}
+GROUPS = {
+    "paper": ("mean", "nodal"),
+    "cones": ("mean", "nodal", "p1"),                                   # exact discrete inequalities
+    "weak": ("nitsche", "penalty", "nitsche-p1", "penalty-p1"),         # contact by a Gamma_C term
+}
 
 
 def _discover() -> dict[str, Method]:
@@ -25,8 +30,8 @@ def _discover() -> dict[str, Method]:
         if not isinstance(method, Method):
             raise TypeError(f"harness/methods/{info.name}.py must define `method`, a harness.methods.base.Method")
         found.append(method)
-    # the paper's P2 models first, then by order
-    return {m.name: m for m in sorted(found, key=lambda m: (-m.order, m.name))}
+    # the cones (the paper's P2 models first), then the weak methods, each by order
+    return {m.name: m for m in sorted(found, key=lambda m: (not isinstance(m, BoundConstrained), -m.order, m.name))}
 
 
 METHODS = _discover()
@@ -37,26 +42,50 @@ def method_choices() -> list[str]:
 
 
 def methods_named(names) -> list[Method]:
-    """Methods by name, group ('paper' = mean + nodal) or 'all', in registry order, once each."""
+    """Methods by name, group ('paper' = mean + nodal) or 'all', in registry order, once each;
+    then methods with parameters (``parse_method``), in the order given."""
     names = [names] if isinstance(names, str) else list(names)
-    wanted = set()
+    wanted, parametrised = set(), []
     for name in names:
         if name == "all":
             wanted |= set(METHODS)
         elif name in GROUPS:
             wanted |= set(GROUPS[name])
-        elif name in METHODS:
-            wanted.add(name)
+        elif ":" in name:
+            method = parse_method(name)
+            if method.name not in [m.name for m in parametrised]:
+                parametrised.append(method)
         else:
-            raise ValueError(f"unknown method {name!r}; expected one of: {', '.join(method_choices())}")
-    return [m for name, m in METHODS.items() if name in wanted]
+            wanted.add(get_method(name).name)
+    return [m for name, m in METHODS.items() if name in wanted] + parametrised
 
 
 def get_method(name: str) -> Method:
+    """A registered method, or one with parameters: ``nitsche:gamma0=0.5,theta=-1``."""
+    if ":" in name:
+        return parse_method(name)
     if name not in METHODS:
-        raise ValueError(f"unknown method {name!r}; expected one of: {', '.join(METHODS)}")
+        raise ValueError(f"unknown method {name!r}; expected one of: {', '.join(method_choices())}")
     return METHODS[name]
 
 
-__all__ = ["METHODS", "GROUPS", "BoundConstrained", "Expectation", "LevelSolve", "Method", "get_method",
-           "method_choices", "methods_named"]
+def parse_method(spec: str) -> Method:
+    """``name:key=value,...``: the registered method ``name`` with those parameter values."""
+    base, _, assignments = spec.partition(":")
+    method = get_method(base)
+    values = {}
+    for item in filter(None, assignments.split(",")):
+        key, sep, value = item.partition("=")
+        try:
+            values[key.strip()] = float(value)
+        except ValueError:
+            sep = ""
+        if not sep:
+            raise ValueError(f"method parameters look like {base}:name=number,..., got {spec!r}")
+    if not values:
+        raise ValueError(f"no parameter values in {spec!r}")
+    return method.with_parameters(**values)
+
+
+__all__ = ["METHODS", "GROUPS", "BoundConstrained", "Expectation", "LevelSolve", "Method", "WeakContact", "get_method",
+           "method_choices", "methods_named", "parse_method"]

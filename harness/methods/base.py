@@ -9,15 +9,18 @@ the next level (nested iteration) and the report need (``LevelSolve``).
 from __future__ import annotations
 
 from contextlib import nullcontext
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
 
+from ..discrete import ContactTraceFunction
 from ..errors import max_penetration
-from ..models import ContactModel, contact_qp
+from ..models import ContactModel, contact_pressure, contact_qp
 from ..multigrid import nested_start
+from ..newton import NO_CHANGE_OF_VARIABLES, solve_semismooth_newton
 from ..solver import solve_contact_qp
+from ..weak_contact import weak_contact_system
 
 # P1 on level l+1 has about the dofs of P2 on level l (the vertices of level l+1 are those of
 # level l plus one per edge): a study gives order-1 methods one more level, so that every
@@ -37,13 +40,13 @@ class Expectation:
 @dataclass
 class LevelSolve:
     """One method on one level: the row's solver fields, u_h (NGSolve numbering of its space),
-    its trace on Gamma_C, the multipliers on the constrained nodes, and what the next level
-    starts from."""
+    its trace on Gamma_C, its discrete contact pressure (mean over each contact edge, in the
+    order of ``problem.trace``), and what the next level starts from."""
 
     fields: dict
     u: np.ndarray
     trace_u: object
-    solution: object
+    pressure: np.ndarray
     carry: tuple
 
 
@@ -58,6 +61,18 @@ class Method:
     @property
     def extra_levels(self) -> int:
         return EXTRA_LEVELS[self.order]
+
+    @property
+    def parameters(self) -> dict:
+        """The method's parameters, by name (none for the cones)."""
+        return {}
+
+    @property
+    def parameter_text(self) -> str:
+        return " ".join(f"{name}={_number(value)}" for name, value in self.parameters.items())
+
+    def with_parameters(self, **values) -> "Method":
+        raise ValueError(f"method {self.name!r} has no parameters")
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         """Solve on ``problem`` (a ``discrete.DiscreteProblem`` of this method's order) from
@@ -88,17 +103,77 @@ class BoundConstrained(Method):
             solution = solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)
         u = qp.to_u(solution.z)
         trace_u = qp.trace_function(u, solution.active)
+        pressure = contact_pressure(problem, solution.multipliers)
         fields = {
             "n_contact_constraints": len(qp.C),
             "max_penetration": max_penetration(case, problem.mesh, trace_u),
+            "min_pressure": float(pressure.min()),
             "active_constraints": int(solution.active.sum()),
             "solver_iterations": solution.iterations,
+            "linear_iterations": solution.work.get("cg_iterations", solution.work.get("factorizations")),
             "kkt_residual": solution.kkt.residual,
             "solve_seconds": solution.seconds,
             "status": solution.status,
         }
-        nv = multilevel.nvertices if multilevel is not None else problem.mesh.nv
-        return LevelSolve(fields, u, trace_u, solution, (trace_u, u[:nv].copy()))
+        return LevelSolve(fields, u, trace_u, pressure, (trace_u, u[:problem.mesh.nv].copy()))
+
+
+@dataclass(frozen=True)
+class WeakContact(Method):
+    """Contact by a term on Gamma_C (``weak_contact``): Nitsche's method (``flux`` = 1, variant
+    ``theta``) or the penalty method (``flux`` = 0), eps = gamma0 h_e on each contact edge. Solved
+    by semismooth Newton (``newton``) to a relative residual <= 1e-10; nested iteration starts
+    each level from the coarser level's u_h."""
+
+    flux: float = 1.0
+    theta: float = 1.0
+    gamma0: float = 1.0
+    parameter_names: tuple = ("gamma0", "theta")   # the first is the scale of eps
+
+    @property
+    def parameters(self) -> dict:
+        values = {"gamma0": self.gamma0, "theta": self.theta}
+        return {name: values[key] for name, key in zip(self.parameter_names, ("gamma0", "theta"))}
+
+    def with_parameters(self, **values) -> "WeakContact":
+        """The same method with other parameter values, named by them: nitsche:gamma0=0.1,theta=-1."""
+        unknown = set(values) - set(self.parameter_names)
+        if unknown:
+            raise ValueError(f"method {self.name!r} has parameters {', '.join(self.parameter_names)}, not {', '.join(sorted(unknown))}")
+        keys = dict(zip(self.parameter_names, ("gamma0", "theta")))
+        changed = {keys[name]: float(value) for name, value in values.items()}
+        base = self.name.split(":")[0]
+        label = ",".join(f"{name}={_number(float(values[name]))}" for name in self.parameter_names if name in values)
+        return replace(self, name=f"{base}:{label}" if label else base, **changed)
+
+    def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
+        timed = phases or (lambda phase: nullcontext())
+        with timed("setup"):
+            system = weak_contact_system(case, problem, self.gamma0, self.theta, self.flux, take_stiffness)
+            start = None
+            if multilevel is not None and carry is not None:
+                start = nested_start(multilevel, carry, problem, NO_CHANGE_OF_VARIABLES)
+        with timed("solve"):
+            solution = solve_semismooth_newton(system, start, multilevel)
+        u = solution.u
+        trace_u = ContactTraceFunction.of(problem, u)
+        pressure = system.quadrature.edge_means(system.pressure(u))
+        fields = {
+            "n_contact_constraints": 0,
+            "max_penetration": max_penetration(case, problem.mesh, trace_u),
+            "min_pressure": float(pressure.min()),
+            "active_constraints": int(solution.active.sum()),
+            "solver_iterations": solution.iterations,
+            "linear_iterations": solution.linear_iterations,
+            "kkt_residual": solution.residual,
+            "solve_seconds": solution.seconds,
+            "status": solution.status,
+        }
+        return LevelSolve(fields, u, trace_u, pressure, u[:problem.mesh.nv].copy())
+
+
+def _number(value: float) -> str:
+    return f"{value:g}"
 
 
 def paper_theorem(case) -> Expectation:

@@ -1,0 +1,120 @@
+"""The basis of X_h on Gamma_C, sampled at Gauss points of the contact edges: what penalty and
+Nitsche methods integrate (their contact terms are integrals over Gamma_C of functions of
+u_h and of its normal derivative, which the bound-constrained cones never need).
+
+Each contact edge [a, b] lies in one triangle (a, b, c). On it lambda_c = 0, and with the edge
+parameter t, lambda_a = 1 - t, lambda_b = t. NGSolve's hierarchical P2 basis (MATH.md Section 5)
+has the hats lambda_i and one bubble -lambda_i lambda_j / 2 per edge, so at a point of [a, b]
+
+    trace:  hats a, b: 1 - t, t;   bubble ab: -t (1 - t) / 2   (bubbles ac, bc and the hat c vanish)
+    d/dn:   hat i: d_n lambda_i;   bubble ab: -(t d_n lambda_a + (1 - t) d_n lambda_b) / 2;
+            bubble ac: -(1 - t) d_n lambda_c / 2;   bubble bc: -t d_n lambda_c / 2,
+
+the gradients of the barycentric coordinates being constant on the triangle. P1 keeps the
+hats. tests/test_weak_contact.py checks both operators against NGSolve's own evaluation.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+
+from .mesh import evaluate
+
+# Gauss points per contact edge: exact for polynomials of degree 7 (the P2 contact terms are of
+# degree <= 4 where the bracket [.]_+ does not switch); the few edges where it switches, at a
+# contact/separation transition, are integrated approximately, as by any code that assembles
+# the nonlinear form with a fixed rule.
+GAUSS_POINTS = 4
+
+
+@dataclass(frozen=True)
+class ContactQuadrature:
+    """Gauss points on Gamma_C and the basis there: ``T @ u`` gives u_h, ``N @ u`` d_n u_h at
+    the points; ``weights`` include the edge lengths, ``h`` is the length of each point's edge."""
+
+    points: np.ndarray          # (q, 2)
+    weights: np.ndarray         # (q,)
+    h: np.ndarray               # (q,) length of the point's contact edge
+    edge: np.ndarray            # (q,) index of the point's contact edge (in problem.trace order)
+    T: sp.csr_matrix            # (q, ndof) trace values of the basis
+    N: sp.csr_matrix            # (q, ndof) outward normal derivatives of the basis
+
+    def edge_means(self, values: np.ndarray) -> np.ndarray:
+        """Mean over each contact edge of a function given at the points."""
+        n_edges = self.edge.max() + 1 if len(self.edge) else 0
+        integral = np.bincount(self.edge, weights=self.weights * values, minlength=n_edges)
+        return integral / np.bincount(self.edge, weights=self.weights, minlength=n_edges)
+
+
+def _dof(fes, kind, number) -> int:
+    (dof,) = fes.GetDofNrs(ngs.NodeId(kind, int(number)))
+    return dof
+
+
+def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS) -> ContactQuadrature:
+    """The Gauss points of ``problem``'s contact edges and its basis (order 1 or 2) there."""
+    mesh, fes, trace = problem.mesh, problem.fes, problem.trace
+    order = problem.order
+    m = len(trace.edges)
+    third = trace.opposite                              # vertex c of the triangle on each edge
+    edge_dofs = np.zeros((m, 3), dtype=np.int64)        # bubble dofs of ab, ac, bc (order 2)
+    if order == 2:
+        for k, (e, (a, b), c) in enumerate(zip(trace.edges, trace.edge_vertices, third)):
+            (element,) = mesh[ngs.NodeId(ngs.EDGE, int(e))].elements
+            ends = {frozenset(v.nr for v in mesh[edge].vertices): edge.nr for edge in mesh[element].edges}
+            edge_dofs[k] = [_dof(fes, ngs.EDGE, ends[frozenset(pair)]) for pair in ((a, b), (a, c), (b, c))]
+    coords = np.array([mesh[ngs.NodeId(ngs.VERTEX, int(v))].point for v in third])
+    grad = _barycentric_gradients(trace.a, trace.b, coords)             # (m, 3, 2): a, b, c
+    dn = np.einsum("mij,mj->mi", grad, trace.normals)                   # (m, 3)
+
+    t, w = np.polynomial.legendre.leggauss(points_per_edge)
+    t, w = 0.5 * (t + 1.0), 0.5 * w
+    q = len(t)
+    edge = np.repeat(np.arange(m), q)
+    T_t = t[None, :].repeat(m, 0).ravel()
+    vertex_dofs = np.array([[_dof(fes, ngs.VERTEX, v) for v in row] for row in
+                            np.column_stack([trace.edge_vertices, third])], dtype=np.int64).reshape(m, 3)
+    la, lb = 1.0 - T_t, T_t
+    dna, dnb, dnc = (np.repeat(dn[:, i], q) for i in range(3))
+    cols_T = [vertex_dofs[edge, 0], vertex_dofs[edge, 1]]
+    vals_T = [la, lb]
+    cols_N = [vertex_dofs[edge, 0], vertex_dofs[edge, 1], vertex_dofs[edge, 2]]
+    vals_N = [dna, dnb, dnc]
+    if order == 2:
+        cols_T.append(edge_dofs[edge, 0])
+        vals_T.append(-0.5 * la * lb)
+        cols_N += [edge_dofs[edge, 0], edge_dofs[edge, 1], edge_dofs[edge, 2]]
+        vals_N += [-0.5 * (lb * dna + la * dnb), -0.5 * la * dnc, -0.5 * lb * dnc]
+    shape = (m * q, problem.ndof)
+    return ContactQuadrature(
+        points=trace.points(t).reshape(-1, 2),
+        weights=np.repeat(trace.lengths, q) * np.tile(w, m),
+        h=np.repeat(trace.lengths, q),
+        edge=edge,
+        T=_rows(cols_T, vals_T, shape),
+        N=_rows(cols_N, vals_N, shape),
+    )
+
+
+def _rows(columns: list, values: list, shape) -> sp.csr_matrix:
+    rows = np.tile(np.arange(shape[0]), len(columns))
+    return sp.csr_matrix((np.concatenate(values), (rows, np.concatenate(columns))), shape=shape)
+
+
+def _barycentric_gradients(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Gradients of lambda_a, lambda_b, lambda_c on each triangle (a, b, c): (m, 3, 2)."""
+    J = np.stack([b - a, c - a], axis=2)               # columns: the edges from a
+    # (lambda_b, lambda_c) = J^{-1} (x - a): their gradients are the rows of J^{-1}
+    inverse = np.linalg.inv(J)
+    grad_b, grad_c = inverse[:, 0, :], inverse[:, 1, :]
+    return np.stack([-grad_b - grad_c, grad_b, grad_c], axis=1)
+
+
+def at_points(cf, mesh, quadrature: ContactQuadrature) -> np.ndarray:
+    """A CoefficientFunction (or None: zero) at the quadrature points."""
+    if cf is None:
+        return np.zeros(len(quadrature.weights))
+    return evaluate(cf, mesh, quadrature.points)

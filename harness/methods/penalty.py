@@ -1,0 +1,35 @@
+"""`penalty`: P2, u_h minimises 1/2 a(v,v) - L(v) + (1/2 eps) int_{Gamma_C} [alpha - v]_+^2 over X_h,
+eps = eps0 h_e (``weak_contact``, (P)); Chouly & Hild, Appl. Numer. Math. 65 (2013) 27-40.
+
+Default eps0 = 0.05, the scale of `nitsche`'s gamma0 (``python -m harness sweep`` shows others).
+
+Expected H^1 rate: h^{min(nu - 1, 1)} for nu > 3/2, for P1 and P2. Chouly & Hild (abstract): with
+eps = h the error estimates are "the same as in the case of the constrained problem"; their
+analysis covers u in H^{3/2 + m}, 0 < m <= 1/2 (as recalled: the theorem's text and number were not
+reachable from this sandbox). Beyond H^2 nothing better holds: the method is not consistent --
+in contact u_h sits about eps lambda = eps0 h lambda below the obstacle, an H^1 error of order h
+whatever the order of the elements (Gustafsson & Stenberg, J. Struct. Mech. 58 (2025), abstract:
+"an optimal convergence rate cannot be achieved"). Nothing is proven for nu <= 3/2.
+"""
+import math
+
+from harness.methods.base import Expectation, WeakContact
+
+REFERENCE = "Chouly & Hild 2013 (Appl. Numer. Math. 65), eps = eps0 h"
+EPS0 = 0.05
+
+
+def expected(case) -> Expectation:
+    if case.nu <= 1.5:
+        return Expectation(math.nan, 0.0, f"{REFERENCE}: no result for nu <= 3/2")
+    return Expectation(min(case.nu - 1.0, 1.0), 0.0, REFERENCE)
+
+
+method = WeakContact(
+    name="penalty",
+    order=2,
+    contact="penalty: (1/ε)[α − u]₊ on Γ_C, ε = ε₀h",
+    reference="Chouly & Hild 2013 (Appl. Numer. Math.)",
+    expected=expected,
+    flux=0.0, gamma0=EPS0, parameter_names=("epsilon0",),
+)

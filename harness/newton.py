@@ -1,0 +1,127 @@
+"""Semismooth Newton for the penalty and Nitsche systems F(u_h) = 0 (``weak_contact``).
+
+F is piecewise affine: on each set of Gauss points where the bracket P(u) is positive it is
+the affine map J u - r. The generalised Newton step (Qi & Sun, Math. Program. 58 (1993); for
+contact, Hintermueller, Ito & Kunisch, SIAM J. Optim. 13 (2002)) solves that affine system of
+the current set exactly, so the method stops -- with the exact discrete solution, up to the
+linear solver's tolerance -- as soon as the set no longer changes: like the active set method
+of the cones, whose nested iteration (a start interpolated from the coarser level) it shares.
+
+Stopping test: the relative residual max |F(u)| / max |b - A u_D| over the free dofs <= 1e-10
+(the stationarity part of the cones' KKT residual; F = 0 is the whole discrete problem).
+No silent failure: a status "converged" or why not. A repeated set without convergence
+switches to damped steps (halving on max |F|), which ends cycling of the full steps.
+
+Linear solves: J is A with the rows of the triangles along Gamma_C changed. Symmetric J
+(penalty; Nitsche with theta = 1) goes to the cones' multigrid CG (``solver.MultigridSystem``:
+the V-cycle smooths with J itself, its P1 coarse spaces are A's, truncated at the Dirichlet
+dofs only); a nonsymmetric J (theta = 0, -1), or no hierarchy, to NGSolve's sparse LU (UMFPACK).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+from .multigrid import ContactEdges
+from .solver import MultigridSystem
+
+DEFAULT_TOLERANCE = 1e-10
+# penalty and Nitsche work in NGSolve's own variables: no contact edge changes its bubble
+NO_CHANGE_OF_VARIABLES = ContactEdges(np.zeros(0, np.int64), np.zeros((0, 2), np.int64))
+
+
+@dataclass
+class NewtonSolution:
+    u: np.ndarray
+    active: np.ndarray          # bool at the Gauss points: P(u) > 0
+    residual: float             # max |F(u)| / max |b - A u_D| on the free dofs
+    iterations: int
+    linear_iterations: int      # CG iterations (multigrid), or LU factorisations
+    seconds: float
+    status: str
+
+
+class _DirectSystem:
+    """J^{-1} by NGSolve's UMFPACK, factorised for every Newton step (J changes)."""
+
+    def __init__(self, J_ngs, rhs):
+        self.J_ngs, self.rhs = J_ngs, rhs
+        self.factorizations = 0
+
+    def solve(self, pinned, values, start=None, tol=None):
+        inverse = self.J_ngs.Inverse(ngs.BitArray((~pinned).tolist()), inverse="umfpack")
+        self.factorizations += 1
+        b, x = self.J_ngs.CreateColVector(), self.J_ngs.CreateColVector()
+        z = np.where(pinned, values, 0.0)
+        b.FV().NumPy()[:] = np.where(pinned, 0.0, self.rhs - _apply(self.J_ngs, z))
+        x.data = inverse * b
+        return z + np.where(pinned, 0.0, x.FV().NumPy())
+
+
+def _apply(matrix, z: np.ndarray) -> np.ndarray:
+    x, y = matrix.CreateColVector(), matrix.CreateColVector()
+    x.FV().NumPy()[:] = z
+    y.data = matrix * x
+    return y.FV().NumPy().copy()
+
+
+def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=None,
+                            tol: float = DEFAULT_TOLERANCE, max_iterations: int = 60) -> NewtonSolution:
+    """F(u) = 0 for a ``weak_contact.WeakContactSystem``, from ``start`` (Dirichlet values are
+    imposed on it), with multigrid CG when ``multilevel`` is given and J is symmetric."""
+    clock = time.perf_counter()
+    problem = system.problem
+    pinned = ~problem.free
+    u = np.where(pinned, problem.lift, 0.0 if start is None else start)
+    scale = _load_scale(system)
+    linear_iterations, seen, damped = 0, set(), False
+    status = f"not converged in {max_iterations} iterations"
+    residual = np.inf
+    for iteration in range(max_iterations + 1):
+        F = system.residual(u)
+        residual = float(np.abs(F).max(initial=0.0) / scale)
+        active = system.bracket(u) > 0
+        if residual <= tol:
+            status = "converged"
+            break
+        if iteration == max_iterations:
+            break
+        key = active.tobytes()
+        damped = damped or key in seen
+        seen.add(key)
+        system.set_jacobian(active)
+        # The Newton step as the affine system of this set: J u_new = J u - F(u); the linear
+        # solver starts from u, a tenth of the tolerance deep.
+        rhs = system.J @ u - F
+        if multilevel is not None and system.symmetric:
+            linear = MultigridSystem(system.J_ngs, rhs, multilevel, NO_CHANGE_OF_VARIABLES,
+                                     stiff_vertices=system.stiff_vertices(active, multilevel.nvertices))
+        else:
+            linear = _DirectSystem(system.J_ngs, rhs)
+        candidate = linear.solve(pinned, problem.lift, start=u, tol=0.1 * tol * scale)
+        linear_iterations += linear.cg_iterations if isinstance(linear, MultigridSystem) else linear.factorizations
+        if damped:
+            candidate = _damped(system, u, candidate, residual * scale)
+        u = candidate
+    return NewtonSolution(u, active, residual, iteration, linear_iterations, time.perf_counter() - clock, status)
+
+
+def _load_scale(system) -> float:
+    """max |b - A u_D| on the free dofs: the scale of the residual (as for the cones' KKT)."""
+    problem = system.problem
+    lift = np.where(problem.free, 0.0, problem.lift)
+    Au = system.J @ lift - system.delta @ lift
+    return max(np.abs((problem.b - Au)[problem.free]).max(initial=0.0), np.finfo(float).tiny)
+
+
+def _damped(system, u: np.ndarray, full: np.ndarray, current: float) -> np.ndarray:
+    """The longest of the steps 1, 1/2, 1/4, ... that lowers max |F|."""
+    step = full - u
+    for k in range(12):
+        candidate = u + 0.5**k * step
+        if np.abs(system.residual(candidate)).max() < current:
+            return candidate
+    return full
