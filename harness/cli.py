@@ -1,4 +1,4 @@
-"""Command line: python -m harness {run, cases, methods, rates, report, bench}.
+"""Command line: python -m harness {run, sweep, cases, methods, rates, report, bench}.
 
 Bad input ends with one line on stderr and a non-zero exit status, before anything that
 exists on disk is touched.
@@ -75,6 +75,56 @@ def cmd_run(args) -> int:
                          "solver_iterations", "kkt_residual", "status"]].to_string(index=False))
     print(f"wrote {path}")
     return 0 if (frame["status"] == "converged").all() else 1
+
+
+def cmd_sweep(args) -> int:
+    from . import figures
+    from .case import load_case
+    from .results import ensure_writable, write_csv
+    from .sweep import run_sweep
+
+    case = load_case(args.case)
+    out = ensure_writable(Path(args.out))
+    frame = run_sweep(case, args.method, args.values, args.level, reference=[] if args.reference == "none" else [args.reference],
+                      show_progress=not args.quiet)
+    path = write_csv(frame, out / f"sweep_{case.name}.csv")
+    figure = figures.sweep(case, frame, out)
+    if not args.quiet:
+        with pd.option_context("display.width", 200, "display.max_columns", 20):
+            print(frame[["method", "level", "ndof", "err_h1", "max_penetration", "min_pressure", "solver_iterations",
+                         "kkt_residual", "status"]].to_string(index=False))
+    print(f"wrote {path} and {figure['png']}")
+    return 0 if (frame["status"] == "converged").all() else 1
+
+
+def _values(text: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"values must be comma-separated numbers, got {text!r}")
+    if not values or any(not v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"values must be positive numbers, got {text!r}")
+    return values
+
+
+def _non_negative_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"level must be a non-negative integer, got {text!r}")
+    return value
+
+
+def _method_spec(text: str) -> str:
+    """A method name, a group, 'all', or a method with parameters (nitsche:gamma0=0.1,theta=-1)."""
+    from .methods import methods_named
+    try:
+        methods_named([text])
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc))
+    return text
 
 
 def _known_cases(extra_specs) -> dict:
@@ -188,9 +238,10 @@ def _method_names() -> list[str]:
 
 
 def add_method_options(p) -> None:
-    from .methods import method_choices
-    p.add_argument("--method", action="append", choices=method_choices(),
-                   help="a method, 'paper' (mean and nodal) or 'all' (the default); repeat for several")
+    from .methods import GROUPS, METHODS
+    p.add_argument("--method", action="append", type=_method_spec, metavar="METHOD",
+                   help=f"a method ({', '.join(METHODS)}), a group ({', '.join(GROUPS)}) or 'all' (the default), or a "
+                        f"method with parameters, e.g. nitsche:gamma0=0.1,theta=-1; repeat for several")
     p.add_argument("--model", choices=["mean", "nodal", "all"],
                    help="the paper's models, as before the method axis ('all' = paper)")
 
@@ -214,6 +265,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress bar or table")
     p.set_defaults(func=cmd_run)
 
+    from .sweep import SWEEP_VALUES
+    p = sub.add_parser("sweep", help="a penalty/Nitsche method over values of its parameter, at one level of one case")
+    p.add_argument("--case", required=True, metavar="NAME|PATH")
+    p.add_argument("--method", action="append", type=_method_spec, required=True, metavar="METHOD",
+                   help="a penalty or Nitsche method, e.g. nitsche, nitsche:theta=-1, penalty-p1; repeat for several")
+    p.add_argument("--values", type=_values, default=list(SWEEP_VALUES), metavar="V1,V2,...",
+                   help="values of its first parameter (gamma0 or epsilon0; default: %(default)s)")
+    p.add_argument("--level", type=_non_negative_int, default=4, help="the P2 level (P1: the level with as many dofs)")
+    p.add_argument("--reference", default="nodal", type=lambda t: t if t == "none" else _method_spec(t),
+                   help="a method drawn as the reference line (default nodal), or 'none'")
+    p.add_argument("--out", default="results/sweep", metavar="DIR")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=cmd_sweep)
+
     p = sub.add_parser("rates", help="fit rates of a results CSV; writes rates.csv beside it")
     p.add_argument("results", metavar="RESULTS.csv")
     p.add_argument("--fit-levels", type=_positive_int, default=3, help="levels in the asymptotic fit (>= 3)")
@@ -234,7 +299,8 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="contact solve vs one linear solve, textbook PDAS and Clarabel")
     p.add_argument("--sizes", type=_sizes, default=None, metavar="MAXH:LEVEL,...",
                    help="coarse mesh size and level of each problem (default: 9e3 to 4.2e6 dofs)")
-    p.add_argument("--method", action="append", choices=_method_names(), help="default: mean and nodal")
+    p.add_argument("--method", action="append", choices=_method_names(),
+                   help="default: mean and nodal; nitsche and penalty add their rows (one solve against one nodal solve)")
     p.add_argument("--only", choices=["study", "solver"], help="only the study row, or only the solver table")
     p.add_argument("--out", default="results/bench.csv", metavar="CSV",
                    help="the solver table; the study row goes beside it, as <name>_study.csv")

@@ -155,3 +155,32 @@ def efficiency(case, results, target: float, folder: Path) -> dict[str, Path]:
     by_time.legend(fontsize=6)
     fig.suptitle(f"{case.name}: error against cost", fontsize=10)
     return save(fig, folder, f"{case.name}_efficiency")
+
+
+def sweep(case, frame, folder: Path) -> dict[str, Path]:
+    """H^1 error and largest penetration against the swept parameter (eps0 / gamma0), one line
+    per swept method, the reference methods as horizontal lines; hollow markers: not converged."""
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10.4, 4.0))
+    swept = frame[frame.sweep_parameter.fillna("") != ""]
+    for k, (label, g) in enumerate(swept.groupby("sweep_method", sort=False)):
+        g = g.sort_values("sweep_value")
+        color = _OTHER_COLORS[k % len(_OTHER_COLORS)]
+        ok = g.status == "converged"
+        for ax, column in ((left, "err_h1"), (right, "max_penetration")):
+            ax.loglog(g.sweep_value, g[column].clip(lower=1e-16), color=color, lw=1.2, label=label)
+            ax.plot(g.sweep_value[ok], g[column][ok].clip(lower=1e-16), "o", color=color, ms=4)
+            ax.plot(g.sweep_value[~ok], g[column][~ok].clip(lower=1e-16), "o", mfc="none", color=color, ms=7)
+    for _, row in frame[frame.sweep_parameter.fillna("") == ""].iterrows():
+        for ax, column in ((left, "err_h1"), (right, "max_penetration")):
+            if row[column] > 0:
+                ax.axhline(row[column], color="0.3", ls="--", lw=1.0, label=f"{row.method} (no parameter)")
+    names = sorted(set(swept.sweep_parameter))
+    for ax, ylabel in ((left, r"$H^1$ error"), (right, r"max penetration $\max(\alpha - u_h)$ on $\Gamma_C$")):
+        ax.set_xlabel(" / ".join(names) + r"  ($\varepsilon = $ value $\cdot\, h$)")
+        ax.set_ylabel(ylabel)
+        ax.grid(True, which="both", alpha=0.3)
+    ndof = ", ".join(f"{n:.3g}" for n in sorted(set(frame.ndof)))
+    left.set_title(f"{case.name}: level {int(frame.level.max())}, {ndof} dofs", fontsize=9)
+    left.legend(fontsize=7)
+    right.set_title("hollow: Newton not converged", fontsize=9)
+    return save(fig, folder, f"sweep_{case.name}")

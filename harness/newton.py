@@ -14,8 +14,10 @@ switches to damped steps (halving on max |F|), which ends cycling of the full st
 
 Linear solves: J is A with the rows of the triangles along Gamma_C changed. Symmetric J
 (penalty; Nitsche with theta = 1) goes to the cones' multigrid CG (``solver.MultigridSystem``:
-the V-cycle smooths with J itself, its P1 coarse spaces are A's, truncated at the Dirichlet
-dofs only); a nonsymmetric J (theta = 0, -1), or no hierarchy, to NGSolve's sparse LU (UMFPACK).
+the V-cycle smooths with J itself; its P1 coarse spaces are A's, truncated at the Dirichlet
+dofs and at the Gamma_C vertices with an active contact term, which are nearly pins); a
+nonsymmetric J (theta = 0, -1), no hierarchy, or a CG that fails (J indefinite: theta = 1
+past its gamma0 bound) goes to NGSolve's sparse LU (UMFPACK).
 """
 from __future__ import annotations
 
@@ -78,6 +80,7 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
     u = np.where(pinned, problem.lift, 0.0 if start is None else start)
     scale = _load_scale(system)
     linear_iterations, seen, damped = 0, set(), False
+    direct = multilevel is None or not system.symmetric
     status = f"not converged in {max_iterations} iterations"
     residual = np.inf
     for iteration in range(max_iterations + 1):
@@ -86,6 +89,9 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
         active = system.bracket(u) > 0
         if residual <= tol:
             status = "converged"
+            break
+        if not np.isfinite(residual):
+            status = "diverged: the residual is not finite"
             break
         if iteration == max_iterations:
             break
@@ -96,17 +102,28 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
         # The Newton step as the affine system of this set: J u_new = J u - F(u); the linear
         # solver starts from u, a tenth of the tolerance deep.
         rhs = system.J @ u - F
-        if multilevel is not None and system.symmetric:
+        if not direct:
             linear = MultigridSystem(system.J_ngs, rhs, multilevel, NO_CHANGE_OF_VARIABLES,
                                      stiff_vertices=system.stiff_vertices(active, multilevel.nvertices))
         else:
             linear = _DirectSystem(system.J_ngs, rhs)
         candidate = linear.solve(pinned, problem.lift, start=u, tol=0.1 * tol * scale)
         linear_iterations += linear.cg_iterations if isinstance(linear, MultigridSystem) else linear.factorizations
+        if not direct and not _linear_residual(system, candidate, rhs) <= tol * scale:
+            # CG did not converge: J is not positive definite (Nitsche theta = 1 with gamma0 past
+            # its coercivity bound); the LU factorisation solves what CG cannot, from now on
+            direct = True
+            linear = _DirectSystem(system.J_ngs, rhs)
+            candidate = linear.solve(pinned, problem.lift)
+            linear_iterations += 1
         if damped:
             candidate = _damped(system, u, candidate, residual * scale)
         u = candidate
     return NewtonSolution(u, active, residual, iteration, linear_iterations, time.perf_counter() - clock, status)
+
+
+def _linear_residual(system, u: np.ndarray, rhs: np.ndarray) -> float:
+    return float(np.abs(np.where(system.problem.free, system.J @ u - rhs, 0.0)).max(initial=0.0))
 
 
 def _load_scale(system) -> float:
