@@ -95,7 +95,9 @@ class Case:
 
 
 def bound_text(rate: float, log_exponent: float = 0.0) -> str:
-    """The bound C h^p |log h|^q in words, e.g. 'h^1 |log h|^1/4'."""
+    """The bound C h^p |log h|^q in words, e.g. 'h^1 |log h|^1/4' (NaN: no proven bound)."""
+    if rate != rate:
+        return "none proven"
     return f"h^{fraction(rate)}" + (f" |log h|^{fraction(log_exponent)}" if log_exponent else "")
 
 

@@ -83,7 +83,10 @@ def verdicts(table: pd.DataFrame, rates: pd.DataFrame, baseline: str = "p1") -> 
         p2_theory, p1_theory = r.loc[best.method, "expected_rate"], r.loc[baseline, "expected_rate"]
         cheaper = best.p1_over_ndof > 1 and best.p1_over_seconds > 1
         claim = "holds" if cheaper else ("holds in dofs, not in time" if best.p1_over_ndof > 1 else "does not hold")
-        if np.isclose(p2_theory, p1_theory):
+        if not (np.isfinite(p2_theory) and np.isfinite(p1_theory)):
+            why = (f"no theory gives {best.method if not np.isfinite(p2_theory) else base.method} a rate here; "
+                   f"measured {p2_rate:.2f} ({best.method}) and {p1_rate:.2f} ({base.method})")
+        elif np.isclose(p2_theory, p1_theory):
             why = (f"the theories give both orders the same rate ({p1_theory:.3g}; measured {p2_rate:.2f} and "
                    f"{p1_rate:.2f}), so the gain is the constant: at equal dofs {best.method}'s error is "
                    f"{_times(best.err_ratio_at_equal_ndof)} smaller than P1's")

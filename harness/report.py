@@ -96,6 +96,30 @@ def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_prog
     return pd.concat(frames, ignore_index=True)
 
 
+def sweep_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_progress: bool = True) -> dict:
+    """The report's parameter sweeps (``sweep.REPORT_SWEEP``) of those of ``cases`` it names,
+    reused like the study's results."""
+    from .sweep import REPORT_SWEEP, run_sweep
+    store = ensure_writable(results_dir / "sweeps")
+    config = {key: list(value) if isinstance(value, tuple) else value for key, value in REPORT_SWEEP.items()}
+    frames = {}
+    for case in [c for c in cases if c.name in REPORT_SWEEP["cases"]]:
+        key = cache_key(case, {"sweep": config})
+        csv_path, meta_path = store / f"{case.name}.csv", store / f"{case.name}.json"
+        if csv_path.is_file() and meta_path.is_file() and json.loads(meta_path.read_text()).get("cache_key") == key:
+            print(f"{case.name}: reusing the parameter sweep computed with the same code and settings")
+            frames[case.name] = pd.read_csv(csv_path)
+            continue
+        if show_progress:
+            print(f"{case.name}: parameter sweep of {', '.join(REPORT_SWEEP['methods'])} at level {REPORT_SWEEP['level']}")
+        frame = run_sweep(case, REPORT_SWEEP["methods"], REPORT_SWEEP["values"], REPORT_SWEEP["level"],
+                          REPORT_SWEEP["reference"], show_progress=show_progress)
+        write_csv(frame, csv_path)
+        write_atomic(meta_path, json.dumps(provenance({"sweep": config}) | {"cache_key": key, "case": case.name}, indent=2))
+        frames[case.name] = frame
+    return frames
+
+
 def _fmt(value, spec=".3e"):
     return "" if value is None or (isinstance(value, float) and not np.isfinite(value)) else format(value, spec)
 
@@ -111,8 +135,9 @@ def level_table(group: pd.DataFrame) -> pd.DataFrame:
         f"err / {bound_text(p, q)}": [_fmt(v) for v in normalised],
         "err_l2": [_fmt(v) for v in group.err_l2],
         "max penetration": [_fmt(v, ".2e") for v in group.max_penetration],
-        "active / constraints": [f"{a} / {n}" for a, n in zip(group.active_constraints, group.n_contact_constraints)],
-        "iterations": group.solver_iterations, "KKT residual": [_fmt(v, ".1e") for v in group.kkt_residual],
+        "active / constraints": [f"{a} / {n}" if n else f"{a} Gauss points" for a, n in zip(group.active_constraints, group.n_contact_constraints)],
+        "min pressure": [_fmt(v, ".1e") for v in group.min_pressure] if "min_pressure" in group else "",
+        "iterations": group.solver_iterations, "KKT / Newton residual": [_fmt(v, ".1e") for v in group.kkt_residual],
         "solve s": [_fmt(v, ".2f") for v in group.solve_seconds],
         "total s": [_fmt(v, ".2f") for v in group.total_seconds],
     })
@@ -135,9 +160,14 @@ INTRO = (
     "degrees of freedom of J_h) and `nodal` (K̃_h, Section 5: vertex and midpoint values ≥ 0, the "
     "degrees of freedom of I_h); K̃_h ⊂ K_h by Simpson's rule. The baseline `p1` (linear elements, "
     "vertex values ≥ 0) has an exact cone. Each discrete inequality is solved exactly: every row's KKT "
-    "residual is listed. Max penetration is max over Γ_C of α - u_h, between nodes included: the "
-    "nonconformity of the cones. P1 runs one level more than P2, so that every method ends at about "
-    "the same number of dofs (P1 on level l+1 has the dofs of P2 on level l)."
+    "residual is listed. What users of NGSolve or FEniCS write instead impose contact weakly, by a term "
+    "on Γ_C with no constraint on the space: `nitsche` (Chouly & Hild 2013; θ-variants of Chouly, Hild "
+    "& Renard 2015) and `penalty` (Chouly & Hild 2013), P2 and P1 (`-p1`), ε = γ₀h; their nonlinear "
+    "equations are solved by semismooth Newton to a relative residual ≤ 1e-10, listed in the same "
+    "column. Max penetration is max over Γ_C of α - u_h, between nodes included: the nonconformity of "
+    "the cones, and how far the weak methods let u_h through the obstacle. P1 runs one level more than "
+    "P2, so that every method ends at about the same number of dofs (P1 on level l+1 has the dofs of "
+    "P2 on level l)."
 )
 RATES_NOTE = (
     "Fitted rate: least squares of log e = log C + p log h + q log|log h| over the last three "
@@ -157,6 +187,29 @@ EFFICIENCY_NOTE = (
 )
 
 
+SWEEP_NOTE = (
+    "Penalty and Nitsche ask the user for a parameter: ε = ε₀h (penalty) or γ₀h (Nitsche) on each "
+    "contact edge. Each curve is one method over that parameter at one level, every other setting "
+    "fixed; the dashed line is `nodal`, which has no parameter. Hollow markers: Newton did not "
+    "converge (its status is in the table below). Nitsche with θ = 1 is coercive only while "
+    "γ₀ h‖∂ₙv‖² < a(v, v) on X_h, measured here as γ₀ < 0.145 for P2 on every registered case "
+    "(`methods/nitsche.py`); θ = -1 is coercive for every γ₀. The penalty method is not consistent: "
+    "in contact u_h sits about ε λ below the obstacle, so its error and penetration grow with ε₀."
+)
+
+
+def sweep_view(frame: pd.DataFrame) -> pd.DataFrame:
+    """The sweep as a table: one row per value, one column pair per swept method."""
+    swept = frame[frame.sweep_parameter.fillna("") != ""]
+    table = swept.pivot_table(index="sweep_value", columns="sweep_method", values="err_h1", sort=False)
+    status = swept.pivot_table(index="sweep_value", columns="sweep_method", values="status", aggfunc="first", sort=False)
+    view = pd.DataFrame({"value": [f"{v:g}" for v in table.index]})
+    for column in table.columns:
+        view[f"{column}: H¹ error"] = [_fmt(e) + ("" if st == "converged" else " (not converged)")
+                                       for e, st in zip(table[column], status[column])]
+    return view
+
+
 def efficiency_view(table: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame({
         "case": table.case, "method": table.method, "target H¹ error": [_fmt(v) for v in table.target_err_h1],
@@ -169,7 +222,7 @@ def efficiency_view(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame, efficiency: pd.DataFrame,
-                   figs: dict, meta: dict) -> Document:
+                   figs: dict, meta: dict, sweeps: dict | None = None) -> Document:
     doc = Document("The Signorini problem in P2 and P1: measured against the theorems")
     settings = meta["settings"]
     doc.paragraph(
@@ -181,7 +234,8 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
     doc.heading("Problem and methods")
     doc.paragraph(INTRO)
     doc.table(pd.DataFrame([{"method": m.name, "order": m.order, "contact condition": m.contact,
-                             "reference": m.reference} for m in methods_named(settings["methods"])]))
+                             "parameters": m.parameter_text, "reference": m.reference}
+                            for m in methods_named(settings["methods"])]))
     doc.heading("Summary: every case x method")
     doc.paragraph(RATES_NOTE)
     doc.table(summary_table(rates), verdict_column="verdict")
@@ -194,6 +248,13 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
             if case.name in claims:
                 doc.paragraph(f"{case.name}: {claims[case.name]}")
         doc.table(efficiency_view(efficiency))
+    if sweeps:
+        doc.heading("Penalty and Nitsche: where their parameter is safe")
+        doc.paragraph(SWEEP_NOTE)
+        for name, frame in sweeps.items():
+            doc.figures([(figs["sweeps"][name]["png"], f"{name}: H¹ error and largest penetration against ε₀ / γ₀.")],
+                        wide=True)
+            doc.table(sweep_view(frame))
     for case in cases:
         doc.heading(f"{case.name}: P2 Theorem {case.theorem}")
         doc.paragraph(f"{case.description}. Regime {case.regime or '-'}, ν = {fraction(case.nu)}; "
@@ -224,6 +285,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     ensure_writable(report_dir / "figures")
     start = time.perf_counter()
     results = run_or_reuse(cases, settings, Path(results_dir), show_progress)
+    sweeps = sweep_or_reuse(cases, settings, Path(results_dir), show_progress) if _has_weak(settings["methods"]) else {}
     rates = rate_table(results)
     efficiency = efficiency_table(results)
     write_csv(results, Path(results_dir) / "results.csv")
@@ -243,10 +305,16 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
             "efficiency": figures.efficiency(case, results[results.case == case.name],
                                              efficiency[efficiency.case == case.name].target_err_h1.iloc[0], figure_dir),
         }
-    doc = build_document(cases, results, rates, efficiency, figs, meta)
+    figs["sweeps"] = {name: figures.sweep(known[name], frame, figure_dir) for name, frame in sweeps.items()}
+    doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps)
     write_atomic(Path(report_dir) / "report.md", doc.markdown(Path(report_dir)))
     html_path = write_atomic(Path(report_dir) / "report.html", doc.html())
     return html_path
+
+
+def _has_weak(names) -> bool:
+    from .methods import WeakContact
+    return any(isinstance(m, WeakContact) for m in methods_named(names))
 
 
 def _unknown(name, known):
