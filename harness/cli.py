@@ -81,9 +81,11 @@ def cmd_sweep(args) -> int:
     from . import figures
     from .case import load_case
     from .results import ensure_writable, write_csv
-    from .sweep import run_sweep
+    from .sweep import run_sweep, swept
 
     case = load_case(args.case)
+    for spec in args.method:
+        swept(spec, args.values)        # refuses a method without a parameter before anything is written
     out = ensure_writable(Path(args.out))
     frame = run_sweep(case, args.method, args.values, args.level, reference=[] if args.reference == "none" else [args.reference],
                       show_progress=not args.quiet)

@@ -21,11 +21,14 @@ def test_run_writes_one_tidy_row_per_case_method_level(tmp_path):
     frame = pd.read_csv(tmp_path / "results.csv")
     assert list(frame.columns) == COLUMNS
     # P1 runs one level more, to reach the dofs of P2's finest level
-    assert frame.groupby("method")["level"].max().to_dict() == {"mean": 1, "nodal": 1, "p1": 2}
+    assert frame.groupby("method")["level"].max().to_dict() == {"mean": 1, "nodal": 1, "p1": 2, "nitsche": 1, "penalty": 1,
+                                                                 "nitsche-p1": 2, "penalty-p1": 2}
     assert (frame.kkt_residual <= 1e-10).all() and (frame.status == "converged").all()
 
 
 @pytest.mark.parametrize("option, methods", [(["--model", "all"], {"mean", "nodal"}), (["--model", "nodal"], {"nodal"}),
+                                             (["--method", "weak"], {"nitsche", "penalty", "nitsche-p1", "penalty-p1"}),
+                                             (["--method", "nitsche:theta=-1,gamma0=0.5"], {"nitsche:gamma0=0.5,theta=-1"}),
                                              (["--method", "paper"], {"mean", "nodal"}),
                                              (["--method", "p1", "--method", "mean"], {"mean", "p1"})])
 def test_method_and_old_model_options_select_methods(tmp_path, option, methods):
@@ -112,3 +115,26 @@ def test_old_results_with_a_model_column_are_read(tmp_path):
     assert "`model` column" in done.stderr
     rates = pd.read_csv(tmp_path / "rates.csv")
     assert rates.method.tolist() == ["nodal"] and rates.fitted_rate.iloc[0] == pytest.approx(2.0)
+
+
+def test_sweep_writes_one_row_per_value_and_method_beside_the_reference(tmp_path):
+    done = harness("sweep", "--case", "transition-r32", "--method", "nitsche:theta=-1", "--method", "penalty-p1",
+                   "--values", "0.01,0.1", "--level", "1", "--out", str(tmp_path), "--quiet")
+    assert done.returncode == 0, done.stderr
+    frame = pd.read_csv(tmp_path / "sweep_transition-r32.csv")
+    assert sorted(frame.method) == sorted(["nitsche:gamma0=0.01,theta=-1", "nitsche:gamma0=0.1,theta=-1",
+                                           "penalty-p1:epsilon0=0.01", "penalty-p1:epsilon0=0.1", "nodal"])
+    # P1 is compared at the level with P2's dofs
+    assert frame.ndof.nunique() == 1 and (frame.status == "converged").all()
+    assert (tmp_path / "sweep_transition-r32.png").is_file()
+
+
+@pytest.mark.parametrize("args, message", [(["--values", "0,1"], "positive"), (["--method", "nodal"], "no parameter"),
+                                           (["--method", "nitsche:gamma=1"], "parameters"), (["--level", "-1"], "level")])
+def test_sweep_refuses_bad_input_in_one_line(tmp_path, args, message):
+    base = {"--method": "nitsche", "--values": "0.1", "--level": "1"}
+    for flag, value in zip(args[::2], args[1::2]):
+        base[flag] = value
+    done = harness("sweep", "--case", "transition-r32", *[x for kv in base.items() for x in kv], "--out", str(tmp_path / "s"))
+    assert done.returncode == 2 and message in done.stderr and len(done.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "s").exists()
