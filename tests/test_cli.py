@@ -6,6 +6,7 @@ import sys
 import pandas as pd
 import pytest
 
+from harness.methods import METHODS
 from harness.study import COLUMNS
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -91,7 +92,7 @@ def test_rates_command_writes_rates_beside_results(tmp_path):
     rates = pd.read_csv(tmp_path / "rates.csv")
     assert list(rates.columns) == ["case", "method", "order", "reference", "expected_rate", "expected_log_exponent",
                                    "fitted_rate", "fitted_rate_se", "pairwise_rates", "verdict"]
-    assert len(rates) == 3
+    assert len(rates) == len(METHODS)
 
 
 def test_case_file_by_path_runs_every_method_and_rates_needs_no_case_option(tmp_path):
@@ -101,8 +102,9 @@ def test_case_file_by_path_runs_every_method_and_rates_needs_no_case_option(tmp_
     done = harness("rates", str(tmp_path / "results.csv"))
     assert done.returncode == 0, done.stderr
     rates = pd.read_csv(tmp_path / "rates.csv")
-    assert set(rates.method) == {"mean", "nodal", "p1"} and (rates.case == "gap-transition").all()
-    assert dict(zip(rates.method, rates.expected_rate)) == {"mean": 1.5, "nodal": 1.5, "p1": 1.0}
+    assert set(rates.method) == set(METHODS) and (rates.case == "gap-transition").all()
+    assert dict(zip(rates.method, rates.expected_rate)) == {"mean": 1.5, "nodal": 1.5, "p1": 1.0, "nitsche": 1.5,
+                                                            "penalty": 1.0, "nitsche-p1": 1.0, "penalty-p1": 1.0}
 
 
 def test_old_results_with_a_model_column_are_read(tmp_path):

@@ -6,7 +6,9 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
+from harness.methods import METHODS
 from harness.report import make_report
+from harness.sweep import REPORT_SWEEP
 
 CASES = ["transition-r32", "corner-r12"]
 
@@ -21,8 +23,9 @@ def report(tmp_path_factory):
 def test_results_rates_and_provenance_are_written(report):
     root, _ = report
     results = pd.read_csv(root / "results" / "results.csv")
-    # mean and nodal on 3 levels, p1 on 4
-    assert set(results.case) == set(CASES) and len(results) == len(CASES) * (2 * 3 + 4)
+    # the P2 methods on 3 levels, the P1 methods on 4
+    per_case = sum(3 + m.extra_levels for m in METHODS.values())
+    assert set(results.case) == set(CASES) and len(results) == len(CASES) * per_case
     rates = pd.read_csv(root / "results" / "rates.csv")
     assert {"fitted_rate", "fitted_rate_se", "pairwise_rates", "verdict"} <= set(rates.columns)
     meta = json.loads((root / "results" / "provenance.json").read_text())
@@ -34,7 +37,8 @@ def test_results_rates_and_provenance_are_written(report):
 def test_every_figure_exists_as_png_and_pdf(report):
     root, _ = report
     figures = root / "report" / "figures"
-    stems = ["summary_rates"] + [f"{c}_{kind}" for c in CASES for kind in ("convergence", "contact", "solution", "efficiency")]
+    stems = ["summary_rates"] + [f"{c}_{kind}" for c in CASES for kind in ("convergence", "contact", "solution", "efficiency")] \
+        + [f"sweep_{c}" for c in CASES]
     for stem in stems:
         for ext in ("png", "pdf"):
             assert (figures / f"{stem}.{ext}").stat().st_size > 1000, stem
@@ -53,7 +57,7 @@ def test_report_answers_whether_p2_is_worth_it(report):
     text = html.read_text()
     assert "Is P2 worth it?" in text and "transition-r32: The claim" in text
     efficiency = pd.read_csv(root / "results" / "efficiency.csv")
-    assert set(efficiency.method) == {"mean", "nodal", "p1"}
+    assert set(efficiency.method) == set(METHODS)
     assert (efficiency.ndof > 0).all() and (efficiency.total_seconds > 0).all()
 
 
@@ -72,3 +76,16 @@ def test_markdown_table_cells_keep_a_literal_bar_inside():
     header, _, row = doc.markdown(Path(".")).splitlines()[2:5]
     unescaped_bars = lambda line: len(re.findall(r"(?<!\\)\|", line))
     assert unescaped_bars(row) == unescaped_bars(header) == 3
+
+
+def test_report_shows_where_penalty_and_nitsche_parameters_are_safe(report):
+    """The sweep of every theta of Nitsche and of the penalty over eps0 / gamma0, beside nodal."""
+    root, html = report
+    assert "Penalty and Nitsche: where their parameter is safe" in html.read_text()
+    for case in CASES:
+        sweep = pd.read_csv(root / "results" / "sweeps" / f"{case}.csv")
+        swept = sweep[sweep.sweep_parameter.notna()]
+        assert set(swept.sweep_method) == set(REPORT_SWEEP["methods"]) and "nodal" in set(sweep.method)
+        assert (swept.groupby("sweep_method").sweep_value.nunique() == len(REPORT_SWEEP["values"])).all()
+        # theta = -1 is coercive for every gamma0 (CHR 2015 Thm 3.4): Newton converges over the whole range
+        assert (swept[swept.sweep_method == "nitsche:theta=-1"].status == "converged").all()
