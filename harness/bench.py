@@ -98,8 +98,8 @@ def _weak_problem(method_name: str, level: int, coarse_maxh: float | None):
     from .discrete import discretise
     from .mesh import mesh_hierarchy
     from .methods import get_method
-    from .multigrid import Multilevel, nested_start
-    from .newton import NO_CHANGE_OF_VARIABLES, solve_semismooth_newton
+    from .multigrid import HIERARCHICAL, Multilevel, nested_start
+    from .newton import solve_semismooth_newton
     from .weak_contact import weak_contact_system
 
     case = dataclasses.replace(load_case(BENCH_CASE), maxh=coarse_maxh)
@@ -114,14 +114,15 @@ def _weak_problem(method_name: str, level: int, coarse_maxh: float | None):
         if lev == level - 1:
             vertex_values = solve_semismooth_newton(system, multilevel=multilevel).u[: multilevel.nvertices].copy()
         elif level > 0:
-            start = nested_start(multilevel, vertex_values, problem, NO_CHANGE_OF_VARIABLES)
+            start = nested_start(multilevel, vertex_values, problem, HIERARCHICAL)
     return system, start, multilevel
 
 
 def _measure_weak(method: str, model_name: str, level: int, coarse_maxh) -> dict:
     """`contact`: one penalty/Nitsche solve (semismooth Newton, nested start); `multigrid` and
     `cholesky`: one linear solve with its matrix (no contact term active)."""
-    from .newton import NO_CHANGE_OF_VARIABLES, _load_scale, solve_semismooth_newton
+    from .multigrid import HIERARCHICAL
+    from .newton import _load_scale, solve_semismooth_newton
     from .solver import DEFAULT_TOLERANCE, Cholesky, MultigridSystem
 
     system, start, multilevel = _weak_problem(model_name, level, coarse_maxh)
@@ -132,7 +133,7 @@ def _measure_weak(method: str, model_name: str, level: int, coarse_maxh) -> dict
         out |= {"t": t, "iterations": solution.iterations, "kkt_residual": solution.residual,
                 "cg_iterations": solution.linear_iterations}
     elif method == "multigrid":
-        linear = MultigridSystem(system.J_ngs, system.rhs, multilevel, NO_CHANGE_OF_VARIABLES)
+        linear = MultigridSystem(system.J_ngs, system.rhs, multilevel, HIERARCHICAL)
         tol = 0.1 * DEFAULT_TOLERANCE * _load_scale(system)
         def solve():
             linear.cg_iterations = 0

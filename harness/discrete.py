@@ -39,6 +39,16 @@ class DiscreteProblem:
     end_dofs: np.ndarray        # (m, 2) vertex dofs of the end points of each contact edge
     vertex_dofs: np.ndarray     # dofs of trace.vertices, same order
     quadrature: ElementQuadrature
+    contact_rows: sp.csr_matrix | None = None   # A's rows of ``contact_dofs``, kept after A is taken
+
+    @property
+    def contact_dofs(self) -> np.ndarray:
+        """The dofs whose basis functions have a trace on Gamma_C: its vertices, then its edges."""
+        return np.concatenate([self.vertex_dofs, self.edge_dofs])
+
+    def contact_residual(self, u: np.ndarray) -> np.ndarray:
+        """a(u, phi_i) - L(phi_i) for the dofs i of ``contact_dofs``: the discrete contact force."""
+        return self.contact_rows @ u - self.b[self.contact_dofs]
 
     @property
     def ndof(self) -> int:
@@ -132,12 +142,14 @@ def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadratu
                          for pair in trace.edge_vertices])
     if not free[edge_dofs].all() or not free[end_dofs].all():
         raise ValueError("Gamma_C touches Gamma_u; the paper (Section 2) assumes they do not")
-    return DiscreteProblem(
+    problem = DiscreteProblem(
         mesh=mesh, fes=fes, _A=csr_view(a.mat), _A_ngs=a.mat, b=load_vector(case, fes, quadrature),
         lift=lift, free=free, trace=trace, edge_dofs=edge_dofs, end_dofs=end_dofs,
         vertex_dofs=np.array([_single_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in trace.vertices]),
         quadrature=quadrature,
     )
+    problem.contact_rows = problem.A[problem.contact_dofs].copy()
+    return problem
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import ngsolve as ngs
 import numpy as np
+from scipy.sparse.linalg import splu
 
+from .boundary import at_points, contact_quadrature
 from .discrete import ContactTraceFunction
 from .mesh import evaluate
 from .quadrature import ElementQuadrature
@@ -60,3 +62,52 @@ def max_penetration(case, mesh: ngs.Mesh, trace_u: ContactTraceFunction) -> floa
     gap = evaluate(case.gap_or_zero, mesh, points) if case.gap is not None else 0.0
     return float((gap - values).max())
 
+
+
+# Gauss points per contact edge for the errors on Gamma_C: exact for the trace mass matrix,
+# and the pressure singularities sit at edge ends, which Gauss points avoid.
+CONTACT_ERROR_POINTS = 8
+CONTACT_NORMS = ("err_trace_l2", "err_pressure_l2", "err_pressure_h12", "max_tension")
+
+
+class ContactErrors:
+    """Errors on Gamma_C of the solutions on one discrete problem.
+
+    * trace: ||u - u_h||_{L^2(Gamma_C)};
+    * pressure: the discrete pressure lambda_h is the Riesz representative, in the trace space
+      W_h of X_h on Gamma_C (continuous P_k on the contact edges), of the residual:
+      int lambda_h w = a(u_h, w) - L(w) for the basis functions w with a trace on Gamma_C. The
+      exact pressure satisfies int lambda w = a(u, w) - L(w) (Green's formula), so this is the
+      same functional for every method -- the cones' multipliers, Nitsche's and the penalty's
+      contact terms all end up in it. Against lambda = d_n u - g_C in L^2(Gamma_C) and in the
+      mesh-dependent norm ||h^{1/2} (lambda - lambda_h)||_{L^2(Gamma_C)};
+    * tension: max over Gamma_C of -lambda_h, the flux counterpart of max_penetration (the
+      exact pressure is >= 0).
+    """
+
+    def __init__(self, case, problem):
+        self.problem = problem
+        q = contact_quadrature(problem, CONTACT_ERROR_POINTS)
+        self.weights, self.h = q.weights, q.h
+        self.T = q.T[:, problem.contact_dofs].tocsc()
+        self.u = evaluate(case.u, problem.mesh, q.points)
+        flux = (evaluate(case.grad_u, problem.mesh, q.points) * problem.trace.normals[q.edge]).sum(axis=1)
+        self.pressure = flux - at_points(case.contact_load, problem.mesh, q)
+        self._mass = splu((self.T.T @ (self.T.multiply(self.weights[:, None]))).tocsc())
+        self._full_T = q.T
+
+    def discrete_pressure(self, u_h: np.ndarray) -> np.ndarray:
+        """lambda_h at the error points."""
+        return self.T @ self._mass.solve(self.problem.contact_residual(u_h))
+
+    def __call__(self, u_h: np.ndarray) -> dict:
+        w = self.weights
+        trace = self._full_T @ u_h - self.u
+        lam_h = self.discrete_pressure(u_h)
+        difference = self.pressure - lam_h
+        return {
+            "err_trace_l2": float(np.sqrt(w @ trace**2)),
+            "err_pressure_l2": float(np.sqrt(w @ difference**2)),
+            "err_pressure_h12": float(np.sqrt((w * self.h) @ difference**2)),
+            "max_tension": float(max(0.0, -lam_h.min())),
+        }

@@ -243,3 +243,8 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
             p.data = s + (rs_new / rs) * p
             rs = rs_new
     return x_np.copy(), iterations
+
+
+# No change of variables: penalty, Nitsche and the Ritz projection work in NGSolve's own
+# hierarchical variables, where a P1 function is its vertex values and zero bubbles.
+HIERARCHICAL = ContactEdges(np.zeros(0, np.int64), np.zeros((0, 2), np.int64))

@@ -27,12 +27,10 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .multigrid import ContactEdges
+from .multigrid import HIERARCHICAL
 from .solver import MultigridSystem
 
 DEFAULT_TOLERANCE = 1e-10
-# penalty and Nitsche work in NGSolve's own variables: no contact edge changes its bubble
-NO_CHANGE_OF_VARIABLES = ContactEdges(np.zeros(0, np.int64), np.zeros((0, 2), np.int64))
 
 
 @dataclass
@@ -103,7 +101,7 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
         # solver starts from u, a tenth of the tolerance deep.
         rhs = system.J @ u - F
         if not direct:
-            linear = MultigridSystem(system.J_ngs, rhs, multilevel, NO_CHANGE_OF_VARIABLES,
+            linear = MultigridSystem(system.J_ngs, rhs, multilevel, HIERARCHICAL,
                                      stiff_vertices=system.stiff_vertices(active, multilevel.nvertices))
         else:
             linear = _DirectSystem(system.J_ngs, rhs)

@@ -12,7 +12,8 @@ from tqdm import tqdm
 
 from .case import Case
 from .discrete import discretise
-from .errors import error_norms
+from .best import ritz_projection
+from .errors import ContactErrors, error_norms
 from .mesh import mesh_hierarchy, mesh_size
 from .methods import Method
 from .multigrid import Multilevel
@@ -21,10 +22,12 @@ from .validate import validate_case
 
 COLUMNS = [
     "case", "method", "order", "parameters", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
-    "err_l2", "max_penetration", "min_pressure", "active_constraints", "solver_iterations", "linear_iterations",
+    "err_l2", "err_best_h1", "err_h1_over_best", "err_trace_l2", "err_pressure_l2", "err_pressure_h12",
+    "max_penetration", "max_tension", "min_pressure", "active_constraints", "solver_iterations", "linear_iterations",
     "kkt_residual", "solve_seconds", "total_seconds", "status",
-    # what `rates` needs to fit a results file on its own: the case and the method's theory
-    "nu", "expected_rate", "expected_log_exponent", "reference", "case_source",
+    # what `rates` needs to fit a results file on its own: the case and the method's theories
+    "nu", "expected_rate", "expected_log_exponent", "reference",
+    "sharper_rate", "sharper_log_exponent", "sharper_reference", "case_source",
 ]
 
 ngs.ngsglobals.msg_level = 0
@@ -37,7 +40,7 @@ PROFILES = {
 }
 
 # The phases of a study, in the order of the data flow; ``Phases`` sums the wall time of each.
-PHASES = ("mesh", "assembly", "setup", "solve", "errors", "hooks")
+PHASES = ("mesh", "assembly", "best", "setup", "solve", "errors", "hooks")
 
 
 class Phases:
@@ -80,6 +83,7 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
     rows = []
     multilevel = None
     expectations = {m.name: m.expected(case) for m in methods}
+    sharper = {m.name: m.sharper(case) for m in methods}
     total_levels = max(study_levels(m, levels) for m in methods)
     h = None
     with ngs.TaskManager():
@@ -94,12 +98,16 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
                 quadrature = ElementQuadrature.of(case, mesh)
             mesh_seconds = time.perf_counter() - clock
             active = [m for m in methods if level < study_levels(m, levels)]
-            problems, assembly_seconds = {}, {}
+            problems, assembly_seconds, best, on_contact = {}, {}, {}, {}
             for order in sorted({m.order for m in active}, reverse=True):
                 clock = time.perf_counter()
                 with phases("assembly"):
                     problems[order] = discretise(case, mesh, order, quadrature)
                 assembly_seconds[order] = time.perf_counter() - clock
+                # the best approximation, before a method takes the stiffness matrix
+                with phases("best"):
+                    best[order] = ritz_projection(case, problems[order], multilevel)
+                    on_contact[order] = ContactErrors(case, problems[order])
             level_rows, solutions = [], []
             for method in active:
                 problem = problems[method.order]
@@ -117,8 +125,10 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
                     "ndof": problem.ndof, **solve.fields,
                     "total_seconds": mesh_seconds + assembly_seconds[method.order] + own_seconds,
                     "nu": case.nu, "expected_rate": expectation.rate, "expected_log_exponent": expectation.log_exponent,
-                    "reference": expectation.reference, "case_source": case.source,
+                    "reference": expectation.reference, **_sharper(sharper[method.name]), "case_source": case.source,
                 })
+                with phases("errors"):
+                    level_rows[-1] |= on_contact[method.order](solve.u)
                 solutions.append(problem.gridfunction(solve.u))
                 if on_level is not None:
                     with phases("hooks"):
@@ -126,9 +136,21 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
                 if progress is not None:
                     progress.update(1)
             with phases("errors"):
-                errors = error_norms(case, solutions, quadrature)
-            rows += [row | norms for row, norms in zip(level_rows, errors)]
+                orders = list(best)
+                errors = error_norms(case, solutions + [problems[k].gridfunction(best[k]) for k in orders], quadrature)
+                best_h1 = dict(zip(orders, (e["err_h1"] for e in errors[len(solutions):])))
+            for row, norms in zip(level_rows, errors):
+                rows.append(row | norms | {"err_best_h1": best_h1[row["order"]],
+                                           "err_h1_over_best": norms["err_h1"] / best_h1[row["order"]]})
     return rows
+
+
+def _sharper(expectation) -> dict:
+    """The row's second theory (``Method.sharper``), NaN where the method has none."""
+    if expectation is None:
+        return {"sharper_rate": float("nan"), "sharper_log_exponent": float("nan"), "sharper_reference": ""}
+    return {"sharper_rate": expectation.rate, "sharper_log_exponent": expectation.log_exponent,
+            "sharper_reference": expectation.reference}
 
 
 def total_solves(methods: list[Method], levels: int) -> int:

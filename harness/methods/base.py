@@ -17,8 +17,8 @@ import numpy as np
 from ..discrete import ContactTraceFunction
 from ..errors import max_penetration
 from ..models import ContactModel, contact_pressure, contact_qp
-from ..multigrid import nested_start
-from ..newton import NO_CHANGE_OF_VARIABLES, solve_semismooth_newton
+from ..multigrid import HIERARCHICAL, nested_start
+from ..newton import solve_semismooth_newton
 from ..solver import solve_contact_qp
 from ..weak_contact import weak_contact_system
 
@@ -57,6 +57,11 @@ class Method:
     contact: str                                  # how the contact condition is imposed
     reference: str                                # where the method comes from
     expected: Callable[[object], Expectation]     # case -> the rate its theory predicts
+    # case -> the rate of a second, later theory (a second verdict), or None
+    sharper_theory: Callable[[object], Expectation] | None = None
+
+    def sharper(self, case) -> Expectation | None:
+        return None if self.sharper_theory is None else self.sharper_theory(case)
 
     @property
     def extra_levels(self) -> int:
@@ -152,7 +157,7 @@ class WeakContact(Method):
             system = weak_contact_system(case, problem, self.gamma0, self.theta, self.flux, take_stiffness)
             start = None
             if multilevel is not None and carry is not None:
-                start = nested_start(multilevel, carry, problem, NO_CHANGE_OF_VARIABLES)
+                start = nested_start(multilevel, carry, problem, HIERARCHICAL)
         with timed("solve"):
             solution = solve_semismooth_newton(system, start, multilevel)
         u = solution.u
@@ -185,3 +190,16 @@ def paper_theorem(case) -> Expectation:
 
 def _theorem_label(theorem: str) -> str:
     return theorem if theorem.lower().startswith(("remark", "thm", "theorem")) else f"Thm {theorem}"
+
+
+DROUET_HILD = "Drouet & Hild 2015 (SINUM 53)"
+
+
+def drouet_hild(case) -> Expectation:
+    """The H^1 bound of Drouet & Hild, SIAM J. Numer. Anal. 53 (2015) 1488-1507, for P1 and P2
+    with the only assumption u in H^{3/2 + m} (no condition on the contact set, no log factor):
+    h^{1/2 + m} for 0 < m <= 1/2, i.e. h^{min(nu - 1, 1)} for nu > 3/2. For nu <= 3/2 it says
+    nothing (NaN)."""
+    if case.nu <= 1.5:
+        return Expectation(float("nan"), 0.0, f"{DROUET_HILD}: no result for nu <= 3/2")
+    return Expectation(min(case.nu - 1.0, 1.0), 0.0, DROUET_HILD)

@@ -1,0 +1,45 @@
+"""The best approximation of u in X_h, with no contact involved: the Ritz projection R_h u.
+
+a(u - R_h u, v_h) = 0 for every v_h in X_h vanishing on Gamma_u, R_h u = u_D,h on Gamma_u (the
+methods' own Dirichlet lift). By Green's formula a(u, v) = (f, v) + int_{Gamma_g} g v +
+int_{Gamma_C} d_n u v: the Galerkin solution with u's own flux on Gamma_C as Neumann data, one
+linear solve with the stiffness matrix. It minimises |u - v_h|_1 over those v_h, so its error
+measures the regularity of u alone (h^{min(nu - 1, k)} for P_k, uniform meshes) and the methods'
+errors over it are the price of the contact discretisation (Falk's lemma's extra terms, the
+paper's Remark 4.6).
+"""
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+
+from .discrete import BOUNDARY_LOAD_BONUS_ORDER, DiscreteProblem
+from .multigrid import HIERARCHICAL
+from .solver import Cholesky, MultigridSystem
+
+# relative to the load, as deep as the contact solves' linear systems
+TOLERANCE = 1e-11
+
+
+def contact_flux_load(case, problem: DiscreteProblem) -> np.ndarray:
+    """int_{Gamma_C} (d_n u - g_C) v for every basis function v: the exact contact pressure as a
+    load (the load vector b already holds g_C)."""
+    v = problem.fes.TestFunction()
+    pressure = case.grad_u * ngs.specialcf.normal(2)
+    if case.contact_load is not None:
+        pressure = pressure - case.contact_load
+    form = ngs.LinearForm(pressure * v * ngs.ds("contact", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)).Assemble()
+    return form.vec.FV().NumPy().copy()
+
+
+def ritz_projection(case, problem: DiscreteProblem, multilevel=None) -> np.ndarray:
+    """R_h u (all dofs), by the multigrid CG of the contact solver when the hierarchy is given,
+    else by sparse Cholesky. Call it before a method takes the stiffness matrix."""
+    b = problem.b + contact_flux_load(case, problem)
+    pinned = ~problem.free
+    scale = max(np.abs((b - problem.A @ problem.lift)[problem.free]).max(initial=0.0), np.finfo(float).tiny)
+    if multilevel is not None:
+        system = MultigridSystem(problem.A_ngs, b, multilevel, HIERARCHICAL)
+        return system.solve(pinned, problem.lift, tol=TOLERANCE * scale)
+    rhs = np.where(problem.free, b - problem.A @ problem.lift, 0.0)
+    return np.where(problem.free, Cholesky(problem.A_ngs, problem.free).solve(rhs), problem.lift)
