@@ -54,8 +54,27 @@ def _dof(fes, kind, number) -> int:
     return dof
 
 
-def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS) -> ContactQuadrature:
-    """The Gauss points of ``problem``'s contact edges and its basis (order 1 or 2) there."""
+def gauss(points: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre points and weights on [0, 1]."""
+    t, w = np.polynomial.legendre.leggauss(points)
+    return 0.5 * (t + 1.0), 0.5 * w
+
+
+def graded(points: int, depth: int = 30) -> tuple[np.ndarray, np.ndarray]:
+    """A composite Gauss rule on [0, 1] graded geometrically towards both ends (intervals
+    [2^-k-1, 2^-k] down to 2^-depth, and their mirror images): exact to round-off for integrands
+    like r^{-1/2} p(r) at an end, which a Gauss rule integrates with an O(1) relative error."""
+    t, w = gauss(points)
+    edges = np.concatenate([[0.0], 0.5 ** np.arange(depth, 0, -1)])         # 0, 2^-depth, ..., 1/2
+    left_t = np.concatenate([a + t * (b - a) for a, b in zip(edges[:-1], edges[1:])])
+    left_w = np.concatenate([w * (b - a) for a, b in zip(edges[:-1], edges[1:])])
+    return np.concatenate([left_t, 1.0 - left_t[::-1]]), np.concatenate([left_w, left_w[::-1]])
+
+
+def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: np.ndarray | None = None) -> ContactQuadrature:
+    """Gauss points of ``problem``'s contact edges and its basis (order 1 or 2) there; on the
+    edges with an end at one of the vertices ``graded_at`` (singular points), the ``graded``
+    rule instead."""
     mesh, fes, trace = problem.mesh, problem.fes, problem.trace
     order = problem.order
     m = len(trace.edges)
@@ -70,15 +89,16 @@ def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS) -> ContactQ
     grad = _barycentric_gradients(trace.a, trace.b, coords)             # (m, 3, 2): a, b, c
     dn = np.einsum("mij,mj->mi", grad, trace.normals)                   # (m, 3)
 
-    t, w = np.polynomial.legendre.leggauss(points_per_edge)
-    t, w = 0.5 * (t + 1.0), 0.5 * w
-    q = len(t)
-    edge = np.repeat(np.arange(m), q)
-    T_t = t[None, :].repeat(m, 0).ravel()
+    rules = [gauss(points_per_edge), graded(points_per_edge)]
+    singular = np.zeros(m, bool) if graded_at is None else np.isin(trace.edge_vertices, graded_at).any(axis=1)
+    rule_of = singular.astype(int)
+    edge = np.concatenate([np.full(len(rules[r][0]), k) for k, r in enumerate(rule_of)]).astype(np.int64)
+    T_t = np.concatenate([rules[r][0] for r in rule_of])
+    unit_w = np.concatenate([rules[r][1] for r in rule_of])
     vertex_dofs = np.array([[_dof(fes, ngs.VERTEX, v) for v in row] for row in
                             np.column_stack([trace.edge_vertices, third])], dtype=np.int64).reshape(m, 3)
     la, lb = 1.0 - T_t, T_t
-    dna, dnb, dnc = (np.repeat(dn[:, i], q) for i in range(3))
+    dna, dnb, dnc = (dn[edge, i] for i in range(3))
     cols_T = [vertex_dofs[edge, 0], vertex_dofs[edge, 1]]
     vals_T = [la, lb]
     cols_N = [vertex_dofs[edge, 0], vertex_dofs[edge, 1], vertex_dofs[edge, 2]]
@@ -88,11 +108,11 @@ def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS) -> ContactQ
         vals_T.append(-0.5 * la * lb)
         cols_N += [edge_dofs[edge, 0], edge_dofs[edge, 1], edge_dofs[edge, 2]]
         vals_N += [-0.5 * (lb * dna + la * dnb), -0.5 * la * dnc, -0.5 * lb * dnc]
-    shape = (m * q, problem.ndof)
+    shape = (len(edge), problem.ndof)
     return ContactQuadrature(
-        points=trace.points(t).reshape(-1, 2),
-        weights=np.repeat(trace.lengths, q) * np.tile(w, m),
-        h=np.repeat(trace.lengths, q),
+        points=trace.a[edge] + T_t[:, None] * (trace.b - trace.a)[edge],
+        weights=trace.lengths[edge] * unit_w,
+        h=trace.lengths[edge],
         edge=edge,
         T=_rows(cols_T, vals_T, shape),
         N=_rows(cols_N, vals_N, shape),

@@ -70,3 +70,33 @@ def test_fit_recovers_a_known_rate_and_log_exponent():
     assert p == pytest.approx(1.0, abs=1e-12) and se < 1e-10
     p0, _ = fit_rate(h, e, log_exponent=0.0, levels=4)
     assert p0 < 0.95   # ignoring the log factor underestimates the rate
+
+
+@pytest.mark.parametrize("order, method", [(2, "nodal"), (1, "p1")])
+@pytest.mark.parametrize("case_name", list(CASES))
+def test_best_approximation_rate_measures_the_declared_regularity(rates, case_name, order, method):
+    """The Ritz projection, no contact involved, converges at min(nu - 1, order): the case has the
+    regularity it declares. borderline-h2 (its docstring: best approximation ~ h |log h|^{1/2 - beta},
+    the only case whose theorem carries a log factor) at least at nu - 1 - 0.1, its pairwise
+    rates falling towards nu - 1."""
+    case = CASES[case_name]
+    row = rates.loc[(case_name, method)]
+    expected = min(case.nu - 1.0, order)
+    assert row.best_expected_rate == expected
+    if case.expected_log_exponent and case.nu - 1.0 < order:
+        pairwise = np.array(row.pairwise_rates_best.split(), float)
+        assert row.fitted_rate_best >= expected - 0.1 and np.all(np.diff(pairwise) < 0), row.pairwise_rates_best
+    else:
+        assert abs(row.fitted_rate_best - expected) <= 0.1, row.pairwise_rates_best
+
+
+@pytest.mark.parametrize("method", [m for m in METHOD_NAMES if METHODS[m].sharper_theory is not None])
+def test_no_case_falls_below_the_drouet_hild_bound(rates, method):
+    verdicts = rates.xs(method, level="method").sharper_verdict
+    assert set(verdicts) <= {"meets", "above", "no theory"}, verdicts.to_dict()
+
+
+def test_no_method_beats_the_best_approximation_in_the_h1_seminorm(study):
+    """R_h u minimises |u - v_h|_1 over X_h with the Dirichlet lift: no method's u_h does better
+    (up to the error integration's accuracy)."""
+    assert (study.err_h1_semi >= study.err_best_h1_semi * (1 - 1e-6)).all()
