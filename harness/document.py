@@ -21,6 +21,8 @@ td:first-child, th:first-child { text-align: left; }
 tr.meets td.verdict { color: #126b2a; font-weight: bold; }
 tr.above td.verdict { color: #1b4f8a; font-weight: bold; }
 tr.below td.verdict { color: #a11; font-weight: bold; }
+tr.consistent td.verdict { color: #126b2a; font-weight: bold; }
+tr.faster td.verdict, tr.slower td.verdict { color: #a15c00; font-weight: bold; }
 .figures { display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start; }
 figure { flex: 1 1 45%; min-width: 320px; max-width: 49%; margin: .5em 0; }
 figure img { width: 100%; border: 1px solid #eee; }
@@ -86,7 +88,7 @@ class Document:
                 frame, verdict = block[1], block[2]
                 rows = ["<table><thead><tr>" + "".join(f"<th>{html.escape(str(c))}</th>" for c in frame.columns) + "</tr></thead><tbody>"]
                 for record in frame.to_dict("records"):
-                    css = f" class='{html.escape(str(record[verdict]))}'" if verdict else ""
+                    css = f" class='{html.escape(str(record[verdict]).split()[0])}'" if verdict and str(record[verdict]) else ""
                     cells = "".join(
                         f"<td{' class=verdict' if c == verdict else ''}>{html.escape(str(v))}</td>" for c, v in record.items())
                     rows.append(f"<tr{css}>{cells}</tr>")

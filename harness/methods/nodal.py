@@ -2,7 +2,7 @@
 the edge midpoints of Gamma_C (before (5.1)), the degrees of freedom of the Lagrange
 interpolant I_h. K~_h lies in K_h (Simpson's rule). Rates: Theorems 5.1 and 5.2, the same as
 for `mean`, declared by each case."""
-from harness.methods.base import BoundConstrained, drouet_hild, paper_theorem
+from harness.methods.base import BoundConstrained, drouet_hild_for, paper_theorem
 from harness.models import ContactModel
 
 method = BoundConstrained(
@@ -11,6 +11,6 @@ method = BoundConstrained(
     contact="v_h >= 0 at the vertices and edge midpoints of Γ_C (K̃_h, (5.1))",
     reference="Belhachmi & Ben Belgacem 2003, Section 5",
     expected=paper_theorem,
-    sharper_theory=drouet_hild,
+    sharper_theory=drouet_hild_for(2),
     cone=ContactModel(edge_functional="midpoint"),
 )

@@ -14,7 +14,7 @@ Expected H^1 rate h^{min(nu - 1, 1)}, no log factor:
   finite-transition assumption or a |log h| factor. (Read here from the abstract: its full text,
   and so its theorem numbers, were not reachable from this sandbox.)
 """
-from harness.methods.base import BoundConstrained, Expectation, drouet_hild
+from harness.methods.base import BoundConstrained, Expectation, drouet_hild_for
 from harness.models import ContactModel
 
 
@@ -30,6 +30,6 @@ method = BoundConstrained(
     contact="v_h >= 0 at the vertices of Γ_C (exact: the trace is linear)",
     reference="Ben Belgacem 2000; Drouet & Hild 2015",
     expected=expected,
-    sharper_theory=drouet_hild,
+    sharper_theory=drouet_hild_for(1),
     cone=ContactModel(edge_functional=None),
 )
