@@ -235,10 +235,19 @@ def which_bound(case, rates: pd.DataFrame, results: pd.DataFrame) -> str:
     with_log = normalised_errors(g.h, g.err_h1, case.expected_rate, case.expected_log_exponent)[-3:]
     plain = normalised_errors(g.h, g.err_h1, case.expected_rate, 0.0)[-3:]
     drop = lambda v: 1 - v[-1] / v[-2]
+    level_off = 0.02
+    if abs(drop(plain)) <= level_off < abs(drop(with_log)):
+        verdict_text = "e/h has levelled off and the data follow Drouet & Hild's h, without the paper's log factor."
+    elif abs(drop(with_log)) <= level_off < abs(drop(plain)):
+        verdict_text = f"e/({paper}) has levelled off: the data follow the paper's bound."
+    elif abs(drop(plain)) < abs(drop(with_log)):
+        verdict_text = ("neither has levelled off (both fall by more than 2%), e/h the less: the data are nearer "
+                        "Drouet & Hild's h than the paper's bound, and still faster than both, like the best "
+                        "approximation (table above).")
+    else:
+        verdict_text = "neither has levelled off (both fall by more than 2%)."
     return text + (f" Over the last level, nodal's e/({paper}) falls by {drop(with_log):.1%} and e/h by "
-                   f"{drop(plain):.1%}: " + ("e/h levels off first: the data follow Drouet & Hild's h, no log factor."
-                                            if abs(drop(plain)) < abs(drop(with_log)) else
-                                            "neither has levelled off yet."))
+                   f"{drop(plain):.1%}: " + verdict_text)
 
 
 def normalised_view(case, results: pd.DataFrame) -> pd.DataFrame:

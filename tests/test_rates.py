@@ -100,3 +100,13 @@ def test_no_method_beats_the_best_approximation_in_the_h1_seminorm(study):
     """R_h u minimises |u - v_h|_1 over X_h with the Dirichlet lift: no method's u_h does better
     (up to the error integration's accuracy)."""
     assert (study.err_h1_semi >= study.err_best_h1_semi * (1 - 1e-6)).all()
+
+
+@pytest.mark.parametrize("method", METHOD_NAMES)
+@pytest.mark.parametrize("case_name", list(CASES))
+def test_errors_on_gamma_c_converge(rates, case_name, method):
+    """The trace error in L^2(Gamma_C) and the pressure error in ||h^{1/2} .||_{L^2(Gamma_C)}
+    (lambda_h: the Riesz representative of the residual) fall under refinement for every
+    method, also where lambda is not in L^2(Gamma_C) (corner-r12, lambda ~ r^{-1/2})."""
+    row = rates.loc[(case_name, method)]
+    assert row.fitted_rate_trace > 0.9 and row.fitted_rate_pressure_h12 > 0.4, (row.fitted_rate_trace, row.fitted_rate_pressure_h12)

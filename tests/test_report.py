@@ -89,3 +89,13 @@ def test_report_shows_where_penalty_and_nitsche_parameters_are_safe(report):
         assert (swept.groupby("sweep_method").sweep_value.nunique() == len(REPORT_SWEEP["values"])).all()
         # theta = -1 is coercive for every gamma0 (CHR 2015 Thm 3.4): Newton converges over the whole range
         assert (swept[swept.sweep_method == "nitsche:theta=-1"].status == "converged").all()
+
+
+def test_report_has_both_verdicts_the_regularity_check_and_the_gamma_c_errors(report):
+    root, html = report
+    text = html.read_text()
+    for heading in ("Regularity check: best approximation", "Errors on Γ_C", "verdict (D–H)", "Drouet &amp; Hild"):
+        assert heading in text, heading
+    rates = pd.read_csv(root / "results" / "rates.csv")
+    cones = rates[rates.method.isin(["mean", "nodal", "p1"])]
+    assert cones.sharper_verdict.notna().all() and rates.fitted_rate_best.notna().all()
