@@ -7,6 +7,7 @@ import pandas as pd
 import pytest
 
 from harness.methods import METHODS
+from harness.rates import RATE_COLUMNS
 from harness.study import COLUMNS
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -90,8 +91,9 @@ def test_rates_command_writes_rates_beside_results(tmp_path):
     done = harness("rates", str(tmp_path / "results.csv"))
     assert done.returncode == 0, done.stderr
     rates = pd.read_csv(tmp_path / "rates.csv")
-    assert list(rates.columns) == ["case", "method", "order", "reference", "expected_rate", "expected_log_exponent",
-                                   "fitted_rate", "fitted_rate_se", "pairwise_rates", "verdict"]
+    assert list(rates.columns) == RATE_COLUMNS
+    assert {"fitted_rate", "verdict", "sharper_verdict", "fitted_rate_l2", "fitted_rate_best", "best_verdict",
+            "fitted_rate_trace", "fitted_rate_pressure_h12"} <= set(rates.columns)
     assert len(rates) == len(METHODS)
 
 
