@@ -98,24 +98,21 @@ def _weak_problem(method_name: str, level: int, coarse_maxh: float | None):
     from .discrete import discretise
     from .mesh import mesh_hierarchy
     from .methods import get_method
-    from .multigrid import HIERARCHICAL, Multilevel, nested_start
-    from .newton import solve_semismooth_newton
-    from .weak_contact import weak_contact_system
+    from .multigrid import Multilevel
 
     case = dataclasses.replace(load_case(BENCH_CASE), maxh=coarse_maxh)
     method = get_method(method_name)
-    multilevel, start, vertex_values = None, None, None
+    multilevel, carry = None, None
     for lev, mesh in mesh_hierarchy(case, level + 1):
         multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
         if lev < level - 1:
             continue
         problem = discretise(case, mesh, method.order)
-        system = weak_contact_system(case, problem, method.gamma0, method.theta, method.flux, take_stiffness=True)
         if lev == level - 1:
-            vertex_values = solve_semismooth_newton(system, multilevel=multilevel).u[: multilevel.nvertices].copy()
-        elif level > 0:
-            start = nested_start(multilevel, vertex_values, problem, HIERARCHICAL)
-    return system, start, multilevel
+            carry = method.solve(case, problem, None, multilevel, take_stiffness=True).carry
+    system = method.system(case, problem, take_stiffness=True)
+    start, predicted = method.nested_guess(system, carry, multilevel)
+    return system, start, predicted, multilevel
 
 
 def _measure_weak(method: str, model_name: str, level: int, coarse_maxh) -> dict:
@@ -125,11 +122,11 @@ def _measure_weak(method: str, model_name: str, level: int, coarse_maxh) -> dict
     from .newton import _load_scale, solve_semismooth_newton
     from .solver import DEFAULT_TOLERANCE, Cholesky, MultigridSystem
 
-    system, start, multilevel = _weak_problem(model_name, level, coarse_maxh)
+    system, start, predicted, multilevel = _weak_problem(model_name, level, coarse_maxh)
     problem = system.problem
     out = {"ndof": problem.ndof}
     if method == "contact":
-        t, solution = _fastest(lambda: _seconds(solve_semismooth_newton(system, start, multilevel)))
+        t, solution = _fastest(lambda: _seconds(solve_semismooth_newton(system, start, multilevel, predicted=predicted)))
         out |= {"t": t, "iterations": solution.iterations, "kkt_residual": solution.residual,
                 "cg_iterations": solution.linear_iterations}
     elif method == "multigrid":

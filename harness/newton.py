@@ -69,9 +69,12 @@ def _apply(matrix, z: np.ndarray) -> np.ndarray:
 
 
 def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=None,
-                            tol: float = DEFAULT_TOLERANCE, max_iterations: int = 60) -> NewtonSolution:
+                            tol: float = DEFAULT_TOLERANCE, max_iterations: int = 60,
+                            predicted: np.ndarray | None = None) -> NewtonSolution:
     """F(u) = 0 for a ``weak_contact.WeakContactSystem``, from ``start`` (Dirichlet values are
-    imposed on it), with multigrid CG when ``multilevel`` is given and J is symmetric."""
+    imposed on it), with multigrid CG when ``multilevel`` is given and J is symmetric.
+    ``predicted``: the active Gauss points of the first step (nested iteration), instead of
+    those of ``start``."""
     clock = time.perf_counter()
     problem = system.problem
     pinned = ~problem.free
@@ -93,16 +96,17 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
             break
         if iteration == max_iterations:
             break
-        key = active.tobytes()
+        step_set = predicted if iteration == 0 and predicted is not None else active
+        key = step_set.tobytes()
         damped = damped or key in seen
         seen.add(key)
-        system.set_jacobian(active)
-        # The Newton step as the affine system of this set: J u_new = J u - F(u); the linear
-        # solver starts from u, a tenth of the tolerance deep.
-        rhs = system.J @ u - F
+        system.set_jacobian(step_set)
+        # The Newton step as the affine system of this set, J u_new = r (= J u - F(u) for the
+        # set of u); the linear solver starts from u, a tenth of the tolerance deep.
+        rhs = system.affine_rhs(step_set)
         if not direct:
             linear = MultigridSystem(system.J_ngs, rhs, multilevel, HIERARCHICAL,
-                                     stiff_vertices=system.stiff_vertices(active, multilevel.nvertices))
+                                     stiff_vertices=system.stiff_vertices(step_set, multilevel.nvertices))
         else:
             linear = _DirectSystem(system.J_ngs, rhs)
         candidate = linear.solve(pinned, problem.lift, start=u, tol=0.1 * tol * scale)

@@ -20,7 +20,7 @@ from ..models import ContactModel, contact_pressure, contact_qp
 from ..multigrid import HIERARCHICAL, nested_start
 from ..newton import solve_semismooth_newton
 from ..solver import solve_contact_qp
-from ..weak_contact import weak_contact_system
+from ..weak_contact import predicted_active, weak_contact_system
 
 # P1 on level l+1 has about the dofs of P2 on level l (the vertices of level l+1 are those of
 # level l plus one per edge): a study gives order-1 methods one more level, so that every
@@ -151,15 +151,26 @@ class WeakContact(Method):
         label = ",".join(f"{name}={_number(float(values[name]))}" for name in self.parameter_names if name in values)
         return replace(self, name=f"{base}:{label}" if label else base, **changed)
 
+    def system(self, case, problem, take_stiffness: bool = False):
+        return weak_contact_system(case, problem, self.gamma0, self.theta, self.flux, take_stiffness)
+
+    @staticmethod
+    def nested_guess(system, carry, multilevel):
+        """(start, predicted active Gauss points) from the coarser level's ``carry``: its u_h
+        interpolated, and the status of its nearest Gauss points."""
+        if carry is None:
+            return None, None
+        coarse_values, coarse_points, coarse_active = carry
+        start = nested_start(multilevel, coarse_values, system.problem, HIERARCHICAL) if multilevel is not None else None
+        return start, predicted_active(coarse_points, coarse_active, system.quadrature.points)
+
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         timed = phases or (lambda phase: nullcontext())
         with timed("setup"):
-            system = weak_contact_system(case, problem, self.gamma0, self.theta, self.flux, take_stiffness)
-            start = None
-            if multilevel is not None and carry is not None:
-                start = nested_start(multilevel, carry, problem, HIERARCHICAL)
+            system = self.system(case, problem, take_stiffness)
+            start, predicted = self.nested_guess(system, carry, multilevel)
         with timed("solve"):
-            solution = solve_semismooth_newton(system, start, multilevel)
+            solution = solve_semismooth_newton(system, start, multilevel, predicted=predicted)
         u = solution.u
         trace_u = ContactTraceFunction.of(problem, u)
         pressure = system.quadrature.edge_means(system.pressure(u))
@@ -174,7 +185,8 @@ class WeakContact(Method):
             "solve_seconds": solution.seconds,
             "status": solution.status,
         }
-        return LevelSolve(fields, u, trace_u, pressure, u[:problem.mesh.nv].copy())
+        return LevelSolve(fields, u, trace_u, pressure,
+                          (u[:problem.mesh.nv].copy(), system.quadrature.points, solution.active))
 
 
 def _number(value: float) -> str:
