@@ -12,11 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .boundary import at_points, contact_quadrature
+from .boundary import contact_quadrature, exact_pressure
 from .discrete import DiscreteProblem
-from .mesh import evaluate
-from .quadrature import singular_vertices
 from .multigrid import HIERARCHICAL
+from .quadrature import singular_vertices
 from .solver import Cholesky, MultigridSystem
 
 # relative to the load, as deep as the contact solves' linear systems
@@ -32,10 +31,7 @@ def contact_flux_load(case, problem: DiscreteProblem) -> np.ndarray:
     first edge, which moves R_h u by as much as its own error (measured: corner-r12's R_h u 7%
     worse than the Nitsche solution in |.|_1); the rule is graded on the edges at singular points."""
     quadrature = contact_quadrature(problem, FLUX_POINTS, graded_at=singular_vertices(case, problem.mesh))
-    normals = problem.trace.normals[quadrature.edge]
-    pressure = (evaluate(case.grad_u, problem.mesh, quadrature.points) * normals).sum(axis=1) \
-        - at_points(case.contact_load, problem.mesh, quadrature)
-    return quadrature.T.T @ (quadrature.weights * pressure)
+    return quadrature.T.T @ (quadrature.weights * exact_pressure(case, problem, quadrature))
 
 
 def ritz_projection(case, problem: DiscreteProblem, multilevel=None) -> np.ndarray:

@@ -138,3 +138,10 @@ def at_points(cf, mesh, quadrature: ContactQuadrature) -> np.ndarray:
     if cf is None:
         return np.zeros(len(quadrature.weights))
     return evaluate(cf, mesh, quadrature.points)
+
+
+def exact_pressure(case, problem, quadrature: ContactQuadrature) -> np.ndarray:
+    """The exact contact pressure lambda = d_n u - g_C at the quadrature points."""
+    normals = problem.trace.normals[quadrature.edge]
+    flux = (evaluate(case.grad_u, problem.mesh, quadrature.points) * normals).sum(axis=1)
+    return flux - at_points(case.contact_load, problem.mesh, quadrature)

@@ -13,7 +13,7 @@ import ngsolve as ngs
 import numpy as np
 from scipy.sparse.linalg import splu
 
-from .boundary import at_points, contact_quadrature
+from .boundary import contact_quadrature, exact_pressure
 from .discrete import ContactTraceFunction
 from .mesh import evaluate
 from .quadrature import ElementQuadrature
@@ -67,7 +67,6 @@ def max_penetration(case, mesh: ngs.Mesh, trace_u: ContactTraceFunction) -> floa
 # Gauss points per contact edge for the errors on Gamma_C: exact for the trace mass matrix,
 # and the pressure singularities sit at edge ends, which Gauss points avoid.
 CONTACT_ERROR_POINTS = 8
-CONTACT_NORMS = ("err_trace_l2", "err_pressure_l2", "err_pressure_h12", "max_tension")
 
 
 class ContactErrors:
@@ -91,8 +90,7 @@ class ContactErrors:
         self.weights, self.h = q.weights, q.h
         self.T = q.T[:, problem.contact_dofs].tocsc()
         self.u = evaluate(case.u, problem.mesh, q.points)
-        flux = (evaluate(case.grad_u, problem.mesh, q.points) * problem.trace.normals[q.edge]).sum(axis=1)
-        self.pressure = flux - at_points(case.contact_load, problem.mesh, q)
+        self.pressure = exact_pressure(case, problem, q)
         self._mass = splu((self.T.T @ (self.T.multiply(self.weights[:, None]))).tocsc())
         self._full_T = q.T
 
