@@ -9,10 +9,13 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            ``harness.geometry.polygon`` builds one
     maxh                   mesh size of the coarse (level 0) mesh
     u                      the exact solution, an NGSolve CoefficientFunction of x and y
+                           (or, for a reference case, no u and the data below)
     nu                     its Sobolev regularity: u in H^{nu - eps} for every eps > 0
     expected_rate          exponent p of the theorem's bound C h^p |log h|^q
     expected_log_exponent  exponent q of that bound (default 0; 1/4 for Thm 4.2 ii / 5.2 ii)
     theorem                which result of the paper predicts the rate, e.g. "4.1 ii, 5.1 ii"
+                           (nu, expected_rate and theorem are optional for a reference case:
+                           without them the report gives the measured rate only)
     regime                 optional, the regularity regime in words
     gap                    optional CoefficientFunction alpha: the constraint is u - alpha >= 0
     contact_load           optional CoefficientFunction g_C: du/dn - g_C >= 0 on Gamma_C
@@ -25,6 +28,17 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
 From u the harness derives f = -Laplace(u) (unless declared), the Neumann data du/dn on
 Gamma_g and the Dirichlet data u on Gamma_u (Section 1 of MATH.md: nonzero Dirichlet data, a gap and a load on
 Gamma_C are the paper's "straightforward" generalisations that make any u exact).
+
+A *reference case* has no closed-form solution. It leaves out u and declares the data instead:
+
+    f                      the volume load (required)
+    dirichlet              u_D on Gamma_u, a CoefficientFunction (required)
+    neumann                g = du/dn on Gamma_g, a CoefficientFunction (required)
+    reference_levels       k: every method's errors are measured against its own solution on
+                           the mesh k levels finer than the finest studied one (default 2)
+
+gap and contact_load as above. ``python -m harness run --reference-levels K`` chooses k, and
+for an exact case measures against a reference instead of u (which checks the reference).
 """
 from __future__ import annotations
 
@@ -39,6 +53,10 @@ import ngsolve as ngs
 CASES_DIR = Path(__file__).resolve().parent.parent / "cases"
 
 REQUIRED = ("name", "description", "geometry", "maxh", "u", "nu", "expected_rate", "theorem")
+# a reference case replaces u by its data; it may leave its regularity and rate unknown
+REFERENCE_REQUIRED = ("name", "description", "geometry", "maxh", "f", "dirichlet", "neumann")
+REFERENCE_OPTIONAL = {"nu": float("nan"), "expected_rate": float("nan"), "theorem": ""}
+DEFAULT_REFERENCE_LEVELS = 2
 
 
 class CaseError(ValueError):
@@ -51,7 +69,7 @@ class Case:
     description: str
     geometry: object
     maxh: float
-    u: ngs.CoefficientFunction
+    u: ngs.CoefficientFunction | None     # None: a reference case
     nu: float
     expected_rate: float
     theorem: str
@@ -62,13 +80,41 @@ class Case:
     declared_f: object = None                  # the module's f: a number or a CoefficientFunction
     singular_points: tuple | None = None
     source: str = ""
+    dirichlet: ngs.CoefficientFunction | None = None   # reference cases: u_D on Gamma_u
+    neumann: ngs.CoefficientFunction | None = None     # reference cases: g on Gamma_g
+    reference_levels: int | None = None                # None: errors against the exact u
+
+    @property
+    def exact(self) -> bool:
+        """Errors are measured against the closed-form u (else against a reference solution)."""
+        return self.reference_levels is None
+
+    @property
+    def dirichlet_data(self) -> ngs.CoefficientFunction:
+        """u_D on Gamma_u: the exact u, or the reference case's data."""
+        return self.u if self.u is not None else self.dirichlet
+
+    def neumann_data(self, normal: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        """g = du/dn on Gamma_g: from the exact u, or the reference case's data."""
+        return self.grad_u * normal if self.u is not None else self.neumann
+
+    def with_reference(self, levels: int) -> "Case":
+        """This case with errors measured against a reference ``levels`` levels finer."""
+        import dataclasses
+        if levels < 1:
+            raise CaseError(f"reference levels must be a positive integer, got {levels}")
+        return dataclasses.replace(self, reference_levels=int(levels))
 
     @cached_property
     def grad_u(self) -> ngs.CoefficientFunction:
+        if self.u is None:
+            raise AttributeError(f"case {self.name!r} has no exact solution (a reference case)")
         return ngs.CF((self.u.Diff(ngs.x), self.u.Diff(ngs.y)))
 
     @cached_property
     def laplacian_u(self) -> ngs.CoefficientFunction:
+        if self.u is None:
+            raise AttributeError(f"case {self.name!r} has no exact solution (a reference case)")
         return self.u.Diff(ngs.x).Diff(ngs.x) + self.u.Diff(ngs.y).Diff(ngs.y)
 
     @cached_property
@@ -123,10 +169,47 @@ def _import_file(path: Path):
 
 
 def case_from_module(module, source: str) -> Case:
+    if hasattr(module, "u"):
+        return _exact_case(module, source)
+    return _reference_case(module, source)
+
+
+def _exact_case(module, source: str) -> Case:
     missing = [key for key in REQUIRED if not hasattr(module, key)]
     if missing:
         raise CaseError(f"case {source} lacks required attribute(s): {', '.join(missing)}")
+    given = [key for key in ("dirichlet", "neumann") if hasattr(module, key)]
+    if given:
+        raise CaseError(f"case {source} declares u and {', '.join(given)}: the harness derives the boundary "
+                        f"data from u; declare either u or the data (a reference case)")
     fields = {key: getattr(module, key) for key in REQUIRED}
+    fields["u"] = ngs.CF(fields["u"])
+    return Case(source=source, **fields, **_optional_fields(module))
+
+
+def _reference_case(module, source: str) -> Case:
+    """A case without u: f and the boundary data are required (ValueError names what lacks)."""
+    missing = [key for key in REFERENCE_REQUIRED if not hasattr(module, key)]
+    if missing:
+        raise CaseError(f"case {source} has no exact solution u, so it must declare f, dirichlet and neumann; "
+                        f"it lacks: {', '.join(missing)}")
+    fields = {key: getattr(module, key) for key in REFERENCE_REQUIRED if key not in ("f", "dirichlet", "neumann")}
+    fields |= {key: getattr(module, key, default) for key, default in REFERENCE_OPTIONAL.items()}
+    fields["nu"], fields["expected_rate"] = float(fields["nu"]), float(fields["expected_rate"])
+    fields |= {"u": None, "dirichlet": ngs.CF(module.dirichlet), "neumann": ngs.CF(module.neumann),
+               "reference_levels": _reference_levels(module, source)}
+    return Case(source=source, **fields, **_optional_fields(module))
+
+
+def _reference_levels(module, source: str) -> int:
+    levels = getattr(module, "reference_levels", DEFAULT_REFERENCE_LEVELS)
+    if not isinstance(levels, int) or levels < 1:
+        raise CaseError(f"case {source}: reference_levels must be a positive integer, got {levels!r}")
+    return levels
+
+
+def _optional_fields(module) -> dict:
+    fields = {}
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
@@ -137,8 +220,7 @@ def case_from_module(module, source: str) -> Case:
     for key in ("gap", "contact_load"):
         if fields.get(key) is not None:
             fields[key] = ngs.CF(fields[key])
-    fields["u"] = ngs.CF(fields["u"])
-    return Case(source=source, **fields)
+    return fields
 
 
 def _registered_files() -> list[Path]:
@@ -148,7 +230,7 @@ def _registered_files() -> list[Path]:
 def registered_cases() -> dict[str, Case]:
     """Every case module in cases/, by name, in order of regularity nu."""
     cases = [case_from_module(_import_file(path), str(path)) for path in _registered_files()]
-    return {case.name: case for case in sorted(cases, key=lambda c: (c.nu, c.name))}
+    return {case.name: case for case in sorted(cases, key=lambda c: (c.nu if c.nu == c.nu else float("inf"), c.name))}
 
 
 def load_case(spec: str) -> Case:

@@ -66,6 +66,8 @@ def cmd_run(args) -> int:
 
     methods = selected_methods(args)
     cases = [load_case(spec) for spec in args.case]
+    if args.reference_levels:
+        cases = [case.with_reference(args.reference_levels) for case in cases]
     out = ensure_writable(Path(args.out))
     frame = run_study(cases, methods, args.levels, show_progress=not args.quiet)
     path = write_csv(frame, out / "results.csv")
@@ -73,8 +75,19 @@ def cmd_run(args) -> int:
         with pd.option_context("display.width", 200, "display.max_columns", 30):
             print(frame[["case", "method", "level", "h", "ndof", "err_h1", "max_penetration",
                          "solver_iterations", "kkt_residual", "status"]].to_string(index=False))
+            _print_references(frame)
     print(f"wrote {path}")
-    return 0 if (frame["status"] == "converged").all() else 1
+    references_converged = frame["reference_status"].isin(["converged"]) | (frame["errors_against"] == "exact")
+    return 0 if ((frame["status"] == "converged") & references_converged).all() else 1
+
+
+def _print_references(frame: pd.DataFrame) -> None:
+    """One line per reference solve: where the errors of a case without u come from."""
+    measured = frame[frame["errors_against"] == "reference"]
+    for (case, method), group in measured.groupby(["case", "method"], sort=False):
+        first = group.iloc[0]
+        print(f"{case} {method}: errors against its solution on level {int(first.reference_level)} "
+              f"({int(first.reference_ndof)} dofs, KKT residual {first.reference_kkt_residual:.1e}, {first.reference_status})")
 
 
 def cmd_sweep(args) -> int:
@@ -263,6 +276,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a registered case name or a case file; repeat for several")
     add_method_options(p)
     p.add_argument("--levels", type=_positive_int, default=5, help="number of mesh levels (0..L-1)")
+    p.add_argument("--reference-levels", type=_positive_int, metavar="K",
+                   help="measure errors against each method's solution K levels finer than its finest "
+                        "(a case without u: default 2 or its own; a case with u: instead of u)")
     p.add_argument("--out", default="results", metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bar or table")
     p.set_defaults(func=cmd_run)

@@ -113,7 +113,7 @@ def load_vector(case, fes: ngs.H1, quadrature: ElementQuadrature) -> np.ndarray:
         for dx in quadrature.measures(LOAD_ORDER):
             load += f * v * dx
     n = ngs.specialcf.normal(2)
-    load += (case.grad_u * n) * v * ngs.ds("neumann", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
+    load += case.neumann_data(n) * v * ngs.ds("neumann", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
     if case.contact_load is not None:
         load += case.contact_load * v * ngs.ds("contact", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
     load.Assemble()
@@ -131,7 +131,7 @@ def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadratu
     quadrature = quadrature or ElementQuadrature.of(case, mesh)
 
     dirichlet = ngs.GridFunction(fes)
-    dirichlet.Set(case.u, ngs.BND, definedon=mesh.Boundaries("dirichlet"))
+    dirichlet.Set(case.dirichlet_data, ngs.BND, definedon=mesh.Boundaries("dirichlet"))
     free = np.array(fes.FreeDofs(), dtype=bool)
     lift = np.where(free, 0.0, dirichlet.vec.FV().NumPy())
 

@@ -13,6 +13,7 @@ import ngsolve as ngs
 import numpy as np
 from scipy.sparse.linalg import splu
 
+from .best import ritz_projection
 from .boundary import contact_quadrature, exact_pressure
 from .discrete import ContactTraceFunction
 from .mesh import evaluate
@@ -69,43 +70,92 @@ def max_penetration(case, mesh: ngs.Mesh, trace_u: ContactTraceFunction) -> floa
 CONTACT_ERROR_POINTS = 8
 
 
+class DiscretePressure:
+    """The discrete contact pressure lambda_h of a solution u_h on one discrete problem: the
+    Riesz representative, in the trace space W_h of X_h on Gamma_C (continuous P_k on the
+    contact edges), of the residual: int lambda_h w = a(u_h, w) - L(w) for the basis functions w
+    with a trace on Gamma_C. The exact pressure satisfies int lambda w = a(u, w) - L(w) (Green's
+    formula), so this is the same functional for every method -- the cones' multipliers,
+    Nitsche's and the penalty's contact terms all end up in it."""
+
+    def __init__(self, problem):
+        self.problem = problem
+        self.quadrature = contact_quadrature(problem, CONTACT_ERROR_POINTS)
+        q = self.quadrature
+        self.T = q.T[:, problem.contact_dofs].tocsc()
+        self._mass = splu((self.T.T @ (self.T.multiply(q.weights[:, None]))).tocsc())
+
+    def coefficients(self, u_h: np.ndarray) -> np.ndarray:
+        """lambda_h's coefficients on the dofs ``problem.contact_dofs``."""
+        return self._mass.solve(self.problem.contact_residual(u_h))
+
+    def at_points(self, coefficients: np.ndarray) -> np.ndarray:
+        return self.T @ coefficients
+
+    def max_tension(self, coefficients: np.ndarray) -> float:
+        """max over Gamma_C of -lambda_h (the exact pressure is >= 0), at the error points."""
+        return float(max(0.0, -self.at_points(coefficients).min()))
+
+
 class ContactErrors:
-    """Errors on Gamma_C of the solutions on one discrete problem.
+    """Errors on Gamma_C of the solutions on one discrete problem, against the exact u:
 
     * trace: ||u - u_h||_{L^2(Gamma_C)};
-    * pressure: the discrete pressure lambda_h is the Riesz representative, in the trace space
-      W_h of X_h on Gamma_C (continuous P_k on the contact edges), of the residual:
-      int lambda_h w = a(u_h, w) - L(w) for the basis functions w with a trace on Gamma_C. The
-      exact pressure satisfies int lambda w = a(u, w) - L(w) (Green's formula), so this is the
-      same functional for every method -- the cones' multipliers, Nitsche's and the penalty's
-      contact terms all end up in it. Against lambda = d_n u - g_C in L^2(Gamma_C) and in the
-      mesh-dependent norm ||h^{1/2} (lambda - lambda_h)||_{L^2(Gamma_C)};
-    * tension: max over Gamma_C of -lambda_h, the flux counterpart of max_penetration (the
-      exact pressure is >= 0).
+    * pressure: lambda_h (``DiscretePressure``) against lambda = d_n u - g_C in L^2(Gamma_C) and
+      in the mesh-dependent norm ||h^{1/2} (lambda - lambda_h)||_{L^2(Gamma_C)};
+    * tension: max over Gamma_C of -lambda_h, the flux counterpart of max_penetration.
     """
 
     def __init__(self, case, problem):
-        self.problem = problem
-        q = contact_quadrature(problem, CONTACT_ERROR_POINTS)
+        self.own = DiscretePressure(problem)
+        q = self.own.quadrature
         self.weights, self.h = q.weights, q.h
-        self.T = q.T[:, problem.contact_dofs].tocsc()
         self.u = evaluate(case.u, problem.mesh, q.points)
         self.pressure = exact_pressure(case, problem, q)
-        self._mass = splu((self.T.T @ (self.T.multiply(self.weights[:, None]))).tocsc())
         self._full_T = q.T
 
     def discrete_pressure(self, u_h: np.ndarray) -> np.ndarray:
         """lambda_h at the error points."""
-        return self.T @ self._mass.solve(self.problem.contact_residual(u_h))
+        return self.own.at_points(self.own.coefficients(u_h))
 
     def __call__(self, u_h: np.ndarray) -> dict:
         w = self.weights
         trace = self._full_T @ u_h - self.u
-        lam_h = self.discrete_pressure(u_h)
-        difference = self.pressure - lam_h
+        coefficients = self.own.coefficients(u_h)
+        difference = self.pressure - self.own.at_points(coefficients)
         return {
             "err_trace_l2": float(np.sqrt(w @ trace**2)),
             "err_pressure_l2": float(np.sqrt(w @ difference**2)),
             "err_pressure_h12": float(np.sqrt((w * self.h) @ difference**2)),
-            "max_tension": float(max(0.0, -lam_h.min())),
+            "max_tension": self.own.max_tension(coefficients),
         }
+
+
+class ExactErrors:
+    """The error columns of a study of a case with an exact u, level by level: the contact
+    errors after each solve, the volume norms of every solution and of the best approximation
+    R_h u (``best``) in one integration at the end of the level."""
+
+    def __init__(self, case, phases):
+        self.case, self.phases = case, phases
+
+    def begin_level(self, level: int, mesh, problems: dict, quadrature: ElementQuadrature, multilevel) -> None:
+        self.quadrature, self.pending = quadrature, []
+        self.best, self.contact = {}, {}
+        with self.phases("best"):
+            for order, problem in problems.items():
+                self.best[order] = problem.gridfunction(ritz_projection(self.case, problem, multilevel))
+                self.contact[order] = ContactErrors(self.case, problem)
+
+    def solved(self, method, level: int, problem, u: np.ndarray, row: dict | None) -> dict:
+        self.pending.append((row, method.order, problem.gridfunction(u)))
+        return self.contact[method.order](u)
+
+    def end_level(self) -> None:
+        orders = list(self.best)
+        solutions = [gfu for _, _, gfu in self.pending] + [self.best[k] for k in orders]
+        norms = error_norms(self.case, solutions, self.quadrature)
+        best = dict(zip(orders, norms[len(self.pending):]))
+        for (row, order, _), own in zip(self.pending, norms):
+            row |= own | {"err_best_h1": best[order]["err_h1"], "err_best_h1_semi": best[order]["err_h1_semi"],
+                          "err_h1_over_best": own["err_h1"] / best[order]["err_h1"]}

@@ -77,7 +77,7 @@ def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_prog
         if case not in todo:
             print(f"{case.name}: reusing results computed with the same code and settings")
     methods = methods_named(settings["methods"])
-    progress = progress_bar(len(todo) * total_solves(methods, settings["levels"]), show_progress and bool(todo))
+    progress = progress_bar(total_solves(todo, methods, settings["levels"]), show_progress and bool(todo))
     frames = []
     for case in cases:
         meta_path, csv_path, npz_path = (store / f"{case.name}.{ext}" for ext in ("json", "csv", "npz"))

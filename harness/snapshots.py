@@ -24,11 +24,15 @@ def contact_snapshot(case, problem, trace_u, pressure) -> dict:
     # the coordinate along Gamma_C's direction (x itself for a horizontal Gamma_C)
     s = (points @ direction).ravel()
     order = np.argsort(s, kind="stable")
-    exact_flux = (evaluate(case.grad_u, problem.mesh, points) * trace.normals[:, None, :]).sum(-1)
-    exact_pressure = exact_flux - evaluate(case.load_or_zero, problem.mesh, points)
+    if case.u is None:          # a reference case: nothing exact to draw
+        exact_u = exact_pressure = np.full(points.shape[:-1], np.nan)
+    else:
+        exact_u = evaluate(case.u, problem.mesh, points)
+        exact_flux = (evaluate(case.grad_u, problem.mesh, points) * trace.normals[:, None, :]).sum(-1)
+        exact_pressure = exact_flux - evaluate(case.load_or_zero, problem.mesh, points)
     edge_s = trace.midpoints @ direction
     edge_order = np.argsort(edge_s)
-    along = {"s": s, "u_h": trace_u.at(t), "u": evaluate(case.u, problem.mesh, points),
+    along = {"s": s, "u_h": trace_u.at(t), "u": exact_u,
              "gap": evaluate(case.gap_or_zero, problem.mesh, points), "exact_pressure": exact_pressure}
     return {
         **{key: np.ravel(value)[order] for key, value in along.items()},

@@ -6,6 +6,9 @@ which is what makes u the solution of the variational inequality (2.5) with the 
 harness derives from it. They are sampled densely on the coarse contact trace. A declared
 volume load f must equal -Laplace(u) (sampled inside every coarse element), and declared
 singular points must be vertices of the mesh.
+
+A reference case (no u) cannot be checked against (2.4); its data must be finite where they
+act: f inside the coarse elements, u_D, g, gap and contact load on their boundaries.
 """
 from __future__ import annotations
 
@@ -57,6 +60,27 @@ def check_declared_f(case, mesh) -> None:
                         f"{declared[k]:.6e} against {derived[k]:.6e}")
 
 
+def boundary_samples(mesh, label: str) -> np.ndarray:
+    """Points strictly inside the coarse boundary edges labelled ``label``."""
+    t = (np.arange(SAMPLES_PER_EDGE) + 0.5) / SAMPLES_PER_EDGE
+    ends = [[mesh[v].point for v in el.vertices] for el in mesh.Elements(ngs.BND) if el.mat == label]
+    ends = np.array(ends, dtype=float)
+    return (ends[:, :1, :] + t[None, :, None] * (ends[:, 1:, :] - ends[:, :1, :])).reshape(-1, 2)
+
+
+def check_reference_data(case, mesh) -> None:
+    """The data of a reference case are finite where they act."""
+    data = [("f", case.f, interior_samples(mesh)), ("dirichlet", case.dirichlet, boundary_samples(mesh, "dirichlet")),
+            ("neumann", case.neumann, boundary_samples(mesh, "neumann"))]
+    data += [(name, cf, boundary_samples(mesh, "contact")) for name, cf in (("gap", case.gap), ("contact_load", case.contact_load))
+             if cf is not None]
+    for name, cf, points in data:
+        values = evaluate(cf, mesh, points)
+        if not np.all(np.isfinite(values)):
+            bad = points[~np.isfinite(values)][0]
+            raise CaseError(f"case {case.name!r}: {name} is not finite at ({bad[0]:.4g}, {bad[1]:.4g})")
+
+
 def validate_case(case) -> None:
     mesh = coarse_mesh(case)
     missing = [label for label in LABELS if label not in boundary_labels(mesh)]
@@ -66,6 +90,9 @@ def validate_case(case) -> None:
         vertices_at(mesh, case.singular_points or ())
     except ValueError as exc:
         raise CaseError(f"case {case.name!r}: singular point {exc}") from None
+    if case.u is None:
+        check_reference_data(case, mesh)
+        return
     check_declared_f(case, mesh)
     points, excess, flux = contact_samples(case, mesh)
     if not (np.all(np.isfinite(excess)) and np.all(np.isfinite(flux))):
