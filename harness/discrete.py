@@ -15,14 +15,16 @@ import numpy as np
 import scipy.sparse as sp
 
 from .mesh import ContactTrace, contact_trace
-from .quadrature import ElementQuadrature
+from .quadrature import ElementQuadrature, singular_vertices
 
 # Gauss order of the volume load f v away from singular points (the graded rule near them):
 # see LOAD_ORDER_NOTE in tests/test_errors.py for the measurement that chose it.
 LOAD_ORDER = 4
-# Extra order for the boundary loads (g on Gamma_g, g_C on Gamma_C): O(h^-1) edges, cheap, and
-# g may be singular at a junction.
+# Extra order for the Neumann load g on Gamma_g: O(h^-1) edges, cheap, and g may be singular at
+# a junction.
 BOUNDARY_LOAD_BONUS_ORDER = 6
+# Gauss points per contact edge for the contact load g_C (graded at singular points)
+CONTACT_LOAD_POINTS = 8
 
 
 @dataclass
@@ -114,8 +116,6 @@ def load_vector(case, fes: ngs.H1, quadrature: ElementQuadrature) -> np.ndarray:
             load += f * v * dx
     n = ngs.specialcf.normal(2)
     load += case.neumann_data(n) * v * ngs.ds("neumann", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
-    if case.contact_load is not None:
-        load += case.contact_load * v * ngs.ds("contact", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
     load.Assemble()
     return load.vec.FV().NumPy().copy()
 
@@ -149,7 +149,19 @@ def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadratu
         quadrature=quadrature,
     )
     problem.contact_rows = problem.A[problem.contact_dofs].copy()
+    if case.contact_load is not None:
+        problem.b += contact_load_vector(case, problem)
     return problem
+
+
+def contact_load_vector(case, problem: DiscreteProblem) -> np.ndarray:
+    """int_{Gamma_C} g_C v for every basis function v. g_C is the flux of u up to the pressure,
+    so it is as singular as du/dn where u is (r^{-1/2} in corner-r12, r^{-1/4} with infinitely
+    many oscillations in oscillating-r34, where a Gauss rule on the first edge errs by O(1)):
+    the rule is graded on the edges at singular points, as for the best approximation's flux."""
+    from .boundary import contact_quadrature, at_points
+    quadrature = contact_quadrature(problem, CONTACT_LOAD_POINTS, graded_at=singular_vertices(case, problem.mesh))
+    return quadrature.T.T @ (quadrature.weights * at_points(case.contact_load, problem.mesh, quadrature))
 
 
 @dataclass(frozen=True)

@@ -129,11 +129,12 @@ def _linear_residual(system, u: np.ndarray, rhs: np.ndarray) -> float:
 
 
 def _load_scale(system) -> float:
-    """max |b - A u_D| on the free dofs: the scale of the residual (as for the cones' KKT)."""
+    """max |b - A u_D| on the free dofs, or the force holding Gamma_C at the obstacle if larger:
+    the scale of the residual (as for the cones' KKT)."""
     problem = system.problem
     lift = np.where(problem.free, 0.0, problem.lift)
     Au = system.J @ lift - system.delta @ lift
-    return max(np.abs((problem.b - Au)[problem.free]).max(initial=0.0), np.finfo(float).tiny)
+    return max(np.abs((problem.b - Au)[problem.free]).max(initial=0.0), system.obstacle_force, np.finfo(float).tiny)
 
 
 def _damped(system, u: np.ndarray, full: np.ndarray, current: float) -> np.ndarray:

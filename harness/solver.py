@@ -224,7 +224,12 @@ class ActiveSetSolver:
         self.tol, self.max_iterations = tol, max_iterations
         if not self.free[self.C].all():
             raise ValueError("a constrained dof lies on the Dirichlet boundary")
-        self.load_scale = max(np.abs((self.b - self.K @ self.lift)[self.free]).max(initial=0.0), np.finfo(float).tiny)
+        # the scale of the forces: the loads, and the force that holds the constrained dofs at
+        # the obstacle (the only one in a problem driven by its gap alone)
+        pins = np.zeros(len(self.b))
+        pins[self.C] = self.alpha
+        self.load_scale = max(np.abs((self.b - self.K @ self.lift)[self.free]).max(initial=0.0),
+                              np.abs((self.K @ pins)[self.free]).max(initial=0.0), np.finfo(float).tiny)
         if system is None:
             system = FactorisedSystem(self.K, ngsolve_matrix(self.K) if K_ngs is None else K_ngs, self.b)
         self.system = system

@@ -57,6 +57,7 @@ from scipy.spatial import cKDTree
 
 from .boundary import ContactQuadrature, at_points, contact_quadrature
 from .discrete import DiscreteProblem, csr_view
+from .mesh import evaluate
 from .models import csr_positions
 
 
@@ -77,6 +78,7 @@ class WeakContactSystem:
     J_ngs: object
     delta: sp.csr_matrix        # J - A: the boundary terms, on their own (sorted) pattern
     positions: np.ndarray       # where delta's entries sit in J.data
+    obstacle_force: float = 0.0 # max |A w| over the free dofs, w = alpha at the Gamma_C vertices
 
     @property
     def symmetric(self) -> bool:
@@ -159,8 +161,13 @@ def weak_contact_system(case, problem: DiscreteProblem, gamma0: float, theta: fl
         J = csr_view(J_ngs)
     coo = delta.tocoo()
     positions = csr_positions(J, coo.row.astype(np.int64), coo.col.astype(np.int64))
+    # the force that holds Gamma_C at the obstacle: a scale of F beside the loads (``newton``)
+    obstacle = np.zeros(problem.ndof)
+    if case.gap is not None:
+        obstacle[problem.vertex_dofs] = evaluate(case.gap, problem.mesh, problem.trace.vertex_points)
+    obstacle_force = float(np.abs((J @ obstacle)[problem.free]).max(initial=0.0))
     system = WeakContactSystem(problem, quadrature, eps, theta, flux, alpha - flux * eps * load, B1, Btheta, rhs,
-                               J, J_ngs, delta, positions)
+                               J, J_ngs, delta, positions, obstacle_force)
     system.set_jacobian(np.zeros(len(eps), bool))
     return system
 
