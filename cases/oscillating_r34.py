@@ -56,6 +56,7 @@ theorem = "Remark 4.3 (belief; 4.2 i, 5.2 i need finitely many transitions)"
 A_EXPONENT, BETA = 0.75, 3.0
 nu = 1.0 + A_EXPONENT
 expected_rate = nu - 1.0
+conjectured = True
 
 geometry = contact_strip(breaks=[0.0])
 maxh = 0.25

@@ -17,6 +17,8 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            (nu, expected_rate and theorem are optional for a reference case:
                            without them the report gives the measured rate only)
     regime                 optional, the regularity regime in words
+    conjectured            optional, True when expected_rate is a belief, not a theorem (Remark
+                           4.3): the report states whether the data support it or show a loss
     gap                    optional CoefficientFunction alpha: the constraint is u - alpha >= 0
     contact_load           optional CoefficientFunction g_C: du/dn - g_C >= 0 on Gamma_C
     f                      optional volume load, -Laplace(u) in closed form (0 for a harmonic
@@ -83,6 +85,7 @@ class Case:
     dirichlet: ngs.CoefficientFunction | None = None   # reference cases: u_D on Gamma_u
     neumann: ngs.CoefficientFunction | None = None     # reference cases: g on Gamma_g
     reference_levels: int | None = None                # None: errors against the exact u
+    conjectured: bool = False                          # expected_rate is a belief, not a theorem
 
     @property
     def exact(self) -> bool:
@@ -210,7 +213,7 @@ def _reference_levels(module, source: str) -> int:
 
 def _optional_fields(module) -> dict:
     fields = {}
-    for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points"):
+    for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):

@@ -106,7 +106,8 @@ def rate_table(results: pd.DataFrame, error: str = "err_h1", levels: int = DEFAU
         if "fitted_rate_best" in row:
             row["best_expected_rate"] = best_approximation_rate(float(first.nu), int(first.order))
             gap = row["fitted_rate_best"] - row["best_expected_rate"]
-            row["best_verdict"] = "consistent" if abs(gap) <= tolerance else ("faster than nu" if gap > 0 else "slower than nu")
+            row["best_verdict"] = ("" if not np.isfinite(gap) else  # no best approximation (reference case) or no nu
+                                   "consistent" if abs(gap) <= tolerance else ("faster than nu" if gap > 0 else "slower than nu"))
             row["pairwise_rates_best"] = " ".join(f"{r:.3f}" for r in pairwise_rates(group.h, group.err_best_h1))
         rows.append(row)
     return pd.DataFrame(rows, columns=RATE_COLUMNS)

@@ -23,7 +23,7 @@ from .case import Case, bound_text, fraction, registered_cases
 from .document import Document
 from .efficiency import efficiency_table, verdicts
 from .methods import methods_named
-from .rates import normalised_errors, pairwise_rates, rate_table
+from .rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from .results import ensure_writable, write_atomic, write_csv
 from .snapshots import SnapshotCollector, load_snapshots
 from .study import PROFILES, progress_bar, run_study, total_solves
@@ -186,6 +186,8 @@ def regularity_view(rates: pd.DataFrame, results: pd.DataFrame) -> pd.DataFrame:
     rows = []
     for (case, order), group in rates.groupby(["case", "order"], sort=False):
         first = group.iloc[0]
+        if not np.isfinite(first.get("fitted_rate_best", np.nan)):
+            continue            # no best approximation: a case measured against a reference
         finest = results[(results.case == case) & (results.order == order)]
         finest = finest[finest.level == finest.level.max()]
         rows.append({
@@ -248,6 +250,46 @@ def which_bound(case, rates: pd.DataFrame, results: pd.DataFrame) -> str:
         verdict_text = "neither has levelled off (both fall by more than 2%)."
     return text + (f" Over the last level, nodal's e/({paper}) falls by {drop(with_log):.1%} and e/h by "
                    f"{drop(plain):.1%}: " + verdict_text)
+
+
+def reference_sentence(case, results: pd.DataFrame) -> str:
+    """For a case measured against references: against what, how fine, how exactly solved."""
+    rows = results[(results.case == case.name) & (results.get("errors_against", "exact") == "reference")]
+    if rows.empty:
+        return ""
+    firsts = rows.groupby("method", sort=False).first()
+    levels = sorted({int(v) for v in firsts.reference_level})
+    return (f"No closed-form solution: every error is measured against the method's own solution "
+            f"{case.reference_levels} levels finer than its finest studied level (level {', '.join(map(str, levels))}, "
+            f"{int(firsts.reference_ndof.max()):,} dofs; KKT / Newton residual of the reference solves at most "
+            f"{firsts.reference_kkt_residual.max():.1e}). On nested meshes u_h is exactly a function of the "
+            f"reference space, so the errors are exact norms of u_R − u_h; they miss |u − u_R|, which "
+            f"for an error like h^p lowers the finest studied level's error by the factor √(1 − 4^(−p·k)) "
+            f"(k = {case.reference_levels}: {np.sqrt(1 - 4.0 ** (-1.0 * case.reference_levels)):.3f} for p = 1). "
+            f"No best approximation (it would need u).")
+
+
+def belief_finding(case, rates: pd.DataFrame) -> str:
+    """What the data say about a conjectured rate (``Case.conjectured``): supported or a loss."""
+    r = rates[rates.case == case.name]
+    belief = bound_text(case.expected_rate, case.expected_log_exponent)
+    parts = [f"{m} {p:.3f} (pairwise {pw})" for m, p, pw in zip(r.method, r.fitted_rate, r.pairwise_rates)
+             if np.isfinite(case.expected_rate)]
+    cones = r[r.method.isin(["mean", "nodal"])]
+    if cones.empty:
+        return f"The expected rate {belief} is a belief, not a theorem (Theorem {case.theorem}). Measured: " + "; ".join(parts) + "."
+    low = cones.fitted_rate.min()
+    if low >= case.expected_rate - TOLERANCE:
+        finding = (f"The data support the authors' belief: both P2 models converge at {belief} "
+                   f"(within ±{TOLERANCE}) although Γ_C has infinitely many transition points.")
+    else:
+        finding = (f"The data show a loss against the authors' belief {belief}: the P2 models' fitted rate is "
+                   f"{low:.3f}, {case.expected_rate - low:.3f} below it.")
+    best = cones.fitted_rate_best.iloc[0] if "fitted_rate_best" in cones else np.nan
+    best_text = f" The best approximation converges at {best:.3f} (ν − 1 = {case.nu - 1:.3g}: the regularity is as derived)." \
+        if np.isfinite(best) else ""
+    return (f"Remark 4.3's question. {finding} Fitted rates (pairwise rates level by level): " + "; ".join(parts) + "."
+            + best_text)
 
 
 def normalised_view(case, results: pd.DataFrame) -> pd.DataFrame:
@@ -376,9 +418,16 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
             doc.table(sweep_view(frame))
     for case in cases:
         doc.heading(f"{case.name}: P2 Theorem {case.theorem}")
-        doc.paragraph(f"{case.description}. Regime {case.regime or '-'}, ν = {fraction(case.nu)}; "
-                      f"the paper bounds the P2 H¹ error by C {case.expected_bound}.")
+        doc.paragraph(f"{case.description}. Regime {case.regime or '-'}, "
+                      + (f"ν = {fraction(case.nu)}; " if np.isfinite(case.nu) else "ν not declared; ")
+                      + (f"the authors believe (no theorem) the P2 H¹ error behaves like {case.expected_bound}."
+                         if case.conjectured else f"the paper bounds the P2 H¹ error by C {case.expected_bound}."))
+        against = reference_sentence(case, results)
+        if against:
+            doc.paragraph(against)
         doc.table(summary_table(rates[rates.case == case.name]), verdict_column="verdict")
+        if case.conjectured:
+            doc.paragraph(belief_finding(case, rates))
         sentences = which_bound(case, rates, results)
         if sentences:
             doc.paragraph(sentences)
