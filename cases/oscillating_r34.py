@@ -27,9 +27,9 @@ of the problem without gap and load with infinitely many transitions has no clos
 
 Regularity. |D^m u| ~ |gamma|^m r^{a-m}, and the oscillation e^{i beta log r} does not change
 the modulus, so as for r^a sin(a theta): u in H^s near 0 iff int r^{2(a-s)} r dr < infinity,
-s < 1 + a. nu = 1 + a = 7/4, 3/2 < nu < 2. The even reflection makes the sides no corners
-(u even in x about x = 0 only; at x = +-1 u is smooth, and g = du/dn is derived), so 0 is the
-only singular point; it is a polygon corner.
+s < 1 + a. nu = 1 + a = 7/4, 3/2 < nu < 2. Away from 0, u is analytic, and the data at the
+corners of Omega are derived from u, so they create no singularity: 0 is the only singular
+point; it is a polygon corner.
 
 What an off-vertex transition changes. The cases with finitely many transitions put each at a
 polygon corner, so every mesh has a vertex there. Here only the accumulation point 0 can be a

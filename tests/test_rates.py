@@ -11,6 +11,7 @@ from harness.rates import fit_rate, normalised_errors, pairwise_rates, rate_tabl
 # Levels 0..5: the finest has about 1.2e5 to 1.4e5 dofs, in the asymptotic range of every case.
 RATE_LEVELS = 6
 CASES = registered_cases()
+EXACT_CASES = [name for name, case in CASES.items() if case.exact]   # those with a best approximation
 
 
 @pytest.fixture(scope="module")
@@ -73,7 +74,7 @@ def test_fit_recovers_a_known_rate_and_log_exponent():
 
 
 @pytest.mark.parametrize("order, method", [(2, "nodal"), (1, "p1")])
-@pytest.mark.parametrize("case_name", list(CASES))
+@pytest.mark.parametrize("case_name", EXACT_CASES)
 def test_best_approximation_rate_measures_the_declared_regularity(rates, case_name, order, method):
     """The Ritz projection, no contact involved, converges at min(nu - 1, order): the case has the
     regularity it declares. borderline-h2 (its docstring: best approximation ~ h |log h|^{1/2 - beta},
@@ -99,7 +100,8 @@ def test_no_case_falls_below_the_drouet_hild_bound(rates, method):
 def test_no_method_beats_the_best_approximation_in_the_h1_seminorm(study):
     """R_h u minimises |u - v_h|_1 over X_h with the Dirichlet lift: no method's u_h does better
     (up to the error integration's accuracy)."""
-    assert (study.err_h1_semi >= study.err_best_h1_semi * (1 - 1e-6)).all()
+    exact = study[study.errors_against == "exact"]
+    assert (exact.err_h1_semi >= exact.err_best_h1_semi * (1 - 1e-6)).all()
 
 
 @pytest.mark.parametrize("method", METHOD_NAMES)
@@ -110,3 +112,19 @@ def test_errors_on_gamma_c_converge(rates, case_name, method):
     method, also where lambda is not in L^2(Gamma_C) (corner-r12, lambda ~ r^{-1/2})."""
     row = rates.loc[(case_name, method)]
     assert row.fitted_rate_trace > 0.9 and row.fitted_rate_pressure_h12 > 0.4, (row.fitted_rate_trace, row.fitted_rate_pressure_h12)
+
+
+# Measured on oscillating-r34 (6 P2 levels, P1 7), fitted over the last three levels.
+REMARK_43_MEASURED = {"mean": 0.736, "nodal": 0.743, "p1": 0.705}
+
+
+@pytest.mark.parametrize("method, measured", REMARK_43_MEASURED.items())
+def test_infinitely_many_transitions_cost_no_rate(rates, method, measured):
+    """Remark 4.3: with infinitely many transition points (oscillating-r34, nu = 7/4) the paper
+    proves nothing; the authors believe the rate stays h^{nu - 1} = h^{3/4}. Measured: both P2
+    models converge at 0.74 (P1 0.70), like the best approximation (0.73; P1 0.70)
+    and with err / best about 1: the data support the belief, no loss of rate. Pinned at the
+    measured value +-0.1, so that a change of the harness that moves it is noticed."""
+    row = rates.loc[("oscillating-r34", method)]
+    assert row.fitted_rate == pytest.approx(measured, abs=0.1), row.pairwise_rates
+    assert abs(row.fitted_rate - row.fitted_rate_best) <= 0.05

@@ -99,3 +99,14 @@ def test_report_has_both_verdicts_the_regularity_check_and_the_gamma_c_errors(re
     rates = pd.read_csv(root / "results" / "rates.csv")
     cones = rates[rates.method.isin(["mean", "nodal", "p1"])]
     assert cones.sharper_verdict.notna().all() and rates.fitted_rate_best.notna().all()
+
+
+def test_report_states_reference_and_remark_43_findings(tmp_path):
+    """A reference case says what its errors are measured against; the Remark 4.3 case says
+    whether the data support the belief (cones only, 3 levels: the wording, not the finding)."""
+    html = make_report("default", tmp_path / "results", tmp_path / "report", ["oscillating-r34", "smooth-obstacle"],
+                       show_progress=False, levels=3, methods=("paper", "p1"))
+    text = html.read_text()
+    assert "No closed-form solution: every error is measured against the method" in text and "2 levels finer" in text
+    assert "Remark 4.3" in text and "question. The data " in text and "the authors believe (no theorem)" in text
+    assert (tmp_path / "report" / "figures" / "smooth-obstacle_contact.png").stat().st_size > 1000
