@@ -260,8 +260,8 @@ def reference_sentence(case, results: pd.DataFrame) -> str:
     firsts = rows.groupby("method", sort=False).first()
     levels = sorted({int(v) for v in firsts.reference_level})
     return (f"No closed-form solution: every error is measured against the method's own solution "
-            f"{case.reference_levels} levels finer than its finest studied level (level {', '.join(map(str, levels))}, "
-            f"{int(firsts.reference_ndof.max()):,} dofs; KKT / Newton residual of the reference solves at most "
+            f"{case.reference_levels} levels finer than its finest studied level (level {' and '.join(map(str, levels))}, "
+            f"up to {int(firsts.reference_ndof.max()):,} dofs; KKT / Newton residual of the reference solves at most "
             f"{firsts.reference_kkt_residual.max():.1e}). On nested meshes u_h is exactly a function of the "
             f"reference space, so the errors are exact norms of u_R − u_h; they miss |u − u_R|, which "
             f"for an error like h^p lowers the finest studied level's error by the factor √(1 − 4^(−p·k)) "
