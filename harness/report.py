@@ -417,7 +417,7 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
                         wide=True)
             doc.table(sweep_view(frame))
     for case in cases:
-        doc.heading(f"{case.name}: P2 Theorem {case.theorem}")
+        doc.heading(f"{case.name}: P2 " + (case.theorem if case.conjectured else f"Theorem {case.theorem}"))
         doc.paragraph(f"{case.description}. Regime {case.regime or '-'}, "
                       + (f"ν = {fraction(case.nu)}; " if np.isfinite(case.nu) else "ν not declared; ")
                       + (f"the authors believe (no theorem) the P2 H¹ error behaves like {case.expected_bound}."
@@ -428,7 +428,7 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         doc.table(summary_table(rates[rates.case == case.name]), verdict_column="verdict")
         if case.conjectured:
             doc.paragraph(belief_finding(case, rates))
-        sentences = which_bound(case, rates, results)
+        sentences = "" if case.conjectured else which_bound(case, rates, results)   # no bound to follow
         if sentences:
             doc.paragraph(sentences)
         if case.expected_log_exponent:
