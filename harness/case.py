@@ -44,6 +44,7 @@ for an exact case measures against a reference instead of u (which checks the re
 """
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import sys
 from dataclasses import dataclass
@@ -103,7 +104,6 @@ class Case:
 
     def with_reference(self, levels: int) -> "Case":
         """This case with errors measured against a reference ``levels`` levels finer."""
-        import dataclasses
         if levels < 1:
             raise CaseError(f"reference levels must be a positive integer, got {levels}")
         return dataclasses.replace(self, reference_levels=int(levels))

@@ -129,10 +129,12 @@ class ReferenceErrors:
     level is solved. ``total_levels``: how many levels the study must run.
     """
 
-    def __init__(self, levels_of: dict[str, int], reference_levels: int):
+    def __init__(self, levels_of: dict[str, int], orders: dict[str, int], reference_levels: int):
         self.k = reference_levels
         self.studied = dict(levels_of)
         self.reference_level = {name: n + reference_levels - 1 for name, n in levels_of.items()}
+        # the norm matrices of an order are needed only where a method of that order has its reference
+        self.reference_orders = {(self.reference_level[name], order) for name, order in orders.items()}
         self.numbering: list[LevelNumbering] = []
         self.prolongations: dict[int, list[sp.csr_matrix]] = {1: [], 2: []}
         self.kept = defaultdict(list)             # method -> [(u_h, lambda_h coefficients as X_h vector)]
@@ -157,7 +159,7 @@ class ReferenceErrors:
         self.pressure = {order: DiscretePressure(problem) for order, problem in problems.items()}
         self.norms = {}
         for order, problem in problems.items():
-            if any(level == r for r in self.reference_level.values()):
+            if (level, order) in self.reference_orders:
                 quadrature = contact_quadrature(problem, CONTACT_ERROR_POINTS)
                 weighted = quadrature.T.multiply(quadrature.weights[:, None])
                 self.norms[order] = norm_matrices(mesh, order) + (
