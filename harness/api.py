@@ -10,7 +10,7 @@ import pandas as pd
 
 from .case import Case, fraction, load_case, registered_cases
 from .methods import METHODS, methods_named
-from .study import run_study
+from .execution import run_study
 
 
 def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_level=None,

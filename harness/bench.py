@@ -253,7 +253,8 @@ def _measure_study(methods: str, connection):
     where the rest goes."""
     from .case import registered_cases
     from .methods import methods_named
-    from .study import PROFILES, run_study
+    from .execution import run_study
+    from .study import PROFILES
 
     frame = run_study(list(registered_cases().values()), methods_named(methods), PROFILES["default"]["levels"],
                       show_progress=False)

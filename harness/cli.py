@@ -29,9 +29,9 @@ def _positive_int(text: str) -> int:
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"level count must be a positive integer, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}")
     if value < 1:
-        raise argparse.ArgumentTypeError(f"level count must be a positive integer, got {value}")
+        raise argparse.ArgumentTypeError(f"must be a positive integer, got {value}")
     return value
 
 
@@ -59,19 +59,41 @@ def selected_methods(args) -> list:
     return methods_named(names or ["all"])
 
 
+def engine_of(args):
+    """Where the jobs run: --workers N (a LocalCluster), --scheduler ADDRESS, or this process."""
+    from .execution import DaskEngine, InProcess
+    if args.workers or args.scheduler:
+        return DaskEngine(workers=args.workers, scheduler=args.scheduler, threads=args.threads)
+    return InProcess(threads=args.threads)
+
+
 def cmd_run(args) -> int:
     from .case import load_case
+    from .execution import run_study
+    from .execution.checkpoint import CheckpointStore
+    from .execution.engines import plan
     from .results import ensure_writable, write_csv
-    from .study import run_study
 
     methods = selected_methods(args)
     cases = [load_case(spec) for spec in args.case]
     if args.reference_levels:
         cases = [case.with_reference(args.reference_levels) for case in cases]
-    out = ensure_writable(Path(args.out))
-    frame = run_study(cases, methods, args.levels, show_progress=not args.quiet)
+    engine = engine_of(args)
+    try:
+        # refused before the output folder is touched or a worker started
+        plan(cases, methods, args.levels, engine, check_memory=not args.skip_memory_check)
+        out = ensure_writable(Path(args.out))
+        checkpoints = out / ".checkpoints"
+        frame = run_study(cases, methods, args.levels, show_progress=not args.quiet, engine=engine,
+                          checkpoints=checkpoints, check_memory=False)
+    finally:
+        engine.close()
     path = write_csv(frame, out / "results.csv")
+    CheckpointStore(checkpoints, args.levels).forget()
     if not args.quiet:
+        for (case, method), level in frame.attrs["resumed"].items():
+            if level:
+                print(f"{case} {method}: resumed after level {level - 1} from {checkpoints}")
         with pd.option_context("display.width", 200, "display.max_columns", 30):
             print(frame[["case", "method", "level", "h", "ndof", "err_h1", "max_penetration",
                          "solver_iterations", "kkt_residual", "status"]].to_string(index=False))
@@ -205,8 +227,13 @@ def cmd_rates(args) -> int:
 
 def cmd_report(args) -> int:
     from .report import make_report
-    path = make_report(args.profile, Path(args.results), Path(args.report), args.case,
-                       show_progress=not args.quiet, levels=args.levels, methods=selected_methods(args))
+    engine = engine_of(args)
+    try:
+        path = make_report(args.profile, Path(args.results), Path(args.report), args.case,
+                           show_progress=not args.quiet, levels=args.levels, methods=selected_methods(args),
+                           engine=engine, check_memory=not args.skip_memory_check)
+    finally:
+        engine.close()
     print(f"wrote {path}")
     return 0
 
@@ -261,6 +288,19 @@ def add_method_options(p) -> None:
                    help="the paper's models, as before the method axis ('all' = paper)")
 
 
+def add_engine_options(p) -> None:
+    group = p.add_mutually_exclusive_group()
+    group.add_argument("--workers", type=_positive_int, metavar="N",
+                       help="run the jobs (one per case and method) on a local Dask cluster of N worker processes")
+    group.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run the jobs on an existing Dask cluster, e.g. tcp://10.0.0.1:8786 (see README)")
+    p.add_argument("--threads", type=_positive_int, metavar="T",
+                   help="NGSolve and BLAS threads per process (default: all cores in this process; cores / N "
+                        "with --workers; 1 with --scheduler); with 1, results are reproducible bit for bit")
+    p.add_argument("--skip-memory-check", action="store_true",
+                   help="run even if the estimated peak memory exceeds the machine's (or a worker's)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="python -m harness", description=__doc__.splitlines()[0])
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -281,6 +321,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "(a case without u: default 2 or its own; a case with u: instead of u)")
     p.add_argument("--out", default="results", metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bar or table")
+    add_engine_options(p)
     p.set_defaults(func=cmd_run)
 
     from .sweep import SWEEP_VALUES
@@ -312,6 +353,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--results", default="results", metavar="DIR")
     p.add_argument("--report", default="report", metavar="DIR")
     p.add_argument("--quiet", action="store_true")
+    add_engine_options(p)
     p.set_defaults(func=cmd_report)
 
     p = sub.add_parser("bench", help="contact solve vs one linear solve, textbook PDAS and Clarabel")

@@ -149,13 +149,18 @@ class ReferenceErrors:
     def is_studied(self, method_name: str, level: int) -> bool:
         return level < self.studied[method_name]
 
-    def begin_level(self, level: int, mesh: ngs.Mesh, problems: dict, quadrature=None, multilevel=None) -> None:
-        """Number the new level, prolongations from the previous one, norms where a reference lies."""
+    def skip_level(self, level: int, mesh: ngs.Mesh) -> None:
+        """A level no method solves (a resumed study's finished levels): its numbering and
+        prolongations still carry the kept solutions up to the reference."""
         numbering = LevelNumbering.of(mesh)
         if self.numbering:
             for order in self.prolongations:
                 self.prolongations[order].append(prolongation(self.numbering[-1], numbering, order))
         self.numbering.append(numbering)
+
+    def begin_level(self, level: int, mesh: ngs.Mesh, problems: dict, quadrature=None, multilevel=None) -> None:
+        """Number the new level, prolongations from the previous one, norms where a reference lies."""
+        self.skip_level(level, mesh)
         self.pressure = {order: DiscretePressure(problem) for order, problem in problems.items()}
         self.norms = {}
         for order, problem in problems.items():
@@ -182,6 +187,18 @@ class ReferenceErrors:
 
     def end_level(self) -> None:
         """Nothing waits for the end of a level: errors come with the reference solves."""
+
+    def state_of(self, method_name: str) -> list:
+        """What a method's chain must keep to be resumed (``study.ChainState``): its studied
+        (u_h, lambda_h) that wait for the reference."""
+        return list(self.kept.get(method_name, []))
+
+    def restore(self, method_name: str, state: list, rows: list[dict]) -> None:
+        """A resumed chain: the kept solutions and the rows they belong to (the studied rows,
+        while the reference has not been solved)."""
+        if state:
+            self.kept[method_name] = list(state)
+            self.rows[method_name] = [row for row in rows if row["level"] < self.studied[method_name]]
 
     def _lift(self, vector: np.ndarray, order: int, start: int, stop: int) -> np.ndarray:
         for P in self.prolongations[order][start:stop]:

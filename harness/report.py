@@ -25,8 +25,11 @@ from .efficiency import efficiency_table, verdicts
 from .methods import methods_named
 from .rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from .results import ensure_writable, write_atomic, write_csv
-from .snapshots import SnapshotCollector, load_snapshots
-from .study import PROFILES, progress_bar, run_study, total_solves
+from .execution import run_jobs
+from .execution.checkpoint import CheckpointStore, code_digest
+from .execution.engines import study_progress, tidy
+from .snapshots import SnapshotHook, load_snapshots, save_snapshots
+from .study import PROFILES
 
 PACKAGE = Path(__file__).resolve().parent
 REPOSITORY = PACKAGE.parent
@@ -54,9 +57,7 @@ def provenance(settings: dict) -> dict:
 
 def cache_key(case: Case, settings: dict) -> str:
     """Hash of the harness source, the case file and the settings."""
-    digest = hashlib.sha256()
-    for path in sorted(PACKAGE.rglob("*.py")):
-        digest.update(path.read_bytes())
+    digest = hashlib.sha256(code_digest().encode())
     digest.update(Path(case.source).read_bytes())
     digest.update(json.dumps(settings, sort_keys=True).encode())
     digest.update(ngs.__version__.encode())
@@ -69,7 +70,12 @@ def _stored(store: Path, case: Case, key: str) -> bool:
         json.loads(meta_path.read_text()).get("cache_key") == key
 
 
-def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_progress: bool = True) -> pd.DataFrame:
+def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_progress: bool = True,
+                 engine=None, check_memory: bool = True) -> pd.DataFrame:
+    """The study's rows, case by case: reused from ``results_dir/cases`` where the code, the case
+    and the settings are unchanged, else run (on ``engine``) and stored there as soon as the
+    last job of the case is done. Every finished level is checkpointed under
+    ``cases/.checkpoints``: a report killed at any moment continues where it stopped."""
     store = ensure_writable(results_dir / "cases")
     keys = {case.name: cache_key(case, settings) for case in cases}
     todo = [case for case in cases if not _stored(store, case, keys[case.name])]
@@ -77,26 +83,36 @@ def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_prog
         if case not in todo:
             print(f"{case.name}: reusing results computed with the same code and settings")
     methods = methods_named(settings["methods"])
-    progress = progress_bar(total_solves(todo, methods, settings["levels"]), show_progress and bool(todo))
-    frames = []
-    for case in cases:
-        meta_path, csv_path, npz_path = (store / f"{case.name}.{ext}" for ext in ("json", "csv", "npz"))
-        if case not in todo:
-            frames.append(pd.read_csv(csv_path))
-            continue
-        collector = SnapshotCollector(settings["levels"], methods)
-        frame = run_study([case], methods, settings["levels"], on_level=collector, progress=progress)
-        write_csv(frame, csv_path)
-        collector.save(case.name, npz_path)
-        meta = provenance(settings) | {"cache_key": keys[case.name], "case": case.name,
-                                       "wall_seconds": frame.attrs["wall_seconds"]}
-        write_atomic(meta_path, json.dumps(meta, indent=2))
-        frames.append(frame)
-    progress.close()
-    return pd.concat(frames, ignore_index=True)
+    levels = settings["levels"]
+    progress = study_progress(todo, methods, levels, show_progress and bool(todo))
+    checkpoints = store / ".checkpoints"
+    hook = SnapshotHook(levels, methods)
+    outputs = {case.name: [] for case in todo}
+    remaining = {case.name: len(methods) for case in todo}
+    start = time.perf_counter()
+    try:
+        for (case, job_methods), output in run_jobs(todo, methods, levels, engine, progress, hook, checkpoints, check_memory):
+            outputs[case.name].append(output)
+            remaining[case.name] -= len(job_methods)
+            if remaining[case.name] == 0:
+                _store_case(store, case, outputs[case.name], methods, settings, keys[case.name], time.perf_counter() - start)
+                CheckpointStore(checkpoints, levels).forget(case)
+    finally:
+        progress.close()
+    return pd.concat([pd.read_csv(store / f"{case.name}.csv") for case in cases], ignore_index=True)
 
 
-def sweep_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_progress: bool = True) -> dict:
+def _store_case(store: Path, case: Case, outputs: list, methods, settings: dict, key: str, seconds: float) -> None:
+    """One case's rows, snapshots and provenance in the report's cache (the .json last: it
+    marks the case complete)."""
+    frame = tidy(outputs, [case], methods)
+    write_csv(frame, store / f"{case.name}.csv")
+    save_snapshots({k: v for output in outputs for k, v in output.kept.items()}, store / f"{case.name}.npz")
+    meta = provenance(settings) | {"cache_key": key, "case": case.name, "wall_seconds": seconds}
+    write_atomic(store / f"{case.name}.json", json.dumps(meta, indent=2))
+
+
+def sweep_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_progress: bool = True, engine=None) -> dict:
     """The report's parameter sweeps (``sweep.REPORT_SWEEP``) of those of ``cases`` it names,
     reused like the study's results."""
     from .sweep import REPORT_SWEEP, run_sweep
@@ -113,7 +129,7 @@ def sweep_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_pr
         if show_progress:
             print(f"{case.name}: parameter sweep of {', '.join(REPORT_SWEEP['methods'])} at level {REPORT_SWEEP['level']}")
         frame = run_sweep(case, REPORT_SWEEP["methods"], REPORT_SWEEP["values"], REPORT_SWEEP["level"],
-                          REPORT_SWEEP["reference"], show_progress=show_progress)
+                          REPORT_SWEEP["reference"], show_progress=show_progress, engine=engine)
         write_csv(frame, csv_path)
         write_atomic(meta_path, json.dumps(provenance({"sweep": config}) | {"cache_key": key, "case": case.name}, indent=2))
         frames[case.name] = frame
@@ -452,7 +468,10 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
 
 
 def make_report(profile: str = "default", results_dir: Path = Path("results"), report_dir: Path = Path("report"),
-                case_names=None, show_progress: bool = True, levels: int | None = None, methods=("all",)) -> Path:
+                case_names=None, show_progress: bool = True, levels: int | None = None, methods=("all",),
+                engine=None, check_memory: bool = True) -> Path:
+    """Run (or reuse) the study of a profile, its sweeps, rates and figures, and write the report;
+    ``engine``: where the jobs run (``execution``; default this process)."""
     if profile not in PROFILES:
         raise ValueError(f"unknown profile {profile!r}; expected one of: {', '.join(PROFILES)}")
     known = registered_cases()
@@ -463,8 +482,8 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
         settings["levels"] = levels
     ensure_writable(report_dir / "figures")
     start = time.perf_counter()
-    results = run_or_reuse(cases, settings, Path(results_dir), show_progress)
-    sweeps = sweep_or_reuse(cases, settings, Path(results_dir), show_progress) if _has_weak(settings["methods"]) else {}
+    results = run_or_reuse(cases, settings, Path(results_dir), show_progress, engine, check_memory)
+    sweeps = sweep_or_reuse(cases, settings, Path(results_dir), show_progress, engine) if _has_weak(settings["methods"]) else {}
     rates = rate_table(results)
     efficiency = efficiency_table(results)
     write_csv(results, Path(results_dir) / "results.csv")

@@ -3,11 +3,13 @@ the finest level, and u_h on Omega on a level fine enough to look smooth. Collec
 study through its ``on_level`` hook and stored as .npz beside the results."""
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import numpy as np
 
 from .mesh import evaluate
+from .results import write_atomic
 from .study import study_levels
 
 PICTURE_LEVEL = 3
@@ -50,34 +52,35 @@ def domain_snapshot(problem, u: np.ndarray) -> dict:
     return {"points": coords, "triangles": triangles, "values": u[: len(coords)].copy()}
 
 
-class SnapshotCollector:
-    """``on_level`` hook of the study: keeps the finest contact snapshot of each (case, method)
+class SnapshotHook:
+    """``on_level`` hook of the study: returns the finest contact snapshot of each (case, method)
     and the domain picture of each case (method `nodal` if it runs, else the first; level
-    PICTURE_LEVEL or the finest)."""
+    PICTURE_LEVEL or the finest). The study keeps what it returns (in checkpoints too, and back
+    from a worker), so the hook itself holds nothing."""
 
     def __init__(self, levels: int, methods):
         self.finest = {m.name: study_levels(m, levels) - 1 for m in methods}
         self.picture_method = "nodal" if "nodal" in self.finest else next(iter(self.finest))
         self.picture_level = min(PICTURE_LEVEL, self.finest[self.picture_method])
-        self.contact: dict[tuple[str, str], dict] = {}
-        self.domain: dict[str, dict] = {}
 
-    def __call__(self, case, method, level, problem, solve):
-        if level == self.finest[method.name]:
-            self.contact[(case.name, method.name)] = contact_snapshot(case, problem, solve.trace_u, solve.pressure)
+    def __call__(self, case, method, level, problem, solve) -> dict | None:
+        kept = {}
+        if level == self.finest.get(method.name):
+            kept["contact"] = contact_snapshot(case, problem, solve.trace_u, solve.pressure)
         if method.name == self.picture_method and level == self.picture_level:
-            self.domain[case.name] = domain_snapshot(problem, solve.u) | {"method": np.array(method.name)}
+            kept["domain"] = domain_snapshot(problem, solve.u) | {"method": np.array(method.name)}
+        return kept or None
 
-    def save(self, case_name: str, path: Path) -> None:
-        arrays = {}
-        for (name, method), snap in self.contact.items():
-            if name == case_name:
-                arrays.update({f"contact__{method}__{k}": v for k, v in snap.items()})
-        if case_name in self.domain:
-            arrays.update({f"domain_{k}": v for k, v in self.domain[case_name].items()})
-        tmp = path.with_suffix(".tmp.npz")
-        np.savez_compressed(tmp, **arrays)
-        tmp.replace(path)
+
+def save_snapshots(kept: dict, path: Path) -> None:
+    """The snapshots one case's study kept (by (method, level), from ``SnapshotHook``), as .npz."""
+    arrays = {}
+    for (method, _level), snaps in kept.items():
+        arrays.update({f"contact__{method}__{k}": v for k, v in snaps.get("contact", {}).items()})
+        arrays.update({f"domain_{k}": v for k, v in snaps.get("domain", {}).items()})
+    buffer = io.BytesIO()
+    np.savez_compressed(buffer, **arrays)
+    write_atomic(path, buffer.getvalue())
 
 
 def load_snapshots(path: Path) -> tuple[dict, dict]:

@@ -5,10 +5,9 @@ from __future__ import annotations
 import time
 from collections import defaultdict
 from contextlib import contextmanager
+from dataclasses import dataclass
 
 import ngsolve as ngs
-import pandas as pd
-from tqdm import tqdm
 
 from .case import Case
 from .discrete import discretise
@@ -18,7 +17,6 @@ from .methods import Method
 from .multigrid import Multilevel
 from .quadrature import ElementQuadrature
 from .reference import ReferenceErrors
-from .validate import validate_case
 
 COLUMNS = [
     "case", "method", "order", "parameters", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
@@ -77,10 +75,43 @@ def chain_levels(case: Case, method: Method, levels: int) -> int:
     return study_levels(method, levels) + (0 if case.exact else case.reference_levels)
 
 
-def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_level=None,
-             phases: Phases | None = None) -> list[dict]:
-    """Rows of one case; ``on_level(case, method, level, problem, solve)`` sees every studied
-    solve (``solve``: a ``methods.LevelSolve``; the report keeps the finest solutions).
+@dataclass
+class ChainState:
+    """A method's level chain after its last finished level (``next_level`` - 1): everything
+    resuming it needs. Saved by the study after every level (``checkpoints``)."""
+
+    next_level: int
+    rows: list[dict]          # its rows so far (a reference case's stay without errors until the reference)
+    carry: object             # what the next level's solve starts from (nested iteration)
+    pending: list             # what the error measure keeps across levels (``state_of``)
+    kept: dict                # level -> what ``on_level`` returned
+
+
+@dataclass
+class ChainOutput:
+    """What a chain of one case and some methods produced: its rows (level by level, methods in
+    the order given), what ``on_level`` returned by (method name, level), the wall time of each
+    phase, and the level each method resumed from (0: it started afresh)."""
+
+    rows: list[dict]
+    kept: dict
+    phases: dict
+    resumed: dict
+
+
+def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_level=None,
+              phases: Phases | None = None, checkpoints=None) -> ChainOutput:
+    """The level chains of ``methods`` on one case, sharing each level's mesh and assembly.
+
+    ``on_level(case, method, level, problem, solve)`` sees every studied solve (``solve``: a
+    ``methods.LevelSolve``); what it returns (if not None) is kept, by (method, level). The
+    report keeps the finest solutions that way. ``progress`` (if given) hears
+    ``solving(case, method, level, ndof, stage)``, ``solved(case, method, level)`` and
+    ``restored(case, method, levels)``. ``checkpoints`` (if given: ``load(case, method)`` ->
+    ``ChainState`` or None, ``save(case, method, state)``) makes every finished level durable
+    and lets a chain killed at any moment continue from its last finished level: the meshes
+    and the multigrid's hierarchy are rebuilt (they are determined by the case), the solves
+    start again from the saved coarser solution.
 
     Per level: one mesh, one discrete problem per finite element order shared by the methods
     of that order (the last of them takes its stiffness matrix), one error measurement for all:
@@ -90,27 +121,39 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
     refinement, its order's assembly, its own set-up and solve; not the error measurement.
     """
     phases = phases or Phases()
-    carry: dict[str, tuple | None] = {m.name: None for m in methods}
     studied = {m.name: study_levels(m, levels) for m in methods}
     chain = {m.name: chain_levels(case, m, levels) for m in methods}
     measure = ExactErrors(case, phases) if case.exact else ReferenceErrors(studied, {m.name: m.order for m in methods}, case.reference_levels)
-    rows, method_rows = [], {m.name: [] for m in methods}
-    multilevel = None
+    saved = {m.name: checkpoints.load(case, m) if checkpoints is not None else None for m in methods}
+    start = {name: state.next_level if state else 0 for name, state in saved.items()}
+    carry = {name: state.carry if state else None for name, state in saved.items()}
+    method_rows = {name: list(state.rows) if state else [] for name, state in saved.items()}
+    kept = {(name, level): value for name, state in saved.items() if state for level, value in state.kept.items()}
+    for method in methods:
+        if saved[method.name]:
+            measure.restore(method.name, saved[method.name].pending, method_rows[method.name])
+            if progress is not None:
+                progress.restored(case.name, method.name, start[method.name])
     expectations = {m.name: m.expected(case) for m in methods}
     sharper = {m.name: m.sharper(case) for m in methods}
-    h = None
+    last_level = max((chain[n] for n in chain if start[n] < chain[n]), default=0)
+    multilevel = h = None
     with ngs.TaskManager():
-        hierarchy = mesh_hierarchy(case, max(chain.values()))
-        for level in range(max(chain.values())):
+        hierarchy = mesh_hierarchy(case, last_level)
+        for level in range(last_level):
             clock = time.perf_counter()
             with phases("mesh"):
                 _, mesh = next(hierarchy)
                 multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
                 # red refinement halves every edge, so h halves exactly: measured once
                 h = mesh_size(mesh) if level == 0 else h / 2
+            active = [m for m in methods if start[m.name] <= level < chain[m.name]]
+            if not active:          # a level every method has finished: rebuilt, not solved
+                measure.skip_level(level, mesh)
+                continue
+            with phases("mesh"):
                 quadrature = ElementQuadrature.of(case, mesh)
             mesh_seconds = time.perf_counter() - clock
-            active = [m for m in methods if level < chain[m.name]]
             problems, assembly_seconds = {}, {}
             for order in sorted({m.order for m in active}, reverse=True):
                 clock = time.perf_counter()
@@ -119,12 +162,11 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
                 assembly_seconds[order] = time.perf_counter() - clock
             # before a method takes the stiffness matrix (the best approximation needs it)
             measure.begin_level(level, mesh, problems, quadrature, multilevel)
-            level_rows = []
             for method in active:
                 problem = problems[method.order]
-                stage = "" if level < studied[method.name] else " (reference chain)"
+                stage = "" if level < studied[method.name] else "reference chain"
                 if progress is not None:
-                    progress.set_postfix_str(f"{case.name} {method.name} level {level}{stage} ndof {problem.ndof}")
+                    progress.solving(case.name, method.name, level, problem.ndof, stage)
                 last = method is [m for m in active if m.order == method.order][-1]
                 clock = time.perf_counter()
                 solve = method.solve(case, problem, carry[method.name], multilevel, take_stiffness=last, phases=phases)
@@ -142,7 +184,6 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
                         "reference": expectation.reference, **_sharper(sharper[method.name]), "case_source": case.source,
                         "errors_against": "exact" if case.exact else "reference",
                     }
-                    level_rows.append(row)
                     method_rows[method.name].append(row)
                 elif level == chain[method.name] - 1:
                     _reference_fields(method_rows[method.name], level, problem.ndof, solve.fields)
@@ -152,13 +193,21 @@ def run_case(case: Case, methods: list[Method], levels: int, progress=None, on_l
                     row.update(columns)
                     if on_level is not None:
                         with phases("hooks"):
-                            on_level(case, method, level, problem, solve)
-                if progress is not None:
-                    progress.update(1)
+                            value = on_level(case, method, level, problem, solve)
+                        if value is not None:
+                            kept[(method.name, level)] = value
             with phases("errors"):
                 measure.end_level()
-            rows += level_rows
-    return rows
+            for method in active:
+                if checkpoints is not None:
+                    checkpoints.save(case, method, ChainState(
+                        level + 1, method_rows[method.name], carry[method.name], measure.state_of(method.name),
+                        {lev: value for (name, lev), value in kept.items() if name == method.name}))
+                if progress is not None:
+                    progress.solved(case.name, method.name, level)
+    order = {m.name: k for k, m in enumerate(methods)}
+    rows = sorted((row for name in method_rows for row in method_rows[name]), key=lambda r: (r["level"], order[r["method"]]))
+    return ChainOutput(rows, kept, phases.as_dict(), {name: start[name] for name in start})
 
 
 def _reference_fields(rows: list[dict], level: int, ndof: int, fields: dict) -> None:
@@ -174,39 +223,3 @@ def _sharper(expectation) -> dict:
         return {"sharper_rate": float("nan"), "sharper_log_exponent": float("nan"), "sharper_reference": ""}
     return {"sharper_rate": expectation.rate, "sharper_log_exponent": expectation.log_exponent,
             "sharper_reference": expectation.reference}
-
-
-def total_solves(cases: list[Case], methods: list[Method], levels: int) -> int:
-    """Solves of a study, reference chains included: the length of its progress bar."""
-    return sum(chain_levels(case, m, levels) for case in cases for m in methods)
-
-
-def progress_bar(total: int, show: bool = True):
-    """Progress of a study: case, model, level and ndof of the running solve, elapsed time."""
-    return tqdm(total=total, disable=not show, unit="solve", dynamic_ncols=True)
-
-
-def run_study(cases: list[Case], methods: list[Method], levels: int, show_progress: bool = True,
-              on_level=None, progress=None) -> pd.DataFrame:
-    """Every case x method x level; one tidy row each (columns ``COLUMNS``). ``levels`` counts
-    the P2 levels (P1 runs one more: ``study_levels``). ``progress``: a bar shared with a
-    larger run (else one is made)."""
-    if levels < 1:
-        raise ValueError(f"levels must be a positive integer, got {levels}")
-    for case in cases:
-        validate_case(case)
-    rows = []
-    start = time.perf_counter()
-    phases = Phases()
-    own = progress is None
-    progress = progress_bar(total_solves(cases, methods, levels), show_progress) if own else progress
-    try:
-        for case in cases:
-            rows += run_case(case, methods, levels, progress, on_level, phases)
-    finally:
-        if own:
-            progress.close()
-    frame = pd.DataFrame(rows, columns=COLUMNS)
-    frame.attrs["wall_seconds"] = time.perf_counter() - start
-    frame.attrs["phase_seconds"] = phases.as_dict()
-    return frame

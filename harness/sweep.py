@@ -8,7 +8,8 @@ import numpy as np
 import pandas as pd
 
 from .methods import Method, methods_named
-from .study import run_study, study_levels
+from .execution import run_study
+from .study import study_levels
 
 # eps0 / gamma0 values: four decades around the defaults (0.05) and past theta = 1's bound
 # (gamma0 < 0.145 for P2 on every registered case, ``methods/nitsche.py``)
@@ -35,7 +36,7 @@ def swept(spec: str, values) -> list[tuple[Method, str, float]]:
 
 
 def run_sweep(case, specs, values, level: int, reference=("nodal",), show_progress: bool = True,
-              progress=None) -> pd.DataFrame:
+              progress=None, engine=None) -> pd.DataFrame:
     """The rows of level ``level`` (P1 methods: their level with about the same dofs) of every
     swept method and of the ``reference`` methods, with the swept parameter and value."""
     if level < 0:
@@ -46,7 +47,7 @@ def run_sweep(case, specs, values, level: int, reference=("nodal",), show_progre
     runs = [(m, spec, name, v) for spec in specs for m, name, v in swept(spec, values)]
     references = methods_named(list(reference)) if reference else []
     methods = [m for m, *_ in runs] + references
-    frame = run_study([case], methods, level + 1, show_progress=show_progress, progress=progress)
+    frame = run_study([case], methods, level + 1, show_progress=show_progress, progress=progress, engine=engine)
     finest = {m.name: study_levels(m, level + 1) - 1 for m in methods}
     frame = frame[frame.level == frame.method.map(finest)].copy()
     label = {m.name: (spec, name, v) for m, spec, name, v in runs} | {m.name: (m.name, "", np.nan) for m in references}

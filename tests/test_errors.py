@@ -14,7 +14,7 @@ from harness.errors import NORMS, error_norms, max_penetration
 from harness.mesh import mesh_hierarchy
 from harness.methods import METHODS
 from harness.quadrature import ElementQuadrature
-from harness.study import PROFILES, run_case
+from harness.study import PROFILES, run_chain
 
 # cases measured against u (a reference case's errors are exact matrix norms: tests/test_reference.py);
 # oscillating-r34's finest default level costs a minute per test: under `make test-full`
@@ -56,7 +56,7 @@ def test_errors_agree_with_a_much_finer_integration_on_the_finest_default_level(
     case = registered_cases()[case_name]
     reference = ReferenceErrors(FINEST_DEFAULT_LEVEL)
     with ngs.TaskManager():
-        rows = run_case(case, list(METHODS.values()), FINEST_DEFAULT_LEVEL + 1, on_level=reference)
+        rows = run_chain(case, list(METHODS.values()), FINEST_DEFAULT_LEVEL + 1, on_level=reference).rows
     assert set(reference.errors) == set(METHODS)
     for name, ref in reference.errors.items():
         (row,) = [r for r in rows if r["method"] == name and r["level"] == FINEST_DEFAULT_LEVEL]
@@ -153,14 +153,3 @@ def test_red_refinement_halves_h_exactly(case_name):
     np.testing.assert_allclose(sizes, sizes[0] / 2.0 ** np.arange(5), rtol=1e-12)
 
 
-@pytest.mark.parametrize("case_name", EXACT_CASES)
-def test_p1_errors_with_their_own_order_agree_with_a_much_finer_integration(case_name):
-    """A level where P1 runs alone integrates with Gauss order 4 (2k + 2): within 0.1% of the
-    reference integration, on the finest P2 level of `make report`."""
-    case = registered_cases()[case_name]
-    reference = ReferenceErrors(FINEST_DEFAULT_LEVEL)
-    with ngs.TaskManager():
-        rows = run_case(case, [METHODS["p1"]], FINEST_DEFAULT_LEVEL, on_level=reference)
-    (row,) = [r for r in rows if r["level"] == FINEST_DEFAULT_LEVEL]
-    for norm in NORMS:
-        assert abs(row[norm] - reference.errors["p1"][norm]) <= 1e-3 * reference.errors["p1"][norm], norm

@@ -1,0 +1,6 @@
+"""Running a study: where its jobs run (this process or Dask workers: ``engines``), what makes
+every finished level durable (``checkpoint``), what it will cost before it starts (``budget``),
+and one progress bar for all of it (``progress``)."""
+from .engines import DaskEngine, InProcess, run_jobs, run_study
+
+__all__ = ["DaskEngine", "InProcess", "run_jobs", "run_study"]

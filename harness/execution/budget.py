@@ -1,0 +1,135 @@
+"""What a study will cost, known before it starts: the size of every level from the coarse mesh
+alone, and from it each job's peak memory and time, with per-triangle and per-dof figures
+measured on this harness (``PEAK_*``, ``SECONDS_*``). A study whose largest job would not fit in the memory of the machine (or
+of a Dask worker) is refused before anything is allocated.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+from ..mesh import coarse_mesh
+from ..study import chain_levels
+
+MB = 2.0**20
+
+# Peak resident memory of a job, in bytes:
+#   PEAK_BASE + PEAK_PER_TRIANGLE * triangles of its finest mesh
+#             + PEAK_PER_DOF * dofs of each order's finest problem (a job of P1 and P2 methods holds both)
+#             + PEAK_PER_REFERENCE_DOF * the same again when errors are measured against a
+#               reference (its norm matrices, the prolongations, the kept solutions).
+# A least-squares fit of peak RSS (2026-11, NGSolve 6.2, 2 cores) over transition-r32 with 6
+# and 7 levels (nodal alone, p1 alone, all methods in one process) and smooth-obstacle with 6
+# (nodal, p1, all) gave 284 MB + 541 B/triangle + 147 B/dof + 416 B/reference dof, within 12%
+# of all nine; these figures round it up so that every one of them is at or above the measured
+# peak (at most 14% above). The finest mesh dominates: a P1 job holds a mesh 4 times as fine as
+# a P2 job with as many dofs.
+PEAK_BASE = 280 * MB
+PEAK_PER_TRIANGLE = 550.0
+PEAK_PER_DOF = 250.0
+PEAK_PER_REFERENCE_DOF = 450.0
+# Seconds of one solve on level l, with its share of meshing, assembly and errors, one core:
+# SECONDS_PER_TRIANGLE * triangles + SECONDS_PER_DOF * dofs, fitted to transition-r32 with 7
+# levels (nodal alone 4.2 s, p1 alone 9.3 s). Used for the ETA's weights and the estimate a
+# refusal prints; a job of several methods in one process shares meshing and assembly and
+# takes less than the sum.
+SECONDS_PER_TRIANGLE = 4.5e-6
+SECONDS_PER_DOF = 3.3e-6
+
+
+class BudgetError(ValueError):
+    """A study that cannot fit: one line naming the job, the level and the estimate."""
+
+
+@dataclass(frozen=True)
+class LevelSizes:
+    """Vertices, edges and triangles of each level of a case's red-refined hierarchy."""
+
+    vertices: tuple
+    edges: tuple
+    triangles: tuple
+
+    @classmethod
+    def of(cls, case, levels: int) -> "LevelSizes":
+        """From the coarse mesh alone: red refinement adds a vertex per edge, splits each edge in
+        two and adds three edges and three triangles inside each triangle (V' = V + E,
+        E' = 2E + 3T, T' = 4T), so nothing finer is ever built."""
+        mesh = coarse_mesh(case)
+        v, e, t = [mesh.nv], [mesh.nedge], [mesh.ne]
+        for _ in range(1, levels):
+            v.append(v[-1] + e[-1])
+            e.append(2 * e[-1] + 3 * t[-1])
+            t.append(4 * t[-1])
+        return cls(tuple(v), tuple(e), tuple(t))
+
+    def ndof(self, level: int, order: int) -> int:
+        """Dofs of P1 (vertices) or P2 (vertices and edges) on ``level``, Dirichlet ones included."""
+        return self.vertices[level] + (self.edges[level] if order == 2 else 0)
+
+
+@dataclass(frozen=True)
+class JobEstimate:
+    """A job's largest level (the finest of its chains) and its estimated peak memory and time."""
+
+    case: str
+    methods: tuple
+    level: int
+    ndof: int
+    peak_bytes: float
+    seconds: float
+
+    def describe(self) -> str:
+        return (f"{self.case} ({', '.join(self.methods)}): level {self.level} has {self.ndof:.3g} dofs; "
+                f"estimated peak memory {_size(self.peak_bytes)}, time {_duration(self.seconds)}")
+
+
+def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None) -> dict:
+    """(case, method, level) -> estimated seconds of that solve: the weights of the progress bar
+    (its ETA is then weighted by the size of each level, not by the count of solves)."""
+    sizes = sizes or LevelSizes.of(case, max(chain_levels(case, m, levels) for m in methods))
+    return {(case.name, m.name, level): SECONDS_PER_TRIANGLE * sizes.triangles[level] + SECONDS_PER_DOF * sizes.ndof(level, m.order)
+            for m in methods for level in range(chain_levels(case, m, levels))}
+
+
+def estimate(case, methods, levels: int, sizes: LevelSizes | None = None) -> JobEstimate:
+    """Peak memory and time of one job: ``methods`` on ``case`` (one process, shared levels)."""
+    chains = {m.name: chain_levels(case, m, levels) for m in methods}
+    last = max(chains.values())
+    sizes = sizes or LevelSizes.of(case, last)
+    finest = {}                                  # order -> (level, ndof) of its finest problem
+    for m in methods:
+        level = chains[m.name] - 1
+        finest[m.order] = max(finest.get(m.order, (0, 0)), (level, sizes.ndof(level, m.order)))
+    per_dof = PEAK_PER_DOF + (0.0 if case.exact else PEAK_PER_REFERENCE_DOF)
+    peak = PEAK_BASE + PEAK_PER_TRIANGLE * sizes.triangles[last - 1] + per_dof * sum(n for _, n in finest.values())
+    seconds = sum(solve_weights(case, methods, levels, sizes).values())
+    level, ndof = max(finest.values())
+    return JobEstimate(case.name, tuple(m.name for m in methods), level, ndof, peak, seconds)
+
+
+def machine_memory() -> float:
+    """Physical memory of this machine, in bytes."""
+    return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+
+
+def check_fits(estimates: list[JobEstimate], limit: float, where: str) -> None:
+    """BudgetError naming the largest job if it would need more than ``limit`` bytes."""
+    worst = max(estimates, key=lambda e: e.peak_bytes)
+    if worst.peak_bytes > limit:
+        raise BudgetError(f"{worst.describe()}: more than the {_size(limit)} of {where}; "
+                          f"use fewer levels, or --skip-memory-check to run it anyway")
+
+
+def _size(nbytes: float) -> str:
+    for unit, scale in (("TB", 2.0**40), ("GB", 2.0**30), ("MB", MB)):
+        if nbytes >= scale:
+            return f"{nbytes / scale:.4g} {unit}"
+    return f"{nbytes:.0f} B"
+
+
+def _duration(seconds: float) -> str:
+    if seconds >= 86400:
+        return f"{seconds / 86400:.3g} days"
+    if seconds >= 3600:
+        return f"{seconds / 3600:.3g} h"
+    return f"{seconds / 60:.3g} min" if seconds >= 60 else f"{seconds:.2g} s"

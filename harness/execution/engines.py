@@ -1,0 +1,226 @@
+"""Where a study's jobs run: in this process (``InProcess``, the default), or on Dask workers
+(``DaskEngine``: a LocalCluster of N worker processes, or an existing cluster by its scheduler's
+address). A job is a level chain (``study.run_chain``) of one case and some methods: in this
+process one job per case, all methods sharing each level's mesh and assembly; on Dask one job per
+(case, method), the unit that spreads over workers. Both write the same per-(case, method)
+checkpoints, so a study killed under one engine resumes under either.
+
+Every error column is computed level by level from the same data whichever job it runs in, so
+the results do not depend on the engine or the number of workers -- bit for bit when NGSolve
+runs one thread per process (``--threads 1``; a Dask worker's default). With more threads, the
+task manager's parallel sums (sparse Cholesky, Integrate, the element colouring of a space made
+under it) are not done in a fixed order, and two runs agree only to about 1e-14 relative.
+"""
+from __future__ import annotations
+
+import os
+import time
+import uuid
+from contextlib import contextmanager
+from pathlib import Path
+
+import pandas as pd
+
+from ..case import load_case
+from ..study import COLUMNS, Phases, run_chain
+from ..validate import validate_case
+from . import budget
+from .budget import check_fits, estimate, solve_weights
+from .checkpoint import CheckpointStore
+from .progress import EventProgress, StudyProgress, relay
+
+
+@contextmanager
+def thread_count(threads: int | None):
+    """NGSolve's task manager and the BLAS use ``threads`` threads in this process while the
+    context lasts (None: as they are). One per process makes every sum in a fixed order:
+    results reproducible bit for bit."""
+    if threads is None:
+        yield
+        return
+    import ngsolve as ngs
+    from threadpoolctl import threadpool_limits
+    with ngs.TaskManager():
+        previous = ngs.GetNumThreads()      # outside a task manager it reads 1
+    ngs.SetNumThreads(int(threads))
+    try:
+        with threadpool_limits(int(threads)):
+            yield
+    finally:
+        ngs.SetNumThreads(previous)
+
+
+class InProcess:
+    """The study in this process: one job per case, its methods sharing each level."""
+
+    name = "this process"
+
+    def __init__(self, threads: int | None = None):
+        self.threads = threads
+
+    def jobs(self, cases, methods) -> list[tuple]:
+        return [(case, tuple(methods)) for case in cases]
+
+    def memory(self) -> tuple[float, str]:
+        return budget.machine_memory(), "this machine"
+
+    def run(self, jobs, levels, on_level, progress, store):
+        """(job, ``study.ChainOutput``) for each job, as they finish."""
+        for job in jobs:
+            case, methods = job
+            with thread_count(self.threads):
+                output = run_chain(case, list(methods), levels, progress, on_level, Phases(), store)
+            yield job, output
+
+    def close(self) -> None:
+        pass
+
+
+def run_job(source: str, reference_levels, methods, levels: int, on_level, threads, folder, topic):
+    """A job on a Dask worker: the case is loaded there from its file (what a worker needs of
+    it is its source, not NGSolve objects)."""
+    case = load_case(source)
+    if reference_levels != case.reference_levels:
+        case = case.with_reference(reference_levels)
+    store = CheckpointStore(folder, levels, on_level) if folder is not None else None
+    with thread_count(threads):
+        return run_chain(case, list(methods), levels, EventProgress(topic), on_level, Phases(), store)
+
+
+class DaskEngine:
+    """The study on Dask workers, one job per (case, method), the largest first. A worker that
+    dies mid-job (killed, out of memory) loses nothing durable: Dask reruns the job elsewhere and
+    it resumes from its checkpoint (the checkpoint folder must then be on a file system the
+    workers share, as on a cluster's home or scratch; otherwise the job starts again)."""
+
+    def __init__(self, workers: int | None = None, scheduler: str | None = None, threads: int | None = None):
+        if (workers is None) == (scheduler is None):
+            raise ValueError("a Dask engine needs either a number of local workers or a scheduler address")
+        self.workers, self.scheduler = workers, scheduler
+        cores = os.cpu_count() or 1
+        # N local workers share the cores: no more NGSolve threads than cores in all
+        self.threads = threads or (max(1, cores // workers) if workers else 1)
+        self.name = f"{workers} local Dask workers" if workers else f"the Dask cluster at {scheduler}"
+        self._client = self._cluster = None
+
+    @property
+    def client(self):
+        if self._client is None:
+            import logging
+            from distributed import Client, LocalCluster
+            if self.workers:
+                self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
+                                             memory_limit=budget.machine_memory() / self.workers,
+                                             dashboard_address=":0", silence_logs=logging.ERROR)
+                self._client = Client(self._cluster)
+            else:
+                self._client = Client(self.scheduler, timeout="20s")
+        return self._client
+
+    def jobs(self, cases, methods) -> list[tuple]:
+        return [(case, (method,)) for case in cases for method in methods]
+
+    def memory(self) -> tuple[float, str]:
+        """The memory of one worker (the largest, for an existing cluster)."""
+        if self.workers:
+            return budget.machine_memory() / self.workers, f"one of {self.workers} local Dask workers"
+        limits = [w.get("memory_limit") or budget.machine_memory() for w in self.client.scheduler_info()["workers"].values()]
+        if not limits:
+            raise ValueError(f"the Dask cluster at {self.scheduler} has no workers")
+        return max(limits), f"the largest Dask worker at {self.scheduler}"
+
+    def run(self, jobs, levels, on_level, progress, store):
+        from distributed import as_completed
+        client = self.client
+        topic = f"harness-progress-{uuid.uuid4().hex}"
+        if progress is not None:
+            client.subscribe_topic(topic, relay(progress))
+        folder = str(store.folder.resolve()) if store is not None else None
+        futures = {}
+        for job in jobs:
+            case, methods = job
+            weight = estimate(case, methods, levels).seconds
+            future = client.submit(run_job, case.source, case.reference_levels, methods, levels, on_level,
+                                   self.threads, folder, topic, pure=False, priority=int(weight * 1000),
+                                   key=f"{case.name}-{'-'.join(m.name for m in methods)}-{uuid.uuid4().hex[:8]}")
+            futures[future] = job
+        try:
+            for future in as_completed(futures):
+                yield futures[future], future.result()
+        finally:
+            for future in futures:
+                future.cancel()
+            if progress is not None:
+                client.unsubscribe_topic(topic)
+
+    def close(self) -> None:
+        if self._client is not None:
+            self._client.close()
+        if self._cluster is not None:
+            self._cluster.close()
+        self._client = self._cluster = None
+
+
+def plan(cases, methods, levels: int, engine, check_memory: bool = True) -> list[tuple]:
+    """The jobs of a study on ``engine``, refused (``budget.BudgetError``, before anything is
+    allocated) if the largest would not fit in the memory it would run in."""
+    jobs = engine.jobs(cases, methods)
+    if check_memory and jobs:
+        check_fits([estimate(case, ms, levels) for case, ms in jobs], *engine.memory())
+    return jobs
+
+
+def study_progress(cases, methods, levels: int, show: bool) -> StudyProgress:
+    weights = {}
+    for case in cases:
+        weights |= solve_weights(case, methods, levels)
+    return StudyProgress(weights, show)
+
+
+def tidy(outputs, cases, methods) -> pd.DataFrame:
+    """One frame of the rows of all jobs: by case, then level, then method, as given (the same
+    order whichever engine ran them)."""
+    case_order = {c.name: k for k, c in enumerate(cases)}
+    method_order = {m.name: k for k, m in enumerate(methods)}
+    rows = sorted((row for output in outputs for row in output.rows),
+                  key=lambda r: (case_order[r["case"]], r["level"], method_order[r["method"]]))
+    return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=None, progress=None,
+              engine=None, checkpoints: Path | None = None, check_memory: bool = True) -> pd.DataFrame:
+    """Every case x method x level; one tidy row each (columns ``study.COLUMNS``). ``levels``
+    counts the P2 levels (P1 runs one more: ``study.study_levels``). ``engine``: where the jobs
+    run (default ``InProcess()``). ``checkpoints``: a folder that makes every finished level
+    durable; a study started again with the same folder continues where it stopped.
+    ``progress``: a bar shared with a larger run (else one is made). The frame's attrs: wall
+    seconds, seconds per phase (summed over jobs), and the level each (case, method) chain
+    resumed from (0: it started afresh)."""
+    start = time.perf_counter()
+    own = progress is None
+    progress = study_progress(cases, methods, levels, show_progress) if own else progress
+    try:
+        done = list(run_jobs(cases, methods, levels, engine, progress, on_level, checkpoints, check_memory))
+    finally:
+        if own:
+            progress.close()
+    outputs = [output for _job, output in done]
+    frame = tidy(outputs, cases, methods)
+    frame.attrs["wall_seconds"] = time.perf_counter() - start
+    frame.attrs["phase_seconds"] = {phase: sum(o.phases.get(phase, 0.0) for o in outputs) for phase in Phases().as_dict()}
+    frame.attrs["resumed"] = {(job[0].name, name): level for job, output in done for name, level in output.resumed.items()}
+    return frame
+
+
+def run_jobs(cases, methods, levels: int, engine=None, progress=None, on_level=None, checkpoints: Path | None = None,
+             check_memory: bool = True):
+    """(job, ``study.ChainOutput``) of every job of a study, as they finish: validated and
+    checked against the memory first (``plan``), then run on ``engine`` (default: this process)."""
+    if levels < 1:
+        raise ValueError(f"levels must be a positive integer, got {levels}")
+    for case in cases:
+        validate_case(case)
+    engine = engine or InProcess()
+    jobs = plan(cases, methods, levels, engine, check_memory)
+    store = CheckpointStore(checkpoints, levels, on_level) if checkpoints is not None else None
+    yield from engine.run(jobs, levels, on_level, progress, store)

@@ -1,0 +1,251 @@
+"""Running studies (issue 17): Dask workers give the serial results bit for bit, a study killed
+at any moment (the process with SIGKILL, a Dask worker mid-job) continues from its last finished
+level with the same results, a study that cannot fit is refused at once, and one progress bar
+counts every level once."""
+from __future__ import annotations
+
+import os
+import pickle
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from harness.case import load_case, registered_cases
+from harness.cli import main
+from harness.discrete import discretise
+from harness.execution import DaskEngine, InProcess, run_study
+from harness.execution import budget
+from harness.execution.budget import BudgetError, LevelSizes, estimate
+from harness.execution.checkpoint import CheckpointStore
+from harness.execution.progress import StudyProgress
+from harness.mesh import mesh_hierarchy
+from harness.methods import methods_named
+
+REPOSITORY = Path(__file__).resolve().parents[1]
+# what may differ between two runs of one study: wall times
+TIMINGS = ["solve_seconds", "total_seconds"]
+
+
+def assert_same_results(a: pd.DataFrame, b: pd.DataFrame) -> None:
+    """Every column but the timings equal, bit for bit (NaN where NaN), row by row."""
+    assert list(a.columns) == list(b.columns) and len(a) == len(b)
+    for column in a.columns.drop(TIMINGS):
+        x, y = a[column].reset_index(drop=True), b[column].reset_index(drop=True)
+        same = (x == y) | (x.isna() & y.isna())
+        assert same.all(), (column, a.loc[~same.values, ["case", "method", "level"]].values.tolist()[:3],
+                            x[~same].tolist()[:3], y[~same].tolist()[:3])
+
+
+def harness_command(*args: str) -> list[str]:
+    return [sys.executable, "-m", "harness", *args]
+
+
+def saved_levels(folder: Path) -> dict[str, int]:
+    """Checkpoint file name -> the chain's next level, for the checkpoints under ``folder``."""
+    levels = {}
+    for path in folder.rglob("*.ckpt"):
+        try:
+            _key, state = pickle.loads(path.read_bytes())
+        except (OSError, EOFError, pickle.UnpicklingError):
+            continue            # being replaced right now
+        levels[path.stem] = state.next_level
+    return levels
+
+
+# --- what a study will cost ------------------------------------------------------------------
+
+@pytest.mark.parametrize("case_name", list(registered_cases()))
+def test_level_sizes_from_the_coarse_mesh_are_those_of_the_refined_meshes(case_name):
+    """The budget never builds a fine mesh: its vertex, triangle and dof counts come from the
+    coarse mesh by the red-refinement recurrence, and they are exact."""
+    case = registered_cases()[case_name]
+    sizes = LevelSizes.of(case, 4)
+    for level, mesh in mesh_hierarchy(case, 4):
+        assert (mesh.nv, mesh.ne) == (sizes.vertices[level], sizes.triangles[level])
+        for order in (1, 2):
+            assert discretise(case, mesh, order).ndof == sizes.ndof(level, order)
+
+
+def test_twelve_levels_of_transition_r32_are_refused_within_5_seconds_with_the_estimate(tmp_path):
+    out = tmp_path / "out"
+    start = time.perf_counter()
+    done = subprocess.run(harness_command("run", "--case", "transition-r32", "--levels", "12", "--out", str(out)),
+                          capture_output=True, text=True, cwd=REPOSITORY, timeout=60)
+    elapsed = time.perf_counter() - start
+    assert done.returncode != 0 and elapsed < 5.0, (done.returncode, elapsed)
+    (line,) = done.stderr.strip().splitlines()
+    assert "level 12" in line and "estimated peak memory" in line and "GB" in line and "--skip-memory-check" in line
+    assert not out.exists()         # refused before anything was written
+
+
+def test_a_study_beyond_the_memory_is_refused_unless_the_check_is_skipped(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(budget, "machine_memory", lambda: 200 * budget.MB)
+    args = ["run", "--case", "transition-r32", "--method", "nodal", "--levels", "2", "--quiet", "--threads", "1"]
+    assert main(args + ["--out", str(tmp_path / "refused")]) == 2
+    assert "more than the 200 MB of this machine" in capsys.readouterr().err
+    assert not (tmp_path / "refused").exists()
+    assert main(args + ["--out", str(tmp_path / "forced"), "--skip-memory-check"]) == 0
+    assert (tmp_path / "forced" / "results.csv").is_file()
+
+
+def test_the_memory_estimate_grows_with_the_finest_mesh_and_the_reference_levels():
+    case = load_case("transition-r32")
+    nodal, p1 = methods_named(["nodal"]), methods_named(["p1"])
+    # P1 reaches P2's dofs on a mesh four times as fine: more memory for as many dofs
+    assert estimate(case, p1, 7).ndof == estimate(case, nodal, 7).ndof
+    assert estimate(case, p1, 7).peak_bytes > estimate(case, nodal, 7).peak_bytes
+    assert estimate(case.with_reference(2), nodal, 5).peak_bytes > estimate(case, nodal, 7).peak_bytes
+    with pytest.raises(BudgetError, match="level 6"):
+        budget.check_fits([estimate(case, nodal, 7)], 100 * budget.MB, "a test")
+
+
+# --- one progress bar --------------------------------------------------------------------------
+
+def test_the_progress_bar_weighs_levels_by_size_and_counts_each_once():
+    case = load_case("transition-r32")
+    methods = methods_named(["nodal"])
+    weights = budget.solve_weights(case, methods, 4)
+    progress = StudyProgress(weights, show=False)
+    assert progress.weights[("transition-r32", "nodal", 3)] > 3 * progress.weights[("transition-r32", "nodal", 2)]
+    total = progress.total
+    progress.restored("transition-r32", "nodal", 2)          # levels 0, 1 from a checkpoint
+    assert progress.total == total - sum(progress.weights[("transition-r32", "nodal", k)] for k in (0, 1))
+    for level in (2, 3, 3, 2):                                 # a rerun job reports again
+        progress.solved("transition-r32", "nodal", level)
+    assert progress.count == progress.total
+    progress.close()
+
+
+# --- nothing lost on a kill ---------------------------------------------------------------------
+
+def test_a_corrupt_checkpoint_is_ignored_and_the_chain_starts_afresh(tmp_path):
+    case, (method,) = load_case("transition-r32"), methods_named(["nodal"])
+    store = CheckpointStore(tmp_path, 3)
+    path = store.path(case, method)
+    path.parent.mkdir(parents=True)
+    path.write_bytes(b"\x80\x05 half a pickle")
+    assert store.load(case, method) is None
+    frame = run_study([case], [method], 3, show_progress=False, checkpoints=tmp_path, engine=InProcess(threads=1))
+    assert frame.attrs["resumed"] == {("transition-r32", "nodal"): 0} and len(frame) == 3
+
+
+class Interrupt(Exception):
+    pass
+
+
+class InterruptAt:
+    """A progress listener that stops the study when ``method`` starts ``level``."""
+
+    def __init__(self, method: str, level: int):
+        self.method, self.level = method, level
+
+    def solving(self, case, method, level, ndof, stage=""):
+        if (method, level) == (self.method, self.level):
+            raise Interrupt
+
+    def solved(self, *args):
+        pass
+
+    def restored(self, *args):
+        pass
+
+
+@pytest.mark.parametrize("case_name, stop_level", [("transition-r32", 2), ("smooth-obstacle", 4)])
+def test_an_interrupted_study_resumes_from_its_checkpoints_with_the_same_rows(tmp_path, case_name, stop_level):
+    """Every method of a case in one process, stopped when nodal starts ``stop_level`` (for
+    smooth-obstacle: in its reference chain, with the studied solutions kept for the reference),
+    then run again: the methods continue from their last saved level and every row is the
+    uninterrupted study's."""
+    case, methods, levels = load_case(case_name), methods_named(["all"]), 3
+    whole = run_study([case], methods, levels, show_progress=False, engine=InProcess(threads=1))
+    with pytest.raises(Interrupt):
+        run_study([case], methods, levels, progress=InterruptAt("nodal", stop_level), engine=InProcess(threads=1),
+                  checkpoints=tmp_path)
+    resumed = run_study([case], methods, levels, show_progress=False, engine=InProcess(threads=1), checkpoints=tmp_path)
+    assert resumed.attrs["resumed"][(case_name, "nodal")] == stop_level
+    assert_same_results(whole, resumed)
+
+
+def test_run_killed_after_its_second_level_resumes_to_the_same_csv(tmp_path):
+    """SIGKILL of `run` as soon as its second level is durable; the same command again continues
+    from there and writes the CSV of an uninterrupted run."""
+    args = ["run", "--case", "transition-r32", "--method", "nodal", "--levels", "7", "--threads", "1"]
+    subprocess.run(harness_command(*args, "--out", str(tmp_path / "whole"), "--quiet"), check=True, cwd=REPOSITORY,
+                   capture_output=True, timeout=300)
+    out = tmp_path / "killed"
+    process = subprocess.Popen(harness_command(*args, "--out", str(out), "--quiet"), cwd=REPOSITORY,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 120
+    while not any(level >= 2 for level in saved_levels(out).values()):
+        assert process.poll() is None and time.time() < deadline, "the run ended before its second level was saved"
+        time.sleep(0.01)
+    process.send_signal(signal.SIGKILL)
+    process.wait(timeout=30)
+    assert not (out / "results.csv").exists()
+    (killed_at,) = saved_levels(out).values()
+    assert 2 <= killed_at < 7
+    again = subprocess.run(harness_command(*args, "--out", str(out)), cwd=REPOSITORY, capture_output=True, text=True,
+                           timeout=300)
+    assert again.returncode == 0, again.stderr[-2000:]
+    assert f"transition-r32 nodal: resumed after level {killed_at - 1}" in again.stdout
+    assert_same_results(pd.read_csv(tmp_path / "whole" / "results.csv"), pd.read_csv(out / "results.csv"))
+    assert not (out / ".checkpoints").exists()      # forgotten once the results are written
+
+
+def test_two_dask_workers_give_the_serial_results_bit_for_bit():
+    """A real LocalCluster: one job per (case, method) on two worker processes, against one
+    process running every method of a case on shared levels -- an exact case and a case measured
+    against references, every method."""
+    cases, methods = [load_case("transition-r32"), load_case("smooth-obstacle")], methods_named(["all"])
+    serial = run_study(cases, methods, 3, show_progress=False, engine=InProcess(threads=1))
+    engine = DaskEngine(workers=2)
+    try:
+        distributed = run_study(cases, methods, 3, show_progress=False, engine=engine)
+    finally:
+        engine.close()
+    assert_same_results(serial, distributed)
+
+
+def test_a_killed_dask_worker_is_replaced_and_the_study_completes(tmp_path):
+    """SIGKILL of the worker running p1's chain while it solves its finest level: Dask reruns
+    the job, which resumes from its checkpoint; nothing is missing and every row is the serial
+    study's."""
+    cases, methods, levels = [load_case("transition-r32")], methods_named(["nodal", "p1"]), 6
+    engine = DaskEngine(workers=2)
+    outcome = {}
+
+    def study():
+        try:
+            outcome["frame"] = run_study(cases, methods, levels, show_progress=False, engine=engine, checkpoints=tmp_path)
+        except BaseException as exc:        # reported by the test thread
+            outcome["error"] = exc
+    try:
+        client = engine.client
+        pids = client.run(os.getpid)
+        runner = threading.Thread(target=study)
+        runner.start()
+        deadline, victim = time.time() + 120, None
+        while victim is None:
+            assert runner.is_alive() and time.time() < deadline, outcome.get("error", "p1 finished before it was killed")
+            # p1's chain has levels + 1 levels: next_level == levels is its finest, the longest solve
+            if any(name.startswith("p1") and level == levels for name, level in saved_levels(tmp_path).items()):
+                busy = [address for address, keys in client.processing().items() if any("-p1-" in str(k) for k in keys)]
+                if busy:
+                    victim = busy[0]
+                    os.kill(pids[victim], signal.SIGKILL)
+            time.sleep(0.01)
+        runner.join(timeout=240)
+        assert not runner.is_alive() and "error" not in outcome, outcome.get("error")
+    finally:
+        engine.close()
+    frame = outcome["frame"]
+    assert frame.attrs["resumed"][("transition-r32", "p1")] == levels
+    serial = run_study(cases, methods, levels, show_progress=False, engine=InProcess(threads=1))
+    assert_same_results(serial, frame)
