@@ -14,16 +14,19 @@ from .execution import run_study
 
 
 def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_level=None,
-        models=None) -> pd.DataFrame:
+        models=None, engine=None, checkpoints=None) -> pd.DataFrame:
     """Run a convergence study; ``cases`` are names, paths or Case objects (or one of them);
     ``methods`` names, groups ('paper' = mean + nodal) or 'all' (``models`` is the old name:
-    'all' there means the paper's two models)."""
+    'all' there means the paper's two models). ``engine``: ``harness.execution.DaskEngine(workers=2)``
+    or ``DaskEngine(scheduler="tcp://...")`` to run on Dask (default: this process);
+    ``checkpoints``: a folder that makes every finished level durable (run again to resume)."""
     if isinstance(cases, (str, Case)):
         cases = [cases]
     if models is not None:
         methods = "paper" if models == "all" else models
     loaded = [c if isinstance(c, Case) else load_case(c) for c in cases]
-    return run_study(loaded, methods_named(methods), levels, show_progress=show_progress, on_level=on_level)
+    return run_study(loaded, methods_named(methods), levels, show_progress=show_progress, on_level=on_level,
+                     engine=engine, checkpoints=checkpoints)
 
 
 def case_table(cases=None) -> pd.DataFrame:

@@ -54,8 +54,7 @@ class LevelSizes:
         """From the coarse mesh alone: red refinement adds a vertex per edge, splits each edge in
         two and adds three edges and three triangles inside each triangle (V' = V + E,
         E' = 2E + 3T, T' = 4T), so nothing finer is ever built."""
-        mesh = coarse_mesh(case)
-        v, e, t = [mesh.nv], [mesh.nedge], [mesh.ne]
+        v, e, t = (list(counts) for counts in _coarse_counts(case))
         for _ in range(1, levels):
             v.append(v[-1] + e[-1])
             e.append(2 * e[-1] + 3 * t[-1])
@@ -65,6 +64,19 @@ class LevelSizes:
     def ndof(self, level: int, order: int) -> int:
         """Dofs of P1 (vertices) or P2 (vertices and edges) on ``level``, Dirichlet ones included."""
         return self.vertices[level] + (self.edges[level] if order == 2 else 0)
+
+
+_COARSE: dict = {}
+
+
+def _coarse_counts(case) -> tuple:
+    """(vertices,), (edges,), (triangles,) of a case's coarse mesh, made once per case file,
+    name and maxh in a process (a study asks for them once per job)."""
+    key = (case.source, case.name, case.maxh)
+    if key not in _COARSE:
+        mesh = coarse_mesh(case)
+        _COARSE[key] = (mesh.nv,), (mesh.nedge,), (mesh.ne,)
+    return _COARSE[key]
 
 
 @dataclass(frozen=True)

@@ -53,8 +53,6 @@ def thread_count(threads: int | None):
 class InProcess:
     """The study in this process: one job per case, its methods sharing each level."""
 
-    name = "this process"
-
     def __init__(self, threads: int | None = None):
         self.threads = threads
 
@@ -100,7 +98,6 @@ class DaskEngine:
         cores = os.cpu_count() or 1
         # N local workers share the cores: no more NGSolve threads than cores in all
         self.threads = threads or (max(1, cores // workers) if workers else 1)
-        self.name = f"{workers} local Dask workers" if workers else f"the Dask cluster at {scheduler}"
         self._client = self._cluster = None
 
     @property
