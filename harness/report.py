@@ -25,7 +25,7 @@ from .efficiency import efficiency_table, verdicts
 from .methods import methods_named
 from .rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from .results import ensure_writable, write_atomic, write_csv
-from .execution import run_jobs
+from .execution import InProcess, run_jobs
 from .execution.checkpoint import CheckpointStore, code_digest
 from .execution.engines import study_progress, tidy
 from .snapshots import SnapshotHook, load_snapshots, save_snapshots
@@ -401,7 +401,7 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         f"(commit {meta['git_commit'][:12]}), NGSolve {meta['ngsolve_version']}, {meta['date']}, "
         f"{meta['machine']['node']} ({meta['machine']['cpus']} cpus); profile {settings['profile']}, "
         f"{settings['levels']} P2 levels; methods {', '.join(settings['methods'])}; "
-        f"study wall time {meta['wall_seconds']:.0f} s.", css="meta")
+        f"study wall time {meta['wall_seconds']:.0f} s{' ' + meta['engine'] if meta.get('engine') else ''}.", css="meta")
     doc.heading("Problem and methods")
     doc.paragraph(INTRO)
     doc.table(pd.DataFrame([{"method": m.name, "order": m.order, "contact condition": m.contact,
@@ -489,7 +489,8 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     write_csv(results, Path(results_dir) / "results.csv")
     write_csv(rates, Path(results_dir) / "rates.csv")
     write_csv(efficiency, Path(results_dir) / "efficiency.csv")
-    meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases]}
+    meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
+                                   "engine": (engine or InProcess()).describe()}
     write_atomic(Path(results_dir) / "provenance.json", json.dumps(meta, indent=2))
 
     figure_dir = Path(report_dir) / "figures"

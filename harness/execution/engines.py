@@ -59,6 +59,9 @@ class InProcess:
     def jobs(self, cases, methods) -> list[tuple]:
         return [(case, tuple(methods)) for case in cases]
 
+    def describe(self) -> str:
+        return "in one process" + ("" if self.threads is None else f" ({self.threads} thread{'s' if self.threads > 1 else ''})")
+
     def memory(self) -> tuple[float, str]:
         return budget.machine_memory(), "this machine"
 
@@ -116,6 +119,10 @@ class DaskEngine:
 
     def jobs(self, cases, methods) -> list[tuple]:
         return [(case, (method,)) for case in cases for method in methods]
+
+    def describe(self) -> str:
+        where = f"{self.workers} local Dask workers" if self.workers else f"the Dask cluster at {self.scheduler}"
+        return f"on {where} ({self.threads} thread{'s' if self.threads > 1 else ''} per job)"
 
     def memory(self) -> tuple[float, str]:
         """The memory of one worker (the largest, for an existing cluster)."""

@@ -36,9 +36,8 @@ class StudyProgress:
             return
         self.done.add(key)
         self.count += self.weights[key]
+        self.running.pop((case, method), None)
         self.bar.update(self.weights[key])
-        if (case, method, level + 1) not in self.weights:
-            self.running.pop((case, method), None)
 
     def restored(self, case: str, method: str, levels: int) -> None:
         """Levels 0..levels-1 of a chain come from its checkpoint: not work of this run."""
