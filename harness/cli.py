@@ -377,5 +377,5 @@ def main(argv=None) -> int:
         print(f"harness: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
-        print("harness: interrupted; nothing was written", file=sys.stderr)
+        print("harness: interrupted; no results file was written (run and report continue from their last finished level when started again)", file=sys.stderr)
         return 130
