@@ -89,26 +89,27 @@ def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_prog
     hook = SnapshotHook(levels, methods)
     outputs = {case.name: [] for case in todo}
     remaining = {case.name: len(methods) for case in todo}
-    start = time.perf_counter()
     try:
         for (case, job_methods), output in run_jobs(todo, methods, levels, engine, progress, hook, checkpoints, check_memory):
             outputs[case.name].append(output)
             remaining[case.name] -= len(job_methods)
             if remaining[case.name] == 0:
-                _store_case(store, case, outputs[case.name], methods, settings, keys[case.name], time.perf_counter() - start)
+                _store_case(store, case, outputs[case.name], methods, settings, keys[case.name])
                 CheckpointStore(checkpoints, levels).forget(case)
     finally:
         progress.close()
     return pd.concat([pd.read_csv(store / f"{case.name}.csv") for case in cases], ignore_index=True)
 
 
-def _store_case(store: Path, case: Case, outputs: list, methods, settings: dict, key: str, seconds: float) -> None:
+def _store_case(store: Path, case: Case, outputs: list, methods, settings: dict, key: str) -> None:
     """One case's rows, snapshots and provenance in the report's cache (the .json last: it
-    marks the case complete)."""
+    marks the case complete). ``work_seconds``: the seconds its jobs spent, summed (they may
+    have run side by side on workers, and a resumed job counts only what it redid)."""
     frame = tidy(outputs, [case], methods)
     write_csv(frame, store / f"{case.name}.csv")
     save_snapshots({k: v for output in outputs for k, v in output.kept.items()}, store / f"{case.name}.npz")
-    meta = provenance(settings) | {"cache_key": key, "case": case.name, "wall_seconds": seconds}
+    work = sum(sum(output.phases.values()) for output in outputs)
+    meta = provenance(settings) | {"cache_key": key, "case": case.name, "work_seconds": work}
     write_atomic(store / f"{case.name}.json", json.dumps(meta, indent=2))
 
 
