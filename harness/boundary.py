@@ -39,8 +39,8 @@ class ContactQuadrature:
     weights: np.ndarray         # (q,)
     h: np.ndarray               # (q,) length of the point's contact edge
     edge: np.ndarray            # (q,) index of the point's contact edge (in problem.trace order)
-    T: sp.csr_matrix            # (q, ndof) trace values of the basis
-    N: sp.csr_matrix            # (q, ndof) outward normal derivatives of the basis
+    T: sp.csr_matrix            # (q, ndof) trace values of the basis (of the contact variable)
+    N: sp.csr_matrix | None     # (q, ndof) outward normal derivatives of the basis (scalar problems)
 
     def edge_means(self, values: np.ndarray) -> np.ndarray:
         """Mean over each contact edge of a function given at the points."""
@@ -75,39 +75,21 @@ def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: 
     """Gauss points of ``problem``'s contact edges and its basis (order 1 or 2) there; on the
     edges with an end at one of the vertices ``graded_at`` (singular points), the ``graded``
     rule instead."""
-    mesh, fes, trace = problem.mesh, problem.fes, problem.trace
-    order = problem.order
+    trace = problem.trace
     m = len(trace.edges)
-    third = trace.opposite                              # vertex c of the triangle on each edge
-    edge_dofs = np.zeros((m, 3), dtype=np.int64)        # bubble dofs of ab, ac, bc (order 2)
-    if order == 2:
-        for k, (e, (a, b), c) in enumerate(zip(trace.edges, trace.edge_vertices, third)):
-            (element,) = mesh[ngs.NodeId(ngs.EDGE, int(e))].elements
-            ends = {frozenset(v.nr for v in mesh[edge].vertices): edge.nr for edge in mesh[element].edges}
-            edge_dofs[k] = [_dof(fes, ngs.EDGE, ends[frozenset(pair)]) for pair in ((a, b), (a, c), (b, c))]
-    coords = np.array([mesh[ngs.NodeId(ngs.VERTEX, int(v))].point for v in third])
-    grad = _barycentric_gradients(trace.a, trace.b, coords)             # (m, 3, 2): a, b, c
-    dn = np.einsum("mij,mj->mi", grad, trace.normals)                   # (m, 3)
-
     rules = [gauss(points_per_edge), graded(points_per_edge)]
     singular = np.zeros(m, bool) if graded_at is None else np.isin(trace.edge_vertices, graded_at).any(axis=1)
     rule_of = singular.astype(int)
     edge = np.concatenate([np.full(len(rules[r][0]), k) for k, r in enumerate(rule_of)]).astype(np.int64)
     T_t = np.concatenate([rules[r][0] for r in rule_of])
     unit_w = np.concatenate([rules[r][1] for r in rule_of])
-    vertex_dofs = np.array([[_dof(fes, ngs.VERTEX, v) for v in row] for row in
-                            np.column_stack([trace.edge_vertices, third])], dtype=np.int64).reshape(m, 3)
     la, lb = 1.0 - T_t, T_t
-    dna, dnb, dnc = (dn[edge, i] for i in range(3))
-    cols_T = [vertex_dofs[edge, 0], vertex_dofs[edge, 1]]
+    # the contact variable's dofs (``discrete``): u_h itself, or c = -u_h . n in elasticity
+    cols_T = [problem.end_dofs[edge, 0], problem.end_dofs[edge, 1]]
     vals_T = [la, lb]
-    cols_N = [vertex_dofs[edge, 0], vertex_dofs[edge, 1], vertex_dofs[edge, 2]]
-    vals_N = [dna, dnb, dnc]
-    if order == 2:
-        cols_T.append(edge_dofs[edge, 0])
+    if problem.order == 2:
+        cols_T.append(problem.edge_dofs[edge])
         vals_T.append(-0.5 * la * lb)
-        cols_N += [edge_dofs[edge, 0], edge_dofs[edge, 1], edge_dofs[edge, 2]]
-        vals_N += [-0.5 * (lb * dna + la * dnb), -0.5 * la * dnc, -0.5 * lb * dnc]
     shape = (len(edge), problem.ndof)
     return ContactQuadrature(
         points=trace.a[edge] + T_t[:, None] * (trace.b - trace.a)[edge],
@@ -115,8 +97,35 @@ def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: 
         h=trace.lengths[edge],
         edge=edge,
         T=_rows(cols_T, vals_T, shape),
-        N=_rows(cols_N, vals_N, shape),
+        N=_normal_derivatives(problem, edge, T_t, shape) if problem.components == 1 else None,
     )
+
+
+def _normal_derivatives(problem, edge: np.ndarray, T_t: np.ndarray, shape) -> sp.csr_matrix:
+    """The outward normal derivative of every scalar basis function at the points (Nitsche's
+    flux term; see the module docstring)."""
+    mesh, fes, trace = problem.mesh, problem.fes, problem.trace
+    m = len(trace.edges)
+    third = trace.opposite                              # vertex c of the triangle on each edge
+    edge_dofs = np.zeros((m, 3), dtype=np.int64)        # bubble dofs of ab, ac, bc (order 2)
+    if problem.order == 2:
+        for k, (e, (a, b), c) in enumerate(zip(trace.edges, trace.edge_vertices, third)):
+            (element,) = mesh[ngs.NodeId(ngs.EDGE, int(e))].elements
+            ends = {frozenset(v.nr for v in mesh[edge].vertices): edge.nr for edge in mesh[element].edges}
+            edge_dofs[k] = [_dof(fes, ngs.EDGE, ends[frozenset(pair)]) for pair in ((a, b), (a, c), (b, c))]
+    coords = np.array([mesh[ngs.NodeId(ngs.VERTEX, int(v))].point for v in third])
+    grad = _barycentric_gradients(trace.a, trace.b, coords)             # (m, 3, 2): a, b, c
+    dn = np.einsum("mij,mj->mi", grad, trace.normals)                   # (m, 3)
+    vertex_dofs = np.array([[_dof(fes, ngs.VERTEX, v) for v in row] for row in
+                            np.column_stack([trace.edge_vertices, third])], dtype=np.int64).reshape(m, 3)
+    la, lb = 1.0 - T_t, T_t
+    dna, dnb, dnc = (dn[edge, i] for i in range(3))
+    cols_N = [vertex_dofs[edge, 0], vertex_dofs[edge, 1], vertex_dofs[edge, 2]]
+    vals_N = [dna, dnb, dnc]
+    if problem.order == 2:
+        cols_N += [edge_dofs[edge, 0], edge_dofs[edge, 1], edge_dofs[edge, 2]]
+        vals_N += [-0.5 * (lb * dna + la * dnb), -0.5 * la * dnc, -0.5 * lb * dnc]
+    return _rows(cols_N, vals_N, shape)
 
 
 def _rows(columns: list, values: list, shape) -> sp.csr_matrix:
@@ -141,7 +150,7 @@ def at_points(cf, mesh, quadrature: ContactQuadrature) -> np.ndarray:
 
 
 def exact_pressure(case, problem, quadrature: ContactQuadrature) -> np.ndarray:
-    """The exact contact pressure lambda = d_n u - g_C at the quadrature points."""
+    """The exact contact pressure at the quadrature points: lambda = d_n u - g_C, or
+    p = -(sigma_n(u) - g_n) in elasticity (``physics``)."""
     normals = problem.trace.normals[quadrature.edge]
-    flux = (evaluate(case.grad_u, problem.mesh, quadrature.points) * normals).sum(axis=1)
-    return flux - at_points(case.contact_load, problem.mesh, quadrature)
+    return case.physics.pressure(case, problem.mesh, quadrature.points, normals)

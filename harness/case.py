@@ -26,6 +26,21 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     singular_points        optional list of points (x, y) where u is singular, each a polygon
                            corner; the error and load quadratures are graded there. Default:
                            every point of the geometry. [] for a solution singular nowhere.
+    physics                optional, "scalar" (default) or "elasticity" (Remark 2.3; see below)
+
+An *elastic case* (``physics = "elasticity"``, ``harness.physics.Elasticity``) declares besides
+
+    poisson                Poisson's ratio (plane strain), 0 <= poisson < 1/2
+    young                  optional Young's modulus (default 1)
+    u                      the exact displacement, a 2-vector CoefficientFunction
+    gap                    optional initial gap alpha: the constraint is u . n - alpha <= 0
+    contact_load           optional traction g_C on Gamma_C, a 2-vector: sigma(u) n - g_C = -p n
+                           with p >= 0 the contact pressure (frictionless: its tangential part is
+                           sigma_t(u), which validation checks)
+    f                      optional, -div sigma(u) in closed form (checked against the derived one)
+
+and the harness derives f = -div sigma(u), the traction sigma(u) n on Gamma_g and u on Gamma_u.
+An elastic case needs its exact u (no reference cases in elasticity yet).
 
 From u the harness derives f = -Laplace(u) (unless declared), the Neumann data du/dn on
 Gamma_g and the Dirichlet data u on Gamma_u (Section 1 of MATH.md: nonzero Dirichlet data, a gap and a load on
@@ -52,6 +67,8 @@ from functools import cached_property
 from pathlib import Path
 
 import ngsolve as ngs
+
+from .physics import PHYSICS, SCALAR, Elasticity, gradient
 
 CASES_DIR = Path(__file__).resolve().parent.parent / "cases"
 
@@ -87,6 +104,7 @@ class Case:
     neumann: ngs.CoefficientFunction | None = None     # reference cases: g on Gamma_g
     reference_levels: int | None = None                # None: errors against the exact u
     conjectured: bool = False                          # expected_rate is a belief, not a theorem
+    physics: object = SCALAR                           # ``physics.Scalar`` or ``physics.Elasticity``
 
     @property
     def exact(self) -> bool:
@@ -99,8 +117,9 @@ class Case:
         return self.u if self.u is not None else self.dirichlet
 
     def neumann_data(self, normal: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
-        """g = du/dn on Gamma_g: from the exact u, or the reference case's data."""
-        return self.grad_u * normal if self.u is not None else self.neumann
+        """g on Gamma_g (du/dn, or the traction sigma(u) n): from the exact u, or the reference
+        case's data."""
+        return self.physics.flux(self.grad_u, normal) if self.u is not None else self.neumann
 
     def with_reference(self, levels: int) -> "Case":
         """This case with errors measured against a reference ``levels`` levels finer."""
@@ -112,23 +131,33 @@ class Case:
     def grad_u(self) -> ngs.CoefficientFunction:
         if self.u is None:
             raise AttributeError(f"case {self.name!r} has no exact solution (a reference case)")
-        return ngs.CF((self.u.Diff(ngs.x), self.u.Diff(ngs.y)))
+        return gradient(self.u)
 
     @cached_property
-    def laplacian_u(self) -> ngs.CoefficientFunction:
+    def derived_f(self) -> ngs.CoefficientFunction:
+        """The volume load the exact u asks for: -Laplace(u) (2.1), or -div sigma(u)."""
         if self.u is None:
             raise AttributeError(f"case {self.name!r} has no exact solution (a reference case)")
-        return self.u.Diff(ngs.x).Diff(ngs.x) + self.u.Diff(ngs.y).Diff(ngs.y)
+        return self.physics.load(self.u)
 
     @cached_property
     def f(self) -> ngs.CoefficientFunction:
-        """Volume load of (2.1): f = -Laplace(u), as declared by the case or derived from u."""
-        return -self.laplacian_u if self.declared_f is None else ngs.CF(self.declared_f)
+        """Volume load, as declared by the case or derived from u."""
+        if self.declared_f is None:
+            return self.derived_f
+        if isinstance(self.declared_f, (int, float)) and self.physics.components > 1:
+            return ngs.CF((float(self.declared_f),) * self.physics.components)
+        return ngs.CF(self.declared_f)
 
     @property
     def f_vanishes(self) -> bool:
         """The case declares f = 0 (a harmonic u): the volume load needs no quadrature at all."""
         return isinstance(self.declared_f, (int, float)) and self.declared_f == 0
+
+    @property
+    def obstacle(self) -> ngs.CoefficientFunction | None:
+        """The lower bound of the contact variable (``physics``): alpha, or -alpha in elasticity."""
+        return self.physics.obstacle(self.gap)
 
     @property
     def gap_or_zero(self) -> ngs.CoefficientFunction:
@@ -172,9 +201,33 @@ def _import_file(path: Path):
 
 
 def case_from_module(module, source: str) -> Case:
+    physics = _physics(module, source)
     if hasattr(module, "u"):
-        return _exact_case(module, source)
-    return _reference_case(module, source)
+        case = _exact_case(module, source)
+    elif physics is not SCALAR:
+        raise CaseError(f"case {source}: an elastic case needs its exact displacement u (no reference cases in elasticity yet)")
+    else:
+        return _reference_case(module, source)
+    if physics is not SCALAR:
+        if case.u.dim != physics.components:
+            raise CaseError(f"case {source}: u must be a {physics.components}-vector for {physics.name}, got dimension {case.u.dim}")
+        case = dataclasses.replace(case, physics=physics)
+    return case
+
+
+def _physics(module, source: str):
+    """The case's ``physics``: scalar unless it declares physics = "elasticity" (with poisson)."""
+    name = getattr(module, "physics", "scalar")
+    if name not in PHYSICS:
+        raise CaseError(f"case {source}: physics must be one of {', '.join(PHYSICS)}, got {name!r}")
+    if name == "scalar":
+        return SCALAR
+    if not hasattr(module, "poisson"):
+        raise CaseError(f"case {source}: an elastic case must declare poisson (Poisson's ratio)")
+    try:
+        return Elasticity(young=float(getattr(module, "young", 1.0)), poisson=float(module.poisson))
+    except ValueError as exc:
+        raise CaseError(f"case {source}: {exc}") from None
 
 
 def _exact_case(module, source: str) -> Case:

@@ -1,6 +1,10 @@
 """The conforming discretisation of (2.5) on one mesh level: X_h, a(., .), L(.), Dirichlet lift.
 
-X_h is NGSolve's H1 space of order 2 (the paper's P2) or 1 (the P1 baseline). Its basis is
+X_h is NGSolve's H1 space of order 2 (the paper's P2) or 1 (the P1 baseline), or its vector
+counterpart for an elastic case (``physics``; Remark 2.3). An elastic problem is written in a
+rotated frame at the nodes of Gamma_C: there the two nodal variables are the contact variable
+c = -u . n and the tangential displacement (``RotatedFrame``), so the contact dofs carry one
+scalar each, as in the scalar problem, and every cone, solver and error on Gamma_C is shared. Its basis is
 hierarchical: vertex hat functions and, for order 2, one bubble phi_e = -1/2 lambda_a lambda_b
 per edge (MATH.md Section 5). The stiffness matrix is
 NGSolve's, with a scipy CSR view of the same memory (no copy); the contact models change
@@ -42,6 +46,11 @@ class DiscreteProblem:
     vertex_dofs: np.ndarray     # dofs of trace.vertices, same order
     quadrature: ElementQuadrature
     contact_rows: sp.csr_matrix | None = None   # A's rows of ``contact_dofs``, kept after A is taken
+    basis: sp.csr_matrix | None = None          # Q: NGSolve's (Cartesian) coefficients = Q @ ours; None: Q = I
+
+    def cartesian(self, vector: np.ndarray) -> np.ndarray:
+        """The coefficients in NGSolve's own basis of a vector of this problem's variables."""
+        return vector if self.basis is None else self.basis @ vector
 
     @property
     def contact_dofs(self) -> np.ndarray:
@@ -55,6 +64,11 @@ class DiscreteProblem:
     @property
     def ndof(self) -> int:
         return self.fes.ndof
+
+    @property
+    def components(self) -> int:
+        """1 for a scalar problem, 2 for a displacement."""
+        return len(self.fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, 0)))
 
     @property
     def order(self) -> int:
@@ -86,13 +100,14 @@ class DiscreteProblem:
 
     def gridfunction(self, vector: np.ndarray) -> ngs.GridFunction:
         gf = ngs.GridFunction(self.fes)
-        gf.vec.FV().NumPy()[:] = vector
+        gf.vec.FV().NumPy()[:] = self.cartesian(vector)
         return gf
 
 
-def _single_dof(fes, node) -> int:
-    (dof,) = fes.GetDofNrs(node)
-    return dof
+def _contact_dof(fes, node) -> int:
+    """The dof of ``node`` that carries the contact variable: its only one (scalar), or the
+    second component's, where ``RotatedFrame`` puts c = -u . n (elasticity)."""
+    return fes.GetDofNrs(node)[-1]
 
 
 def csr_view(matrix) -> sp.csr_matrix:
@@ -105,9 +120,25 @@ def csr_view(matrix) -> sp.csr_matrix:
     return view
 
 
-def load_vector(case, fes: ngs.H1, quadrature: ElementQuadrature) -> np.ndarray:
-    """L(v) of (2.5), plus the contact-boundary load g_C of the manufactured-solution
-    generalisation: du/dn = g_C + lambda on Gamma_C with lambda >= 0 the contact pressure."""
+def csr_positions(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Positions in ``M.data`` of the entries (rows[k], cols[k]), which must be in M's pattern
+    (column indices sorted within each row, as NGSolve stores them)."""
+    touched = np.unique(rows)
+    starts, lengths = M.indptr[touched], np.diff(M.indptr)[touched]
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    positions = np.repeat(starts - offsets, lengths) + np.arange(lengths.sum())
+    keys = np.repeat(touched, lengths) * M.shape[1] + M.indices[positions]
+    wanted = rows * M.shape[1] + cols
+    where = np.minimum(np.searchsorted(keys, wanted), len(keys) - 1)
+    if not (np.all(np.diff(keys) > 0) and np.array_equal(keys[where], wanted)):
+        raise RuntimeError("S^T A S does not fit the sparsity pattern of A: a contact edge outside one triangle?")
+    return positions[where]
+
+
+def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
+    """L(v) of (2.5) in NGSolve's basis: the volume load and the Neumann data (du/dn, or the
+    traction sigma(u) n), plus, in elasticity, the traction g_C on Gamma_C (the scalar contact
+    load, which may be singular, is integrated on its own: ``contact_load_vector``)."""
     v = fes.TestFunction()
     load = ngs.LinearForm(fes)
     if not case.f_vanishes:
@@ -116,42 +147,109 @@ def load_vector(case, fes: ngs.H1, quadrature: ElementQuadrature) -> np.ndarray:
             load += f * v * dx
     n = ngs.specialcf.normal(2)
     load += case.neumann_data(n) * v * ngs.ds("neumann", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
+    if case.physics.components > 1 and case.contact_load is not None:
+        load += case.contact_load * v * ngs.ds("contact", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
     load.Assemble()
     return load.vec.FV().NumPy().copy()
 
 
+@dataclass(frozen=True)
+class RotatedFrame:
+    """At each node of Gamma_C of a vector space: the variables (t, c) = (u . tau, -u . n) in
+    place of (u_x, u_y), tau = (-n_y, n_x), so that u = t tau - c n (an orthogonal change of
+    basis Q: NGSolve's coefficients = Q @ ours; Q = I where n = -e_y). The contact variable c
+    then sits in the second component's dof, where ``_contact_dof`` finds it.
+
+    A vertex of Gamma_C needs one normal: Gamma_C must be straight through each of its vertices
+    (the discrete contact conditions on the normal displacement of a kink would need the two
+    normals of its edges, and the cones would no longer be bounds)."""
+
+    pairs: np.ndarray       # (k, 2) the two dofs (x, y components) of each node of Gamma_C
+    normals: np.ndarray     # (k, 2) the outward unit normal there
+
+    @classmethod
+    def of(cls, fes, trace: ContactTrace) -> "RotatedFrame":
+        normal_of = {}
+        for edge, (va, vb), normal in zip(trace.edges, trace.edge_vertices, trace.normals):
+            for kind, number in ((ngs.EDGE, edge), (ngs.VERTEX, va), (ngs.VERTEX, vb)):
+                pair = tuple(fes.GetDofNrs(ngs.NodeId(kind, int(number))))
+                if len(pair) != 2:          # an edge of P1: no dofs
+                    continue
+                if pair in normal_of and not np.allclose(normal_of[pair], normal, atol=1e-12):
+                    point = fes.mesh[ngs.NodeId(kind, int(number))].point
+                    raise ValueError(f"Gamma_C has a kink at ({point[0]:.4g}, {point[1]:.4g}): elastic contact needs it "
+                                     f"straight through each of its vertices")
+                normal_of[pair] = normal
+        return cls(np.array(list(normal_of), dtype=np.int64).reshape(-1, 2),
+                   np.array(list(normal_of.values()), dtype=float).reshape(-1, 2))
+
+    @property
+    def identity(self) -> bool:
+        return bool(np.allclose(self.normals, [0.0, -1.0], atol=1e-14))
+
+    def matrix(self, ndof: int) -> sp.csr_matrix:
+        """Q: identity off Gamma_C; at a node, u_x = tau_x t - n_x c, u_y = tau_y t - n_y c."""
+        x, y = self.pairs[:, 0], self.pairs[:, 1]
+        nx, ny = self.normals[:, 0], self.normals[:, 1]
+        off = np.ones(ndof, bool)
+        off[self.pairs.ravel()] = False
+        rest = np.flatnonzero(off)
+        rows = np.concatenate([rest, x, x, y, y])
+        cols = np.concatenate([rest, x, y, x, y])
+        vals = np.concatenate([np.ones(len(rest)), -ny, -nx, nx, -ny])
+        return sp.csr_matrix((vals, (rows, cols)), shape=(ndof, ndof))
+
+
 def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadrature | None = None) -> DiscreteProblem:
-    """X_h of ``order`` on ``mesh``; ``quadrature`` (made here if not given) is shared by the
-    problems of one level."""
+    """X_h of ``order`` on ``mesh`` for the case's physics; ``quadrature`` (made here if not
+    given) is shared by the problems of one level."""
     if order not in (1, 2):
         raise ValueError(f"order must be 1 or 2, got {order}")
-    fes = ngs.H1(mesh, order=order, dirichlet="dirichlet")
+    physics = case.physics
+    fes = physics.space(mesh, order)
     u, v = fes.TnT()
-    a = ngs.BilinearForm(ngs.grad(u) * ngs.grad(v) * ngs.dx).Assemble()
+    a = ngs.BilinearForm(physics.form(u, v) * ngs.dx).Assemble()
     quadrature = quadrature or ElementQuadrature.of(case, mesh)
 
     dirichlet = ngs.GridFunction(fes)
     dirichlet.Set(case.dirichlet_data, ngs.BND, definedon=mesh.Boundaries("dirichlet"))
     free = np.array(fes.FreeDofs(), dtype=bool)
     lift = np.where(free, 0.0, dirichlet.vec.FV().NumPy())
+    b = load_vector(case, fes, quadrature)
 
     trace = contact_trace(mesh)
-    edge_dofs = np.array([_single_dof(fes, ngs.NodeId(ngs.EDGE, int(e))) for e in trace.edges] if order == 2 else [],
+    A = csr_view(a.mat)
+    basis = None
+    if physics.components > 1:
+        frame = RotatedFrame.of(fes, trace)
+        if not frame.identity:
+            basis = frame.matrix(fes.ndof)
+            rotate_in_place(A, basis)
+            b, lift = basis.T @ b, basis.T @ lift
+    edge_dofs = np.array([_contact_dof(fes, ngs.NodeId(ngs.EDGE, int(e))) for e in trace.edges] if order == 2 else [],
                          dtype=np.int64)
-    end_dofs = np.array([[_single_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in pair]
+    end_dofs = np.array([[_contact_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in pair]
                          for pair in trace.edge_vertices])
     if not free[edge_dofs].all() or not free[end_dofs].all():
         raise ValueError("Gamma_C touches Gamma_u; the paper (Section 2) assumes they do not")
     problem = DiscreteProblem(
-        mesh=mesh, fes=fes, _A=csr_view(a.mat), _A_ngs=a.mat, b=load_vector(case, fes, quadrature),
-        lift=lift, free=free, trace=trace, edge_dofs=edge_dofs, end_dofs=end_dofs,
-        vertex_dofs=np.array([_single_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in trace.vertices]),
-        quadrature=quadrature,
+        mesh=mesh, fes=fes, _A=A, _A_ngs=a.mat, b=b, lift=lift, free=free, trace=trace, edge_dofs=edge_dofs,
+        end_dofs=end_dofs, quadrature=quadrature, basis=basis,
+        vertex_dofs=np.array([_contact_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in trace.vertices]),
     )
     problem.contact_rows = problem.A[problem.contact_dofs].copy()
-    if case.contact_load is not None:
+    if case.contact_load is not None and physics.components == 1:
         problem.b += contact_load_vector(case, problem)
     return problem
+
+
+def rotate_in_place(A: sp.csr_matrix, Q: sp.csr_matrix) -> None:
+    """A <- Q^T A Q in A's own memory. Q mixes the two dofs of one node, which A already couples
+    with every dof it couples either of them with, so Q^T A Q fits A's sparsity pattern."""
+    K = (Q.T @ A @ Q).tocoo()
+    positions = csr_positions(A, K.row.astype(np.int64), K.col.astype(np.int64))
+    A.data[:] = 0.0
+    np.add.at(A.data, positions, K.data)
 
 
 def contact_load_vector(case, problem: DiscreteProblem) -> np.ndarray:

@@ -26,31 +26,37 @@ def error_order(fe_order: int) -> int:
     case), 4 for P1. tests/test_errors.py holds both to 1e-3 against a much finer integration."""
     return 2 * fe_order + 2
 PENETRATION_SAMPLES_PER_EDGE = 33
-NORMS = ("err_h1", "err_h1_semi", "err_l2")
+NORMS = ("err_h1", "err_h1_semi", "err_l2", "err_energy")
 
 
 def error_norms(case, solutions: list[ngs.GridFunction], quadrature: ElementQuadrature,
                 order: int | None = None) -> list[dict]:
-    """H^1, H^1-semi and L^2 errors of each of ``solutions`` (GridFunctions on one mesh): u and
-    grad u are evaluated once per quadrature point for all of them, with the Gauss order the
-    highest-order solution needs (``error_order``) unless ``order`` is given."""
+    """H^1, H^1-semi, L^2 and energy errors of each of ``solutions`` (GridFunctions on one
+    mesh): u and grad u are evaluated once per quadrature point for all of them, with the Gauss
+    order the highest-order solution needs (``error_order``) unless ``order`` is given. The
+    energy norm a(e, e)^{1/2} is the H^1 seminorm for the Laplacian, (int sigma(e) : eps(e))^{1/2}
+    in elasticity (``physics``)."""
     order = order or error_order(max(gfu.space.globalorder for gfu in solutions))
     squares = []
     for gfu in solutions:
         diff = case.u - gfu
-        grad_diff = case.grad_u - ngs.grad(gfu)
-        squares += [diff * diff, grad_diff * grad_diff]
+        grad_diff = case.grad_u - ngs.Grad(gfu)
+        squares += [ngs.InnerProduct(diff, diff), ngs.InnerProduct(grad_diff, grad_diff)]
+        if case.physics.components > 1:
+            squares.append(case.physics.energy_density(grad_diff))
     integrals = quadrature.integrate(ngs.CF(tuple(squares)), order)
     rows = []
-    for l2_sq, semi_sq in integrals.reshape(-1, 2):
-        l2_sq, semi_sq = max(l2_sq, 0.0), max(semi_sq, 0.0)
+    for squared in integrals.reshape(len(solutions), -1):
+        l2_sq, semi_sq, energy_sq = (max(value, 0.0) for value in (*squared[:2], squared[-1]))
         rows.append({"err_h1": float(np.sqrt(l2_sq + semi_sq)), "err_h1_semi": float(np.sqrt(semi_sq)),
-                     "err_l2": float(np.sqrt(l2_sq))})
+                     "err_l2": float(np.sqrt(l2_sq)), "err_energy": float(np.sqrt(energy_sq))})
     return rows
 
 
 def max_penetration(case, mesh: ngs.Mesh, trace_u: ContactTraceFunction) -> float:
-    """max over Gamma_C of (gap - u_h): positive where u_h dips below the obstacle.
+    """max over Gamma_C of (obstacle - c(u_h)): positive where u_h dips below the obstacle
+    (c(u_h) = u_h, obstacle alpha; in elasticity u_h . n - alpha, positive where u_h penetrates
+    the foundation).
 
     Sampled densely on every contact edge and at the stationary point of its quadratic, so
     the value between nodes is seen (K_h and K~_h only constrain nodes and edge means).
@@ -60,8 +66,8 @@ def max_penetration(case, mesh: ngs.Mesh, trace_u: ContactTraceFunction) -> floa
     values = np.concatenate([trace_u.at(dense), trace_u.value(np.arange(len(t_star)), t_star)[:, None]], axis=1)
     params = np.concatenate([np.broadcast_to(dense, (len(t_star), len(dense))), t_star[:, None]], axis=1)
     points = trace_u.a[:, None, :] + params[..., None] * (trace_u.b - trace_u.a)[:, None, :]
-    gap = evaluate(case.gap_or_zero, mesh, points) if case.gap is not None else 0.0
-    return float((gap - values).max())
+    obstacle = evaluate(case.obstacle, mesh, points) if case.obstacle is not None else 0.0
+    return float((obstacle - values).max())
 
 
 
@@ -110,7 +116,7 @@ class ContactErrors:
         self.own = DiscretePressure(problem)
         q = self.own.quadrature
         self.weights, self.h = q.weights, q.h
-        self.u = evaluate(case.u, problem.mesh, q.points)
+        self.u = case.physics.contact_value(case, problem.mesh, q.points, problem.trace.normals[q.edge])
         self.pressure = exact_pressure(case, problem, q)
         self._full_T = q.T
 

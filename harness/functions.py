@@ -1,7 +1,8 @@
 """Building blocks for exact solutions in case modules (NGSolve CoefficientFunctions).
 
 Each satisfies the Signorini conditions on a straight Gamma_C = {y = 0} with outward normal
-n = -e_y, the domain lying above it; see MATH.md Section 4.
+n = -e_y, the domain lying above it; see MATH.md Section 4 (and ``roller_free_mode`` for the
+elastic ones, Remark 2.3).
 """
 from __future__ import annotations
 
@@ -25,3 +26,45 @@ def transition(x0: float = 0.0, binding_side: str = "right"):
     r, theta = polar(x0, mirrored=(binding_side == "left"))
     return -(r ** 1.5) * sin(1.5 * theta)
 
+
+
+def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, mirrored: bool = False):
+    """The plane-strain displacement r^l Phi(theta) (l = ``exponent``) on the wedge
+    0 <= theta <= omega about (x0, 0) with the frictionless-contact ("roller") conditions
+    u_y = 0, sigma_xy = 0 on theta = 0 and a traction-free face theta = omega: the elastic
+    counterpart of ``transition`` (omega = pi) and of a binding Gamma_C meeting Gamma_g.
+
+    Kolosov-Muskhelishvili potentials phi = a z^l, psi = b z^l with a, b real (real on the
+    ray theta = 0, which gives u_y = sigma_xy = 0 there), 2 mu (u_x + i u_y) = kappa phi
+    - z conj(phi') - conj(psi), kappa = 3 - 4 nu (plane strain). With
+    sigma_tt + i sigma_rt = Phi + conj(Phi) + e^{2 i theta}(conj(z) Phi' + Psi), Phi = phi',
+    Psi = psi', the face theta = omega is traction-free iff
+
+        a (l + 1) cos((l - 1) omega) + b cos((l + 1) omega) = 0,
+        a (l - 1) sin((l - 1) omega) + b sin((l + 1) omega) = 0,
+
+    whose determinant is sin(2 l omega) + l sin(2 omega): the exponents are its roots, the
+    symmetric (mode I) exponents of a traction-free wedge of angle 2 omega (reflect across
+    theta = 0), and do not depend on Poisson's ratio. ``exponent`` must be one. The scale
+    makes sigma_n = sigma_tt(theta = 0) = -l r^{l-1}: the contact pressure on theta = 0 is
+    l r^{l-1} > 0. ``mirrored``: theta from the negative x-direction (the wedge to the left).
+    """
+    import math
+
+    from ngsolve import CF, cos
+
+    l = float(exponent)
+    residual = math.sin(2 * l * omega) + l * math.sin(2 * omega)
+    if abs(residual) > 1e-10 * max(1.0, l):
+        raise ValueError(f"{l} is not a root of sin(2 l omega) + l sin(2 omega) for omega = {omega}: residual {residual:.2e}")
+    # b from whichever face equation is better conditioned, for a = 1
+    c, s = math.cos((l + 1) * omega), math.sin((l + 1) * omega)
+    b_unit = -(l + 1) * math.cos((l - 1) * omega) / c if abs(c) >= abs(s) else -(l - 1) * math.sin((l - 1) * omega) / s
+    a = -1.0 / ((l + 1) + b_unit)       # sigma_tt(0) = l r^{l-1} (a (l + 1) + b) = -l r^{l-1}
+    b = a * b_unit
+    r, theta = polar(x0, mirrored)
+    kappa, two_mu = material.kappa, 2 * material.mu
+    ux = r**l * ((kappa * a - b) * cos(l * theta) - a * l * cos((2 - l) * theta)) / two_mu
+    uy = r**l * ((kappa * a + b) * sin(l * theta) - a * l * sin((2 - l) * theta)) / two_mu
+    # mirrored (x -> x0 - x): the x-component changes sign
+    return CF((-ux if mirrored else ux, uy))

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from .discrete import ContactTraceFunction, DiscreteProblem, csr_view
+from .discrete import ContactTraceFunction, DiscreteProblem, csr_positions, csr_view
 from .mesh import evaluate
 
 # Gauss-Legendre points on [0, 1] for edge means of the gap (exact for polynomial gaps of
@@ -106,9 +106,9 @@ class ContactModel:
         """Gap values for the constrained variables, in the order of ``constrained_dofs``."""
         mesh, trace = problem.mesh, problem.trace
         n_edges = len(problem.edge_dofs)
-        if case.gap is None:
+        if case.obstacle is None:
             return np.zeros(len(trace.vertices) + n_edges)
-        gap = case.gap
+        gap = case.obstacle
         at_vertices = evaluate(gap, mesh, trace.vertex_points)
         if self.edge_functional == "midpoint":
             on_edges = evaluate(gap, mesh, trace.midpoints)
@@ -197,21 +197,6 @@ def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix, take: bool = 
         K = csr_view(K_ngs)
     np.add.at(K.data, positions, np.concatenate([P.data, P.data, Q.data]))
     return K, K_ngs
-
-
-def csr_positions(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-    """Positions in ``M.data`` of the entries (rows[k], cols[k]), which must be in M's pattern
-    (column indices sorted within each row, as NGSolve stores them)."""
-    touched = np.unique(rows)
-    starts, lengths = M.indptr[touched], np.diff(M.indptr)[touched]
-    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
-    positions = np.repeat(starts - offsets, lengths) + np.arange(lengths.sum())
-    keys = np.repeat(touched, lengths) * M.shape[1] + M.indices[positions]
-    wanted = rows * M.shape[1] + cols
-    where = np.minimum(np.searchsorted(keys, wanted), len(keys) - 1)
-    if not (np.all(np.diff(keys) > 0) and np.array_equal(keys[where], wanted)):
-        raise RuntimeError("S^T A S does not fit the sparsity pattern of A: a contact edge outside one triangle?")
-    return positions[where]
 
 
 def contact_qp(case, problem: DiscreteProblem, model: ContactModel, take_stiffness: bool = False) -> ContactQP:

@@ -216,6 +216,7 @@ class ReferenceErrors:
             # h of the studied level is 2^(level - studied) times the reference's (red refinement)
             row.update({
                 "err_h1": float(np.sqrt(semi + l2)), "err_h1_semi": float(np.sqrt(semi)), "err_l2": float(np.sqrt(l2)),
+                "err_energy": float(np.sqrt(semi)),
                 "err_trace_l2": float(np.sqrt(max(e @ (boundary @ e), 0.0))),
                 "err_pressure_l2": float(np.sqrt(max(d @ (boundary @ d), 0.0))),
                 "err_pressure_h12": float(np.sqrt(max(2.0 ** (level - studied) * (d @ (boundary_h @ d)), 0.0))),

@@ -22,7 +22,7 @@ from . import __version__, figures
 from .case import Case, bound_text, fraction, registered_cases
 from .document import Document
 from .efficiency import efficiency_table, verdicts
-from .methods import methods_named
+from .methods import methods_for, methods_named
 from .rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from .results import ensure_writable, write_atomic, write_csv
 from .execution import InProcess, run_jobs
@@ -88,7 +88,7 @@ def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_prog
     checkpoints = store / ".checkpoints"
     hook = SnapshotHook(levels, methods)
     outputs = {case.name: [] for case in todo}
-    remaining = {case.name: len(methods) for case in todo}
+    remaining = {case.name: len(methods_for(case, methods)) for case in todo}
     try:
         for (case, job_methods), output in run_jobs(todo, methods, levels, engine, progress, hook, checkpoints, check_memory):
             outputs[case.name].append(output)

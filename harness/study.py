@@ -20,7 +20,7 @@ from .reference import ReferenceErrors
 
 COLUMNS = [
     "case", "method", "order", "parameters", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
-    "err_l2", "err_best_h1", "err_best_h1_semi", "err_h1_over_best", "err_trace_l2", "err_pressure_l2", "err_pressure_h12",
+    "err_l2", "err_energy", "err_best_h1", "err_best_h1_semi", "err_h1_over_best", "err_trace_l2", "err_pressure_l2", "err_pressure_h12",
     "max_penetration", "max_tension", "min_pressure", "active_constraints", "solver_iterations", "linear_iterations",
     "kkt_residual", "solve_seconds", "total_seconds", "status",
     # what the errors are measured against: "exact" (u), or "reference" (the method's solution
@@ -138,13 +138,16 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     sharper = {m.name: m.sharper(case) for m in methods}
     last_level = max((chain[n] for n in chain if start[n] < chain[n]), default=0)
     multilevel = h = None
+    # the P1 hierarchy of the truncated multigrid (scalar only: ``physics``); else the solves factorise
+    hierarchical = case.physics.multigrid
     with ngs.TaskManager():
         hierarchy = mesh_hierarchy(case, last_level)
         for level in range(last_level):
             clock = time.perf_counter()
             with phases("mesh"):
                 _, mesh = next(hierarchy)
-                multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+                if hierarchical:
+                    multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
                 # red refinement halves every edge, so h halves exactly: measured once
                 h = mesh_size(mesh) if level == 0 else h / 2
             active = [m for m in methods if start[m.name] <= level < chain[m.name]]

@@ -3,7 +3,10 @@
 With gap alpha and contact load g_C the conditions read, on Gamma_C,
     u - alpha >= 0,   du/dn - g_C >= 0,   (u - alpha)(du/dn - g_C) = 0,
 which is what makes u the solution of the variational inequality (2.5) with the data the
-harness derives from it. They are sampled densely on the coarse contact trace. A declared
+harness derives from it. For an elastic case (Remark 2.3; ``physics``) they are
+    u . n - alpha <= 0,   sigma_n(u) - g_n <= 0,   (u . n - alpha)(sigma_n(u) - g_n) = 0,
+and, frictionless, sigma_t(u) = g_t: checked as the scalar conditions of the contact variable
+c(u) = -u . n >= -alpha and the pressure p = -(sigma_n - g_n) >= 0, plus the tangential one. They are sampled densely on the coarse contact trace. A declared
 volume load f must equal -Laplace(u) (sampled inside every coarse element), and declared
 singular points must be vertices of the mesh.
 
@@ -20,18 +23,27 @@ from .geometry import LABELS
 from .mesh import boundary_labels, coarse_mesh, contact_trace, evaluate, vertices_at
 
 SAMPLES_PER_EDGE = 64
+# The conditions in words, by physics (elasticity: sigma_n = n . sigma(u) n, compression < 0).
+CONDITIONS = {
+    "scalar": ("u - gap >= 0", "du/dn - contact_load >= 0", "(u - gap)(du/dn - contact_load) = 0"),
+    "elasticity": ("u.n - gap <= 0", "sigma_n(u) - g_n <= 0", "(u.n - gap)(sigma_n(u) - g_n) = 0",
+                   "sigma_t(u) = g_t (frictionless)"),
+}
 RELATIVE_TOLERANCE = 1e-8
 
 
 def contact_samples(case, mesh):
-    """Points strictly inside the coarse contact edges, their normals, u - alpha and du/dn - g_C."""
+    """Points strictly inside the coarse contact edges, their normals, the excess c(u) - obstacle
+    (u - alpha; alpha - u . n in elasticity) and the pressure (du/dn - g_C; -(sigma_n - g_n))."""
     trace = contact_trace(mesh)
     t = (np.arange(SAMPLES_PER_EDGE) + 0.5) / SAMPLES_PER_EDGE
     points = trace.points(t)
     normals = np.broadcast_to(trace.normals[:, None, :], points.shape)
-    excess = evaluate(case.u - case.gap_or_zero, mesh, points)
-    flux = (evaluate(case.grad_u, mesh, points) * normals).sum(axis=-1) - evaluate(case.load_or_zero, mesh, points)
-    return points.reshape(-1, 2), excess.ravel(), flux.ravel()
+    excess = case.physics.contact_value(case, mesh, points, normals)
+    if case.obstacle is not None:
+        excess = excess - evaluate(case.obstacle, mesh, points)
+    pressure = case.physics.pressure(case, mesh, points, normals)
+    return points.reshape(-1, 2), excess.ravel(), pressure.ravel(), normals.reshape(-1, 2)
 
 
 # barycentric coordinates of the points where a declared f is compared with -Laplace(u)
@@ -49,15 +61,18 @@ def check_declared_f(case, mesh) -> None:
     if case.declared_f is None:
         return
     points = interior_samples(mesh)
-    derived = -evaluate(case.laplacian_u, mesh, points)
-    declared = evaluate(case.f, mesh, points)
-    scale = max(np.abs(evaluate(case.u.Diff(ngs.x).Diff(ngs.x), mesh, points)).max(),
-                np.abs(evaluate(case.u.Diff(ngs.y).Diff(ngs.y), mesh, points)).max(), 1e-300)
-    wrong = ~(np.abs(declared - derived) <= RELATIVE_TOLERANCE * scale)
+    derived = evaluate(case.derived_f, mesh, points).reshape(len(points), -1)
+    declared = evaluate(case.f, mesh, points).reshape(len(points), -1)
+    # the size of the second derivatives of u (times the largest modulus lambda + 2 mu in elasticity)
+    second = max(np.abs(evaluate(case.u.Diff(d).Diff(d), mesh, points)).max() for d in (ngs.x, ngs.y))
+    modulus = case.physics.lam + 2 * case.physics.mu if case.physics.components > 1 else 1.0
+    scale = max(second * modulus, 1e-300)
+    wrong = ~(np.abs(declared - derived) <= RELATIVE_TOLERANCE * scale).all(axis=1)
     if wrong.any():
         k = int(np.argmax(wrong))
-        raise CaseError(f"case {case.name!r}: declared f is not -Laplace(u) at ({points[k, 0]:.4g}, {points[k, 1]:.4g}): "
-                        f"{declared[k]:.6e} against {derived[k]:.6e}")
+        what = "-Laplace(u)" if case.physics.components == 1 else "-div sigma(u)"
+        raise CaseError(f"case {case.name!r}: declared f is not {what} at ({points[k, 0]:.4g}, {points[k, 1]:.4g}): "
+                        f"{declared[k]} against {derived[k]}")
 
 
 def boundary_samples(mesh, label: str) -> np.ndarray:
@@ -94,18 +109,21 @@ def validate_case(case) -> None:
         check_reference_data(case, mesh)
         return
     check_declared_f(case, mesh)
-    points, excess, flux = contact_samples(case, mesh)
+    points, excess, flux, normals = contact_samples(case, mesh)
     if not (np.all(np.isfinite(excess)) and np.all(np.isfinite(flux))):
         bad = points[~(np.isfinite(excess) & np.isfinite(flux))][0]
-        raise CaseError(f"case {case.name!r}: u or du/dn is not finite on Gamma_C at ({bad[0]:.4g}, {bad[1]:.4g})")
+        raise CaseError(f"case {case.name!r}: u or its flux is not finite on Gamma_C at ({bad[0]:.4g}, {bad[1]:.4g})")
     tol_u = RELATIVE_TOLERANCE * max(np.abs(excess).max(), 1e-300)
     tol_flux = RELATIVE_TOLERANCE * max(np.abs(flux).max(), 1e-300)
+    names = CONDITIONS[case.physics.name]
     checks = [
-        ("u - gap >= 0", excess < -tol_u, excess),
-        ("du/dn - contact_load >= 0", flux < -tol_flux, flux),
-        ("(u - gap)(du/dn - contact_load) = 0",
-         (np.abs(excess) > tol_u) & (np.abs(flux) > tol_flux), excess * flux),
+        (names[0], excess < -tol_u, excess),
+        (names[1], flux < -tol_flux, flux),
+        (names[2], (np.abs(excess) > tol_u) & (np.abs(flux) > tol_flux), excess * flux),
     ]
+    if case.physics.components > 1:
+        tangential = case.physics.tangential(case, mesh, points, normals)
+        checks.append((names[3], np.abs(tangential) > tol_flux, tangential))
     for condition, violated, value in checks:
         if violated.any():
             k = int(np.argmax(violated))

@@ -58,7 +58,7 @@ from scipy.spatial import cKDTree
 from .boundary import ContactQuadrature, at_points, contact_quadrature
 from .discrete import DiscreteProblem, csr_view
 from .mesh import evaluate
-from .models import csr_positions
+from .discrete import csr_positions
 
 
 @dataclass

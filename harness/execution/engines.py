@@ -22,6 +22,7 @@ from pathlib import Path
 import pandas as pd
 
 from ..case import load_case
+from ..methods import methods_for
 from ..study import COLUMNS, Phases, run_chain
 from ..validate import validate_case
 from . import budget
@@ -57,7 +58,7 @@ class InProcess:
         self.threads = threads
 
     def jobs(self, cases, methods) -> list[tuple]:
-        return [(case, tuple(methods)) for case in cases]
+        return [(case, tuple(methods_for(case, methods))) for case in cases if methods_for(case, methods)]
 
     def describe(self) -> str:
         return "in one process" + ("" if self.threads is None else f" ({self.threads} thread{'s' if self.threads > 1 else ''})")
@@ -118,7 +119,7 @@ class DaskEngine:
         return self._client
 
     def jobs(self, cases, methods) -> list[tuple]:
-        return [(case, (method,)) for case in cases for method in methods]
+        return [(case, (method,)) for case in cases for method in methods_for(case, methods)]
 
     def describe(self) -> str:
         where = f"{self.workers} local Dask workers" if self.workers else f"the Dask cluster at {self.scheduler}"
@@ -168,6 +169,10 @@ class DaskEngine:
 def plan(cases, methods, levels: int, engine, check_memory: bool = True) -> list[tuple]:
     """The jobs of a study on ``engine``, refused (``budget.BudgetError``, before anything is
     allocated) if the largest would not fit in the memory it would run in."""
+    for case in cases:
+        if not methods_for(case, methods):
+            raise ValueError(f"case {case.name} ({case.physics.name}): none of the methods {', '.join(m.name for m in methods)} "
+                             f"discretises it")
     jobs = engine.jobs(cases, methods)
     if check_memory and jobs:
         check_fits([estimate(case, ms, levels) for case, ms in jobs], *engine.memory())
@@ -177,7 +182,8 @@ def plan(cases, methods, levels: int, engine, check_memory: bool = True) -> list
 def study_progress(cases, methods, levels: int, show: bool) -> StudyProgress:
     weights = {}
     for case in cases:
-        weights |= solve_weights(case, methods, levels)
+        if methods_for(case, methods):
+            weights |= solve_weights(case, methods_for(case, methods), levels)
     return StudyProgress(weights, show)
 
 

@@ -60,6 +60,12 @@ def methods_named(names) -> list[Method]:
     return [m for name, m in METHODS.items() if name in wanted] + parametrised
 
 
+def methods_for(case, methods) -> list[Method]:
+    """Those of ``methods`` that discretise ``case``'s physics (the weak methods are scalar
+    only), in the order given; a study runs each case with these."""
+    return [m for m in methods if m.supports(case)]
+
+
 def get_method(name: str) -> Method:
     """A registered method, or one with parameters: ``nitsche:gamma0=0.5,theta=-1``."""
     if ":" in name:
@@ -88,4 +94,4 @@ def parse_method(spec: str) -> Method:
 
 
 __all__ = ["METHODS", "GROUPS", "BoundConstrained", "Expectation", "LevelSolve", "Method", "WeakContact", "get_method",
-           "method_choices", "methods_named", "parse_method"]
+           "method_choices", "methods_for", "methods_named", "parse_method"]

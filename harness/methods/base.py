@@ -59,6 +59,10 @@ class Method:
     expected: Callable[[object], Expectation]     # case -> the rate its theory predicts
     # case -> the rate of a second, later theory (a second verdict), or None
     sharper_theory: Callable[[object], Expectation] | None = None
+    physics: tuple = ("scalar",)                  # the physics it discretises (``harness.physics``)
+
+    def supports(self, case) -> bool:
+        return case.physics.name in self.physics
 
     def sharper(self, case) -> Expectation | None:
         return None if self.sharper_theory is None else self.sharper_theory(case)
@@ -94,6 +98,8 @@ class BoundConstrained(Method):
     level's trace (active set prediction) and vertex values (CG start) to the next level."""
 
     cone: ContactModel = ContactModel()
+    # a cone of the contact variable: u_h, or -u_h . n in the rotated frame (Remark 2.3)
+    physics: tuple = ("scalar", "elasticity")
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         timed = phases or (lambda phase: nullcontext())
