@@ -1,5 +1,10 @@
 """The best approximation of u in X_h, with no contact involved: the Ritz projection R_h u.
 
+(In elasticity R_h u is the best approximation in the energy norm a(e, e)^{1/2}, not in the
+H^1 seminorm: a contact solution may have a smaller H^1 error than R_h u, never a smaller
+energy error. The rotated frame at Gamma_C changes nothing: the flux load below is the
+pressure against the contact variable's basis, as in the scalar case.)
+
 a(u - R_h u, v_h) = 0 for every v_h in X_h vanishing on Gamma_u, R_h u = u_D,h on Gamma_u (the
 methods' own Dirichlet lift). By Green's formula a(u, v) = (f, v) + int_{Gamma_g} g v +
 int_{Gamma_C} d_n u v: the Galerkin solution with u's own flux on Gamma_C as Neumann data, one

@@ -239,12 +239,12 @@ def cmd_report(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from .bench import DEFAULT_SIZES, goals, measure_study, run_bench, study_goals, write_bench
+    from .bench import DEFAULT_SIZES, elastic_goals, goals, measure_study, run_bench, run_elastic_bench, study_goals, write_bench
     from .results import ensure_writable
     out = Path(args.out)
     ensure_writable(out.parent)
     lines = []
-    if args.only != "solver":
+    if args.only in (None, "study"):
         study = measure_study()
         path = write_bench(study, out.with_name(out.stem + "_study.csv"))
         with pd.option_context("display.width", 220, "display.max_columns", 20):
@@ -252,7 +252,15 @@ def cmd_bench(args) -> int:
             print(study.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
         lines += study_goals(study)
         print(f"wrote {path}")
-    if args.only != "study":
+    if args.only in (None, "elastic"):
+        elastic = run_elastic_bench()
+        path = write_bench(elastic, out.with_name(out.stem + "_elastic.csv"))
+        with pd.option_context("display.width", 220, "display.max_columns", 20):
+            print("elasticity (Remark 2.3): contact solve against one linear elastic solve, same matrix:")
+            print(elastic.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+        lines += elastic_goals(elastic)
+        print(f"wrote {path}")
+    if args.only in (None, "solver"):
         frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.method or ("mean", "nodal")))
         path = write_bench(frame, out)
         with pd.option_context("display.width", 220, "display.max_columns", 20):
@@ -361,7 +369,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="coarse mesh size and level of each problem (default: 9e3 to 4.2e6 dofs)")
     p.add_argument("--method", action="append", choices=_method_names(),
                    help="default: mean and nodal; nitsche and penalty add their rows (one solve against one nodal solve)")
-    p.add_argument("--only", choices=["study", "solver"], help="only the study row, or only the solver table")
+    p.add_argument("--only", choices=["study", "solver", "elastic"],
+                   help="only the study row, only the solver table, or only the elastic rows")
     p.add_argument("--out", default="results/bench.csv", metavar="CSV",
                    help="the solver table; the study row goes beside it, as <name>_study.csv")
     p.set_defaults(func=cmd_bench)

@@ -167,6 +167,7 @@ class ExactErrors:
             *norms, best = error_norms(self.case, [gfu for _, gfu in mine] + [self.best[order]], self.quadrature)
             for (row, _), own in zip(mine, norms):
                 row |= own | {"err_best_h1": best["err_h1"], "err_best_h1_semi": best["err_h1_semi"],
+                              "err_best_energy": best["err_energy"],
                               "err_h1_over_best": own["err_h1"] / best["err_h1"]}
 
     # Nothing is carried from level to level (``study.ChainState``): each level is measured on its own.

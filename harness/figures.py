@@ -76,17 +76,27 @@ def convergence(case, results, folder: Path) -> dict[str, Path]:
     return save(fig, folder, f"{case.name}_convergence")
 
 
+# What the contact figure draws, by physics (``harness.physics``): the contact variable minus its
+# obstacle (the gap left open), of the exact and the discrete solution, and the exact pressure.
+CONTACT_LABELS = {
+    "scalar": (r"$u-\alpha$", r"$u_h-\alpha$", r"$\partial_n u - g_C$"),
+    "elasticity": (r"$\alpha - u\cdot n$", r"$\alpha - u_h\cdot n$", r"$-(\sigma_n(u) - g_n)$"),
+}
+
+
 def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
-    """u_h and the discrete contact pressure along Gamma_C on the finest level."""
+    """u_h (in elasticity its normal displacement) and the discrete contact pressure along
+    Gamma_C on the finest level."""
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 5.2), sharex=True)
     first = next(iter(snapshots.values()))
     exact = bool(np.isfinite(first["u"]).any())        # a reference case has no exact u to draw
+    gap_u, gap_uh, pressure_label = CONTACT_LABELS[case.physics.name]
     if exact:
-        top.plot(first["s"], first["u"] - first["gap"], "k-", lw=1.0, label=r"exact $u-\alpha$")
-        bottom.plot(first["s"], first["exact_pressure"], "k-", lw=1.0, label=r"exact $\partial_n u - g_C$")
+        top.plot(first["s"], first["u"] - first["gap"], "k-", lw=1.0, label=f"exact {gap_u}")
+        bottom.plot(first["s"], first["exact_pressure"], "k-", lw=1.0, label=f"exact {pressure_label}")
     for method, snap in snapshots.items():
         color = style(method)["color"]
-        top.plot(snap["s"], snap["u_h"] - snap["gap"], color=color, lw=1.0, ls="--", label=f"{method}: $u_h-\\alpha$")
+        top.plot(snap["s"], snap["u_h"] - snap["gap"], color=color, lw=1.0, ls="--", label=f"{method}: {gap_uh}")
         bottom.step(snap["edge_s"], snap["pressure"], where="mid", color=color, lw=1.0, label=f"{method}: discrete pressure")
     free = first["u"] - first["gap"] > 1e-12 * max(1.0, np.abs(first["u"]).max())
     for ax in (top, bottom):
@@ -95,7 +105,7 @@ def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
             ax.fill_between(first["s"], 0, 1, where=~free, transform=ax.get_xaxis_transform(), color="0.85", alpha=0.6, lw=0)
         ax.grid(True, alpha=0.25)
         ax.legend(fontsize=7, loc="best")
-    top.set_ylabel(r"$u_h - \alpha$ on $\Gamma_C$")
+    top.set_ylabel(f"{gap_uh} on $\\Gamma_C$")
     bottom.set_ylabel("contact pressure")
     bottom.set_xlabel(r"coordinate along $\Gamma_C$ (x for a horizontal $\Gamma_C$)"
                       + ("; shaded: exact contact zone" if exact else "; no closed-form solution"))
@@ -104,6 +114,8 @@ def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
 
 
 def domain(case, snapshot: dict, folder: Path) -> dict[str, Path]:
+    if snapshot["values"].ndim == 2:
+        return deformed(case, snapshot, folder)
     tri = mtri.Triangulation(snapshot["points"][:, 0], snapshot["points"][:, 1], snapshot["triangles"])
     fig, ax = plt.subplots(figsize=(5.6, 3.6))
     shading = ax.tricontourf(tri, snapshot["values"], levels=30, cmap="viridis")
@@ -111,6 +123,27 @@ def domain(case, snapshot: dict, folder: Path) -> dict[str, Path]:
     fig.colorbar(shading, ax=ax, shrink=0.85)
     ax.set_aspect("equal")
     ax.set_title(f"{case.name}: $u_h$ ({snapshot.get('method', 'nodal')})", fontsize=10)
+    return save(fig, folder, f"{case.name}_solution")
+
+
+def deformed(case, snapshot: dict, folder: Path) -> dict[str, Path]:
+    """The deformed body of an elastic case: the mesh moved by u_h, magnified so that the largest
+    displacement is a tenth of the body's size, coloured by |u_h|; the body at rest in grey."""
+    points, displacement = snapshot["points"], snapshot["values"]
+    size = np.ptp(points, axis=0).max()
+    largest = np.abs(displacement).max()
+    scale = 0.1 * size / largest if largest > 0 else 1.0
+    moved = points + scale * displacement
+    fig, ax = plt.subplots(figsize=(5.6, 3.8))
+    rest = mtri.Triangulation(points[:, 0], points[:, 1], snapshot["triangles"])
+    ax.triplot(rest, color="0.8", lw=0.3)
+    tri = mtri.Triangulation(moved[:, 0], moved[:, 1], snapshot["triangles"])
+    shading = ax.tripcolor(tri, np.hypot(*displacement.T), shading="gouraud", cmap="viridis")
+    ax.triplot(tri, color="k", lw=0.2, alpha=0.5)
+    ax.axhline(points[:, 1].min(), color="0.3", lw=1.2, ls="-")         # the foundation's surface
+    fig.colorbar(shading, ax=ax, shrink=0.85, label=r"$|u_h|$")
+    ax.set_aspect("equal")
+    ax.set_title(f"{case.name}: deformed shape, displacement x{scale:.3g} ({snapshot.get('method', 'nodal')})", fontsize=10)
     return save(fig, folder, f"{case.name}_solution")
 
 

@@ -9,9 +9,11 @@ from __future__ import annotations
 from ngsolve import atan2, pi, sin, sqrt, x, y
 
 
-def polar(x0: float = 0.0, mirrored: bool = False):
+def polar(x0: float = 0.0, mirrored: bool = False, px=x, py=y):
     """(r, theta) about (x0, 0), theta in [0, pi] in the upper half plane; ``mirrored``
-    measures theta from the negative x-direction (x -> x0 - x)."""
+    measures theta from the negative x-direction (x -> x0 - x). ``px``, ``py``: the coordinates
+    (default x, y; rotated ones for a tilted picture)."""
+    x, y = px, py
     dx = (x0 - x) if mirrored else (x - x0)
     # theta = atan2(y, dx) in the upper half plane, written with its branch cut on the negative
     # y-axis, outside the domain: a point of Gamma_C with dx < 0 that NGSolve's element map puts
@@ -28,7 +30,8 @@ def transition(x0: float = 0.0, binding_side: str = "right"):
 
 
 
-def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, mirrored: bool = False):
+def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, mirrored: bool = False,
+                     angle: float = 0.0):
     """The plane-strain displacement r^l Phi(theta) (l = ``exponent``) on the wedge
     0 <= theta <= omega about (x0, 0) with the frictionless-contact ("roller") conditions
     u_y = 0, sigma_xy = 0 on theta = 0 and a traction-free face theta = omega: the elastic
@@ -48,10 +51,11 @@ def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, m
     theta = 0), and do not depend on Poisson's ratio. ``exponent`` must be one. The scale
     makes sigma_n = sigma_tt(theta = 0) = -l r^{l-1}: the contact pressure on theta = 0 is
     l r^{l-1} > 0. ``mirrored``: theta from the negative x-direction (the wedge to the left).
+    ``angle``: the whole picture rotated by that angle about (x0, 0) (a tilted Gamma_C).
     """
     import math
 
-    from ngsolve import CF, cos
+    from ngsolve import CF, cos, x as X, y as Y
 
     l = float(exponent)
     residual = math.sin(2 * l * omega) + l * math.sin(2 * omega)
@@ -62,9 +66,13 @@ def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, m
     b_unit = -(l + 1) * math.cos((l - 1) * omega) / c if abs(c) >= abs(s) else -(l - 1) * math.sin((l - 1) * omega) / s
     a = -1.0 / ((l + 1) + b_unit)       # sigma_tt(0) = l r^{l-1} (a (l + 1) + b) = -l r^{l-1}
     b = a * b_unit
-    r, theta = polar(x0, mirrored)
+    ca, sa = math.cos(angle), math.sin(angle)
+    # the local frame's coordinates (x0 + R(angle) local = global)
+    local = (x0 + ca * (X - x0) + sa * Y, -sa * (X - x0) + ca * Y) if angle else (X, Y)
+    r, theta = polar(x0, mirrored, *local)
     kappa, two_mu = material.kappa, 2 * material.mu
     ux = r**l * ((kappa * a - b) * cos(l * theta) - a * l * cos((2 - l) * theta)) / two_mu
     uy = r**l * ((kappa * a + b) * sin(l * theta) - a * l * sin((2 - l) * theta)) / two_mu
     # mirrored (x -> x0 - x): the x-component changes sign
-    return CF((-ux if mirrored else ux, uy))
+    ux = -ux if mirrored else ux
+    return CF((ca * ux - sa * uy, sa * ux + ca * uy)) if angle else CF((ux, uy))

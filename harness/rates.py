@@ -22,10 +22,14 @@ RATE_COLUMNS = ["case", "method", "order", "reference", "expected_rate", "expect
                 "sharper_reference", "sharper_rate", "sharper_fitted_rate", "sharper_verdict",
                 # the other errors' rates, no log factor: L^2, the best approximation, on Gamma_C
                 "fitted_rate_l2", "fitted_rate_best", "best_expected_rate", "best_verdict", "pairwise_rates_best",
-                "fitted_rate_trace", "fitted_rate_pressure_l2", "fitted_rate_pressure_h12"]
+                "fitted_rate_trace", "fitted_rate_pressure_l2", "fitted_rate_pressure_h12",
+                # the energy norm a(e, e)^{1/2}: the H^1 seminorm's rate for the Laplacian; in
+                # elasticity equivalent to it (Korn), so the same theorem rate
+                "fitted_rate_energy"]
 # error column -> its rate column (plain fit, q = 0)
 OTHER_RATES = {"err_l2": "fitted_rate_l2", "err_best_h1": "fitted_rate_best", "err_trace_l2": "fitted_rate_trace",
-               "err_pressure_l2": "fitted_rate_pressure_l2", "err_pressure_h12": "fitted_rate_pressure_h12"}
+               "err_pressure_l2": "fitted_rate_pressure_l2", "err_pressure_h12": "fitted_rate_pressure_h12",
+               "err_energy": "fitted_rate_energy"}
 
 
 

@@ -141,7 +141,9 @@ def _fmt(value, spec=".3e"):
     return "" if value is None or (isinstance(value, float) and not np.isfinite(value)) else format(value, spec)
 
 
-def level_table(group: pd.DataFrame) -> pd.DataFrame:
+def level_table(group: pd.DataFrame, energy: bool = False) -> pd.DataFrame:
+    """One method's levels; ``energy``: with the energy-norm error (elasticity, where it is not
+    the H^1 seminorm)."""
     group = group.sort_values("level")
     rates = np.concatenate([[np.nan], pairwise_rates(group.h, group.err_h1)])
     p, q = group.expected_rate.iloc[0], group.expected_log_exponent.iloc[0]
@@ -151,6 +153,7 @@ def level_table(group: pd.DataFrame) -> pd.DataFrame:
         "err_h1": [_fmt(v) for v in group.err_h1], "rate": [_fmt(v, ".3f") for v in rates],
         f"err / {bound_text(p, q)}": [_fmt(v) for v in normalised],
         "err_l2": [_fmt(v) for v in group.err_l2],
+        **({"err_energy": [_fmt(v) for v in group.err_energy]} if energy else {}),
         "err_best_h1": [_fmt(v) for v in group.err_best_h1] if "err_best_h1" in group else "",
         "err / best": [_fmt(v, ".3f") for v in group.err_h1_over_best] if "err_h1_over_best" in group else "",
         "max penetration": [_fmt(v, ".2e") for v in group.max_penetration],
@@ -195,6 +198,35 @@ GAMMA_C_NOTE = (
     "tension max(−λ_h). Rates: fitted over the last three levels. Where λ ∉ L²(Γ_C) (λ ~ r^{-1/2}: "
     "corner-r12) the L² pressure error cannot converge (its rate is 0), only the h^{1/2}-weighted one."
 )
+
+
+ELASTICITY_NOTE = (
+    "Frictionless unilateral contact of a plane-strain elastic body on a rigid foundation: "
+    "−div σ(u) = f, σ = 2μ ε(u) + λ tr ε(u) I; on Γ_C, with n the outward normal and σ_n = n·σ(u)n, "
+    "u·n − α ≤ 0, σ_n − g_n ≤ 0, (u·n − α)(σ_n − g_n) = 0 and σ_t = g_t. Both P2 models constrain "
+    "the normal displacement: written in the variables (−u·n, u·t) at the nodes of Γ_C, the contact "
+    "variable c = −u·n has the scalar problem's trace, so `mean` (vertex values and edge means of "
+    "c ≥ −α) and `nodal` (vertex and midpoint values) are again bounds, solved exactly by the same "
+    "active-set solver (sparse Cholesky with bordered updates: the scalar V-cycle does not transfer). "
+    "The pressure p = −(σ_n − g_n) plays λ's part. Singular exponents: a roller (binding, frictionless) "
+    "face next to a traction-free one at angle ω reflects to a traction-free wedge of angle 2ω, whose "
+    "symmetric exponents solve sin(2lω) + l sin(2ω) = 0 — with no elastic constant in it: l = 3/2 at "
+    "a transition (ω = π; 1/2 is excluded by the signs), l = 0.5445 at ω = 3π/4, for every Poisson "
+    "ratio. The energy norm a(e, e)^{1/2} is equivalent to the H¹ norm (Korn): same theorem rate; "
+    "R_h u is the best approximation in energy, so err / best in H¹ may fall below 1."
+)
+
+
+def elasticity_view(cases, rates: pd.DataFrame) -> pd.DataFrame:
+    """The elastic cases' rates: H^1 and energy, against the theorem's, with the Poisson ratio."""
+    elastic = {case.name: case for case in cases if case.physics.components > 1}
+    rows = rates[rates.case.isin(list(elastic))]
+    return pd.DataFrame({
+        "case": rows.case, "Poisson ratio": [f"{elastic[c].physics.poisson:g}" for c in rows.case], "method": rows.method,
+        "expected": [bound_text(p, q) for p, q in zip(rows.expected_rate, rows.expected_log_exponent)],
+        "H¹ rate": [_fmt(v, ".3f") for v in rows.fitted_rate], "energy rate": [_fmt(v, ".3f") for v in rows.fitted_rate_energy],
+        "best (R_h u) rate": [_fmt(v, ".3f") for v in rows.fitted_rate_best], "verdict": rows.verdict,
+    })
 
 
 def regularity_view(rates: pd.DataFrame, results: pd.DataFrame) -> pd.DataFrame:
@@ -433,8 +465,14 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
             doc.figures([(figs["sweeps"][name]["png"], f"{name}: H¹ error and largest penetration against ε₀ / γ₀.")],
                         wide=True)
             doc.table(sweep_view(frame))
+    if any(case.physics.components > 1 for case in cases):
+        doc.heading("Unilateral contact in linear elasticity (Remark 2.3)")
+        doc.paragraph(ELASTICITY_NOTE)
+        doc.table(elasticity_view(cases, rates))
     for case in cases:
         doc.heading(f"{case.name}: P2 " + (case.theorem if case.conjectured else f"Theorem {case.theorem}"))
+        if case.physics.components > 1:
+            doc.paragraph(f"Physics: {case.physics.describe()}.")
         doc.paragraph(f"{case.description}. Regime {case.regime or '-'}, "
                       + (f"ν = {fraction(case.nu)}; " if np.isfinite(case.nu) else "ν not declared; ")
                       + (f"the authors believe (no theorem) the P2 H¹ error behaves like {case.expected_bound}."
@@ -461,10 +499,11 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
                      (f["contact"]["png"], "Finest level along Γ_C: u_h - α and the discrete contact pressure; shaded: exact contact zone.")])
         doc.figures([(f["efficiency"]["png"], "H¹ error against ndof and against seconds summed over the levels; dotted: the target.")],
                     wide=True)
-        doc.figures([(f["solution"]["png"], "u_h on Ω.")])
+        doc.figures([(f["solution"]["png"], "Deformed shape: the mesh moved by u_h (magnified), coloured by |u_h|; grey: the body at rest."
+                      if case.physics.components > 1 else "u_h on Ω.")])
         for method, group in results[results.case == case.name].groupby("method", sort=False):
             doc.heading(f"method {method}", level=3)
-            doc.table(level_table(group))
+            doc.table(level_table(group, energy=case.physics.components > 1))
     return doc
 
 

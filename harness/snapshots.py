@@ -17,7 +17,9 @@ SAMPLES_PER_EDGE = 9
 
 
 def contact_snapshot(case, problem, trace_u, pressure) -> dict:
-    """u_h, gap, exact u and pressures along Gamma_C, ordered by the coordinate along it."""
+    """The contact variable of u_h and of u, its obstacle and the pressures along Gamma_C
+    (u_h, u, alpha, d_n u - g_C; in elasticity -u_h . n, -u . n, -alpha, -(sigma_n - g_n):
+    ``physics``), ordered by the coordinate along it."""
     trace = problem.trace
     t = np.linspace(0.0, 1.0, SAMPLES_PER_EDGE)
     points = trace.points(t)
@@ -29,13 +31,14 @@ def contact_snapshot(case, problem, trace_u, pressure) -> dict:
     if case.u is None:          # a reference case: nothing exact to draw
         exact_u = exact_pressure = np.full(points.shape[:-1], np.nan)
     else:
-        exact_u = evaluate(case.u, problem.mesh, points)
-        exact_flux = (evaluate(case.grad_u, problem.mesh, points) * trace.normals[:, None, :]).sum(-1)
-        exact_pressure = exact_flux - evaluate(case.load_or_zero, problem.mesh, points)
+        normals = np.broadcast_to(trace.normals[:, None, :], points.shape)
+        exact_u = case.physics.contact_value(case, problem.mesh, points, normals)
+        exact_pressure = case.physics.pressure(case, problem.mesh, points, normals)
     edge_s = trace.midpoints @ direction
     edge_order = np.argsort(edge_s)
     along = {"s": s, "u_h": trace_u.at(t), "u": exact_u,
-             "gap": evaluate(case.gap_or_zero, problem.mesh, points), "exact_pressure": exact_pressure}
+             "gap": evaluate(case.obstacle, problem.mesh, points) if case.obstacle is not None else np.zeros(points.shape[:-1]),
+             "exact_pressure": exact_pressure}
     return {
         **{key: np.ravel(value)[order] for key, value in along.items()},
         "edge_s": edge_s[edge_order], "edge_lengths": trace.lengths[edge_order],
@@ -43,13 +46,14 @@ def contact_snapshot(case, problem, trace_u, pressure) -> dict:
     }
 
 
-def domain_snapshot(problem, u: np.ndarray) -> dict:
-    """Vertices, triangles and vertex values of u_h (vertex dofs are nodal values). Copies:
-    netgen hands out views of a mesh that the next level refines in place."""
+def domain_snapshot(case, problem, u: np.ndarray) -> dict:
+    """Vertices, triangles and vertex values of u_h (vertex dofs are nodal values; (nv, 2)
+    Cartesian displacements in elasticity). Copies: netgen hands out views of a mesh that the
+    next level refines in place."""
     ngmesh = problem.mesh.ngmesh
     coords = np.array(ngmesh.Coordinates()[:, :2], copy=True)
     triangles = np.array(ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=np.int64) - 1
-    return {"points": coords, "triangles": triangles, "values": u[: len(coords)].copy()}
+    return {"points": coords, "triangles": triangles, "values": case.physics.displacement_at_vertices(problem, u)}
 
 
 class SnapshotHook:
@@ -68,7 +72,7 @@ class SnapshotHook:
         if level == self.finest.get(method.name):
             kept["contact"] = contact_snapshot(case, problem, solve.trace_u, solve.pressure)
         if method.name == self.picture_method and level == self.picture_level:
-            kept["domain"] = domain_snapshot(problem, solve.u) | {"method": np.array(method.name)}
+            kept["domain"] = domain_snapshot(case, problem, solve.u) | {"method": np.array(method.name)}
         return kept or None
 
 

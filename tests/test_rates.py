@@ -25,7 +25,7 @@ def rates(study):
 
 
 # (case, method) pairs with a proven rate, and those without (e.g. penalty and Nitsche below H^{3/2})
-PAIRS = [(c, m) for c in CASES for m in METHOD_NAMES]
+PAIRS = [(c, m) for c in CASES for m in METHOD_NAMES if METHODS[m].supports(CASES[c])]
 PROVEN = [(c, m) for c, m in PAIRS if np.isfinite(METHODS[m].expected(CASES[c]).rate)]
 UNPROVEN = [(c, m) for c, m in PAIRS if (c, m) not in PROVEN]
 
@@ -97,11 +97,12 @@ def test_no_case_falls_below_the_drouet_hild_bound(rates, method):
     assert set(verdicts) <= {"meets", "above", "no theory"}, verdicts.to_dict()
 
 
-def test_no_method_beats_the_best_approximation_in_the_h1_seminorm(study):
-    """R_h u minimises |u - v_h|_1 over X_h with the Dirichlet lift: no method's u_h does better
-    (up to the error integration's accuracy)."""
+def test_no_method_beats_the_best_approximation_in_the_energy_norm(study):
+    """R_h u minimises a(u - v_h, u - v_h) over X_h with the Dirichlet lift (|u - v_h|_1 for the
+    Laplacian; the elastic energy in elasticity, where the H^1 error of u_h may be smaller): no
+    method's u_h does better (up to the error integration's accuracy)."""
     exact = study[study.errors_against == "exact"]
-    assert (exact.err_h1_semi >= exact.err_best_h1_semi * (1 - 1e-6)).all()
+    assert (exact.err_energy >= exact.err_best_energy * (1 - 1e-6)).all()
 
 
 @pytest.mark.parametrize("method", METHOD_NAMES)

@@ -1,0 +1,191 @@
+"""Unilateral contact in linear elasticity (Remark 2.3): the cases are exact, every discrete
+solution satisfies its KKT conditions, the solver agrees with an independent QP solver, and
+nothing depends on how the body is turned. (Rates: tests/test_rates.py, every case x method.)"""
+import dataclasses
+from math import pi
+
+import ngsolve as ngs
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from qpsolvers import solve_qp
+
+from harness.case import CaseError, load_case, registered_cases
+from harness.discrete import discretise
+from harness.functions import roller_free_mode
+from harness.geometry import polygon
+from harness.mesh import evaluate, mesh_hierarchy
+from harness.methods import METHODS, methods_for
+from harness.models import contact_qp
+from harness.physics import Elasticity
+from harness.solver import solve_contact_qp
+from harness.study import run_chain
+from harness.validate import validate_case
+
+ELASTIC = [name for name, case in registered_cases().items() if case.physics.name == "elasticity"]
+CONES = [name for name in ("mean", "nodal", "p1")]
+TILTED = "tests/data/tilted_elastic.py"
+
+
+def test_every_registered_elastic_case_is_exact_and_every_weak_method_is_left_out():
+    assert len(ELASTIC) >= 4
+    for name in ELASTIC:
+        case = registered_cases()[name]
+        validate_case(case)
+        assert [m.name for m in methods_for(case, METHODS.values())] == CONES
+
+
+@pytest.mark.parametrize("change, condition", [
+    (lambda c: dataclasses.replace(c, u=-c.u), "u.n - gap <= 0"),
+    (lambda c: dataclasses.replace(c, contact_load=ngs.CF((0.1, 0.0))), "sigma_t(u) = g_t"),
+    (lambda c: dataclasses.replace(c, declared_f=ngs.CF((0.0, 0.1))), "declared f is not -div sigma(u)"),
+])
+def test_validation_refuses_an_elastic_solution_that_breaks_a_contact_condition(change, condition):
+    with pytest.raises(CaseError, match=condition.replace("(", r"\(").replace(")", r"\)")):
+        validate_case(change(load_case("elastic-transition-r32")))
+
+
+@pytest.mark.parametrize("poisson", [0.0, 0.3, 0.49])
+@pytest.mark.parametrize("exponent, omega", [(1.5, pi), (0.5, pi), (0.544483736782464, 3 * pi / 4)])
+def test_roller_free_mode_is_an_elastic_field_with_a_free_face_at_omega(exponent, omega, poisson):
+    """div sigma(u) = 0, and on the face theta = omega the traction sigma(u) n vanishes, for
+    every Poisson ratio: the exponent is a root of sin(2 l omega) + l sin(2 omega) alone."""
+    material = Elasticity(poisson=poisson)
+    u = roller_free_mode(exponent, omega, material)
+    case = dataclasses.replace(load_case("elastic-transition-r32"), u=u, physics=material)
+    mesh = ngs.Mesh(case.geometry.GenerateMesh(maxh=0.5))
+    direction = np.array([np.cos(omega), np.sin(omega)])
+    inside = np.array([[0.3, 0.2], [-0.4, 0.5], [0.1, 0.8]])
+    face = np.array([t * direction for t in (0.2, 0.5, 0.9)])
+    if omega != pi:        # the strip does not contain the face of a narrower wedge: evaluate on a mesh that does
+        mesh = ngs.Mesh(load_case("elastic-wedge").geometry.GenerateMesh(maxh=0.5))
+        inside = np.array([[0.3, 0.2], [0.1, 0.6], [-0.2, 0.5]])
+        face = face * 0.999 + 1e-4 * np.array([np.sin(omega), -np.cos(omega)])    # just inside
+    scale = np.abs(evaluate(material.stress(case.grad_u), mesh, inside)).max()
+    assert np.abs(evaluate(case.derived_f, mesh, inside)).max() <= 1e-10 * scale
+    normal = np.array([-np.sin(omega), np.cos(omega)])              # outward on theta = omega
+    sigma = evaluate(material.stress(case.grad_u), mesh, face).reshape(-1, 2, 2)
+    assert np.abs(sigma @ normal).max() <= 1e-3 * scale
+
+
+@pytest.mark.parametrize("case_file", ["elastic-transition-r32", "elastic-wedge", "elastic-smooth", TILTED])
+def test_every_elastic_solve_satisfies_kkt_and_is_frictionless(case_file):
+    """The rows' KKT residuals (in the solver's variables) <= 1e-10, and, checked here in
+    NGSolve's Cartesian variables on an independently assembled system: the residual A u - b
+    vanishes at every free dof off Gamma_C and in the tangential direction at every Gamma_C node
+    (frictionless), and its normal part there is a compressive force where u_h . n = alpha."""
+    case = load_case(case_file)
+    checked = []
+
+    def check(case, method, level, problem, solve):
+        fes = case.physics.space(problem.mesh, method.order)
+        trial, test = fes.TnT()
+        A = ngs.BilinearForm(case.physics.form(trial, test) * ngs.dx).Assemble().mat
+        rows, cols, vals = A.COO()
+        A = sp.csr_matrix((np.array(vals), (np.array(rows), np.array(cols))), shape=(fes.ndof, fes.ndof))
+        u = problem.cartesian(solve.u)
+        b = problem.cartesian(problem.b)       # Q is orthogonal: Q^T b -> b
+        r = A @ u - b
+        scale = np.abs(b[problem.free]).max()
+        trace = problem.trace
+        on_contact = np.zeros(fes.ndof, bool)
+        nodes = [ngs.NodeId(ngs.VERTEX, int(v)) for v in trace.vertices]
+        nodes += [ngs.NodeId(ngs.EDGE, int(e)) for e in trace.edges] if method.order == 2 else []
+        normal = trace.normals[0]
+        tangent = np.array([-normal[1], normal[0]])
+        for node in nodes:
+            x_dof, y_dof = fes.GetDofNrs(node)
+            on_contact[[x_dof, y_dof]] = True
+            force = r[[x_dof, y_dof]]
+            assert abs(force @ tangent) <= 1e-9 * scale, ("tangential force", node)
+        assert np.abs(r[problem.free & ~on_contact]).max() <= 1e-9 * scale
+        checked.append((method.name, level))
+
+    rows = run_chain(case, [METHODS[m] for m in CONES], 4, on_level=check).rows
+    assert all(row["kkt_residual"] <= 1e-10 and row["status"] == "converged" for row in rows)
+    assert len(checked) == len(rows) == 4 * 3 + 1
+
+
+def cartesian_qp(case, problem, method):
+    """The method's cone as general rows G u >= obstacle on the normal displacement, in NGSolve's
+    own Cartesian hierarchical variables (no rotated frame, no change of variables), from an
+    independently assembled system: what an engineer would hand a QP solver."""
+    fes = case.physics.space(problem.mesh, method.order)
+    trial, test = fes.TnT()
+    A = ngs.BilinearForm(case.physics.form(trial, test) * ngs.dx).Assemble().mat
+    rows, cols, vals = A.COO()
+    A = sp.csr_matrix((np.array(vals), (np.array(rows), np.array(cols))), shape=(fes.ndof, fes.ndof))
+    b = problem.cartesian(problem.b)
+    lift = problem.cartesian(problem.lift)
+    free = np.flatnonzero(problem.free)
+    position = np.full(fes.ndof, -1)
+    position[free] = np.arange(len(free))
+    trace = problem.trace
+
+    def minus_normal(node, normal, weight):
+        """weight * (-u . n) at ``node`` as (columns, values) in the free numbering."""
+        x_dof, y_dof = fes.GetDofNrs(node)
+        return [position[x_dof], position[y_dof]], [-weight * normal[0], -weight * normal[1]]
+
+    G_rows, G_cols, G_vals = [], [], []
+    for k, v in enumerate(trace.vertices):
+        edge = np.flatnonzero((trace.edge_vertices == v).any(axis=1))[0]
+        c, w = minus_normal(ngs.NodeId(ngs.VERTEX, int(v)), trace.normals[edge], 1.0)
+        G_rows += [k, k]
+        G_cols += c
+        G_vals += w
+    if method.order == 2:
+        bubble = method.cone.bubble_value
+        for j, (e, ends) in enumerate(zip(trace.edges, trace.edge_vertices)):
+            k = len(trace.vertices) + j
+            n = trace.normals[j]
+            for node, weight in [(ngs.NodeId(ngs.VERTEX, int(ends[0])), 0.5), (ngs.NodeId(ngs.VERTEX, int(ends[1])), 0.5),
+                                 (ngs.NodeId(ngs.EDGE, int(e)), bubble)]:
+                c, w = minus_normal(node, n, weight)
+                G_rows += [k, k]
+                G_cols += c
+                G_vals += w
+    G = sp.csr_matrix((G_vals, (G_rows, G_cols)), shape=(len(trace.vertices) + (len(trace.edges) if method.order == 2 else 0), len(free)))
+    q = -(b - A @ lift)[free]
+    alpha = contact_qp(case, problem, method.cone).alpha
+    return A[free][:, free], q, G, alpha, free, lift
+
+
+@pytest.mark.parametrize("case_file", ["elastic-transition-r32", TILTED])
+@pytest.mark.parametrize("method_name", CONES)
+def test_elastic_solution_equals_independent_qp_solver(method_name, case_file):
+    """Clarabel (interior point) on the cone written as general rows on -u . n in Cartesian
+    variables finds the same u_h as the active-set solver in the rotated frame, to 1e-8."""
+    case = load_case(case_file)
+    method = METHODS[method_name]
+    *_, (_, mesh) = mesh_hierarchy(case, 3)          # level 2: 994 P2 dofs
+    problem = discretise(case, mesh, method.order)
+    qp = contact_qp(case, problem, method.cone)
+    ours = problem.cartesian(qp.to_u(solve_contact_qp(qp).z))
+    A, q, G, alpha, free, lift = cartesian_qp(case, problem, method)
+    ref = solve_qp(sp.csc_matrix(A), q, G=-sp.csc_matrix(G), h=-alpha, solver="clarabel",
+                   tol_gap_abs=1e-14, tol_gap_rel=1e-14, tol_feas=1e-14, tol_ktratio=1e-10, max_iter=400)
+    assert ref is not None
+    u_ref = lift.copy()
+    u_ref[free] = ref
+    assert np.abs(ours - u_ref).max() <= 1e-8 * np.abs(u_ref).max()
+
+
+def test_errors_do_not_depend_on_how_the_body_is_turned():
+    """The transition case turned by 0.3 rad (Gamma_C tilted: a rotated frame that is not the
+    identity) has the errors of the upright one: netgen meshes the turned polygon congruently."""
+    methods = [METHODS[m] for m in CONES]
+    upright = run_chain(load_case("elastic-transition-r32"), methods, 3).rows
+    turned = run_chain(load_case(TILTED), methods, 3).rows
+    for a, b in zip(upright, turned):
+        assert (a["method"], a["level"], a["active_constraints"]) == (b["method"], b["level"], b["active_constraints"])
+        for column in ("err_h1", "err_energy", "err_best_h1", "err_trace_l2", "err_pressure_h12"):
+            assert b[column] == pytest.approx(a[column], rel=1e-6), column
+
+
+def test_kink_in_an_elastic_contact_boundary_is_refused():
+    kinked = polygon([(-1, 0.2), (0, 0), (1, 0), (1, 1), (-1, 1)], ["contact", "contact", "neumann", "dirichlet", "neumann"])
+    case = dataclasses.replace(load_case("elastic-transition-r32"), geometry=kinked)
+    *_, (_, mesh) = mesh_hierarchy(case, 1)
+    with pytest.raises(ValueError, match="kink"):
+        discretise(case, mesh, 2)
