@@ -1,7 +1,8 @@
 """A smooth elastic solution with a contact/separation transition (Remark 2.3, 4.9): rate h^2.
 
 Plane strain (E = 1, Poisson 0.3), Omega = (-1, 1) x (0, 1), Gamma_C = bottom (n = -e_y),
-Gamma_g = sides, Gamma_u = top; with m(t) = max(0, t),
+Gamma_g = sides, Gamma_u = top (cut by the interior line x = 0, which every mesh follows);
+with m(t) = max(0, t),
 
     u_x = 4 y m(-x)^3 + y^2 sin(x + y),     u_y = m(-x)^4 - y m(x)^3 + y^2 cos(x + y).
 
@@ -15,7 +16,7 @@ P2 cannot do better than h^2 (Remark 4.9 with finitely many transitions), the ex
 """
 from ngsolve import CF, IfPos, cos, sin, x, y
 
-from harness.geometry import contact_strip
+from harness.geometry import split_strip
 
 name = "elastic-smooth"
 description = "smooth elastic displacement (H^{7/2-eps}) with one transition at 0 (plane strain, Poisson 0.3)"
@@ -26,7 +27,10 @@ theorem = "Remark 4.9 (Remark 2.3)"
 nu = 3.5
 expected_rate = 2.0
 
-geometry = contact_strip(breaks=[0.0])
+# D^2 u has kinks across the whole line x = 0 (f = -div sigma(u) is only continuous there): the
+# mesh follows that line, so that no element has a kink inside (on a mesh cut across by it, the
+# load's Gauss rule moved the H^1 error by 1e-3 relative: tests/test_errors.py)
+geometry = split_strip(0.0)
 maxh = 0.5
 
 left, right = IfPos(-x, -x, 0.0), IfPos(x, x, 0.0)

@@ -33,3 +33,20 @@ def contact_strip(breaks=(0.0,)):
     points = bottom + [(1.0, 1.0), (-1.0, 1.0)]
     labels = ["contact"] * (len(bottom) - 1) + ["neumann", "dirichlet", "neumann"]
     return polygon(points, labels)
+
+
+def split_strip(at: float = 0.0):
+    """``contact_strip(breaks=[at])`` cut in two by the interior line x = ``at`` (labelled
+    'interior', no boundary condition): every mesh then has edges along it, so a solution
+    whose derivatives jump across that line (a transition at (at, 0) continued into the body)
+    is smooth on every element, and the element quadratures see no kink inside an element."""
+    geo = SplineGeometry()
+    ids = [geo.AppendPoint(float(px), float(py)) for px, py in
+           [(-1.0, 0.0), (at, 0.0), (1.0, 0.0), (1.0, 1.0), (at, 1.0), (-1.0, 1.0)]]
+    left, right = 1, 2
+    sides = [(0, 1, "contact", left), (1, 2, "contact", right), (2, 3, "neumann", right), (3, 4, "dirichlet", right),
+             (4, 5, "dirichlet", left), (5, 0, "neumann", left)]
+    for a, b, label, domain in sides:
+        geo.Append(["line", ids[a], ids[b]], bc=label, leftdomain=domain, rightdomain=0)
+    geo.Append(["line", ids[1], ids[4]], bc="interior", leftdomain=left, rightdomain=right)
+    return geo

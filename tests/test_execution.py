@@ -70,7 +70,7 @@ def test_level_sizes_from_the_coarse_mesh_are_those_of_the_refined_meshes(case_n
     for level, mesh in mesh_hierarchy(case, 4):
         assert (mesh.nv, mesh.ne) == (sizes.vertices[level], sizes.triangles[level])
         for order in (1, 2):
-            assert discretise(case, mesh, order).ndof == sizes.ndof(level, order)
+            assert discretise(case, mesh, order).ndof == sizes.ndof(level, order, case.physics.components)
 
 
 def test_twelve_levels_of_transition_r32_are_refused_within_5_seconds_with_the_estimate(tmp_path):

@@ -105,14 +105,17 @@ def test_no_method_beats_the_best_approximation_in_the_energy_norm(study):
     assert (exact.err_energy >= exact.err_best_energy * (1 - 1e-6)).all()
 
 
-@pytest.mark.parametrize("method", METHOD_NAMES)
-@pytest.mark.parametrize("case_name", list(CASES))
-def test_errors_on_gamma_c_converge(rates, case_name, method):
+@pytest.mark.parametrize("case_name, method", PAIRS)
+def test_errors_on_gamma_c_converge(study, rates, case_name, method):
     """The trace error in L^2(Gamma_C) and the pressure error in ||h^{1/2} .||_{L^2(Gamma_C)}
     (lambda_h: the Riesz representative of the residual) fall under refinement for every
-    method, also where lambda is not in L^2(Gamma_C) (corner-r12, lambda ~ r^{-1/2})."""
+    method, also where lambda is not in L^2(Gamma_C) (corner-r12, lambda ~ r^{-1/2}). Where all
+    of Gamma_C binds and every contact node is pinned at the obstacle (elastic-wedge), the trace
+    is exact (error 0 on every level) and has no rate."""
     row = rates.loc[(case_name, method)]
-    assert row.fitted_rate_trace > 0.9 and row.fitted_rate_pressure_h12 > 0.4, (row.fitted_rate_trace, row.fitted_rate_pressure_h12)
+    trace = study[(study.case == case_name) & (study.method == method)].err_trace_l2
+    assert row.fitted_rate_trace > 0.9 or (trace == 0).all(), (row.fitted_rate_trace, list(trace))
+    assert row.fitted_rate_pressure_h12 > 0.4, row.fitted_rate_pressure_h12
 
 
 # Measured on oscillating-r34 (6 P2 levels, P1 7), fitted over the last three levels.

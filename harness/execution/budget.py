@@ -61,9 +61,12 @@ class LevelSizes:
             t.append(4 * t[-1])
         return cls(tuple(v), tuple(e), tuple(t))
 
-    def ndof(self, level: int, order: int) -> int:
-        """Dofs of P1 (vertices) or P2 (vertices and edges) on ``level``, Dirichlet ones included."""
-        return self.vertices[level] + (self.edges[level] if order == 2 else 0)
+    def ndof(self, level: int, order: int, components: int = 1) -> int:
+        """Dofs of P1 (vertices) or P2 (vertices and edges) on ``level``, Dirichlet ones included,
+        times the unknowns per node (2 for a displacement). (The per-dof figures below were
+        fitted on scalar problems; an elastic dof has about twice the matrix entries, which the
+        margins of PEAK_PER_DOF do not cover at every size: elastic estimates are rougher.)"""
+        return (self.vertices[level] + (self.edges[level] if order == 2 else 0)) * components
 
 
 _COARSE: dict = {}
@@ -99,7 +102,7 @@ def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None) -
     """(case, method, level) -> estimated seconds of that solve: the weights of the progress bar
     (its ETA is then weighted by the size of each level, not by the count of solves)."""
     sizes = sizes or LevelSizes.of(case, max(chain_levels(case, m, levels) for m in methods))
-    return {(case.name, m.name, level): SECONDS_PER_TRIANGLE * sizes.triangles[level] + SECONDS_PER_DOF * _dofs(case, sizes, level, m.order)
+    return {(case.name, m.name, level): SECONDS_PER_TRIANGLE * sizes.triangles[level] + SECONDS_PER_DOF * sizes.ndof(level, m.order, case.physics.components)
             for m in methods for level in range(chain_levels(case, m, levels))}
 
 
@@ -111,19 +114,12 @@ def estimate(case, methods, levels: int, sizes: LevelSizes | None = None) -> Job
     finest = {}                                  # order -> (level, ndof) of its finest problem
     for m in methods:
         level = chains[m.name] - 1
-        finest[m.order] = max(finest.get(m.order, (0, 0)), (level, _dofs(case, sizes, level, m.order)))
+        finest[m.order] = max(finest.get(m.order, (0, 0)), (level, sizes.ndof(level, m.order, case.physics.components)))
     per_dof = PEAK_PER_DOF + (0.0 if case.exact else PEAK_PER_REFERENCE_DOF)
     peak = PEAK_BASE + PEAK_PER_TRIANGLE * sizes.triangles[last - 1] + per_dof * sum(n for _, n in finest.values())
     seconds = sum(solve_weights(case, methods, levels, sizes).values())
     level, ndof = max(finest.values())
     return JobEstimate(case.name, tuple(m.name for m in methods), level, ndof, peak, seconds)
-
-
-def _dofs(case, sizes: LevelSizes, level: int, order: int) -> int:
-    """Dofs of the case's problem: one per node and displacement component. (The per-dof figures
-    were fitted on scalar problems; an elastic dof has about twice the matrix entries, which the
-    margins of PEAK_PER_DOF do not cover at every size: elastic estimates are rougher.)"""
-    return sizes.ndof(level, order) * case.physics.components
 
 
 def machine_memory() -> float:
