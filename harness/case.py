@@ -284,9 +284,11 @@ def _registered_files() -> list[Path]:
 
 
 def registered_cases() -> dict[str, Case]:
-    """Every case module in cases/, by name, in order of regularity nu."""
+    """Every case module in cases/, by name: the scalar ones, then the elastic ones, each in
+    order of regularity nu."""
     cases = [case_from_module(_import_file(path), str(path)) for path in _registered_files()]
-    return {case.name: case for case in sorted(cases, key=lambda c: (c.nu if c.nu == c.nu else float("inf"), c.name))}
+    return {case.name: case for case in sorted(cases, key=lambda c: (c.physics.name != "scalar",
+                                                                      c.nu if c.nu == c.nu else float("inf"), c.name))}
 
 
 def load_case(spec: str) -> Case:

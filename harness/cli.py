@@ -246,30 +246,29 @@ def cmd_bench(args) -> int:
     lines = []
     if args.only in (None, "study"):
         study = measure_study()
-        path = write_bench(study, out.with_name(out.stem + "_study.csv"))
-        with pd.option_context("display.width", 220, "display.max_columns", 20):
-            print("study (default profile, every case; the paper's methods, then every method):")
-            print(study.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+        _show(study, write_bench(study, out.with_name(out.stem + "_study.csv")),
+              "study (default profile, every case; the paper's methods, then every method):")
         lines += study_goals(study)
-        print(f"wrote {path}")
     if args.only in (None, "elastic"):
         elastic = run_elastic_bench()
-        path = write_bench(elastic, out.with_name(out.stem + "_elastic.csv"))
-        with pd.option_context("display.width", 220, "display.max_columns", 20):
-            print("elasticity (Remark 2.3): contact solve against one linear elastic solve, same matrix:")
-            print(elastic.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+        _show(elastic, write_bench(elastic, out.with_name(out.stem + "_elastic.csv")),
+              "elasticity (Remark 2.3): contact solve against one linear elastic solve, same matrix:")
         lines += elastic_goals(elastic)
-        print(f"wrote {path}")
     if args.only in (None, "solver"):
         frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.method or ("mean", "nodal")))
-        path = write_bench(frame, out)
-        with pd.option_context("display.width", 220, "display.max_columns", 20):
-            print(frame.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+        _show(frame, write_bench(frame, out), "")
         lines += goals(frame)
-        print(f"wrote {path}")
     for goal, met, figure in lines:
         print(f"[{'met' if met else 'MISSED'}] {goal}: {figure}")
     return 0
+
+
+def _show(frame: pd.DataFrame, path: Path, title: str) -> None:
+    with pd.option_context("display.width", 220, "display.max_columns", 20):
+        if title:
+            print(title)
+        print(frame.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    print(f"wrote {path}")
 
 
 def _sizes(text: str) -> list[tuple[float, int]]:

@@ -68,6 +68,16 @@ def test_roller_free_mode_is_an_elastic_field_with_a_free_face_at_omega(exponent
     assert np.abs(sigma @ normal).max() <= 1e-3 * scale
 
 
+def cartesian_stiffness(case, problem, order):
+    """The space and the stiffness matrix in NGSolve's own Cartesian variables, assembled here
+    (independently of ``discretise`` and its rotated frame)."""
+    fes = case.physics.space(problem.mesh, order)
+    trial, test = fes.TnT()
+    A = ngs.BilinearForm(case.physics.form(trial, test) * ngs.dx).Assemble().mat
+    rows, cols, vals = A.COO()
+    return fes, sp.csr_matrix((np.array(vals), (np.array(rows), np.array(cols))), shape=(fes.ndof, fes.ndof))
+
+
 @pytest.mark.parametrize("case_file", ["elastic-transition-r32", "elastic-wedge", "elastic-smooth", TILTED])
 def test_every_elastic_solve_satisfies_kkt_and_is_frictionless(case_file):
     """The rows' KKT residuals (in the solver's variables) <= 1e-10, and, checked here in
@@ -78,11 +88,7 @@ def test_every_elastic_solve_satisfies_kkt_and_is_frictionless(case_file):
     checked = []
 
     def check(case, method, level, problem, solve):
-        fes = case.physics.space(problem.mesh, method.order)
-        trial, test = fes.TnT()
-        A = ngs.BilinearForm(case.physics.form(trial, test) * ngs.dx).Assemble().mat
-        rows, cols, vals = A.COO()
-        A = sp.csr_matrix((np.array(vals), (np.array(rows), np.array(cols))), shape=(fes.ndof, fes.ndof))
+        fes, A = cartesian_stiffness(case, problem, method.order)
         u = problem.cartesian(solve.u)
         b = problem.cartesian(problem.b)       # Q is orthogonal: Q^T b -> b
         r = A @ u - b
@@ -110,11 +116,7 @@ def cartesian_qp(case, problem, method):
     """The method's cone as general rows G u >= obstacle on the normal displacement, in NGSolve's
     own Cartesian hierarchical variables (no rotated frame, no change of variables), from an
     independently assembled system: what an engineer would hand a QP solver."""
-    fes = case.physics.space(problem.mesh, method.order)
-    trial, test = fes.TnT()
-    A = ngs.BilinearForm(case.physics.form(trial, test) * ngs.dx).Assemble().mat
-    rows, cols, vals = A.COO()
-    A = sp.csr_matrix((np.array(vals), (np.array(rows), np.array(cols))), shape=(fes.ndof, fes.ndof))
+    fes, A = cartesian_stiffness(case, problem, method.order)
     b = problem.cartesian(problem.b)
     lift = problem.cartesian(problem.lift)
     free = np.flatnonzero(problem.free)
