@@ -160,14 +160,6 @@ class Case:
         return self.physics.obstacle(self.gap)
 
     @property
-    def gap_or_zero(self) -> ngs.CoefficientFunction:
-        return self.gap if self.gap is not None else ngs.CF(0.0)
-
-    @property
-    def load_or_zero(self) -> ngs.CoefficientFunction:
-        return self.contact_load if self.contact_load is not None else ngs.CF(0.0)
-
-    @property
     def expected_bound(self) -> str:
         return bound_text(self.expected_rate, self.expected_log_exponent)
 

@@ -41,13 +41,12 @@ def error_norms(case, solutions: list[ngs.GridFunction], quadrature: ElementQuad
     for gfu in solutions:
         diff = case.u - gfu
         grad_diff = case.grad_u - ngs.Grad(gfu)
-        squares += [ngs.InnerProduct(diff, diff), ngs.InnerProduct(grad_diff, grad_diff)]
-        if case.physics.components > 1:
-            squares.append(case.physics.energy_density(grad_diff))
+        squares += [ngs.InnerProduct(diff, diff), ngs.InnerProduct(grad_diff, grad_diff),
+                    case.physics.energy_density(grad_diff)]
     integrals = quadrature.integrate(ngs.CF(tuple(squares)), order)
     rows = []
-    for squared in integrals.reshape(len(solutions), -1):
-        l2_sq, semi_sq, energy_sq = (max(value, 0.0) for value in (*squared[:2], squared[-1]))
+    for squared in integrals.reshape(len(solutions), 3):
+        l2_sq, semi_sq, energy_sq = (max(value, 0.0) for value in squared)
         rows.append({"err_h1": float(np.sqrt(l2_sq + semi_sq)), "err_h1_semi": float(np.sqrt(semi_sq)),
                      "err_l2": float(np.sqrt(l2_sq)), "err_energy": float(np.sqrt(energy_sq))})
     return rows
