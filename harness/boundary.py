@@ -12,6 +12,11 @@ has the hats lambda_i and one bubble -lambda_i lambda_j / 2 per edge, so at a po
 
 the gradients of the barycentric coordinates being constant on the triangle. P1 keeps the
 hats. tests/test_weak_contact.py checks both operators against NGSolve's own evaluation.
+
+In 3D Gamma_C is a union of triangles (a, b, c) of the boundary: at a point with barycentric
+coordinates lambda, the hats are lambda_i and the bubble of side ij is -lambda_i lambda_j / 2
+(``ContactQuadrature`` integrates over the triangles; the normal derivatives, which only the
+weak methods need, are 2D only).
 """
 from __future__ import annotations
 
@@ -35,12 +40,13 @@ class ContactQuadrature:
     """Gauss points on Gamma_C and the basis there: ``T @ u`` gives u_h, ``N @ u`` d_n u_h at
     the points; ``weights`` include the edge lengths, ``h`` is the length of each point's edge."""
 
-    points: np.ndarray          # (q, 2)
+    points: np.ndarray          # (q, dim)
     weights: np.ndarray         # (q,)
-    h: np.ndarray               # (q,) length of the point's contact edge
-    edge: np.ndarray            # (q,) index of the point's contact edge (in problem.trace order)
+    h: np.ndarray               # (q,) diameter of the point's cell (contact edge; 3D: triangle)
+    edge: np.ndarray            # (q,) index of the point's cell (in problem.trace's edges; 3D: its faces)
     T: sp.csr_matrix            # (q, ndof) trace values of the basis (of the contact variable)
-    N: sp.csr_matrix | None     # (q, ndof) outward normal derivatives of the basis (scalar problems)
+    N: sp.csr_matrix | None     # (q, ndof) outward normal derivatives of the basis (2D scalar problems)
+    normals: np.ndarray         # (q, dim) outward unit normal at each point
 
     def edge_means(self, values: np.ndarray) -> np.ndarray:
         """Mean over each contact edge of a function given at the points."""
@@ -74,7 +80,10 @@ def graded(points: int, depth: int = 30) -> tuple[np.ndarray, np.ndarray]:
 def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: np.ndarray | None = None) -> ContactQuadrature:
     """Gauss points of ``problem``'s contact edges and its basis (order 1 or 2) there; on the
     edges with an end at one of the vertices ``graded_at`` (singular points), the ``graded``
-    rule instead."""
+    rule instead. In 3D: a Gauss rule on every triangle of Gamma_C, of the degree
+    ``points_per_edge`` Gauss points integrate exactly (``graded_at`` is empty in 3D)."""
+    if problem.trace.faces is not None:
+        return _face_quadrature(problem, 2 * points_per_edge - 1)
     trace = problem.trace
     m = len(trace.edges)
     rules = [gauss(points_per_edge), graded(points_per_edge)]
@@ -98,6 +107,37 @@ def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: 
         edge=edge,
         T=_rows(cols_T, vals_T, shape),
         N=_normal_derivatives(problem, edge, T_t, shape) if problem.components == 1 else None,
+        normals=trace.normals[edge],
+    )
+
+
+def _face_quadrature(problem, degree: int) -> ContactQuadrature:
+    """NGSolve's Gauss rule of ``degree`` on every triangle of a 3D Gamma_C."""
+    trace, faces = problem.trace, problem.trace.faces
+    rule = ngs.IntegrationRule(ngs.TRIG, degree)
+    xi = np.array([ip.point[:2] for ip in rule])
+    lam = np.column_stack([1.0 - xi.sum(axis=1), xi])                 # (k, 3) barycentric
+    unit_w = 2.0 * np.array([ip.weight for ip in rule])               # the reference triangle's area is 1/2
+    corners = faces.corners(trace)                                     # (f, 3, 3)
+    area = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
+    diameter = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1)
+    f, k = len(area), len(unit_w)
+    face = np.repeat(np.arange(f), k)
+    vertex_dof = problem.vertex_dofs[np.searchsorted(trace.vertices, faces.vertices)]    # (f, 3)
+    cols_T = [vertex_dof[face, c] for c in range(3)]
+    vals_T = [np.tile(lam[:, c], f) for c in range(3)]
+    if problem.order == 2:
+        for side in range(3):           # side k joins corners k and k+1
+            cols_T.append(problem.edge_dofs[faces.edges[face, side]])
+            vals_T.append(np.tile(-0.5 * lam[:, side] * lam[:, (side + 1) % 3], f))
+    return ContactQuadrature(
+        points=np.einsum("kc,fcd->fkd", lam, corners).reshape(-1, 3),
+        weights=np.repeat(area, k) * np.tile(unit_w, f),
+        h=np.repeat(diameter, k),
+        edge=face,
+        T=_rows(cols_T, vals_T, (f * k, problem.ndof)),
+        N=None,
+        normals=faces.normals[face],
     )
 
 
@@ -152,5 +192,4 @@ def at_points(cf, mesh, quadrature: ContactQuadrature) -> np.ndarray:
 def exact_pressure(case, problem, quadrature: ContactQuadrature) -> np.ndarray:
     """The exact contact pressure at the quadrature points: lambda = d_n u - g_C, or
     p = -(sigma_n(u) - g_n) in elasticity (``physics``)."""
-    normals = problem.trace.normals[quadrature.edge]
-    return case.physics.pressure(case, problem.mesh, quadrature.points, normals)
+    return case.physics.pressure(case, problem.mesh, quadrature.points, quadrature.normals)

@@ -6,7 +6,10 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     description            one line
     geometry               a netgen 2D geometry whose boundary carries the labels
                            'contact' (Gamma_C), 'dirichlet' (Gamma_u), 'neumann' (Gamma_g);
-                           ``harness.geometry.polygon`` builds one
+                           ``harness.geometry.polygon`` builds one. Or a netgen 3D geometry
+                           (OCC or CSG) with the same labels on its faces (and 'interior' on
+                           faces inside the body): a 3D case (Section 6; scalar only), whose
+                           u is a function of x, y and z; ``harness.geometry.contact_box``
     maxh                   mesh size of the coarse (level 0) mesh
     u                      the exact solution, an NGSolve CoefficientFunction of x and y
                            (or, for a reference case, no u and the data below)
@@ -27,6 +30,9 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            corner; the error and load quadratures are graded there. Default:
                            every point of the geometry. [] for a solution singular nowhere.
     physics                optional, "scalar" (default) or "elasticity" (Remark 2.3; see below)
+    transition_curve       optional (3D), the exact contact/separation curves on Gamma_C: a
+                           list of polylines, each a list of points (x, y) of the plane of
+                           Gamma_C, which the report draws on its pictures of Gamma_C
 
 An *elastic case* (``physics = "elasticity"``, ``harness.physics.Elasticity``) declares besides
 
@@ -68,6 +74,7 @@ from pathlib import Path
 
 import ngsolve as ngs
 
+from .geometry import geometry_dimension
 from .physics import PHYSICS, SCALAR, Elasticity, gradient
 
 CASES_DIR = Path(__file__).resolve().parent.parent / "cases"
@@ -105,6 +112,7 @@ class Case:
     reference_levels: int | None = None                # None: errors against the exact u
     conjectured: bool = False                          # expected_rate is a belief, not a theorem
     physics: object = SCALAR                           # ``physics.Scalar`` or ``physics.Elasticity``
+    transition_curve: tuple = ()                       # 3D: polylines on Gamma_C for the pictures
 
     @property
     def exact(self) -> bool:
@@ -128,17 +136,22 @@ class Case:
         return dataclasses.replace(self, reference_levels=int(levels))
 
     @cached_property
+    def dimension(self) -> int:
+        """2 for a polygon (netgen's SplineGeometry), 3 for an OCC or CSG solid."""
+        return geometry_dimension(self.geometry)
+
+    @cached_property
     def grad_u(self) -> ngs.CoefficientFunction:
         if self.u is None:
             raise AttributeError(f"case {self.name!r} has no exact solution (a reference case)")
-        return gradient(self.u)
+        return gradient(self.u, self.dimension)
 
     @cached_property
     def derived_f(self) -> ngs.CoefficientFunction:
         """The volume load the exact u asks for: -Laplace(u) (2.1), or -div sigma(u)."""
         if self.u is None:
             raise AttributeError(f"case {self.name!r} has no exact solution (a reference case)")
-        return self.physics.load(self.u)
+        return self.physics.load(self.u, self.dimension)
 
     @cached_property
     def f(self) -> ngs.CoefficientFunction:
@@ -201,6 +214,8 @@ def case_from_module(module, source: str) -> Case:
     else:
         return _reference_case(module, source)
     if physics is not SCALAR:
+        if case.dimension != 2:
+            raise CaseError(f"case {source}: elasticity is plane strain (2D); a 3D geometry needs physics = 'scalar'")
         if case.u.dim != physics.components:
             raise CaseError(f"case {source}: u must be a {physics.components}-vector for {physics.name}, got dimension {case.u.dim}")
         case = dataclasses.replace(case, physics=physics)
@@ -258,11 +273,14 @@ def _reference_levels(module, source: str) -> int:
 
 def _optional_fields(module) -> dict:
     fields = {}
-    for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured"):
+    for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
+                "transition_curve"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):
         fields["declared_f"] = module.f
+    if "transition_curve" in fields:
+        fields["transition_curve"] = tuple(tuple(tuple(map(float, p)) for p in line) for line in fields["transition_curve"])
     if fields.get("singular_points") is not None:
         fields["singular_points"] = tuple(tuple(map(float, point)) for point in fields["singular_points"])
     for key in ("gap", "contact_load"):

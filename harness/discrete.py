@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
+from scipy.spatial import cKDTree
 
 from .mesh import ContactTrace, contact_trace
 from .quadrature import ElementQuadrature, singular_vertices
@@ -145,7 +146,7 @@ def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
         f = case.f.Compile()
         for dx in quadrature.measures(LOAD_ORDER):
             load += f * v * dx
-    n = ngs.specialcf.normal(2)
+    n = ngs.specialcf.normal(fes.mesh.dim)
     load += case.neumann_data(n) * v * ngs.ds("neumann", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
     if case.physics.components > 1 and case.contact_load is not None:
         load += case.contact_load * v * ngs.ds("contact", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
@@ -265,7 +266,9 @@ def contact_load_vector(case, problem: DiscreteProblem) -> np.ndarray:
 @dataclass(frozen=True)
 class ContactTraceFunction:
     """The trace on Gamma_C of a P2 (or P1: c = 0) function: on edge t_i,
-    v(t) = (1-t) v_a + t v_b - c t(1-t)/2.
+    v(t) = (1-t) v_a + t v_b - c t(1-t)/2; in 3D also on each triangle of Gamma_C,
+    v = sum_k lambda_k v_k - 1/2 sum_k c_k lambda_k lambda_{k+1} (corner values v_k, bubble c_k of
+    side k, from corner k to corner k+1).
 
     Kept independently of the mesh so that it survives refinement: the next level uses it to
     predict its active set (nested iteration), the errors module to find the largest
@@ -279,14 +282,24 @@ class ContactTraceFunction:
     bubble: np.ndarray
     end_active: np.ndarray      # (m, 2) bool: the vertex constraints at a and b were active
     edge_active: np.ndarray     # (m,) bool: the edge constraint was active
+    face_points: np.ndarray | None = None   # 3D: (f, 3, 3) corners of the triangles of Gamma_C
+    face_values: np.ndarray | None = None   # 3D: (f, 3) values at the corners
+    face_bubbles: np.ndarray | None = None  # 3D: (f, 3) bubble coefficients of the sides
 
     @classmethod
     def of(cls, problem: DiscreteProblem, u: np.ndarray, end_active=None, edge_active=None) -> "ContactTraceFunction":
         ends = u[problem.end_dofs]
-        m = len(problem.trace.edges)
+        trace = problem.trace
+        m = len(trace.edges)
         end_active = np.zeros((m, 2), bool) if end_active is None else np.asarray(end_active, bool)
         edge_active = np.zeros(m, bool) if edge_active is None or not len(edge_active) else np.asarray(edge_active, bool)
-        return cls(problem.trace.a, problem.trace.b, ends[:, 0], ends[:, 1], problem.bubbles(u), end_active, edge_active)
+        bubbles = problem.bubbles(u)
+        faces = {}
+        if trace.faces is not None:
+            corners = np.searchsorted(trace.vertices, trace.faces.vertices)
+            faces = {"face_points": trace.faces.corners(trace), "face_values": u[problem.vertex_dofs][corners],
+                     "face_bubbles": bubbles[trace.faces.edges]}
+        return cls(trace.a, trace.b, ends[:, 0], ends[:, 1], bubbles, end_active, edge_active, **faces)
 
     def value(self, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Value on edge[k] at parameter t[k] (broadcasting)."""
@@ -296,33 +309,42 @@ class ContactTraceFunction:
         """Values at parameters t (k,) on every edge: array (m, k)."""
         return self.value(np.arange(len(self.va))[:, None], np.asarray(t)[None, :])
 
+    def on_faces(self, barycentric: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """3D: (points (f, k, 3), values (f, k)) at the barycentric points (k, 3) of every triangle."""
+        lam = np.asarray(barycentric)
+        bubble_shapes = lam * np.roll(lam, -1, axis=1)           # lambda_k lambda_{k+1}: side k
+        values = self.face_values @ lam.T - 0.5 * self.face_bubbles @ bubble_shapes.T
+        return np.einsum("kc,fcd->fkd", lam, self.face_points), values
+
     def minimum_parameters(self) -> np.ndarray:
         """Parameter of the stationary point of each edge's quadratic, clipped to [0, 1]."""
         with np.errstate(divide="ignore", invalid="ignore"):
             t = 0.5 - (self.vb - self.va) / np.where(self.bubble != 0, self.bubble, np.nan)
         return np.clip(np.nan_to_num(t, nan=0.0), 0.0, 1.0)
 
-    def locate(self, points: np.ndarray, tol: float = 1e-9):
-        """Boolean (len(points), m): point lies on edge; and the edge parameters t."""
-        d = self.b - self.a
-        length2 = (d**2).sum(axis=1)
-        rel = points[:, None, :] - self.a[None, :, :]
-        t = (rel * d[None]).sum(axis=2) / length2[None]
-        off = rel - t[..., None] * d[None]
-        on = (t > -tol) & (t < 1 + tol) & ((off**2).sum(axis=2) <= (tol**2) * length2[None])
-        return on, np.clip(t, 0.0, 1.0)
+    def _nearest(self, anchors: np.ndarray, points: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(index of the nearest anchor to each point, whether it lies within that anchor's reach)."""
+        distance, index = cKDTree(anchors).query(points)
+        return index, distance <= reach[index]
 
-    def vertex_status(self, points: np.ndarray, tol: float = 1e-9) -> np.ndarray:
-        """Active status of the vertex constraint at each point: that of the coarse vertex it
-        coincides with, or, inside a coarse edge, that of the edge constraint: the coarse function
-        meets the gap at the midpoint (nodal) or dips to it on the edge (mean)."""
-        on, t = self.locate(points)
-        at_a, at_b = on & (t <= tol), on & (t >= 1 - tol)
-        inside = on & ~at_a & ~at_b
-        status = (at_a & self.end_active[None, :, 0]) | (at_b & self.end_active[None, :, 1]) | (inside & self.edge_active[None, :])
-        return status.any(axis=1)
+    def vertex_status(self, points: np.ndarray) -> np.ndarray:
+        """Active status of the vertex constraint at each point of the next (red-refined) level:
+        that of the coarse vertex it coincides with, or, at a coarse edge midpoint, that of the
+        edge constraint: the coarse function meets the gap at the midpoint (nodal) or dips to it
+        on the edge (mean). (A refinement that moves new boundary vertices onto a curved
+        geometry moves them by O(h^2): matched within a quarter of the coarse edge.)"""
+        length = np.linalg.norm(self.b - self.a, axis=1)
+        anchors = np.concatenate([self.a, self.b, 0.5 * (self.a + self.b)])
+        status = np.concatenate([self.end_active[:, 0], self.end_active[:, 1], self.edge_active])
+        index, near = self._nearest(anchors, points, 0.25 * np.tile(length, 3))
+        return status[index] & near
 
-    def edge_status(self, midpoints: np.ndarray) -> np.ndarray:
-        """Active status of the coarse edge constraint on the edge containing each midpoint."""
-        on, _ = self.locate(midpoints)
-        return (on & self.edge_active[None, :]).any(axis=1)
+    def edge_status(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Active status of the edge constraint of each fine edge [a, b]: that of the coarse edge
+        it halves; a fine edge inside a coarse triangle (3D) is predicted active when both its
+        ends are."""
+        length = np.linalg.norm(self.b - self.a, axis=1)
+        quarters = np.concatenate([0.75 * self.a + 0.25 * self.b, 0.25 * self.a + 0.75 * self.b])
+        index, near = self._nearest(quarters, 0.5 * (a + b), 0.125 * np.tile(length, 2))
+        halves = np.tile(self.edge_active, 2)[index]
+        return np.where(near, halves, self.vertex_status(a) & self.vertex_status(b))

@@ -65,8 +65,23 @@ def max_penetration(case, mesh: ngs.Mesh, trace_u: ContactTraceFunction) -> floa
     values = np.concatenate([trace_u.at(dense), trace_u.value(np.arange(len(t_star)), t_star)[:, None]], axis=1)
     params = np.concatenate([np.broadcast_to(dense, (len(t_star), len(dense))), t_star[:, None]], axis=1)
     points = trace_u.a[:, None, :] + params[..., None] * (trace_u.b - trace_u.a)[:, None, :]
+    excess = [_excess(case, mesh, points, values)]
+    if trace_u.face_points is not None:     # 3D: inside the triangles too
+        excess.append(_excess(case, mesh, *trace_u.on_faces(FACE_LATTICE)))
+    return float(max(e.max() for e in excess))
+
+
+def _excess(case, mesh, points: np.ndarray, values: np.ndarray) -> np.ndarray:
     obstacle = evaluate(case.obstacle, mesh, points) if case.obstacle is not None else 0.0
-    return float((obstacle - values).max())
+    return obstacle - values
+
+
+def _barycentric_lattice(n: int) -> np.ndarray:
+    return np.array([(i, j, n - i - j) for i in range(n + 1) for j in range(n + 1 - i)], dtype=float) / n
+
+
+# barycentric points sampled on each triangle of a 3D Gamma_C for max_penetration
+FACE_LATTICE = _barycentric_lattice(8)
 
 
 
@@ -115,7 +130,7 @@ class ContactErrors:
         self.own = DiscretePressure(problem)
         q = self.own.quadrature
         self.weights, self.h = q.weights, q.h
-        self.u = case.physics.contact_value(case, problem.mesh, q.points, problem.trace.normals[q.edge])
+        self.u = case.physics.contact_value(case, problem.mesh, q.points, q.normals)
         self.pressure = exact_pressure(case, problem, q)
         self._full_T = q.T
 

@@ -6,7 +6,7 @@ elastic ones, Remark 2.3).
 """
 from __future__ import annotations
 
-from ngsolve import atan2, pi, sin, sqrt, x, y
+from ngsolve import atan2, pi, sin, sqrt, x, y, z
 
 
 def polar(x0: float = 0.0, mirrored: bool = False, px=x, py=y):
@@ -22,10 +22,14 @@ def polar(x0: float = 0.0, mirrored: bool = False, px=x, py=y):
     return sqrt(dx * dx + y * y), pi / 2 + atan2(-dx, y)
 
 
-def transition(x0: float = 0.0, binding_side: str = "right"):
+def transition(x0: float = 0.0, binding_side: str = "right", coordinates="xy"):
     """-r^{3/2} sin(3 theta/2) about (x0, 0) (Remark 2.2): harmonic; u = 0 with
-    du/dn = (3/2) sqrt(r) on the binding side, u = r^{3/2} with du/dn = 0 on the other."""
-    r, theta = polar(x0, mirrored=(binding_side == "left"))
+    du/dn = (3/2) sqrt(r) on the binding side, u = r^{3/2} with du/dn = 0 on the other.
+    ``coordinates``: the plane it lives in, "xy", or "xz" (3D, Gamma_C = {z = 0}), or a pair of
+    CoefficientFunctions (s, d): a coordinate along Gamma_C across the transition curve and the
+    distance to Gamma_C (a curved transition line in 3D)."""
+    px, py = {"xy": (x, y), "xz": (x, z)}[coordinates] if isinstance(coordinates, str) else coordinates
+    r, theta = polar(x0, mirrored=(binding_side == "left"), px=px, py=py)
     return -(r ** 1.5) * sin(1.5 * theta)
 
 

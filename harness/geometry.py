@@ -50,3 +50,50 @@ def split_strip(at: float = 0.0):
         geo.Append(["line", ids[a], ids[b]], bc=label, leftdomain=domain, rightdomain=0)
     geo.Append(["line", ids[1], ids[4]], bc="interior", leftdomain=left, rightdomain=right)
     return geo
+
+
+def geometry_dimension(geometry) -> int:
+    """2 for a polygon (netgen's SplineGeometry), 3 for a solid (OCC or CSG)."""
+    return 2 if isinstance(geometry, SplineGeometry) else 3
+
+
+def _labelled_box(x0: float, x1: float, interior=()):
+    """The box (x0, x1) x (-1, 1) x (0, 1) with Gamma_C the bottom face z = 0, Gamma_u the top,
+    Gamma_g the sides; the faces named in ``interior`` ('xmin', 'xmax') lie inside the body."""
+    from netgen.occ import X, Box, Pnt, Z
+    box = Box(Pnt(x0, -1.0, 0.0), Pnt(x1, 1.0, 1.0))
+    box.faces.name = "neumann"
+    box.faces.Min(Z).name = "contact"
+    box.faces.Max(Z).name = "dirichlet"
+    for side in interior:
+        (box.faces.Min(X) if side == "xmin" else box.faces.Max(X)).name = "interior"
+    return box
+
+
+def contact_box(split_at: float | None = None):
+    """Omega = (-1, 1) x (-1, 1) x (0, 1), the 3D counterpart of ``contact_strip``: Gamma_C the
+    bottom face (n = -e_z), Gamma_u the top, Gamma_g the four sides. ``split_at``: the box is two
+    boxes glued along the plane x = split_at (faces labelled 'interior'), so that every mesh
+    has edges along the line {x = split_at, z = 0} of Gamma_C (a straight transition line) and
+    faces along the plane."""
+    from netgen.occ import Glue, OCCGeometry
+    if split_at is None:
+        return OCCGeometry(_labelled_box(-1.0, 1.0))
+    return OCCGeometry(Glue([_labelled_box(-1.0, split_at, ["xmax"]), _labelled_box(split_at, 1.0, ["xmin"])]))
+
+
+def disc_box(radius: float):
+    """``contact_box()`` with the cylinder x^2 + y^2 < radius^2 glued in (its side labelled
+    'interior'): the circle x^2 + y^2 = radius^2 of Gamma_C (a curved transition line) is then a
+    curve of the geometry, on which every coarse mesh has vertices and edges (chords)."""
+    from netgen.occ import Axes, Cylinder, Glue, OCCGeometry, Pnt, X, Z
+    box = _labelled_box(-1.0, 1.0)
+    cylinder = Cylinder(Axes(Pnt(0, 0, 0), Z, X), radius, 1.0)
+    cylinder.faces.name = "interior"
+    cylinder.faces.Min(Z).name = "contact"
+    cylinder.faces.Max(Z).name = "dirichlet"
+    outside = box - cylinder
+    for face in outside.faces:
+        if face.name not in ("contact", "dirichlet", "neumann"):
+            face.name = "interior"
+    return OCCGeometry(Glue([outside, cylinder]))

@@ -1,7 +1,10 @@
 """Mesh hierarchy (uniform refinement, h halves per level) and the trace of T_h on Gamma_C.
 
 The contact trace T_h^C of Section 3 is the list of edges t_i = ]x_i, x_{i+1}[ lying on
-Gamma_C; both discrete cones are defined through it.
+Gamma_C; both discrete cones are defined through it. In 3D (the paper's Section 6) Gamma_C is a
+union of triangles: the cones constrain the vertices and the *edges* of those triangles (on each
+edge the P2 trace is a 1D quadratic, as in 2D), while integrals over Gamma_C run over the
+triangles themselves (``ContactFaces``).
 """
 from __future__ import annotations
 
@@ -25,7 +28,8 @@ def mesh_hierarchy(case, levels: int):
     """Yield (level, mesh) for level = 0..levels-1 by uniform red refinement.
 
     netgen's own Refine() splits every triangle into four similar ones, so h halves exactly
-    and shape regularity is kept (NGSolve's Mesh.Refine() bisects and does not halve h).
+    and shape regularity is kept (in 3D every tetrahedron into eight, Bey's red refinement:
+    every edge is halved, and the shapes stay in finitely many classes) (NGSolve's Mesh.Refine() bisects and does not halve h).
     The mesh is one object refined in place, so that NGSolve keeps the parents of new vertices
     (the multigrid's prolongations): a level's mesh is valid until the next level is yielded.
     """
@@ -36,10 +40,22 @@ def mesh_hierarchy(case, levels: int):
         yield level, mesh
 
 
+def coordinates(mesh: ngs.Mesh) -> np.ndarray:
+    """(nv, dim) vertex coordinates (a copy: netgen's is a view of a mesh refined in place)."""
+    return np.array(mesh.ngmesh.Coordinates()[:, :mesh.dim], copy=True)
+
+
+def cells(mesh: ngs.Mesh) -> np.ndarray:
+    """(ne, dim + 1) vertex numbers of the elements: triangles in 2D, tetrahedra in 3D."""
+    table = mesh.ngmesh.Elements2D() if mesh.dim == 2 else mesh.ngmesh.Elements3D()
+    return np.array(table.NumPy()["nodes"][:, :mesh.dim + 1], dtype=np.int64) - 1
+
+
 def geometry_vertices(mesh: ngs.Mesh) -> np.ndarray:
     """Mesh vertices at the points of the geometry: where two boundary segments of different
     geometry lines meet (a corner, a label change, or a break such as a transition point on a
-    straight Gamma_C), read from netgen's segment table, whose ``index`` is the geometry line."""
+    straight Gamma_C), read from netgen's segment table, whose ``index`` is the geometry line.
+    (2D only: in 3D a solution is singular along curves, ``quadrature.singular_vertices``.)"""
     segments = mesh.ngmesh.Elements1D().NumPy()
     ends = (segments["nodes"][:, :2].astype(np.int64) - 1).ravel()
     lines = np.repeat(segments["index"], 2)
@@ -51,36 +67,60 @@ def geometry_vertices(mesh: ngs.Mesh) -> np.ndarray:
 
 def vertices_at(mesh: ngs.Mesh, points, tol: float = 1e-10) -> np.ndarray:
     """Numbers of the mesh vertices at ``points``; ValueError naming a point that is no vertex."""
-    coords = np.array(mesh.ngmesh.Coordinates()[:, :2])
+    coords = coordinates(mesh)
     out = []
-    for point in np.asarray(points, float).reshape(-1, 2):
-        distance = np.hypot(*(coords - point).T)
+    for point in np.asarray(points, float).reshape(-1, mesh.dim):
+        distance = np.linalg.norm(coords - point, axis=1)
         nearest = int(np.argmin(distance))
         if distance[nearest] > tol * max(1.0, np.abs(coords).max()):
-            raise ValueError(f"point ({point[0]:.4g}, {point[1]:.4g}) is not a vertex of the mesh: make it a polygon corner")
+            raise ValueError(f"point {format_point(point)} is not a vertex of the mesh: make it a polygon corner")
         out.append(nearest)
     return np.array(out, dtype=np.int64)
 
 
+def format_point(point) -> str:
+    """(0.5, 0) or (0.5, 0, 1): a point in an error message."""
+    return "(" + ", ".join(f"{c:.4g}" for c in point) + ")"
+
+
 def mesh_size(mesh: ngs.Mesh) -> float:
-    """h of the paper: the largest element diameter (longest triangle edge)."""
-    coords = np.array(mesh.ngmesh.Coordinates()[:, :2])
-    tri = np.array(mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=np.int64) - 1
-    p = coords[tri]
-    sides = np.stack([p[:, 1] - p[:, 0], p[:, 2] - p[:, 1], p[:, 0] - p[:, 2]], axis=1)
+    """h of the paper: the largest element diameter (longest element edge)."""
+    p = coordinates(mesh)[cells(mesh)]
+    corners = p.shape[1]
+    sides = np.stack([p[:, j] - p[:, i] for i in range(corners) for j in range(i + 1, corners)], axis=1)
     return float(np.sqrt((sides**2).sum(axis=2)).max())
 
 
 @dataclass(frozen=True)
+class ContactFaces:
+    """3D: the triangles of T_h on Gamma_C, over which Gamma_C is integrated."""
+
+    vertices: np.ndarray       # (f, 3) NGSolve vertex numbers of the corners
+    edges: np.ndarray          # (f, 3) index in the trace's edges of side k, joining corners k, k+1 mod 3
+    normals: np.ndarray        # (f, 3) outward unit normals
+
+    def corners(self, trace: "ContactTrace") -> np.ndarray:
+        """(f, 3, 3) coordinates of the corners."""
+        index = np.searchsorted(trace.vertices, self.vertices)
+        return trace.vertex_points[index]
+
+
+@dataclass(frozen=True)
 class ContactTrace:
-    """The edges of T_h on Gamma_C, with end points a, b and outward unit normals."""
+    """The edges of T_h on Gamma_C, with end points a, b and outward unit normals (in 3D the
+    normal of a triangle of Gamma_C holding the edge, and ``faces``)."""
 
     edges: np.ndarray          # (m,) NGSolve edge numbers
     edge_vertices: np.ndarray  # (m, 2) NGSolve vertex numbers of the end points
-    a: np.ndarray              # (m, 2) coordinates of the first end point
-    b: np.ndarray              # (m, 2) coordinates of the second end point
-    normals: np.ndarray        # (m, 2) outward unit normals
-    opposite: np.ndarray       # (m,) vertex number of the third vertex of each edge's triangle
+    a: np.ndarray              # (m, dim) coordinates of the first end point
+    b: np.ndarray              # (m, dim) coordinates of the second end point
+    normals: np.ndarray        # (m, dim) outward unit normals
+    opposite: np.ndarray       # (m,) 2D: vertex number of the third vertex of each edge's triangle
+    faces: ContactFaces | None = None   # 3D: the triangles of Gamma_C
+
+    @property
+    def dim(self) -> int:
+        return self.a.shape[1]
 
     @property
     def vertices(self) -> np.ndarray:
@@ -91,7 +131,7 @@ class ContactTrace:
     def vertex_points(self) -> np.ndarray:
         """Coordinates of ``vertices``, in the same order."""
         _, first = np.unique(self.edge_vertices.ravel(), return_index=True)
-        return np.concatenate([self.a, self.b], axis=1).reshape(-1, 2)[first]
+        return np.concatenate([self.a, self.b], axis=1).reshape(-1, self.dim)[first]
 
     @property
     def lengths(self) -> np.ndarray:
@@ -101,12 +141,34 @@ class ContactTrace:
     def midpoints(self) -> np.ndarray:
         return 0.5 * (self.a + self.b)
 
+    # The cells of Gamma_C: its edges in 2D, its triangles in 3D.
+    @property
+    def cell_vertices(self) -> np.ndarray:
+        return self.edge_vertices if self.faces is None else self.faces.vertices
+
+    @property
+    def cell_edges(self) -> np.ndarray:
+        """(cells, sides) index of each side of each cell in the edges (2D: a cell is its edge)."""
+        return np.arange(len(self.edges))[:, None] if self.faces is None else self.faces.edges
+
+    @property
+    def cell_sizes(self) -> np.ndarray:
+        """Length (2D) or area (3D) of each cell."""
+        if self.faces is None:
+            return self.lengths
+        c = self.faces.corners(self)
+        return 0.5 * np.linalg.norm(np.cross(c[:, 1] - c[:, 0], c[:, 2] - c[:, 0]), axis=1)
+
     def points(self, t: np.ndarray) -> np.ndarray:
-        """Points a + t (b - a) for parameters t in [0, 1]: array (m, len(t), 2)."""
+        """Points a + t (b - a) for parameters t in [0, 1]: array (m, len(t), dim)."""
         return self.a[:, None, :] + t[None, :, None] * (self.b - self.a)[:, None, :]
 
 
 def contact_trace(mesh: ngs.Mesh) -> ContactTrace:
+    return contact_trace_2d(mesh) if mesh.dim == 2 else contact_trace_3d(mesh)
+
+
+def contact_trace_2d(mesh: ngs.Mesh) -> ContactTrace:
     edges, verts, normals, opposite = [], [], [], []
     for el in mesh.Elements(ngs.BND):
         if el.mat != CONTACT:
@@ -128,15 +190,54 @@ def contact_trace(mesh: ngs.Mesh) -> ContactTrace:
     if not edges:
         raise ValueError("the mesh has no boundary edge labelled 'contact'")
     verts = np.array(verts, dtype=np.int64)
-    coords = np.array([mesh[ngs.NodeId(ngs.VERTEX, int(v))].point for v in verts.ravel()]).reshape(-1, 2, 2)
-    return ContactTrace(np.array(edges, dtype=np.int64), verts, coords[:, 0], coords[:, 1], np.array(normals),
+    coords = coordinates(mesh)
+    return ContactTrace(np.array(edges, dtype=np.int64), verts, coords[verts[:, 0]], coords[verts[:, 1]], np.array(normals),
                         np.array(opposite, dtype=np.int64))
 
 
+def contact_trace_3d(mesh: ngs.Mesh) -> ContactTrace:
+    """The triangles of Gamma_C and their edges, each edge once, normals outward (away from
+    the fourth vertex of the tetrahedron on each triangle)."""
+    region = mesh.Boundaries(CONTACT)
+    edge_index: dict[int, int] = {}
+    edge_vertices, edge_normals, face_vertices, face_edges, face_normals = [], [], [], [], []
+    for el in region.Elements():
+        corners = [v.nr for v in el.vertices]
+        points = np.array([mesh[v].point for v in el.vertices])
+        normal = np.cross(points[1] - points[0], points[2] - points[0])
+        normal /= np.linalg.norm(normal)
+        (face,) = el.faces
+        (volume,) = mesh[face].elements
+        (fourth,) = [v for v in mesh[volume].vertices if v.nr not in corners]
+        if normal @ (np.array(mesh[fourth].point) - points[0]) > 0:
+            normal = -normal
+        ends = {frozenset(v.nr for v in mesh[e].vertices): e.nr for e in el.edges}
+        sides = []
+        for k in range(3):
+            pair = (corners[k], corners[(k + 1) % 3])
+            number = ends[frozenset(pair)]
+            if number not in edge_index:
+                edge_index[number] = len(edge_vertices)
+                edge_vertices.append(pair)
+                edge_normals.append(normal)
+            sides.append(edge_index[number])
+        face_vertices.append(corners)
+        face_edges.append(sides)
+        face_normals.append(normal)
+    if not edge_index:
+        raise ValueError("the mesh has no boundary face labelled 'contact'")
+    verts = np.array(edge_vertices, dtype=np.int64)
+    coords = coordinates(mesh)
+    faces = ContactFaces(np.array(face_vertices, dtype=np.int64), np.array(face_edges, dtype=np.int64),
+                         np.array(face_normals))
+    return ContactTrace(np.array(list(edge_index), dtype=np.int64), verts, coords[verts[:, 0]], coords[verts[:, 1]],
+                        np.array(edge_normals), np.full(len(verts), -1, dtype=np.int64), faces)
+
+
 def evaluate(cf: ngs.CoefficientFunction, mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
-    """Values of cf at points (..., 2); vector-valued cf gives a trailing component axis."""
-    flat = points.reshape(-1, 2)
-    values = np.asarray(cf(mesh(flat[:, 0], flat[:, 1])))
+    """Values of cf at points (..., dim); vector-valued cf gives a trailing component axis."""
+    flat = points.reshape(-1, mesh.dim)
+    values = np.asarray(cf(mesh(*flat.T)))
     if cf.dim == 1:
         return values.reshape(points.shape[:-1])
     return values.reshape(points.shape[:-1] + (cf.dim,))

@@ -158,7 +158,7 @@ class ContactQP:
         if previous is None:
             return None
         trace = self.problem.trace
-        edges = previous.edge_status(trace.midpoints) if len(self.problem.edge_dofs) else np.zeros(0, bool)
+        edges = previous.edge_status(trace.a, trace.b) if len(self.problem.edge_dofs) else np.zeros(0, bool)
         return np.concatenate([previous.vertex_status(trace.vertex_points), edges])
 
     def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
@@ -210,14 +210,17 @@ def contact_qp(case, problem: DiscreteProblem, model: ContactModel, take_stiffne
 
 
 def contact_pressure(problem, multipliers: np.ndarray) -> np.ndarray:
-    """Discrete contact pressure per contact edge: the edge multiplier plus each end point's
-    multiplier shared among its edges in proportion to length, divided by the edge length.
-    Its integral over Gamma_C is the total discrete contact force sum(lambda)."""
-    lengths = problem.trace.lengths
-    nv = len(problem.vertex_dofs)
+    """Discrete contact pressure per cell of Gamma_C (contact edge; 3D: triangle): each vertex
+    and edge multiplier shared among the cells holding it in proportion to their size, divided
+    by the cell's size. Its integral over Gamma_C is the total discrete contact force sum(lambda)."""
+    trace = problem.trace
+    size = trace.cell_sizes
+    nv, ne = len(problem.vertex_dofs), len(trace.edges)
     lam_vertex = multipliers[:nv]
-    lam_edge = multipliers[nv:] if len(problem.edge_dofs) else np.zeros(len(lengths))   # P1: vertices only
-    index = np.searchsorted(problem.trace.vertices, problem.trace.edge_vertices)
-    adjacent_length = np.bincount(index.ravel(), weights=np.repeat(lengths, 2), minlength=nv)
-    share = lam_vertex[index] * (lengths[:, None] / adjacent_length[index])
-    return (lam_edge + share.sum(axis=1)) / lengths
+    lam_edge = multipliers[nv:] if len(problem.edge_dofs) else np.zeros(ne)    # P1: vertices only
+    total = np.zeros(len(size))
+    for index, lam, count in ((np.searchsorted(trace.vertices, trace.cell_vertices), lam_vertex, nv),
+                              (trace.cell_edges, lam_edge, ne)):
+        adjacent = np.bincount(index.ravel(), weights=np.repeat(size, index.shape[1]), minlength=count)
+        total += (lam[index] * (size[:, None] / adjacent[index])).sum(axis=1)
+    return total / size

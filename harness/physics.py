@@ -33,11 +33,15 @@ import numpy as np
 from .mesh import evaluate
 
 
-def gradient(u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
-    """grad u of a scalar CF (a 2-vector), or the Jacobian of a vector CF (2 x 2, row i = grad u_i)."""
+COORDINATES = (ngs.x, ngs.y, ngs.z)
+
+
+def gradient(u: ngs.CoefficientFunction, dim: int = 2) -> ngs.CoefficientFunction:
+    """grad u of a scalar CF (a dim-vector), or the Jacobian of a vector CF (row i = grad u_i)."""
+    axes = COORDINATES[:dim]
     if u.dim == 1:
-        return ngs.CF((u.Diff(ngs.x), u.Diff(ngs.y)))
-    return ngs.CF(tuple(u[i].Diff(d) for i in range(2) for d in (ngs.x, ngs.y)), dims=(2, 2))
+        return ngs.CF(tuple(u.Diff(d) for d in axes))
+    return ngs.CF(tuple(u[i].Diff(d) for i in range(u.dim) for d in axes), dims=(u.dim, dim))
 
 
 @dataclass(frozen=True)
@@ -60,9 +64,9 @@ class Scalar:
     def energy_density(self, grad_e):
         return ngs.InnerProduct(grad_e, grad_e)
 
-    def load(self, u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+    def load(self, u: ngs.CoefficientFunction, dim: int = 2) -> ngs.CoefficientFunction:
         """f = -Laplace(u) of (2.1)."""
-        return -(u.Diff(ngs.x).Diff(ngs.x) + u.Diff(ngs.y).Diff(ngs.y))
+        return -sum((u.Diff(d).Diff(d) for d in COORDINATES[1:dim]), u.Diff(ngs.x).Diff(ngs.x))
 
     def flux(self, grad_u, normal):
         """d_n u: the Neumann datum on Gamma_g."""
@@ -134,8 +138,8 @@ class Elasticity:
         """sigma(e) : eps(e), whose integral is the squared energy norm a(e, e)."""
         return ngs.InnerProduct(self.stress(grad_e), self.strain(grad_e))
 
-    def load(self, u: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
-        """f = -div sigma(u)."""
+    def load(self, u: ngs.CoefficientFunction, dim: int = 2) -> ngs.CoefficientFunction:
+        """f = -div sigma(u) (plane strain: dim is 2)."""
         s = self.stress(gradient(u))
         return -ngs.CF(tuple(s[i, 0].Diff(ngs.x) + s[i, 1].Diff(ngs.y) for i in range(2)))
 

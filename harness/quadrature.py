@@ -60,9 +60,15 @@ def graded_rule(depth: int = GRADING_DEPTH, order: int = GRADED_ORDER) -> ngs.In
     return ngs.IntegrationRule([tuple(p) for p in points], list(weights))
 
 
+ELEMENT_TYPE = {2: ngs.TRIG, 3: ngs.TET}
+
+
 def singular_vertices(case, mesh: ngs.Mesh) -> np.ndarray:
     """The mesh vertices where ``case`` is singular: its declared ``singular_points``, else every
-    point of the geometry (corners, label changes, breaks), which is where the cases put them."""
+    point of the geometry (corners, label changes, breaks), which is where the cases put them.
+    None in 3D (see the module docstring)."""
+    if mesh.dim == 3:
+        return np.zeros(0, np.int64)
     if case.singular_points is None:
         return geometry_vertices(mesh)
     return vertices_at(mesh, case.singular_points) if len(case.singular_points) else np.zeros(0, np.int64)
@@ -86,10 +92,16 @@ class ElementQuadrature:
                 near.Set(element.nr)
         return cls(mesh, near, graded_rule(depth, order))
 
+    def _gauss(self, order: int, elements: ngs.BitArray):
+        shape = ELEMENT_TYPE[self.mesh.dim]
+        return ngs.dx(definedonelements=elements, intrules={shape: ngs.IntegrationRule(shape, order)})
+
     def measures(self, order: int) -> tuple:
         """(dx on the plain elements with Gauss order ``order``, dx on the near elements graded),
-        for integrands of forms: their sum integrates over Omega."""
-        plain = ngs.dx(definedonelements=~self.near, intrules={ngs.TRIG: ngs.IntegrationRule(ngs.TRIG, order)})
+        for integrands of forms: their sum integrates over Omega (in 3D the first alone)."""
+        plain = self._gauss(order, ~self.near)
+        if self.mesh.dim == 3:
+            return (plain,)
         return plain, ngs.dx(definedonelements=self.near, intrules={ngs.TRIG: self.graded})
 
     def integrate(self, cf: ngs.CoefficientFunction, order: int) -> np.ndarray:
@@ -101,7 +113,9 @@ class ElementQuadrature:
         """
         cf = cf.Compile()
         total = np.atleast_1d(np.array(ngs.Integrate(cf, self.mesh, order=order), dtype=float))
-        plain_near = ngs.dx(definedonelements=self.near, intrules={ngs.TRIG: ngs.IntegrationRule(ngs.TRIG, order)})
+        if self.mesh.dim == 3:
+            return total
+        plain_near = self._gauss(order, self.near)
         _, graded_near = self.measures(order)
         for k in range(cf.dim):
             component = cf[k] if cf.dim > 1 else cf

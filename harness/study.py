@@ -121,7 +121,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     refinement, its order's assembly, its own set-up and solve; not the error measurement.
     """
     phases = phases or Phases()
-    methods = methods_for(case, methods)       # the weak methods are scalar only
+    methods = methods_for(case, methods)       # the weak methods are scalar and 2D only
     studied = {m.name: study_levels(m, levels) for m in methods}
     chain = {m.name: chain_levels(case, m, levels) for m in methods}
     measure = ExactErrors(case, phases) if case.exact else ReferenceErrors(studied, {m.name: m.order for m in methods}, case.reference_levels)

@@ -20,7 +20,8 @@ import numpy as np
 
 from .case import CaseError
 from .geometry import LABELS
-from .mesh import boundary_labels, coarse_mesh, contact_trace, evaluate, vertices_at
+from .mesh import boundary_labels, cells, coarse_mesh, contact_trace, coordinates, evaluate, format_point, vertices_at
+from .physics import COORDINATES
 
 SAMPLES_PER_EDGE = 64
 # The conditions in words, by physics (elasticity: sigma_n = n . sigma(u) n, compression < 0).
@@ -36,25 +37,37 @@ def contact_samples(case, mesh):
     """Points strictly inside the coarse contact edges, their normals, the excess c(u) - obstacle
     (u - alpha; alpha - u . n in elasticity) and the pressure (du/dn - g_C; -(sigma_n - g_n))."""
     trace = contact_trace(mesh)
-    t = (np.arange(SAMPLES_PER_EDGE) + 0.5) / SAMPLES_PER_EDGE
-    points = trace.points(t)
-    normals = np.broadcast_to(trace.normals[:, None, :], points.shape)
+    if trace.faces is None:
+        t = (np.arange(SAMPLES_PER_EDGE) + 0.5) / SAMPLES_PER_EDGE
+        points = trace.points(t)
+        normals = np.broadcast_to(trace.normals[:, None, :], points.shape)
+    else:       # 3D: points strictly inside the coarse triangles of Gamma_C
+        points = np.einsum("kc,fcd->fkd", _FACE_INTERIOR, trace.faces.corners(trace))
+        normals = np.broadcast_to(trace.faces.normals[:, None, :], points.shape)
     excess = case.physics.contact_value(case, mesh, points, normals)
     if case.obstacle is not None:
         excess = excess - evaluate(case.obstacle, mesh, points)
     pressure = case.physics.pressure(case, mesh, points, normals)
-    return points.reshape(-1, 2), excess.ravel(), pressure.ravel(), normals.reshape(-1, 2)
+    dim = mesh.dim
+    return points.reshape(-1, dim), excess.ravel(), pressure.ravel(), normals.reshape(-1, dim)
 
 
+def _strict_lattice(n: int, corners: int) -> np.ndarray:
+    """Barycentric points (k, corners) of the lattice of step 1/n strictly inside the simplex."""
+    import itertools
+    points = [p for p in itertools.product(range(1, n), repeat=corners - 1) if sum(p) < n]
+    return np.array([(*p, n - sum(p)) for p in points], dtype=float) / n
+
+
+# the points of each coarse triangle of a 3D Gamma_C where the conditions are sampled
+_FACE_INTERIOR = _strict_lattice(24, 3)
 # barycentric coordinates of the points where a declared f is compared with -Laplace(u)
-_INTERIOR = np.array([[1 / 3, 1 / 3, 1 / 3], [0.6, 0.2, 0.2], [0.2, 0.6, 0.2], [0.2, 0.2, 0.6]])
+_INTERIOR = {2: _strict_lattice(5, 3), 3: _strict_lattice(5, 4)}
 
 
 def interior_samples(mesh) -> np.ndarray:
     """Points strictly inside every element of ``mesh``."""
-    coords = np.array(mesh.ngmesh.Coordinates()[:, :2])
-    triangles = np.array(mesh.ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=np.int64) - 1
-    return np.einsum("kv,evd->ekd", _INTERIOR, coords[triangles]).reshape(-1, 2)
+    return np.einsum("kv,evd->ekd", _INTERIOR[mesh.dim], coordinates(mesh)[cells(mesh)]).reshape(-1, mesh.dim)
 
 
 def check_declared_f(case, mesh) -> None:
@@ -64,14 +77,14 @@ def check_declared_f(case, mesh) -> None:
     derived = evaluate(case.derived_f, mesh, points).reshape(len(points), -1)
     declared = evaluate(case.f, mesh, points).reshape(len(points), -1)
     # the size of the second derivatives of u (times the largest modulus lambda + 2 mu in elasticity)
-    second = max(np.abs(evaluate(case.u.Diff(d).Diff(d), mesh, points)).max() for d in (ngs.x, ngs.y))
+    second = max(np.abs(evaluate(case.u.Diff(d).Diff(d), mesh, points)).max() for d in COORDINATES[:mesh.dim])
     modulus = case.physics.lam + 2 * case.physics.mu if case.physics.components > 1 else 1.0
     scale = max(second * modulus, 1e-300)
     wrong = ~(np.abs(declared - derived) <= RELATIVE_TOLERANCE * scale).all(axis=1)
     if wrong.any():
         k = int(np.argmax(wrong))
         what = "-Laplace(u)" if case.physics.components == 1 else "-div sigma(u)"
-        raise CaseError(f"case {case.name!r}: declared f is not {what} at ({points[k, 0]:.4g}, {points[k, 1]:.4g}): "
+        raise CaseError(f"case {case.name!r}: declared f is not {what} at {format_point(points[k])}: "
                         f"{declared[k]} against {derived[k]}")
 
 
@@ -93,7 +106,7 @@ def check_reference_data(case, mesh) -> None:
         values = evaluate(cf, mesh, points)
         if not np.all(np.isfinite(values)):
             bad = points[~np.isfinite(values)][0]
-            raise CaseError(f"case {case.name!r}: {name} is not finite at ({bad[0]:.4g}, {bad[1]:.4g})")
+            raise CaseError(f"case {case.name!r}: {name} is not finite at {format_point(bad)}")
 
 
 def validate_case(case) -> None:
@@ -101,6 +114,10 @@ def validate_case(case) -> None:
     missing = [label for label in LABELS if label not in boundary_labels(mesh)]
     if missing:
         raise CaseError(f"case {case.name!r}: geometry has no boundary labelled {', '.join(missing)}")
+    if mesh.dim == 3 and case.singular_points:
+        raise CaseError(f"case {case.name!r}: singular_points are 2D only (a 3D solution is singular along curves)")
+    if mesh.dim == 3 and case.u is None:
+        raise CaseError(f"case {case.name!r}: a 3D case needs its exact solution u (no 3D reference cases yet)")
     try:
         vertices_at(mesh, case.singular_points or ())
     except ValueError as exc:
@@ -112,7 +129,7 @@ def validate_case(case) -> None:
     points, excess, flux, normals = contact_samples(case, mesh)
     if not (np.all(np.isfinite(excess)) and np.all(np.isfinite(flux))):
         bad = points[~(np.isfinite(excess) & np.isfinite(flux))][0]
-        raise CaseError(f"case {case.name!r}: u or its flux is not finite on Gamma_C at ({bad[0]:.4g}, {bad[1]:.4g})")
+        raise CaseError(f"case {case.name!r}: u or its flux is not finite on Gamma_C at {format_point(bad)}")
     tol_u = RELATIVE_TOLERANCE * max(np.abs(excess).max(), 1e-300)
     tol_flux = RELATIVE_TOLERANCE * max(np.abs(flux).max(), 1e-300)
     names = CONDITIONS[case.physics.name]
@@ -127,8 +144,7 @@ def validate_case(case) -> None:
     for condition, violated, value in checks:
         if violated.any():
             k = int(np.argmax(violated))
-            x, y = points[k]
             raise CaseError(
                 f"case {case.name!r} violates the Signorini condition {condition} on Gamma_C "
-                f"at ({x:.4g}, {y:.4g}): value {value[k]:.3e} ({int(violated.sum())} of {len(points)} samples)"
+                f"at {format_point(points[k])}: value {value[k]:.3e} ({int(violated.sum())} of {len(points)} samples)"
             )

@@ -61,8 +61,8 @@ def methods_named(names) -> list[Method]:
 
 
 def methods_for(case, methods) -> list[Method]:
-    """Those of ``methods`` that discretise ``case``'s physics (the weak methods are scalar
-    only), in the order given; a study runs each case with these."""
+    """Those of ``methods`` that discretise ``case``'s physics and dimension (the weak methods
+    are scalar and 2D only), in the order given; a study runs each case with these."""
     return [m for m in methods if m.supports(case)]
 
 

@@ -60,9 +60,10 @@ class Method:
     # case -> the rate of a second, later theory (a second verdict), or None
     sharper_theory: Callable[[object], Expectation] | None = None
     physics: tuple = ("scalar",)                  # the physics it discretises (``harness.physics``)
+    dimensions: tuple = (2,)                      # the space dimensions it discretises
 
     def supports(self, case) -> bool:
-        return case.physics.name in self.physics
+        return case.physics.name in self.physics and case.dimension in self.dimensions
 
     def sharper(self, case) -> Expectation | None:
         return None if self.sharper_theory is None else self.sharper_theory(case)
@@ -100,6 +101,8 @@ class BoundConstrained(Method):
     cone: ContactModel = ContactModel()
     # a cone of the contact variable: u_h, or -u_h . n in the rotated frame (Remark 2.3)
     physics: tuple = ("scalar", "elasticity")
+    # in 3D the same cones, edge by edge on the triangles of Gamma_C (``models``)
+    dimensions: tuple = (2, 3)
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         timed = phases or (lambda phase: nullcontext())

@@ -1,0 +1,48 @@
+"""3D: a circular contact zone, the r^{3/2} transition along a *curved* line (Section 6).
+
+Omega = (-1, 1)^2 x (0, 1), Gamma_C = the bottom face z = 0 (n = -e_z). The transition curve
+is the circle x^2 + y^2 = R^2 of Gamma_C, R = 1/2. Its local coordinates: the level set
+    s = (R^2 - x^2 - y^2) / (2R),
+a polynomial whose zero set is the circle and whose gradient has unit length on it (a smooth
+signed distance to the circle to first order, positive inside), and z, the distance to Gamma_C.
+With (rho, theta) the polar coordinates of (s, z) (theta in [0, pi]),
+    u = -rho^{3/2} sin(3 theta / 2).
+Signorini conditions on Gamma_C (z = 0, d_n = -d_z, and d_z u at fixed x, y is the 2D
+function's d_y at x = s):
+  inside the circle (s > 0, theta = 0): u = 0, du/dn = (3/2) sqrt(s) >= 0  -- binding;
+  outside (s < 0, theta = pi): u = |s|^{3/2} > 0, du/dn = 0               -- free.
+f = -Laplace(u): g(s, z) = -rho^{3/2} sin(3 theta/2) is harmonic in (s, z), so
+    Laplace(u) = g_ss (|grad s|^2 - 1) + g_s Laplace(s),
+with |grad s|^2 - 1 = -2 s / R = O(rho) against g_ss = O(rho^{-1/2}), and g_s = O(rho^{1/2}):
+f is bounded, in L^2 (the level set, smooth through the disc's centre, keeps it so; the
+Euclidean distance to the circle would be singular at the centre). The harness derives f.
+Regularity: as for the straight line, u is in H^{5/2 - eps} near the circle: nu = 5/2.
+Mesh: the cylinder x^2 + y^2 < R^2 is glued into the box, so the circle is a curve of the
+geometry: the coarse mesh has vertices on it, and netgen's refinement moves every new vertex
+of the circle onto it. The edges of Gamma_C along the circle are chords, so the discrete
+transition curve is a polygon inscribed in it (the exact one is between the vertices, off by
+O(h^2)), and the hierarchy is not nested there (see the report).
+"""
+from math import cos, pi, sin
+
+from ngsolve import x, y, z
+
+from harness.functions import transition
+from harness.geometry import disc_box
+
+name = "transition-circle-3d"
+description = "3D: circular contact zone, r^{3/2} transition along the circle x^2 + y^2 = 1/4 of Gamma_C"
+regime = "2 < nu <= 5/2, 3D"
+theorem = "Section 6 (3D open in the paper)"
+conjectured = True
+nu = 2.5
+expected_rate = 1.5
+
+radius = 0.5
+geometry = disc_box(radius)
+maxh = 0.25
+
+level_set = (radius * radius - x * x - y * y) / (2 * radius)
+u = transition(0.0, binding_side="right", coordinates=(level_set, z))
+# the exact transition curve on Gamma_C, drawn on the report's pictures of it
+transition_curve = [[(radius * cos(2 * pi * k / 128), radius * sin(2 * pi * k / 128)) for k in range(129)]]
