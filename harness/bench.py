@@ -61,7 +61,7 @@ def _seconds(solution) -> tuple[float, object]:
     return solution.seconds, solution
 
 
-def _problem(model_name: str, level: int, coarse_maxh: float | None):
+def _problem(model_name: str, level: int, coarse_maxh: float | None, case_name: str = BENCH_CASE):
     """The discrete problem of ``level`` on the study's hierarchy, with what nested iteration
     brings from ``level - 1`` (solved by the harness's solver): predicted active set, start."""
     from .case import load_case
@@ -72,7 +72,8 @@ def _problem(model_name: str, level: int, coarse_maxh: float | None):
     from .multigrid import Multilevel, nested_start
     from .solver import solve_contact_qp
 
-    case = dataclasses.replace(load_case(BENCH_CASE), maxh=coarse_maxh)
+    case = load_case(case_name)
+    case = dataclasses.replace(case, maxh=coarse_maxh or case.maxh)
     method = get_method(model_name)
     multilevel, previous, start = None, None, None
     for lev, mesh in mesh_hierarchy(case, level + 1):
@@ -248,7 +249,7 @@ def _measure(method: str, model_name: str, level: int, coarse_maxh, connection):
 
 
 def _measure_study(methods: str, connection):
-    """The default profile's study of every registered case with ``methods`` ('paper' or 'all',
+    """The default profile's study of every registered 2D case with ``methods`` ('paper' or 'all',
     as `make report` runs it), without the report: wall time, the sum of its contact solves,
     where the rest goes."""
     from .case import registered_cases
@@ -256,7 +257,7 @@ def _measure_study(methods: str, connection):
     from .execution import run_study
     from .study import PROFILES
 
-    frame = run_study(list(registered_cases().values()), methods_named(methods), PROFILES["default"]["levels"],
+    frame = run_study(list(registered_cases(dimension=2).values()), methods_named(methods), PROFILES["default"]["levels"],
                       show_progress=False)
     wall, solves = frame.attrs["wall_seconds"], float(frame.solve_seconds.sum())
     phases = frame.attrs["phase_seconds"]
@@ -466,6 +467,61 @@ def elastic_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
         ("elastic contact solve <= 3x one linear elastic solve at the largest size", bool((largest.ratio_linear <= 3).all()),
          ", ".join(f"{m} {r:.2f} at {n:.2g} dofs" for m, r, n in zip(largest.method, largest.ratio_linear, largest.ndof))),
         ("elastic KKT residual <= 1e-10 at every size", bool((frame.kkt_residual <= 1e-10).all()), f"max {frame.kkt_residual.max():.1e}"),
+    ]
+
+
+THREE_D_CASE = "transition-line-3d"
+THREE_D_LEVELS = (1, 2, 3)         # 1.8e4, 1.3e5, 1.0e6 P2 dofs
+THREE_D_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_linear", "iterations", "cg_iterations",
+                   "linear_cg_iterations", "kkt_residual", "peak_rss_mb"]
+
+
+def _measure_3d(model_name: str, level: int, connection):
+    """Issue 19: a 3D contact solve (truncated multigrid, nested iteration) against one
+    unconstrained solve of the same matrix by the same multigrid CG, from zero, as deep."""
+    import ngsolve as ngs
+    from .multigrid import ContactEdges
+    from .solver import DEFAULT_TOLERANCE, ActiveSetSolver, MultigridSystem, solve_contact_qp
+
+    ngs.ngsglobals.msg_level = 0
+    with ngs.TaskManager():
+        qp, predicted, multilevel, start = _problem(model_name, level, None, THREE_D_CASE)
+        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
+        load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
+
+        def linear():
+            system.cg_iterations = 0
+            return _timed(system.solve, ~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * load_scale)
+        t_linear, _ = _fastest(linear)
+        t_contact, solution = _fastest(lambda: _seconds(solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)))
+    connection.send({
+        "case": THREE_D_CASE, "method": model_name, "ndof": qp.problem.ndof, "t_contact": t_contact, "t_linear": t_linear,
+        "ratio_linear": t_contact / t_linear, "iterations": solution.iterations,
+        "cg_iterations": solution.work["cg_iterations"], "linear_cg_iterations": system.cg_iterations,
+        "kkt_residual": solution.kkt.residual, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+    })
+    connection.close()
+
+
+def run_3d_bench(levels=THREE_D_LEVELS, models=("mean", "nodal", "p1"), progress=print) -> pd.DataFrame:
+    """Each (model, level) in its own fresh process, like ``run_bench``."""
+    rows = []
+    for level in levels:
+        for model in models:
+            row = _in_fresh_process(_measure_3d, (model, level), f"3D {model}/level {level}")
+            rows.append(row)
+            progress(f"3D {model:5s} ndof {row['ndof']:>9d}  contact {row['t_contact']:7.2f} s  "
+                     f"linear (multigrid CG) {row['t_linear']:7.2f} s  ratio {row['ratio_linear']:.2f}  rss {row['peak_rss_mb']:.0f} MB")
+    return pd.DataFrame(rows, columns=THREE_D_COLUMNS)
+
+
+def three_d_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
+    """Issue 19: the 3D contact solve is exact and within 2x one linear solve at the largest size."""
+    largest = frame[frame.ndof == frame.ndof.max()]
+    return [
+        ("3D contact solve <= 2x one linear solve at the largest size", bool((largest.ratio_linear <= 2).all()),
+         ", ".join(f"{m} {r:.2f} at {n:.2g} dofs" for m, r, n in zip(largest.method, largest.ratio_linear, largest.ndof))),
+        ("3D KKT residual <= 1e-10 at every size", bool((frame.kkt_residual <= 1e-10).all()), f"max {frame.kkt_residual.max():.1e}"),
     ]
 
 

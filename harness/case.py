@@ -293,11 +293,12 @@ def _registered_files() -> list[Path]:
     return sorted(p for p in CASES_DIR.glob("*.py") if not p.name.startswith("_"))
 
 
-def registered_cases() -> dict[str, Case]:
-    """Every case module in cases/, by name: the scalar ones, then the elastic ones, each in
-    order of regularity nu."""
+def registered_cases(dimension: int | None = None) -> dict[str, Case]:
+    """Every case module in cases/ (of that ``dimension`` if given), by name: the scalar 2D
+    ones, the elastic ones, then the 3D ones, each in order of regularity nu."""
     cases = [case_from_module(_import_file(path), str(path)) for path in _registered_files()]
-    return {case.name: case for case in sorted(cases, key=lambda c: (c.physics.name != "scalar",
+    cases = [case for case in cases if dimension is None or case.dimension == dimension]
+    return {case.name: case for case in sorted(cases, key=lambda c: (c.dimension, c.physics.name != "scalar",
                                                                       c.nu if c.nu == c.nu else float("inf"), c.name))}
 
 

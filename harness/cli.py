@@ -239,7 +239,8 @@ def cmd_report(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from .bench import DEFAULT_SIZES, elastic_goals, goals, measure_study, run_bench, run_elastic_bench, study_goals, write_bench
+    from .bench import (DEFAULT_SIZES, elastic_goals, goals, measure_study, run_3d_bench, run_bench, run_elastic_bench,
+                        study_goals, three_d_goals, write_bench)
     from .results import ensure_writable
     out = Path(args.out)
     ensure_writable(out.parent)
@@ -254,6 +255,11 @@ def cmd_bench(args) -> int:
         _show(elastic, write_bench(elastic, out.with_name(out.stem + "_elastic.csv")),
               "elasticity (Remark 2.3): contact solve against one linear elastic solve, same matrix:")
         lines += elastic_goals(elastic)
+    if args.only in (None, "3d"):
+        solid = run_3d_bench()
+        _show(solid, write_bench(solid, out.with_name(out.stem + "_3d.csv")),
+              "3D (Section 6): contact solve against one linear solve of the same matrix (multigrid CG):")
+        lines += three_d_goals(solid)
     if args.only in (None, "solver"):
         frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.method or ("mean", "nodal")))
         _show(frame, write_bench(frame, out), "")
@@ -368,8 +374,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="coarse mesh size and level of each problem (default: 9e3 to 4.2e6 dofs)")
     p.add_argument("--method", action="append", choices=_method_names(),
                    help="default: mean and nodal; nitsche and penalty add their rows (one solve against one nodal solve)")
-    p.add_argument("--only", choices=["study", "solver", "elastic"],
-                   help="only the study row, only the solver table, or only the elastic rows")
+    p.add_argument("--only", choices=["study", "solver", "elastic", "3d"],
+                   help="only the study row, only the solver table, only the elastic rows, or only the 3D rows")
     p.add_argument("--out", default="results/bench.csv", metavar="CSV",
                    help="the solver table; the study row goes beside it, as <name>_study.csv")
     p.set_defaults(func=cmd_bench)

@@ -86,7 +86,9 @@ CONTACT_LABELS = {
 
 def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
     """u_h (in elasticity its normal displacement) and the discrete contact pressure along
-    Gamma_C on the finest level."""
+    Gamma_C on the finest level (3D: over Gamma_C, ``contact_faces``)."""
+    if "faces" in next(iter(snapshots.values())):
+        return contact_faces(case, snapshots, folder)
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 5.2), sharex=True)
     first = next(iter(snapshots.values()))
     exact = bool(np.isfinite(first["u"]).any())        # a reference case has no exact u to draw
@@ -113,7 +115,39 @@ def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
     return save(fig, folder, f"{case.name}_contact")
 
 
-def domain(case, snapshot: dict, folder: Path) -> dict[str, Path]:
+def contact_faces(case, snapshots: dict, folder: Path) -> dict[str, Path]:
+    """3D: Gamma_C seen from below (x runs to the left), one column per method: u_h - alpha
+    (red: below the obstacle, i.e. penetration) and the discrete pressure per triangle, with
+    the exact transition curve in black."""
+    methods = list(snapshots)
+    fig, axes = plt.subplots(2, len(methods), figsize=(3.3 * len(methods) + 0.6, 6.4), squeeze=False)
+    gaps = [snap["u_h"] - snap["gap"] for snap in snapshots.values()]
+    scale = max(np.abs(g).max() for g in gaps) or 1.0
+    for k, (method, snap) in enumerate(snapshots.items()):
+        tri = mtri.Triangulation(snap["points"][:, 0], snap["points"][:, 1], snap["triangles"])
+        top, bottom = axes[0, k], axes[1, k]
+        shown = top.tripcolor(tri, gaps[k], shading="gouraud", cmap="RdBu", norm=matplotlib.colors.TwoSlopeNorm(0.0, -scale, scale))
+        fig.colorbar(shown, ax=top, shrink=0.8)
+        pressure = np.tile(snap["pressure"], 4)          # the four sub-triangles of each triangle
+        shown = bottom.tripcolor(tri, facecolors=pressure, cmap="viridis")
+        fig.colorbar(shown, ax=bottom, shrink=0.8)
+        top.set_title(f"{method}: $u_h - \\alpha$ (min {gaps[k].min():.2g})", fontsize=9)
+        bottom.set_title(f"{method}: discrete pressure", fontsize=9)
+        for ax in (top, bottom):
+            for line in case.transition_curve:
+                ax.plot(*np.array(line).T, color="k", lw=1.0)
+            ax.set_aspect("equal")
+            ax.invert_xaxis()                 # seen from below
+            ax.set_xlabel("x (seen from below)", fontsize=8)
+            ax.tick_params(labelsize=7)
+    fig.suptitle(f"{case.name}: Γ_C on the finest level; black: the exact transition curve", fontsize=10)
+    return save(fig, folder, f"{case.name}_contact")
+
+
+def domain(case, snapshot: dict, folder: Path) -> dict[str, Path] | None:
+    """u_h on Omega (2D; the deformed shape in elasticity); None without a snapshot (3D)."""
+    if not snapshot:
+        return None
     if snapshot["values"].ndim == 2:
         return deformed(case, snapshot, folder)
     tri = mtri.Triangulation(snapshot["points"][:, 0], snapshot["points"][:, 1], snapshot["triangles"])

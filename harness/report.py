@@ -217,6 +217,38 @@ ELASTICITY_NOTE = (
 )
 
 
+THREE_D_NOTE = (
+    "The paper's Section 6 names 3D as open. Here Ω = (−1, 1)² × (0, 1) in tetrahedra (netgen, red "
+    "refinement: every edge halves, 8 children per tetrahedron), Γ_C its bottom face. Both cones are "
+    "imposed edge by edge on the triangles of Γ_C: on each edge the P2 trace is a 1D quadratic, and the "
+    "same local change of variables as in 2D makes `nodal` (vertex and edge-midpoint values ≥ α: the P2 "
+    "Lagrange cone of the 3D analyses, Drouet & Hild 2015) and `mean` (vertex values and edge means ≥ α: "
+    "our extension of K_h, for which no theorem exists) bounds on single variables; P1 bounds its vertex "
+    "values. Solved exactly by the same active set method with the truncated P1 multigrid of the "
+    "tetrahedral hierarchy. In 3D an edge-wise cone does not control the trace inside the triangles: with "
+    "all vertex values v > 0 and all edge means 0, the P2 trace of a triangle is −v at its centroid and its "
+    "mean is −v/2, yet every constraint of `mean` holds. The table shows what the discrete solutions do with "
+    "that freedom (the smallest value of u_h − α over Γ_C: penetration is negative). The pictures show Γ_C "
+    "from below: red where u_h dips below the obstacle."
+)
+
+
+def three_d_view(cases, rates: pd.DataFrame, results: pd.DataFrame) -> pd.DataFrame:
+    """The 3D cases: per case x method, its finest size, rates (pairwise and fitted), err/best
+    and the largest penetration on the finest level."""
+    solid = [case.name for case in cases if case.dimension == 3]
+    rows = []
+    for _, rate in rates[rates.case.isin(solid)].iterrows():
+        finest = results[(results.case == rate.case) & (results.method == rate.method)].sort_values("level").iloc[-1]
+        rows.append({"case": rate.case, "method": rate.method, "finest ndof": _fmt(finest.ndof, ".3g"),
+                     "expected": bound_text(rate.expected_rate, rate.expected_log_exponent),
+                     "pairwise H¹ rates": rate.pairwise_rates, "H¹ rate": _fmt(rate.fitted_rate, ".3f"),
+                     "err / best": _fmt(finest.err_h1_over_best, ".3g"),
+                     "max penetration": _fmt(finest.max_penetration, ".2e"), "kkt": _fmt(finest.kkt_residual, ".1e"),
+                     "verdict": rate.verdict})
+    return pd.DataFrame(rows)
+
+
 def elasticity_view(cases, rates: pd.DataFrame) -> pd.DataFrame:
     """The elastic cases' rates: H^1 and energy, against the theorem's, with the Poisson ratio."""
     elastic = {case.name: case for case in cases if case.physics.components > 1}
@@ -469,6 +501,10 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         doc.heading("Unilateral contact in linear elasticity (Remark 2.3)")
         doc.paragraph(ELASTICITY_NOTE)
         doc.table(elasticity_view(cases, rates))
+    if any(case.dimension == 3 for case in cases):
+        doc.heading("Three dimensions (Section 6)")
+        doc.paragraph(THREE_D_NOTE + f" Levels: {settings.get('levels_3d', settings['levels'])} per 3D case.")
+        doc.table(three_d_view(cases, rates, results), verdict_column="verdict")
     for case in cases:
         doc.heading(f"{case.name}: P2 " + (case.theorem if case.conjectured else f"Theorem {case.theorem}"))
         if case.physics.components > 1:
@@ -496,11 +532,13 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
             doc.table(gamma_c_view(rates, results, case.name))
         f = figs[case.name]
         doc.figures([(f["convergence"]["png"], "H¹ error against h; dashed: each theory's bound through the coarsest point."),
-                     (f["contact"]["png"], "Finest level along Γ_C: u_h - α and the discrete contact pressure; shaded: exact contact zone.")])
+                     (f["contact"]["png"], "Finest level along Γ_C: u_h - α and the discrete contact pressure; shaded: exact contact zone."
+                      if case.dimension == 2 else "Γ_C from below, finest level: u_h - α and the discrete pressure per triangle.")])
         doc.figures([(f["efficiency"]["png"], "H¹ error against ndof and against seconds summed over the levels; dotted: the target.")],
                     wide=True)
-        doc.figures([(f["solution"]["png"], "Deformed shape: the mesh moved by u_h (magnified), coloured by |u_h|; grey: the body at rest."
-                      if case.physics.components > 1 else "u_h on Ω.")])
+        if f["solution"] is not None:
+            doc.figures([(f["solution"]["png"], "Deformed shape: the mesh moved by u_h (magnified), coloured by |u_h|; grey: the body at rest."
+                          if case.physics.components > 1 else "u_h on Ω.")])
         for method, group in results[results.case == case.name].groupby("method", sort=False):
             doc.heading(f"method {method}", level=3)
             doc.table(level_table(group, energy=case.physics.components > 1))
@@ -522,7 +560,11 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
         settings["levels"] = levels
     ensure_writable(report_dir / "figures")
     start = time.perf_counter()
-    results = run_or_reuse(cases, settings, Path(results_dir), show_progress, engine, check_memory)
+    # the 3D cases run their own (smaller) number of levels: a 3D level has 8 times the dofs
+    groups = [([c for c in cases if c.dimension == 2], settings),
+              ([c for c in cases if c.dimension == 3], settings | {"levels": settings["levels_3d"]})]
+    results = pd.concat([run_or_reuse(group, group_settings, Path(results_dir), show_progress, engine, check_memory)
+                         for group, group_settings in groups if group], ignore_index=True)
     sweeps = sweep_or_reuse(cases, settings, Path(results_dir), show_progress, engine) if _has_weak(settings["methods"]) else {}
     rates = rate_table(results)
     efficiency = efficiency_table(results)

@@ -1,5 +1,6 @@
 """What the report draws besides the error table: u_h and the contact pressure along Gamma_C on
-the finest level, and u_h on Omega on a level fine enough to look smooth. Collected during the
+the finest level (in 3D over Gamma_C, a face of the body), and u_h on Omega (2D) on a level
+fine enough to look smooth. Collected during the
 study through its ``on_level`` hook and stored as .npz beside the results."""
 from __future__ import annotations
 
@@ -46,6 +47,35 @@ def contact_snapshot(case, problem, trace_u, pressure) -> dict:
     }
 
 
+def contact_face_snapshot(case, problem, trace_u, pressure) -> dict:
+    """3D: Gamma_C seen as its triangles, each split into four at its edge midpoints: the
+    points (x, y), those sub-triangles, u_h - alpha and u - alpha at the points (u_h at the
+    midpoints from its quadratic trace, so that a dip of u_h between the vertices shows) and
+    the discrete pressure per triangle (``models.contact_pressure``)."""
+    trace = problem.trace
+    corners = trace.faces.corners(trace)                         # (f, 3, 3)
+    sides = trace.faces.edges                                    # (f, 3): side k from corner k to k+1
+    points = np.concatenate([trace.vertex_points, trace.midpoints])
+    nv = len(trace.vertices)
+    c = np.searchsorted(trace.vertices, trace.faces.vertices)    # corner index in points
+    m = nv + sides                                               # side midpoint index in points
+    triangles = np.concatenate([np.stack([c[:, 0], m[:, 0], m[:, 2]], 1), np.stack([m[:, 0], c[:, 1], m[:, 1]], 1),
+                                np.stack([m[:, 2], m[:, 1], c[:, 2]], 1), np.stack([m[:, 0], m[:, 1], m[:, 2]], 1)])
+    u_h = np.concatenate([problem_vertex_values(problem, trace_u), trace_u.at(np.array([0.5]))[:, 0]])
+    gap = evaluate(case.obstacle, problem.mesh, points) if case.obstacle is not None else np.zeros(len(points))
+    exact = evaluate(case.u, problem.mesh, points) if case.u is not None else np.full(len(points), np.nan)
+    return {"faces": np.array(True), "points": points[:, :2], "triangles": triangles, "face_corners": corners[:, :, :2],
+            "u_h": u_h, "u": exact, "gap": gap, "pressure": pressure}
+
+
+def problem_vertex_values(problem, trace_u) -> np.ndarray:
+    """u_h at the vertices of Gamma_C (``trace.vertices`` order), from the edge end values."""
+    values = np.empty(len(problem.trace.vertices))
+    index = np.searchsorted(problem.trace.vertices, problem.trace.edge_vertices)
+    values[index[:, 0]], values[index[:, 1]] = trace_u.va, trace_u.vb
+    return values
+
+
 def domain_snapshot(case, problem, u: np.ndarray) -> dict:
     """Vertices, triangles and vertex values of u_h (vertex dofs are nodal values; (nv, 2)
     Cartesian displacements in elasticity). Copies: netgen hands out views of a mesh that the
@@ -69,9 +99,11 @@ class SnapshotHook:
 
     def __call__(self, case, method, level, problem, solve) -> dict | None:
         kept = {}
+        three_d = problem.trace.faces is not None
         if level == self.finest.get(method.name):
-            kept["contact"] = contact_snapshot(case, problem, solve.trace_u, solve.pressure)
-        if method.name == self.picture_method and level == self.picture_level:
+            snapshot = contact_face_snapshot if three_d else contact_snapshot
+            kept["contact"] = snapshot(case, problem, solve.trace_u, solve.pressure)
+        if method.name == self.picture_method and level == self.picture_level and not three_d:
             kept["domain"] = domain_snapshot(case, problem, solve.u) | {"method": np.array(method.name)}
         return kept or None
 

@@ -61,7 +61,7 @@ def saved_levels(folder: Path) -> dict[str, int]:
 
 # --- what a study will cost ------------------------------------------------------------------
 
-@pytest.mark.parametrize("case_name", list(registered_cases()))
+@pytest.mark.parametrize("case_name", list(registered_cases(dimension=2)))     # 3D: test_three_d.py
 def test_level_sizes_from_the_coarse_mesh_are_those_of_the_refined_meshes(case_name):
     """The budget never builds a fine mesh: its vertex, triangle and dof counts come from the
     coarse mesh by the red-refinement recurrence, and they are exact."""

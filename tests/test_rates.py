@@ -10,7 +10,7 @@ from harness.rates import fit_rate, normalised_errors, pairwise_rates, rate_tabl
 
 # Levels 0..5: the finest has about 1.2e5 to 1.4e5 dofs, in the asymptotic range of every case.
 RATE_LEVELS = 6
-CASES = registered_cases()
+CASES = registered_cases(dimension=2)     # 3D: tests/test_three_d.py
 EXACT_CASES = [name for name, case in CASES.items() if case.exact]   # those with a best approximation
 
 

@@ -43,7 +43,8 @@ class BudgetError(ValueError):
 
 @dataclass(frozen=True)
 class LevelSizes:
-    """Vertices, edges and triangles of each level of a case's red-refined hierarchy."""
+    """Vertices, edges and elements (``triangles``: triangles, or tetrahedra in 3D) of each
+    level of a case's red-refined hierarchy."""
 
     vertices: tuple
     edges: tuple
@@ -53,12 +54,19 @@ class LevelSizes:
     def of(cls, case, levels: int) -> "LevelSizes":
         """From the coarse mesh alone: red refinement adds a vertex per edge, splits each edge in
         two and adds three edges and three triangles inside each triangle (V' = V + E,
-        E' = 2E + 3T, T' = 4T), so nothing finer is ever built."""
-        v, e, t = (list(counts) for counts in _coarse_counts(case))
+        E' = 2E + 3T, T' = 4T), so nothing finer is ever built. In 3D it also splits each face
+        into four (three new edges each) and each tetrahedron into eight around one new interior
+        edge and eight new faces: V' = V + E, E' = 2E + 3F + T, F' = 4F + 8T, T' = 8T."""
+        v, e, f, t = (list(counts) for counts in _coarse_counts(case))
         for _ in range(1, levels):
             v.append(v[-1] + e[-1])
-            e.append(2 * e[-1] + 3 * t[-1])
-            t.append(4 * t[-1])
+            if case.dimension == 3:
+                e.append(2 * e[-1] + 3 * f[-1] + t[-1])
+                f.append(4 * f[-1] + 8 * t[-1])
+                t.append(8 * t[-1])
+            else:
+                e.append(2 * e[-1] + 3 * t[-1])
+                t.append(4 * t[-1])
         return cls(tuple(v), tuple(e), tuple(t))
 
     def ndof(self, level: int, order: int, components: int = 1) -> int:
@@ -73,12 +81,12 @@ _COARSE: dict = {}
 
 
 def _coarse_counts(case) -> tuple:
-    """(vertices,), (edges,), (triangles,) of a case's coarse mesh, made once per case file,
-    name and maxh in a process (a study asks for them once per job)."""
+    """(vertices,), (edges,), (faces,), (elements,) of a case's coarse mesh (faces counted in 3D
+    only), made once per case file, name and maxh in a process (a study asks for them once per job)."""
     key = (case.source, case.name, case.maxh)
     if key not in _COARSE:
         mesh = coarse_mesh(case)
-        _COARSE[key] = (mesh.nv,), (mesh.nedge,), (mesh.ne,)
+        _COARSE[key] = (mesh.nv,), (mesh.nedge,), (mesh.nface if mesh.dim == 3 else 0,), (mesh.ne,)
     return _COARSE[key]
 
 

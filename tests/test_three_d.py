@@ -1,0 +1,168 @@
+"""3D (Section 6): the cones edge by edge on the triangles of Gamma_C, solved exactly, and what
+they converge like. Sizes: level 0 has 2.5e3 P2 dofs, level 1 1.8e4, level 2 1.3e5 (the full
+4-level study, 1e6 dofs, is under `make test-full`)."""
+import numpy as np
+import ngsolve as ngs
+import pytest
+import scipy.sparse as sp
+from qpsolvers import solve_qp
+
+from conftest import CONE_NAMES
+from test_solver import hierarchical_qp
+from harness.boundary import contact_quadrature
+from harness.case import CaseError, load_case, registered_cases
+from harness.discrete import ContactTraceFunction, discretise
+from harness.errors import error_norms
+from harness.execution.budget import LevelSizes
+from harness.mesh import evaluate, mesh_hierarchy
+from harness.methods import METHODS, methods_for
+from harness.models import contact_qp
+from harness.quadrature import ElementQuadrature
+from harness.rates import pairwise_rates
+from harness.solver import solve_contact_qp
+from harness.study import run_chain
+
+THREE_D = list(registered_cases(dimension=3))
+CONES = [METHODS[name] for name in CONE_NAMES]
+
+
+def level_mesh(case, level: int):
+    *_, (_, mesh) = mesh_hierarchy(case, level + 1)
+    return mesh
+
+
+def test_there_are_three_3d_cases_and_the_2d_cases_are_unchanged():
+    assert set(THREE_D) == {"transition-line-3d", "transition-circle-3d", "smooth-3d"}
+    assert all(case.dimension == 2 for case in registered_cases(dimension=2).values())
+
+
+@pytest.mark.parametrize("case_name", THREE_D)
+def test_only_the_cones_discretise_a_3d_case(case_name):
+    """Penalty and Nitsche use the 2D normal derivative operator: a 3D study runs mean, nodal, p1."""
+    assert [m.name for m in methods_for(registered_cases()[case_name], METHODS.values())] == ["mean", "nodal", "p1"]
+
+
+def test_an_elastic_3d_case_is_refused_in_one_line(tmp_path):
+    path = tmp_path / "elastic3d.py"
+    path.write_text("from ngsolve import CF\nfrom harness.geometry import contact_box\nname = 'e3'\n"
+                    "description = 'x'\ngeometry = contact_box()\nmaxh = 0.5\nu = CF((0, 0, 0))\nnu = 3\n"
+                    "expected_rate = 2\ntheorem = 'x'\nphysics = 'elasticity'\npoisson = 0.3\n")
+    with pytest.raises(CaseError, match="plane strain"):
+        load_case(str(path))
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_face_quadrature_integrates_the_trace_of_every_basis_function(order):
+    """The quadrature on the triangles of Gamma_C: T u equals NGSolve's own evaluation of u_h,
+    and the weights add up to the area of Gamma_C (4)."""
+    case = registered_cases()["transition-circle-3d"]
+    problem = discretise(case, level_mesh(case, 0), order)
+    q = contact_quadrature(problem, 4)
+    u = np.random.default_rng(1).standard_normal(problem.ndof)
+    direct = evaluate(problem.gridfunction(u), problem.mesh, q.points)
+    np.testing.assert_allclose(q.T @ u, direct, atol=1e-11)
+    assert q.weights.sum() == pytest.approx(4.0, rel=1e-12)
+    np.testing.assert_allclose(q.normals, np.tile([0.0, 0.0, -1.0], (len(q.weights), 1)), atol=1e-14)
+
+
+@pytest.mark.parametrize("method_name", CONE_NAMES)
+def test_3d_solution_equals_independent_qp_solver(method_name):
+    """Clarabel, given the cone as general rows in NGSolve's hierarchical variables (vertex values,
+    edge midpoints or edge means), finds our u_h to 1e-8 (transition-line-3d, level 0)."""
+    case = registered_cases()["transition-line-3d"]
+    method = METHODS[method_name]
+    problem = discretise(case, level_mesh(case, 0), method.order)
+    qp = contact_qp(case, problem, method.cone)
+    ours = qp.to_u(solve_contact_qp(qp).z)
+    A, q, G, alpha, free = hierarchical_qp(case, problem, method.cone)
+    ref = solve_qp(sp.csc_matrix(A), q, G=-sp.csc_matrix(G), h=-alpha, solver="clarabel",
+                   tol_gap_abs=1e-14, tol_gap_rel=1e-14, tol_feas=1e-14, tol_ktratio=1e-10, max_iter=400)
+    u_ref = problem.lift.copy()
+    u_ref[free] = ref
+    assert np.abs(ours - u_ref).max() <= 1e-8 * np.abs(u_ref).max()
+
+
+@pytest.mark.parametrize("case_name", THREE_D)
+def test_3d_multigrid_solves_are_exact_on_every_level(case_name):
+    """Every method's solve on levels 0-1 (truncated multigrid, nested iteration) has a KKT
+    residual <= 1e-10 and converges; the edge constraints are counted edge by edge."""
+    case = registered_cases()[case_name]
+    with ngs.TaskManager():
+        rows = run_chain(case, CONES, 2).rows
+    assert {(r["method"], r["level"]) for r in rows} == {(m.name, lev) for m in CONES for lev in range(2 + m.extra_levels)}
+    for row in rows:
+        assert row["status"] == "converged" and row["kkt_residual"] <= 1e-10, row
+
+
+def test_3d_level_sizes_follow_the_red_refinement_recurrence():
+    """V' = V + E, T' = 8 T (budget), checked on the meshes of the curved case (whose refinement
+    moves new vertices onto the circle: the counts do not change)."""
+    case = registered_cases()["transition-circle-3d"]
+    sizes = LevelSizes.of(case, 3)
+    for level, mesh in mesh_hierarchy(case, 3):
+        assert (mesh.nv, mesh.ne) == (sizes.vertices[level], sizes.triangles[level])
+    assert discretise(case, level_mesh(case, 1), 2).ndof == sizes.ndof(1, 2)
+
+
+@pytest.mark.parametrize("case_name", THREE_D)
+def test_3d_errors_agree_with_twice_the_gauss_order(case_name):
+    """In 3D every element gets the Gauss rule (quadrature.py): order 6 against order 12 on
+    level 1, nodal's u_h, to 1e-3 relative in every norm."""
+    case = registered_cases()[case_name]
+    mesh = level_mesh(case, 1)
+    problem = discretise(case, mesh, 2)
+    qp = contact_qp(case, problem, METHODS["nodal"].cone)
+    gfu = problem.gridfunction(qp.to_u(solve_contact_qp(qp).z))
+    quadrature = ElementQuadrature.of(case, mesh)
+    (ours,), (finer,) = error_norms(case, [gfu], quadrature), error_norms(case, [gfu], quadrature, order=12)
+    for norm, value in ours.items():
+        assert abs(value - finer[norm]) <= 1e-3 * finer[norm], (norm, value, finer[norm])
+
+
+def test_mean_cone_lets_the_trace_dip_inside_the_triangles_in_3d():
+    """The measured 3D failure of `mean` (report, note): its constraints (vertex values and
+    edge means >= 0) all hold, yet on the binding side its u_h has positive vertex values and
+    negative values at the triangles' centroids -- a checkerboard the cone cannot see, which
+    the contact force drives u_h into. `nodal` stays within 1e-3 of the obstacle there."""
+    case = registered_cases()["transition-line-3d"]
+    problem = discretise(case, level_mesh(case, 0), 2)
+    centroid = {}
+    for name in ("mean", "nodal"):
+        cone = METHODS[name].cone
+        qp = contact_qp(case, problem, cone)
+        solution = solve_contact_qp(qp)
+        u = qp.to_u(solution.z)
+        assert (cone.constraint_values(problem, u) >= -1e-12).all()
+        points, values = ContactTraceFunction.of(problem, u).on_faces(np.array([[1 / 3, 1 / 3, 1 / 3]]))
+        centroid[name] = values[points[:, 0, 0] > 0.15, 0]          # triangles on the binding side
+    assert centroid["mean"].max() < 0 and centroid["mean"].min() < -0.05
+    assert centroid["nodal"].min() > -2e-3
+
+
+@pytest.mark.slow      # 15-25 s per case: `make test-full`
+@pytest.mark.parametrize("case_name", THREE_D)
+def test_nodal_3d_rate_over_three_levels(case_name):
+    """Levels 0-2 (to 1.3e5 dofs): nodal's last pairwise H^1 rate within 0.2 of the expected
+    rate (a pre-asymptotic range: the 4-level study under test-full asks for 0.1)."""
+    case = registered_cases()[case_name]
+    with ngs.TaskManager():
+        rows = run_chain(case, [METHODS["nodal"]], 3).rows
+    h, err = np.array([r["h"] for r in rows]), np.array([r["err_h1"] for r in rows])
+    assert pairwise_rates(h, err)[-1] >= case.expected_rate - 0.2, pairwise_rates(h, err)
+
+
+@pytest.mark.slow
+def test_done_when_four_levels_reach_a_million_dofs_with_exact_solves():
+    """Issue 19's acceptance: transition-line-3d, 4 levels, finest >= 1e6 P2 dofs, every row's
+    KKT residual <= 1e-10, nodal's last-two-level H^1 rate >= 1.4; `mean`'s is measured below
+    1 (the failure above), which this records."""
+    case = registered_cases()["transition-line-3d"]
+    with ngs.TaskManager():
+        rows = run_chain(case, [METHODS["mean"], METHODS["nodal"]], 4).rows
+    assert all(r["kkt_residual"] <= 1e-10 and r["status"] == "converged" for r in rows)
+    rate = {}
+    for name in ("mean", "nodal"):
+        mine = [r for r in rows if r["method"] == name]
+        assert mine[-1]["ndof"] >= 1e6
+        rate[name] = pairwise_rates(np.array([r["h"] for r in mine]), np.array([r["err_h1"] for r in mine]))[-1]
+    assert rate["nodal"] >= 1.4 and rate["mean"] < 1.0, rate
