@@ -210,7 +210,7 @@ def paper_theorem(case) -> Expectation:
 
 
 def _theorem_label(theorem: str) -> str:
-    return theorem if theorem.lower().startswith(("remark", "thm", "theorem")) else f"Thm {theorem}"
+    return theorem if theorem.lower().startswith(("remark", "thm", "theorem", "section")) else f"Thm {theorem}"
 
 
 DROUET_HILD = "Drouet & Hild 2015 (SINUM 53)"
