@@ -450,14 +450,19 @@ def _measure_elastic(model_name: str, level: int, connection):
 
 def run_elastic_bench(levels=ELASTIC_LEVELS, models=("mean", "nodal"), progress=print) -> pd.DataFrame:
     """Each (model, level) in its own fresh process, like ``run_bench``."""
+    return _fresh_rows(_measure_elastic, "elastic", "cholesky", levels, models, progress, ELASTIC_COLUMNS)
+
+
+def _fresh_rows(measure, label: str, linear: str, levels, models, progress, columns) -> pd.DataFrame:
+    """``measure(model, level, connection)`` for each (level, model), each in a fresh process."""
     rows = []
     for level in levels:
         for model in models:
-            row = _in_fresh_process(_measure_elastic, (model, level), f"elastic {model}/level {level}")
+            row = _in_fresh_process(measure, (model, level), f"{label} {model}/level {level}")
             rows.append(row)
-            progress(f"elastic {model:5s} ndof {row['ndof']:>9d}  contact {row['t_contact']:7.2f} s  "
-                     f"linear (cholesky) {row['t_linear']:7.2f} s  ratio {row['ratio_linear']:.2f}  rss {row['peak_rss_mb']:.0f} MB")
-    return pd.DataFrame(rows, columns=ELASTIC_COLUMNS)
+            progress(f"{label} {model:5s} ndof {row['ndof']:>9d}  contact {row['t_contact']:7.2f} s  "
+                     f"linear ({linear}) {row['t_linear']:7.2f} s  ratio {row['ratio_linear']:.2f}  rss {row['peak_rss_mb']:.0f} MB")
+    return pd.DataFrame(rows, columns=columns)
 
 
 def elastic_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
@@ -505,14 +510,7 @@ def _measure_3d(model_name: str, level: int, connection):
 
 def run_3d_bench(levels=THREE_D_LEVELS, models=("mean", "nodal", "p1"), progress=print) -> pd.DataFrame:
     """Each (model, level) in its own fresh process, like ``run_bench``."""
-    rows = []
-    for level in levels:
-        for model in models:
-            row = _in_fresh_process(_measure_3d, (model, level), f"3D {model}/level {level}")
-            rows.append(row)
-            progress(f"3D {model:5s} ndof {row['ndof']:>9d}  contact {row['t_contact']:7.2f} s  "
-                     f"linear (multigrid CG) {row['t_linear']:7.2f} s  ratio {row['ratio_linear']:.2f}  rss {row['peak_rss_mb']:.0f} MB")
-    return pd.DataFrame(rows, columns=THREE_D_COLUMNS)
+    return _fresh_rows(_measure_3d, "3D", "multigrid CG", levels, models, progress, THREE_D_COLUMNS)
 
 
 def three_d_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
