@@ -272,7 +272,7 @@ def _measure_study(methods: str, connection):
     connection.close()
 
 
-def _in_fresh_process(target, args: tuple, what: str) -> dict:
+def in_fresh_process(target, args: tuple, what: str) -> dict:
     ctx = mp.get_context("spawn")
     receiver, sender = ctx.Pipe(duplex=False)
     process = ctx.Process(target=target, args=(*args, sender))
@@ -287,13 +287,13 @@ def _in_fresh_process(target, args: tuple, what: str) -> dict:
 
 
 def measure(method: str, model_name: str, level: int, coarse_maxh=None) -> dict:
-    return _in_fresh_process(_measure, (method, model_name, level, coarse_maxh), f"{method}/{model_name}/level {level}")
+    return in_fresh_process(_measure, (method, model_name, level, coarse_maxh), f"{method}/{model_name}/level {level}")
 
 
 def measure_study() -> pd.DataFrame:
     """The `study` rows: the default profile with the paper's two methods (the measure of the
     study-pipeline issue) and with every method (`make report`), each in a fresh process."""
-    return pd.DataFrame([_in_fresh_process(_measure_study, (methods,), f"the default study ({methods})")
+    return pd.DataFrame([in_fresh_process(_measure_study, (methods,), f"the default study ({methods})")
                          for methods in ("paper", "all")])
 
 
@@ -458,7 +458,7 @@ def _fresh_rows(measure, label: str, linear: str, levels, models, progress, colu
     rows = []
     for level in levels:
         for model in models:
-            row = _in_fresh_process(measure, (model, level), f"{label} {model}/level {level}")
+            row = in_fresh_process(measure, (model, level), f"{label} {model}/level {level}")
             rows.append(row)
             progress(f"{label} {model:5s} ndof {row['ndof']:>9d}  contact {row['t_contact']:7.2f} s  "
                      f"linear ({linear}) {row['t_linear']:7.2f} s  ratio {row['ratio_linear']:.2f}  rss {row['peak_rss_mb']:.0f} MB")

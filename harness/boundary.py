@@ -26,7 +26,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from .mesh import evaluate
+from .mesh import evaluate, on_faces
 
 # Gauss points per contact edge: exact for polynomials of degree 7 (the P2 contact terms are of
 # degree <= 4 where the bracket [.]_+ does not switch); the few edges where it switches, at a
@@ -130,8 +130,10 @@ def _face_quadrature(problem, degree: int) -> ContactQuadrature:
         for side in range(3):           # side k joins corners k and k+1
             cols_T.append(problem.edge_dofs[faces.edges[face, side]])
             vals_T.append(np.tile(-0.5 * lam[:, side] * lam[:, (side + 1) % 3], f))
+    points = np.einsum("kc,fcd->fkd", lam, corners).reshape(-1, 3)
+    on_faces(problem.mesh, faces, lam, points)
     return ContactQuadrature(
-        points=np.einsum("kc,fcd->fkd", lam, corners).reshape(-1, 3),
+        points=points,
         weights=np.repeat(area, k) * np.tile(unit_w, f),
         h=np.repeat(diameter, k),
         edge=face,

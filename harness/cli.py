@@ -264,6 +264,16 @@ def cmd_bench(args) -> int:
         frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.method or ("mean", "nodal")))
         _show(frame, write_bench(frame, out), "")
         lines += goals(frame)
+    if args.only == "report":
+        from .bench_report import profile_tables, report_goals, run_report_bench
+        frame, profile = run_report_bench(args.workers or (0,))
+        _show(frame, write_bench(frame, out.with_name(out.stem + "_report.csv")), "make report (default profile, empty results):")
+        sections, phases = profile_tables(profile)
+        _show(sections, write_bench(sections, out.with_name(out.stem + "_report_profile.csv")),
+              "where the report's time goes (first variant; study: work of each case's jobs):")
+        _show(phases.reset_index(), write_bench(phases.reset_index(), out.with_name(out.stem + "_report_phases.csv")),
+              "the study's seconds by case and phase:")
+        lines += report_goals(frame)
     for goal, met, figure in lines:
         print(f"[{'met' if met else 'MISSED'}] {goal}: {figure}")
     return 0
@@ -374,8 +384,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="coarse mesh size and level of each problem (default: 9e3 to 4.2e6 dofs)")
     p.add_argument("--method", action="append", choices=_method_names(),
                    help="default: mean and nodal; nitsche and penalty add their rows (one solve against one nodal solve)")
-    p.add_argument("--only", choices=["study", "solver", "elastic", "3d"],
-                   help="only the study row, only the solver table, only the elastic rows, or only the 3D rows")
+    p.add_argument("--only", choices=["study", "solver", "elastic", "3d", "report"],
+                   help="only the study row, only the solver table, only the elastic rows, only the 3D rows, or "
+                        "only the report's profile (not part of the default run: a whole `make report` per variant)")
+    p.add_argument("--workers", type=_non_negative_int, action="append", metavar="N",
+                   help="with --only report: the variants, 0 = in this process, N = N local Dask workers "
+                        "(repeatable; default 0; ratios against the first)")
     p.add_argument("--out", default="results/bench.csv", metavar="CSV",
                    help="the solver table; the study row goes beside it, as <name>_study.csv")
     p.set_defaults(func=cmd_bench)

@@ -27,9 +27,12 @@ from .rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from .results import ensure_writable, write_atomic, write_csv
 from .execution import InProcess, run_jobs
 from .execution.checkpoint import CheckpointStore, code_digest
-from .execution.engines import study_progress, tidy
+from .execution.engines import study_progress, study_weights, tidy
+from .execution.progress import Scoped, StudyProgress, scoped
 from .snapshots import SnapshotHook, load_snapshots, save_snapshots
-from .study import PROFILES
+from .study import PHASES, PROFILES
+from .sweep import sweep_weights
+from .timing import Timings
 
 PACKAGE = Path(__file__).resolve().parent
 REPOSITORY = PACKAGE.parent
@@ -70,21 +73,31 @@ def _stored(store: Path, case: Case, key: str) -> bool:
         json.loads(meta_path.read_text()).get("cache_key") == key
 
 
+def stale_cases(cases: list[Case], settings: dict, results_dir: Path) -> list[Case]:
+    """The cases whose stored results (``results_dir/cases``) are missing or were made by other
+    code, case files or settings: those a report has to run."""
+    store = Path(results_dir) / "cases"
+    return [case for case in cases if not _stored(store, case, cache_key(case, settings))]
+
+
 def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_progress: bool = True,
-                 engine=None, check_memory: bool = True) -> pd.DataFrame:
+                 engine=None, check_memory: bool = True, progress=None, timings: Timings | None = None) -> pd.DataFrame:
     """The study's rows, case by case: reused from ``results_dir/cases`` where the code, the case
     and the settings are unchanged, else run (on ``engine``) and stored there as soon as the
     last job of the case is done. Every finished level is checkpointed under
-    ``cases/.checkpoints``: a report killed at any moment continues where it stopped."""
+    ``cases/.checkpoints``: a report killed at any moment continues where it stopped.
+    ``progress``: a bar shared with the rest of the report (else one is made);
+    ``timings``: records each case's seconds per phase."""
     store = ensure_writable(results_dir / "cases")
     keys = {case.name: cache_key(case, settings) for case in cases}
-    todo = [case for case in cases if not _stored(store, case, keys[case.name])]
+    todo = stale_cases(cases, settings, results_dir)
     for case in cases:
         if case not in todo:
             print(f"{case.name}: reusing results computed with the same code and settings")
     methods = methods_named(settings["methods"])
     levels = settings["levels"]
-    progress = study_progress(todo, methods, levels, show_progress and bool(todo))
+    own = progress is None
+    progress = study_progress(todo, methods, levels, show_progress and bool(todo)) if own else progress
     checkpoints = store / ".checkpoints"
     hook = SnapshotHook(levels, methods)
     outputs = {case.name: [] for case in todo}
@@ -96,8 +109,12 @@ def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_prog
             if remaining[case.name] == 0:
                 _store_case(store, case, outputs[case.name], methods, settings, keys[case.name])
                 CheckpointStore(checkpoints, levels).forget(case)
+                if timings is not None:
+                    for phase in PHASES:
+                        timings.add("study", case.name, phase, sum(o.phases.get(phase, 0.0) for o in outputs[case.name]))
     finally:
-        progress.close()
+        if own:
+            progress.close()
     return pd.concat([pd.read_csv(store / f"{case.name}.csv") for case in cases], ignore_index=True)
 
 
@@ -113,26 +130,57 @@ def _store_case(store: Path, case: Case, outputs: list, methods, settings: dict,
     write_atomic(store / f"{case.name}.json", json.dumps(meta, indent=2))
 
 
-def sweep_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_progress: bool = True, engine=None) -> dict:
-    """The report's parameter sweeps (``sweep.REPORT_SWEEP``) of those of ``cases`` it names,
-    reused like the study's results."""
-    from .sweep import REPORT_SWEEP, run_sweep
-    store = ensure_writable(results_dir / "sweeps")
+SWEEP_SCOPE = "sweep "      # the sweeps' solves on the report's progress bar
+
+
+def sweep_config(levels: int) -> dict:
+    """What the report sweeps (``sweep.REPORT_SWEEP``), at a level no finer than the study's
+    finest P2 level (``report --levels 3`` sweeps level 2)."""
+    from .sweep import REPORT_SWEEP
     config = {key: list(value) if isinstance(value, tuple) else value for key, value in REPORT_SWEEP.items()}
-    frames = {}
-    for case in [c for c in cases if c.name in REPORT_SWEEP["cases"]]:
+    config["level"] = min(REPORT_SWEEP["level"], levels - 1)
+    return config
+
+
+def _sweep_paths(store: Path, case: Case) -> tuple[Path, Path]:
+    return store / f"{case.name}.csv", store / f"{case.name}.json"
+
+
+def stale_sweeps(cases: list[Case], config: dict, results_dir: Path) -> list[Case]:
+    """Those of ``cases`` the report sweeps whose stored sweep is missing or was made otherwise."""
+    store = Path(results_dir) / "sweeps"
+    todo = []
+    for case in [c for c in cases if c.name in config["cases"]]:
+        csv_path, meta_path = _sweep_paths(store, case)
         key = cache_key(case, {"sweep": config})
-        csv_path, meta_path = store / f"{case.name}.csv", store / f"{case.name}.json"
-        if csv_path.is_file() and meta_path.is_file() and json.loads(meta_path.read_text()).get("cache_key") == key:
+        if not (csv_path.is_file() and meta_path.is_file() and json.loads(meta_path.read_text()).get("cache_key") == key):
+            todo.append(case)
+    return todo
+
+
+def sweep_or_reuse(cases: list[Case], config: dict, results_dir: Path, show_progress: bool = True, engine=None,
+                   progress=None, timings: Timings | None = None) -> dict:
+    """The report's parameter sweeps (``sweep_config``) of those of ``cases`` it names, reused
+    like the study's results."""
+    from .sweep import run_sweep
+    store = ensure_writable(results_dir / "sweeps")
+    todo = stale_sweeps(cases, config, results_dir)
+    frames = {}
+    for case in [c for c in cases if c.name in config["cases"]]:
+        csv_path, meta_path = _sweep_paths(store, case)
+        if case not in todo:
             print(f"{case.name}: reusing the parameter sweep computed with the same code and settings")
             frames[case.name] = pd.read_csv(csv_path)
             continue
-        if show_progress:
-            print(f"{case.name}: parameter sweep of {', '.join(REPORT_SWEEP['methods'])} at level {REPORT_SWEEP['level']}")
-        frame = run_sweep(case, REPORT_SWEEP["methods"], REPORT_SWEEP["values"], REPORT_SWEEP["level"],
-                          REPORT_SWEEP["reference"], show_progress=show_progress, engine=engine)
+        clock = time.perf_counter()
+        frame = run_sweep(case, config["methods"], config["values"], config["level"], config["reference"],
+                          show_progress=show_progress, engine=engine,
+                          progress=Scoped(progress, SWEEP_SCOPE) if progress is not None else None)
         write_csv(frame, csv_path)
-        write_atomic(meta_path, json.dumps(provenance({"sweep": config}) | {"cache_key": key, "case": case.name}, indent=2))
+        write_atomic(meta_path, json.dumps(provenance({"sweep": config}) | {"cache_key": cache_key(case, {"sweep": config}),
+                                                                           "case": case.name}, indent=2))
+        if timings is not None:
+            timings.add("sweeps", case.name, "", time.perf_counter() - clock)
         frames[case.name] = frame
     return frames
 
@@ -545,11 +593,33 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
     return doc
 
 
+def study_groups(cases: list[Case], settings: dict) -> list[tuple[list[Case], dict]]:
+    """The report's studies: the 2D cases, and the 3D cases with their own (smaller) number of
+    levels (a 3D level has 8 times the dofs)."""
+    groups = [([c for c in cases if c.dimension == 2], settings),
+              ([c for c in cases if c.dimension == 3], settings | {"levels": settings["levels_3d"]})]
+    return [(group, group_settings) for group, group_settings in groups if group]
+
+
+def report_progress(groups, sweep_cases, config, results_dir: Path, show: bool) -> StudyProgress:
+    """One bar for everything the report computes: the stale cases of every study and the
+    stale sweeps, weighed by the size of each solve (its ETA is for the whole report)."""
+    progress = StudyProgress({}, show)
+    for group, group_settings in groups:
+        todo = stale_cases(group, group_settings, results_dir)
+        progress.add(study_weights(todo, methods_named(group_settings["methods"]), group_settings["levels"]))
+    for case in stale_sweeps(sweep_cases, config, results_dir):
+        progress.add(scoped(sweep_weights(case, config["methods"], config["values"], config["level"], config["reference"]),
+                            SWEEP_SCOPE))
+    return progress
+
+
 def make_report(profile: str = "default", results_dir: Path = Path("results"), report_dir: Path = Path("report"),
                 case_names=None, show_progress: bool = True, levels: int | None = None, methods=("all",),
                 engine=None, check_memory: bool = True) -> Path:
     """Run (or reuse) the study of a profile, its sweeps, rates and figures, and write the report;
-    ``engine``: where the jobs run (``execution``; default this process)."""
+    ``engine``: where the jobs run (``execution``; default this process). Where the time went is
+    written to ``results_dir/report_profile.csv`` (``timing``)."""
     if profile not in PROFILES:
         raise ValueError(f"unknown profile {profile!r}; expected one of: {', '.join(PROFILES)}")
     known = registered_cases()
@@ -558,38 +628,53 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     settings = {"profile": profile, "methods": [m.name for m in methods_named(methods)], **PROFILES[profile]}
     if levels is not None:
         settings["levels"] = levels
+    results_dir = Path(results_dir)
     ensure_writable(report_dir / "figures")
+    timings = Timings()
     start = time.perf_counter()
-    # the 3D cases run their own (smaller) number of levels: a 3D level has 8 times the dofs
-    groups = [([c for c in cases if c.dimension == 2], settings),
-              ([c for c in cases if c.dimension == 3], settings | {"levels": settings["levels_3d"]})]
-    results = pd.concat([run_or_reuse(group, group_settings, Path(results_dir), show_progress, engine, check_memory)
-                         for group, group_settings in groups if group], ignore_index=True)
-    sweeps = sweep_or_reuse(cases, settings, Path(results_dir), show_progress, engine) if _has_weak(settings["methods"]) else {}
-    rates = rate_table(results)
-    efficiency = efficiency_table(results)
-    write_csv(results, Path(results_dir) / "results.csv")
-    write_csv(rates, Path(results_dir) / "rates.csv")
-    write_csv(efficiency, Path(results_dir) / "efficiency.csv")
+    groups = study_groups(cases, settings)
+    config = sweep_config(settings["levels"])
+    sweep_cases = cases if _has_weak(settings["methods"]) else []
+    progress = report_progress(groups, sweep_cases, config, results_dir, show_progress)
+    try:
+        results = pd.concat([run_or_reuse(group, group_settings, results_dir, show_progress, engine, check_memory,
+                                          progress, timings) for group, group_settings in groups], ignore_index=True)
+        sweeps = sweep_or_reuse(sweep_cases, config, results_dir, show_progress, engine, progress, timings)
+    finally:
+        progress.close()
+    with timings("rates"):
+        rates = rate_table(results)
+        efficiency = efficiency_table(results)
+    with timings("writing", "results"):
+        write_csv(results, results_dir / "results.csv")
+        write_csv(rates, results_dir / "rates.csv")
+        write_csv(efficiency, results_dir / "efficiency.csv")
     meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
                                    "engine": (engine or InProcess()).describe()}
-    write_atomic(Path(results_dir) / "provenance.json", json.dumps(meta, indent=2))
+    write_atomic(results_dir / "provenance.json", json.dumps(meta, indent=2))
 
     figure_dir = Path(report_dir) / "figures"
-    figs = {"summary": figures.summary(rates, figure_dir)}
+    with timings("figures", "summary"):
+        figs = {"summary": figures.summary(rates, figure_dir)}
     for case in cases:
-        contact, domain = load_snapshots(Path(results_dir) / "cases" / f"{case.name}.npz")
-        figs[case.name] = {
-            "convergence": figures.convergence(case, results[results.case == case.name], figure_dir),
-            "contact": figures.contact(case, contact, figure_dir),
-            "solution": figures.domain(case, domain, figure_dir),
-            "efficiency": figures.efficiency(case, results[results.case == case.name],
-                                             efficiency[efficiency.case == case.name].target_err_h1.iloc[0], figure_dir),
-        }
-    figs["sweeps"] = {name: figures.sweep(known[name], frame, figure_dir) for name, frame in sweeps.items()}
-    doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps)
-    write_atomic(Path(report_dir) / "report.md", doc.markdown(Path(report_dir)))
-    html_path = write_atomic(Path(report_dir) / "report.html", doc.html())
+        with timings("figures", case.name):
+            contact, domain = load_snapshots(results_dir / "cases" / f"{case.name}.npz")
+            figs[case.name] = {
+                "convergence": figures.convergence(case, results[results.case == case.name], figure_dir),
+                "contact": figures.contact(case, contact, figure_dir),
+                "solution": figures.domain(case, domain, figure_dir),
+                "efficiency": figures.efficiency(case, results[results.case == case.name],
+                                                 efficiency[efficiency.case == case.name].target_err_h1.iloc[0], figure_dir),
+            }
+    with timings("figures", "sweeps"):
+        figs["sweeps"] = {name: figures.sweep(known[name], frame, figure_dir) for name, frame in sweeps.items()}
+    with timings("document"):
+        doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps)
+    with timings("writing", "report"):
+        write_atomic(Path(report_dir) / "report.md", doc.markdown(Path(report_dir)))
+        html_path = write_atomic(Path(report_dir) / "report.html", doc.html())
+    timings.add("total", "wall", "", time.perf_counter() - start)
+    write_csv(timings.frame(), results_dir / "report_profile.csv")
     return html_path
 
 

@@ -201,6 +201,8 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                             value = on_level(case, method, level, problem, solve)
                         if value is not None:
                             kept[(method.name, level)] = value
+                if progress is not None:
+                    progress.solved(case.name, method.name, level)
             with phases("errors"):
                 measure.end_level()
             for method in active:
@@ -208,8 +210,6 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                     checkpoints.save(case, method, ChainState(
                         level + 1, method_rows[method.name], carry[method.name], measure.state_of(method.name),
                         {lev: value for (name, lev), value in kept.items() if name == method.name}))
-                if progress is not None:
-                    progress.solved(case.name, method.name, level)
     order = {m.name: k for k, m in enumerate(methods)}
     rows = sorted((row for name in method_rows for row in method_rows[name]), key=lambda r: (r["level"], order[r["method"]]))
     return ChainOutput(rows, kept, phases.as_dict(), {name: start[name] for name in start})

@@ -9,6 +9,7 @@ import pandas as pd
 
 from .methods import Method, methods_named
 from .execution import run_study
+from .execution.budget import solve_weights
 from .study import study_levels
 
 # eps0 / gamma0 values: four decades around the defaults (0.05) and past theta = 1's bound
@@ -35,22 +36,33 @@ def swept(spec: str, values) -> list[tuple[Method, str, float]]:
     return [(method.with_parameters(**given, **{name: float(v)}), name, float(v)) for v in values]
 
 
+def sweep_plan(specs, values, reference=("nodal",)) -> tuple[list, list]:
+    """(runs, methods) of a sweep: ``runs`` = (method, spec, parameter name, value) of every
+    swept value, ``methods`` = those methods and the ``reference`` methods."""
+    values = list(values)
+    if not values or any(not v > 0 for v in values):
+        raise ValueError(f"sweep values must be positive numbers, got {values}")
+    runs = [(m, spec, name, v) for spec in specs for m, name, v in swept(spec, values)]
+    references = methods_named(list(reference)) if reference else []
+    return runs, [m for m, *_ in runs] + references
+
+
+def sweep_weights(case, specs, values, level: int, reference=("nodal",)) -> dict:
+    """The progress bar's weights of a sweep (``budget.solve_weights``)."""
+    return solve_weights(case, sweep_plan(specs, values, reference)[1], level + 1)
+
+
 def run_sweep(case, specs, values, level: int, reference=("nodal",), show_progress: bool = True,
               progress=None, engine=None) -> pd.DataFrame:
     """The rows of level ``level`` (P1 methods: their level with about the same dofs) of every
     swept method and of the ``reference`` methods, with the swept parameter and value."""
     if level < 0:
         raise ValueError(f"level must be >= 0, got {level}")
-    values = list(values)
-    if not values or any(not v > 0 for v in values):
-        raise ValueError(f"sweep values must be positive numbers, got {values}")
-    runs = [(m, spec, name, v) for spec in specs for m, name, v in swept(spec, values)]
-    references = methods_named(list(reference)) if reference else []
-    methods = [m for m, *_ in runs] + references
+    runs, methods = sweep_plan(specs, values, reference)
     frame = run_study([case], methods, level + 1, show_progress=show_progress, progress=progress, engine=engine)
     finest = {m.name: study_levels(m, level + 1) - 1 for m in methods}
     frame = frame[frame.level == frame.method.map(finest)].copy()
-    label = {m.name: (spec, name, v) for m, spec, name, v in runs} | {m.name: (m.name, "", np.nan) for m in references}
+    label = {m.name: (spec, name, v) for m, spec, name, v in runs} | {m.name: (m.name, "", np.nan) for m in methods[len(runs):]}
     for column, k in zip(SWEEP_COLUMNS, range(3)):
         frame[column] = [label[m][k] for m in frame.method]
     return frame.reset_index(drop=True)

@@ -14,9 +14,30 @@ CASES = registered_cases(dimension=2)     # 3D: tests/test_three_d.py
 EXACT_CASES = [name for name, case in CASES.items() if case.exact]   # those with a best approximation
 
 
+# `make test`: every case x method on 3 levels (every solve exact, no method below the best
+# approximation); the rates, which need the asymptotic range, under `make test-full`
+SMALL_LEVELS = 3
+slow = pytest.mark.slow
+
+
+_STUDIES = {}
+
+
+def _study(levels: int):
+    """Every 2D case x every method on ``levels`` levels, run once per test session."""
+    if levels not in _STUDIES:
+        _STUDIES[levels] = run(list(CASES.values()), methods="all", levels=levels, show_progress=False)
+    return _STUDIES[levels]
+
+
 @pytest.fixture(scope="module")
 def study():
-    return run(list(CASES.values()), methods="all", levels=RATE_LEVELS, show_progress=False)
+    return _study(RATE_LEVELS)
+
+
+@pytest.fixture(scope="module", params=[SMALL_LEVELS, pytest.param(RATE_LEVELS, marks=slow)], ids=lambda n: f"{n}-levels")
+def any_study(request):
+    return _study(request.param)
 
 
 @pytest.fixture(scope="module")
@@ -30,12 +51,14 @@ PROVEN = [(c, m) for c, m in PAIRS if np.isfinite(METHODS[m].expected(CASES[c]).
 UNPROVEN = [(c, m) for c, m in PAIRS if (c, m) not in PROVEN]
 
 
+@slow
 @pytest.mark.parametrize("case_name, method", PROVEN)
 def test_fitted_h1_rate_reaches_its_theory_rate(rates, case_name, method):
     row = rates.loc[(case_name, method)]
     assert row.fitted_rate >= row.expected_rate - 0.1, row.pairwise_rates
 
 
+@slow
 @pytest.mark.parametrize("case_name, method", UNPROVEN)
 def test_rate_without_theory_is_measured_and_says_so(rates, case_name, method):
     row = rates.loc[(case_name, method)]
@@ -43,12 +66,22 @@ def test_rate_without_theory_is_measured_and_says_so(rates, case_name, method):
 
 
 @pytest.mark.parametrize("model", MODEL_NAMES)
+def test_transition_rate_is_three_halves_already_on_five_levels(model):
+    """`make test`'s rate check (a few seconds): transition-r32 is asymptotic early; its last
+    pairwise rate on levels 0..4 (about 3.6e4 dofs) is at least 1.4."""
+    g = run(["transition-r32"], methods=[model], levels=5, show_progress=False)
+    assert pairwise_rates(g.h, g.err_h1)[-1] >= 1.4, list(g.err_h1)
+
+
+@slow
+@pytest.mark.parametrize("model", MODEL_NAMES)
 def test_transition_rate_between_last_two_levels_is_three_halves(study, model):
     """Issue 2's acceptance: transition-r32, >= 5 levels, last pairwise rate >= 1.4."""
     g = study[(study.case == "transition-r32") & (study.method == model)]
     assert len(g) >= 5 and pairwise_rates(g.h, g.err_h1)[-1] >= 1.4
 
 
+@slow
 @pytest.mark.parametrize("model", MODEL_NAMES)
 def test_borderline_error_over_h_log_quarter_does_not_grow(study, model):
     """Thm 4.2 ii / 5.2 ii: e / (h |log h|^{1/4}) stays bounded over the last levels."""
@@ -58,9 +91,9 @@ def test_borderline_error_over_h_log_quarter_does_not_grow(study, model):
 
 
 @pytest.mark.parametrize("method", METHOD_NAMES)
-def test_every_discrete_solution_is_solved_to_its_residual_tolerance(study, method):
+def test_every_discrete_solution_is_solved_to_its_residual_tolerance(any_study, method):
     """KKT residual of the cones, relative Newton residual of penalty and Nitsche: <= 1e-10."""
-    g = study[study.method == method]
+    g = any_study[any_study.method == method]
     assert (g.status == "converged").all() and (g.kkt_residual <= 1e-10).all()
 
 
@@ -73,6 +106,7 @@ def test_fit_recovers_a_known_rate_and_log_exponent():
     assert p0 < 0.95   # ignoring the log factor underestimates the rate
 
 
+@slow
 @pytest.mark.parametrize("order, method", [(2, "nodal"), (1, "p1")])
 @pytest.mark.parametrize("case_name", EXACT_CASES)
 def test_best_approximation_rate_measures_the_declared_regularity(rates, case_name, order, method):
@@ -91,20 +125,22 @@ def test_best_approximation_rate_measures_the_declared_regularity(rates, case_na
         assert abs(row.fitted_rate_best - expected) <= 0.1, row.pairwise_rates_best
 
 
+@slow
 @pytest.mark.parametrize("method", [m for m in METHOD_NAMES if METHODS[m].sharper_theory is not None])
 def test_no_case_falls_below_the_drouet_hild_bound(rates, method):
     verdicts = rates.xs(method, level="method").sharper_verdict
     assert set(verdicts) <= {"meets", "above", "no theory"}, verdicts.to_dict()
 
 
-def test_no_method_beats_the_best_approximation_in_the_energy_norm(study):
+def test_no_method_beats_the_best_approximation_in_the_energy_norm(any_study):
     """R_h u minimises a(u - v_h, u - v_h) over X_h with the Dirichlet lift (|u - v_h|_1 for the
     Laplacian; the elastic energy in elasticity, where the H^1 error of u_h may be smaller): no
     method's u_h does better (up to the error integration's accuracy)."""
-    exact = study[study.errors_against == "exact"]
+    exact = any_study[any_study.errors_against == "exact"]
     assert (exact.err_energy >= exact.err_best_energy * (1 - 1e-6)).all()
 
 
+@slow
 @pytest.mark.parametrize("case_name, method", PAIRS)
 def test_errors_on_gamma_c_converge(study, rates, case_name, method):
     """The trace error in L^2(Gamma_C) and the pressure error in ||h^{1/2} .||_{L^2(Gamma_C)}
@@ -122,6 +158,7 @@ def test_errors_on_gamma_c_converge(study, rates, case_name, method):
 REMARK_43_MEASURED = {"mean": 0.736, "nodal": 0.743, "p1": 0.705}
 
 
+@slow
 @pytest.mark.parametrize("method, measured", REMARK_43_MEASURED.items())
 def test_infinitely_many_transitions_cost_no_rate(rates, method, measured):
     """Remark 4.3: with infinitely many transition points (oscillating-r34, nu = 7/4) the paper

@@ -179,12 +179,17 @@ def plan(cases, methods, levels: int, engine, check_memory: bool = True) -> list
     return jobs
 
 
-def study_progress(cases, methods, levels: int, show: bool) -> StudyProgress:
+def study_weights(cases, methods, levels: int) -> dict:
+    """The progress bar's weights of every solve of a study (``budget.solve_weights``)."""
     weights = {}
     for case in cases:
         if methods_for(case, methods):
             weights |= solve_weights(case, methods_for(case, methods), levels)
-    return StudyProgress(weights, show)
+    return weights
+
+
+def study_progress(cases, methods, levels: int, show: bool) -> StudyProgress:
+    return StudyProgress(study_weights(cases, methods, levels), show)
 
 
 def tidy(outputs, cases, methods) -> pd.DataFrame:

@@ -10,33 +10,61 @@ from __future__ import annotations
 
 from tqdm import tqdm
 
-BAR_FORMAT = "{percentage:3.0f}%|{bar}| [{elapsed}<{remaining}]{postfix}"
+BAR_FORMAT = "{percentage:3.0f}%|{bar}| {elapsed}<{remaining} {postfix}"
+# the bar with its counters takes about 40 columns; the description the rest of a 100-column terminal
+DESCRIPTION_WIDTH = 58
 
 
 class StudyProgress:
     """The bar: ``solving``/``solved``/``restored`` come from the study (``study.run_chain``),
-    in this process or relayed from workers; a level counts once, even if a job is rerun."""
+    in this process or relayed from workers; a level counts once, even if a job is rerun.
+
+    One bar may cover several studies (the report's 2D and 3D studies and its sweeps):
+    ``add`` puts more weights on it, each study's keys under its own ``scope``
+    (``scoped``). Its description is one line (``DESCRIPTION_WIDTH``): the case and level
+    being solved, its dofs, how many of that level's methods are done, and how many other
+    jobs run beside it (Dask workers)."""
 
     def __init__(self, weights: dict, show: bool = True):
-        # in whole milliseconds: the bar's count and length stay exact integers, however many
-        # levels are added and restored
-        self.weights = {key: max(1, round(1000 * seconds)) for key, seconds in weights.items()}
+        self.weights: dict = {}
         self.done: set = set()
         self.running: dict = {}
-        self.total, self.count = sum(self.weights.values()), 0      # what the bar shows (also when hidden)
-        self.bar = tqdm(total=self.total, disable=not show, bar_format=BAR_FORMAT, dynamic_ncols=True)
+        self.total, self.count = 0, 0      # what the bar shows (also when hidden)
+        self.bar = tqdm(total=0, disable=not show, bar_format=BAR_FORMAT, dynamic_ncols=True)
+        self.add(weights)
+
+    def add(self, weights: dict) -> None:
+        # in whole milliseconds: the bar's count and length stay exact integers, however many
+        # levels are added and restored
+        for key, seconds in weights.items():
+            if key not in self.weights:
+                self.weights[key] = max(1, round(1000 * seconds))
+                self.total += self.weights[key]
+        self.bar.total = self.total
+        self.bar.refresh()
 
     def solving(self, case: str, method: str, level: int, ndof: int, stage: str = "") -> None:
-        self.running[(case, method)] = f"{case} {method} level {level}{' ' + stage if stage else ''} ({ndof} dofs)"
-        self.bar.set_postfix_str("; ".join(self.running.values()), refresh=True)
+        self.running[(case, method)] = (level, ndof, stage)
+        self._describe(case, level, ndof, stage)
+
+    def _describe(self, case: str, level: int, ndof: int, stage: str) -> None:
+        of_level = [key for key in self.weights if key[0] == case and key[2] == level]
+        done = sum(key in self.done for key in of_level)
+        others = len({c for c, _ in self.running} - {case})
+        text = f"{case} L{level}{' ref' if stage else ''} {ndof:,} dofs {done}/{len(of_level)} methods"
+        if others:
+            text += f" +{others} jobs"
+        if len(text) > DESCRIPTION_WIDTH:
+            text = text[: DESCRIPTION_WIDTH - 1] + "…"
+        self.bar.set_postfix_str(text, refresh=True)
 
     def solved(self, case: str, method: str, level: int) -> None:
         key = (case, method, level)
+        self.running.pop((case, method), None)
         if key in self.done or key not in self.weights:
             return
         self.done.add(key)
         self.count += self.weights[key]
-        self.running.pop((case, method), None)
         self.bar.update(self.weights[key])
 
     def restored(self, case: str, method: str, levels: int) -> None:
@@ -49,8 +77,40 @@ class StudyProgress:
         self.bar.total = self.total
         self.bar.refresh()
 
+    def skip(self, cases) -> None:
+        """Every solve of ``cases`` (names as on the bar) is not work of this run (reused from
+        a cache)."""
+        cases = set(cases)
+        for key in [k for k in self.weights if k[0] in cases and k not in self.done]:
+            self.done.add(key)
+            self.total -= self.weights[key]
+        self.bar.total = self.total
+        self.bar.refresh()
+
     def close(self) -> None:
         self.bar.close()
+
+
+class Scoped:
+    """A study's view of a shared bar: its case names prefixed by ``scope`` (``"sweep "``), so
+    that two studies of one case (the report's study and its sweep) keep their levels apart."""
+
+    def __init__(self, progress: StudyProgress, scope: str):
+        self.progress, self.scope = progress, scope
+
+    def solving(self, case, *args) -> None:
+        self.progress.solving(self.scope + case, *args)
+
+    def solved(self, case, *args) -> None:
+        self.progress.solved(self.scope + case, *args)
+
+    def restored(self, case, *args) -> None:
+        self.progress.restored(self.scope + case, *args)
+
+
+def scoped(weights: dict, scope: str) -> dict:
+    """``weights`` with their case names under ``scope`` (see ``Scoped``)."""
+    return {(scope + case, method, level): w for (case, method, level), w in weights.items()}
 
 
 class EventProgress:
