@@ -26,7 +26,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from .mesh import evaluate, on_faces
+from .mesh import evaluate, in_elements
 
 # Gauss points per contact edge: exact for polynomials of degree 7 (the P2 contact terms are of
 # degree <= 4 where the bracket [.]_+ does not switch); the few edges where it switches, at a
@@ -100,8 +100,10 @@ def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: 
         cols_T.append(problem.edge_dofs[edge])
         vals_T.append(-0.5 * la * lb)
     shape = (len(edge), problem.ndof)
+    points = trace.a[edge] + T_t[:, None] * (trace.b - trace.a)[edge]
+    in_elements(problem.mesh, points, trace.volumes[edge])
     return ContactQuadrature(
-        points=trace.a[edge] + T_t[:, None] * (trace.b - trace.a)[edge],
+        points=points,
         weights=trace.lengths[edge] * unit_w,
         h=trace.lengths[edge],
         edge=edge,
@@ -131,7 +133,7 @@ def _face_quadrature(problem, degree: int) -> ContactQuadrature:
             cols_T.append(problem.edge_dofs[faces.edges[face, side]])
             vals_T.append(np.tile(-0.5 * lam[:, side] * lam[:, (side + 1) % 3], f))
     points = np.einsum("kc,fcd->fkd", lam, corners).reshape(-1, 3)
-    on_faces(problem.mesh, faces, lam, points)
+    in_elements(problem.mesh, points, np.repeat(faces.volumes, len(lam)))
     return ContactQuadrature(
         points=points,
         weights=np.repeat(area, k) * np.tile(unit_w, f),

@@ -285,6 +285,7 @@ class ContactTraceFunction:
     face_points: np.ndarray | None = None   # 3D: (f, 3, 3) corners of the triangles of Gamma_C
     face_values: np.ndarray | None = None   # 3D: (f, 3) values at the corners
     face_bubbles: np.ndarray | None = None  # 3D: (f, 3) bubble coefficients of the sides
+    volumes: np.ndarray | None = None       # 2D: (m,) the triangles on the edges (``mesh.in_elements``)
 
     @classmethod
     def of(cls, problem: DiscreteProblem, u: np.ndarray, end_active=None, edge_active=None) -> "ContactTraceFunction":
@@ -299,7 +300,8 @@ class ContactTraceFunction:
             corners = np.searchsorted(trace.vertices, trace.faces.vertices)
             faces = {"face_points": trace.faces.corners(trace), "face_values": u[problem.vertex_dofs][corners],
                      "face_bubbles": bubbles[trace.faces.edges]}
-        return cls(trace.a, trace.b, ends[:, 0], ends[:, 1], bubbles, end_active, edge_active, **faces)
+        return cls(trace.a, trace.b, ends[:, 0], ends[:, 1], bubbles, end_active, edge_active, **faces,
+                   volumes=trace.volumes)
 
     def value(self, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Value on edge[k] at parameter t[k] (broadcasting)."""

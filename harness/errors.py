@@ -16,7 +16,7 @@ from scipy.sparse.linalg import splu
 from .best import ritz_projection
 from .boundary import contact_quadrature, exact_pressure
 from .discrete import ContactTraceFunction
-from .mesh import evaluate
+from .mesh import evaluate, in_elements
 from .quadrature import ElementQuadrature
 
 def error_order(fe_order: int) -> int:
@@ -65,6 +65,8 @@ def max_penetration(case, mesh: ngs.Mesh, trace_u: ContactTraceFunction) -> floa
     values = np.concatenate([trace_u.at(dense), trace_u.value(np.arange(len(t_star)), t_star)[:, None]], axis=1)
     params = np.concatenate([np.broadcast_to(dense, (len(t_star), len(dense))), t_star[:, None]], axis=1)
     points = trace_u.a[:, None, :] + params[..., None] * (trace_u.b - trace_u.a)[:, None, :]
+    if trace_u.volumes is not None and case.obstacle is not None:
+        in_elements(mesh, points, trace_u.volumes[:, None])
     excess = [_excess(case, mesh, points, values)]
     if trace_u.face_points is not None:     # 3D: inside the triangles too
         excess.append(_excess(case, mesh, *trace_u.on_faces(FACE_LATTICE)))

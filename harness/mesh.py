@@ -100,7 +100,7 @@ class ContactFaces:
     vertices: np.ndarray       # (f, 3) NGSolve vertex numbers of the corners
     edges: np.ndarray          # (f, 3) index in the trace's edges of side k, joining corners k, k+1 mod 3
     normals: np.ndarray        # (f, 3) outward unit normals
-    elements: np.ndarray       # (f,) NGSolve numbers of the boundary elements (surface triangles)
+    volumes: np.ndarray        # (f,) NGSolve numbers of the tetrahedra on the triangles
 
     def corners(self, trace: "ContactTrace") -> np.ndarray:
         """(f, 3, 3) coordinates of the corners."""
@@ -120,6 +120,7 @@ class ContactTrace:
     normals: np.ndarray        # (m, dim) outward unit normals
     opposite: np.ndarray       # (m,) 2D: vertex number of the third vertex of each edge's triangle
     faces: ContactFaces | None = None   # 3D: the triangles of Gamma_C
+    volumes: np.ndarray | None = None   # 2D: (m,) NGSolve numbers of the triangles on the edges
 
     @property
     def dim(self) -> int:
@@ -172,7 +173,7 @@ def contact_trace(mesh: ngs.Mesh) -> ContactTrace:
 
 
 def contact_trace_2d(mesh: ngs.Mesh) -> ContactTrace:
-    edges, verts, normals, opposite = [], [], [], []
+    edges, verts, normals, opposite, volumes = [], [], [], [], []
     for el in mesh.Elements(ngs.BND):
         if el.mat != CONTACT:
             continue
@@ -190,12 +191,13 @@ def contact_trace_2d(mesh: ngs.Mesh) -> ContactTrace:
         verts.append((va.nr, vb.nr))
         normals.append(normal)
         opposite.append(third.nr)
+        volumes.append(volume.nr)
     if not edges:
         raise ValueError("the mesh has no boundary edge labelled 'contact'")
     verts = np.array(verts, dtype=np.int64)
     coords = coordinates(mesh)
     return ContactTrace(np.array(edges, dtype=np.int64), verts, coords[verts[:, 0]], coords[verts[:, 1]], np.array(normals),
-                        np.array(opposite, dtype=np.int64))
+                        np.array(opposite, dtype=np.int64), volumes=np.array(volumes, dtype=np.int64))
 
 
 def contact_trace_3d(mesh: ngs.Mesh) -> ContactTrace:
@@ -203,7 +205,7 @@ def contact_trace_3d(mesh: ngs.Mesh) -> ContactTrace:
     the fourth vertex of the tetrahedron on each triangle)."""
     region = mesh.Boundaries(CONTACT)
     edge_index: dict[int, int] = {}
-    edge_vertices, edge_normals, face_vertices, face_edges, face_normals, face_elements = [], [], [], [], [], []
+    edge_vertices, edge_normals, face_vertices, face_edges, face_normals, face_volumes = [], [], [], [], [], []
     for el in region.Elements():
         corners = [v.nr for v in el.vertices]
         points = np.array([mesh[v].point for v in el.vertices])
@@ -227,13 +229,13 @@ def contact_trace_3d(mesh: ngs.Mesh) -> ContactTrace:
         face_vertices.append(corners)
         face_edges.append(sides)
         face_normals.append(normal)
-        face_elements.append(el.nr)
+        face_volumes.append(volume.nr)
     if not edge_index:
         raise ValueError("the mesh has no boundary face labelled 'contact'")
     verts = np.array(edge_vertices, dtype=np.int64)
     coords = coordinates(mesh)
     faces = ContactFaces(np.array(face_vertices, dtype=np.int64), np.array(face_edges, dtype=np.int64),
-                         np.array(face_normals), np.array(face_elements, dtype=np.int64))
+                         np.array(face_normals), np.array(face_volumes, dtype=np.int64))
     return ContactTrace(np.array(list(edge_index), dtype=np.int64), verts, coords[verts[:, 0]], coords[verts[:, 1]],
                         np.array(edge_normals), np.full(len(verts), -1, dtype=np.int64), faces)
 
@@ -276,17 +278,21 @@ def remember(mesh: ngs.Mesh, points: np.ndarray, found: np.ndarray) -> None:
         _LOCATED.popitem(last=False)
 
 
-def on_faces(mesh: ngs.Mesh, faces: ContactFaces, lam: np.ndarray, points: np.ndarray) -> None:
-    """Make the points of a rule on the triangles of Gamma_C known without searching the mesh
-    (``located``): on every face f the point with barycentric coordinates lam[k] (w.r.t. its
-    corners in NGSolve's vertex order) is the mesh point of boundary element f at local
-    coordinates (lam[k, 0], lam[k, 1]) (NGSolve's reference triangle: vertices (1, 0), (0, 1),
-    (0, 0)). ``points``: their coordinates, face by face (f * k, 3)."""
-    template = mesh(*points[:1].T, ngs.BND)      # one search: the record layout and the mesh pointer
-    f, k = len(faces.elements), len(lam)
-    found = np.zeros(f * k, dtype=template.dtype)
-    found["x"], found["y"] = np.tile(lam[:, 0], f), np.tile(lam[:, 1], f)
-    found["meshptr"], found["VorB"] = template["meshptr"][0], template["VorB"][0]
-    found["nr"] = np.repeat(faces.elements, k)
-    found["facetnr"] = -1
-    remember(mesh, points, found)
+def in_elements(mesh: ngs.Mesh, points: np.ndarray, elements: np.ndarray) -> None:
+    """Make ``points`` (..., dim), each inside (or on the boundary of) the volume element of the
+    same index in ``elements`` (...), known without searching the mesh (``located``): their
+    local coordinates are their barycentric coordinates in the element, with respect to its
+    first ``dim`` vertices in NGSolve's order. Volume points, so that derivatives of volume
+    functions evaluate there too."""
+    flat = points.reshape(-1, mesh.dim)
+    owners = np.broadcast_to(elements, points.shape[:-1]).ravel()
+    corners = coordinates(mesh)[cells(mesh)[owners]]                  # (n, dim + 1, dim)
+    edges = corners[:, :-1] - corners[:, -1:]                         # from the last vertex
+    local = np.linalg.solve(np.swapaxes(edges, 1, 2), (flat - corners[:, -1])[..., None])[..., 0]
+    template = mesh(*flat[:1].T)                  # one search: the record layout and the mesh pointer
+    found = np.zeros(len(flat), dtype=template.dtype)
+    for k, name in enumerate("xyz"[:mesh.dim]):
+        found[name] = local[:, k]
+    found["meshptr"], found["VorB"], found["facetnr"] = template["meshptr"][0], 0, -1
+    found["nr"] = owners
+    remember(mesh, flat, found)

@@ -51,9 +51,13 @@ class LevelNumbering:
     ndof2: int
 
     @classmethod
-    def of(cls, mesh: ngs.Mesh) -> "LevelNumbering":
+    def of(cls, mesh: ngs.Mesh, quadratic: bool = True) -> "LevelNumbering":
+        """``quadratic``: with the P2 edge dofs (a level only P1 methods reach, such as P1's
+        reference level, needs none: no P2 space is made on its mesh)."""
         nv = mesh.nv
         parents = np.array([mesh.GetParentVertices(v) for v in range(nv)], dtype=np.int64).reshape(nv, 2)
+        if not quadratic:
+            return cls(nv, parents, np.zeros(0, np.int64), np.zeros(0, np.int64), 0)
         fes = ngs.H1(mesh, order=2)
         dofs = np.array([el.dofs for el in fes.Elements(ngs.VOL)], dtype=np.int64)
         triangles = dofs[:, :3]                        # vertex dofs are the vertex numbers
@@ -135,6 +139,9 @@ class ReferenceErrors:
         self.reference_level = {name: n + reference_levels - 1 for name, n in levels_of.items()}
         # the norm matrices of an order are needed only where a method of that order has its reference
         self.reference_orders = {(self.reference_level[name], order) for name, order in orders.items()}
+        # the levels up to which each order's solutions are carried (its finest reference)
+        self.last_level = {order: max(self.reference_level[name] for name in orders if orders[name] == order)
+                           for order in set(orders.values())}
         self.numbering: list[LevelNumbering] = []
         self.prolongations: dict[int, list[sp.csr_matrix]] = {1: [], 2: []}
         self.kept = defaultdict(list)             # method -> [(u_h, lambda_h coefficients as X_h vector)]
@@ -152,9 +159,10 @@ class ReferenceErrors:
     def skip_level(self, level: int, mesh: ngs.Mesh) -> None:
         """A level no method solves (a resumed study's finished levels): its numbering and
         prolongations still carry the kept solutions up to the reference."""
-        numbering = LevelNumbering.of(mesh)
+        needed = [order for order in self.prolongations if level <= self.last_level.get(order, -1)]
+        numbering = LevelNumbering.of(mesh, quadratic=2 in needed)
         if self.numbering:
-            for order in self.prolongations:
+            for order in needed:
                 self.prolongations[order].append(prolongation(self.numbering[-1], numbering, order))
         self.numbering.append(numbering)
 
