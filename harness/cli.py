@@ -71,7 +71,7 @@ def cmd_run(args) -> int:
     from .case import load_case
     from .execution import run_study
     from .execution.checkpoint import CheckpointStore
-    from .execution.engines import plan
+    from .execution.engines import study_jobs
     from .results import ensure_writable, write_csv
 
     methods = selected_methods(args)
@@ -81,7 +81,7 @@ def cmd_run(args) -> int:
     engine = engine_of(args)
     try:
         # refused before the output folder is touched or a worker started
-        plan(cases, methods, args.levels, engine, check_memory=not args.skip_memory_check)
+        study_jobs(cases, methods, args.levels, engine, check_memory=not args.skip_memory_check)
         out = ensure_writable(Path(args.out))
         checkpoints = out / ".checkpoints"
         frame = run_study(cases, methods, args.levels, show_progress=not args.quiet, engine=engine,

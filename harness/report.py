@@ -1,188 +1,29 @@
 """`make report`: the default study, its rates, figures and report (Markdown and HTML).
 
-Results of a case are reused when the code, the case file and the settings that produced them
-are unchanged (a hash of all three is stored beside them); `make clean` forgets them.
+The computations and their cache are ``report_cache``'s: results of a case are reused when the
+code, the case file and the settings that produced them are unchanged.
 """
 from __future__ import annotations
 
-import datetime
-import hashlib
 import json
-import os
-import platform
-import subprocess
 import time
 from pathlib import Path
 
-import ngsolve as ngs
 import numpy as np
 import pandas as pd
 
-from . import __version__, figures
+from . import figures
 from .case import Case, bound_text, fraction, registered_cases
 from .document import Document
 from .efficiency import efficiency_table, verdicts
-from .methods import methods_for, methods_named
+from .execution import InProcess
+from .methods import methods_named
 from .rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
+from .report_cache import compute, provenance
 from .results import ensure_writable, write_atomic, write_csv
-from .execution import InProcess, run_jobs
-from .execution.checkpoint import CheckpointStore, code_digest
-from .execution.engines import study_progress, study_weights, tidy
-from .execution.progress import Scoped, StudyProgress, scoped
-from .snapshots import SnapshotHook, load_snapshots, save_snapshots
-from .study import PHASES, PROFILES
-from .sweep import sweep_weights
+from .snapshots import load_snapshots
+from .study import PROFILES
 from .timing import Timings
-
-PACKAGE = Path(__file__).resolve().parent
-REPOSITORY = PACKAGE.parent
-
-
-def git_commit() -> str:
-    try:
-        commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=REPOSITORY, capture_output=True, text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "--", "harness", "cases"], cwd=REPOSITORY,
-                               capture_output=True, text=True).stdout.strip()
-        return commit + ("+dirty" if dirty else "")
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
-
-
-def provenance(settings: dict) -> dict:
-    return {
-        "harness_version": __version__, "git_commit": git_commit(), "ngsolve_version": ngs.__version__,
-        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-        "machine": {"node": platform.node(), "platform": platform.platform(), "processor": platform.machine(),
-                    "cpus": os.cpu_count(), "python": platform.python_version()},
-        "settings": settings,
-    }
-
-
-def cache_key(case: Case, settings: dict) -> str:
-    """Hash of the harness source, the case file and the settings."""
-    digest = hashlib.sha256(code_digest().encode())
-    digest.update(Path(case.source).read_bytes())
-    digest.update(json.dumps(settings, sort_keys=True).encode())
-    digest.update(ngs.__version__.encode())
-    return digest.hexdigest()
-
-
-def _stored(store: Path, case: Case, key: str) -> bool:
-    meta_path = store / f"{case.name}.json"
-    return all((store / f"{case.name}.{ext}").is_file() for ext in ("json", "csv", "npz")) and \
-        json.loads(meta_path.read_text()).get("cache_key") == key
-
-
-def stale_cases(cases: list[Case], settings: dict, results_dir: Path) -> list[Case]:
-    """The cases whose stored results (``results_dir/cases``) are missing or were made by other
-    code, case files or settings: those a report has to run."""
-    store = Path(results_dir) / "cases"
-    return [case for case in cases if not _stored(store, case, cache_key(case, settings))]
-
-
-def run_or_reuse(cases: list[Case], settings: dict, results_dir: Path, show_progress: bool = True,
-                 engine=None, check_memory: bool = True, progress=None, timings: Timings | None = None) -> pd.DataFrame:
-    """The study's rows, case by case: reused from ``results_dir/cases`` where the code, the case
-    and the settings are unchanged, else run (on ``engine``) and stored there as soon as the
-    last job of the case is done. Every finished level is checkpointed under
-    ``cases/.checkpoints``: a report killed at any moment continues where it stopped.
-    ``progress``: a bar shared with the rest of the report (else one is made);
-    ``timings``: records each case's seconds per phase."""
-    store = ensure_writable(results_dir / "cases")
-    keys = {case.name: cache_key(case, settings) for case in cases}
-    todo = stale_cases(cases, settings, results_dir)
-    for case in cases:
-        if case not in todo:
-            print(f"{case.name}: reusing results computed with the same code and settings")
-    methods = methods_named(settings["methods"])
-    levels = settings["levels"]
-    own = progress is None
-    progress = study_progress(todo, methods, levels, show_progress and bool(todo)) if own else progress
-    checkpoints = store / ".checkpoints"
-    hook = SnapshotHook(levels, methods)
-    outputs = {case.name: [] for case in todo}
-    remaining = {case.name: len(methods_for(case, methods)) for case in todo}
-    try:
-        for (case, job_methods), output in run_jobs(todo, methods, levels, engine, progress, hook, checkpoints, check_memory):
-            outputs[case.name].append(output)
-            remaining[case.name] -= len(job_methods)
-            if remaining[case.name] == 0:
-                _store_case(store, case, outputs[case.name], methods, settings, keys[case.name])
-                CheckpointStore(checkpoints, levels).forget(case)
-                if timings is not None:
-                    for phase in PHASES:
-                        timings.add("study", case.name, phase, sum(o.phases.get(phase, 0.0) for o in outputs[case.name]))
-    finally:
-        if own:
-            progress.close()
-    return pd.concat([pd.read_csv(store / f"{case.name}.csv") for case in cases], ignore_index=True)
-
-
-def _store_case(store: Path, case: Case, outputs: list, methods, settings: dict, key: str) -> None:
-    """One case's rows, snapshots and provenance in the report's cache (the .json last: it
-    marks the case complete). ``work_seconds``: the seconds its jobs spent, summed (they may
-    have run side by side on workers, and a resumed job counts only what it redid)."""
-    frame = tidy(outputs, [case], methods)
-    write_csv(frame, store / f"{case.name}.csv")
-    save_snapshots({k: v for output in outputs for k, v in output.kept.items()}, store / f"{case.name}.npz")
-    work = sum(sum(output.phases.values()) for output in outputs)
-    meta = provenance(settings) | {"cache_key": key, "case": case.name, "work_seconds": work}
-    write_atomic(store / f"{case.name}.json", json.dumps(meta, indent=2))
-
-
-SWEEP_SCOPE = "sweep "      # the sweeps' solves on the report's progress bar
-
-
-def sweep_config(levels: int) -> dict:
-    """What the report sweeps (``sweep.REPORT_SWEEP``), at a level no finer than the study's
-    finest P2 level (``report --levels 3`` sweeps level 2)."""
-    from .sweep import REPORT_SWEEP
-    config = {key: list(value) if isinstance(value, tuple) else value for key, value in REPORT_SWEEP.items()}
-    config["level"] = min(REPORT_SWEEP["level"], levels - 1)
-    return config
-
-
-def _sweep_paths(store: Path, case: Case) -> tuple[Path, Path]:
-    return store / f"{case.name}.csv", store / f"{case.name}.json"
-
-
-def stale_sweeps(cases: list[Case], config: dict, results_dir: Path) -> list[Case]:
-    """Those of ``cases`` the report sweeps whose stored sweep is missing or was made otherwise."""
-    store = Path(results_dir) / "sweeps"
-    todo = []
-    for case in [c for c in cases if c.name in config["cases"]]:
-        csv_path, meta_path = _sweep_paths(store, case)
-        key = cache_key(case, {"sweep": config})
-        if not (csv_path.is_file() and meta_path.is_file() and json.loads(meta_path.read_text()).get("cache_key") == key):
-            todo.append(case)
-    return todo
-
-
-def sweep_or_reuse(cases: list[Case], config: dict, results_dir: Path, show_progress: bool = True, engine=None,
-                   progress=None, timings: Timings | None = None) -> dict:
-    """The report's parameter sweeps (``sweep_config``) of those of ``cases`` it names, reused
-    like the study's results."""
-    from .sweep import run_sweep
-    store = ensure_writable(results_dir / "sweeps")
-    todo = stale_sweeps(cases, config, results_dir)
-    frames = {}
-    for case in [c for c in cases if c.name in config["cases"]]:
-        csv_path, meta_path = _sweep_paths(store, case)
-        if case not in todo:
-            print(f"{case.name}: reusing the parameter sweep computed with the same code and settings")
-            frames[case.name] = pd.read_csv(csv_path)
-            continue
-        clock = time.perf_counter()
-        frame = run_sweep(case, config["methods"], config["values"], config["level"], config["reference"],
-                          show_progress=show_progress, engine=engine,
-                          progress=Scoped(progress, SWEEP_SCOPE) if progress is not None else None)
-        write_csv(frame, csv_path)
-        write_atomic(meta_path, json.dumps(provenance({"sweep": config}) | {"cache_key": cache_key(case, {"sweep": config}),
-                                                                           "case": case.name}, indent=2))
-        if timings is not None:
-            timings.add("sweeps", case.name, "", time.perf_counter() - clock)
-        frames[case.name] = frame
-    return frames
 
 
 def _fmt(value, spec=".3e"):
@@ -593,27 +434,6 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
     return doc
 
 
-def study_groups(cases: list[Case], settings: dict) -> list[tuple[list[Case], dict]]:
-    """The report's studies: the 2D cases, and the 3D cases with their own (smaller) number of
-    levels (a 3D level has 8 times the dofs)."""
-    groups = [([c for c in cases if c.dimension == 2], settings),
-              ([c for c in cases if c.dimension == 3], settings | {"levels": settings["levels_3d"]})]
-    return [(group, group_settings) for group, group_settings in groups if group]
-
-
-def report_progress(groups, sweep_cases, config, results_dir: Path, show: bool) -> StudyProgress:
-    """One bar for everything the report computes: the stale cases of every study and the
-    stale sweeps, weighed by the size of each solve (its ETA is for the whole report)."""
-    progress = StudyProgress({}, show)
-    for group, group_settings in groups:
-        todo = stale_cases(group, group_settings, results_dir)
-        progress.add(study_weights(todo, methods_named(group_settings["methods"]), group_settings["levels"]))
-    for case in stale_sweeps(sweep_cases, config, results_dir):
-        progress.add(scoped(sweep_weights(case, config["methods"], config["values"], config["level"], config["reference"]),
-                            SWEEP_SCOPE))
-    return progress
-
-
 def make_report(profile: str = "default", results_dir: Path = Path("results"), report_dir: Path = Path("report"),
                 case_names=None, show_progress: bool = True, levels: int | None = None, methods=("all",),
                 engine=None, check_memory: bool = True) -> Path:
@@ -632,16 +452,8 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     ensure_writable(report_dir / "figures")
     timings = Timings()
     start = time.perf_counter()
-    groups = study_groups(cases, settings)
-    config = sweep_config(settings["levels"])
     sweep_cases = cases if _has_weak(settings["methods"]) else []
-    progress = report_progress(groups, sweep_cases, config, results_dir, show_progress)
-    try:
-        results = pd.concat([run_or_reuse(group, group_settings, results_dir, show_progress, engine, check_memory,
-                                          progress, timings) for group, group_settings in groups], ignore_index=True)
-        sweeps = sweep_or_reuse(sweep_cases, config, results_dir, show_progress, engine, progress, timings)
-    finally:
-        progress.close()
+    results, sweeps = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory, timings)
     with timings("rates"):
         rates = rate_table(results)
         efficiency = efficiency_table(results)

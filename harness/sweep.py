@@ -60,6 +60,12 @@ def run_sweep(case, specs, values, level: int, reference=("nodal",), show_progre
         raise ValueError(f"level must be >= 0, got {level}")
     runs, methods = sweep_plan(specs, values, reference)
     frame = run_study([case], methods, level + 1, show_progress=show_progress, progress=progress, engine=engine)
+    return label_sweep(frame, runs, methods, level)
+
+
+def label_sweep(frame: pd.DataFrame, runs, methods, level: int) -> pd.DataFrame:
+    """A sweep study's rows of ``level`` (``sweep_plan``'s runs and methods), each with its swept
+    method, parameter and value (empty for the reference methods)."""
     finest = {m.name: study_levels(m, level + 1) - 1 for m in methods}
     frame = frame[frame.level == frame.method.map(finest)].copy()
     label = {m.name: (spec, name, v) for m, spec, name, v in runs} | {m.name: (m.name, "", np.nan) for m in methods[len(runs):]}

@@ -33,14 +33,16 @@ class Timings:
 
 
 def by_section(profile: pd.DataFrame, wall: float) -> pd.DataFrame:
-    """Seconds and share of the wall time per section and item (phases summed); the study's
-    items are cases, whose phases are the work of their jobs (summed over workers)."""
+    """Seconds and share of the wall time per section and item (phases summed); the items of
+    the study and the sweeps are cases, whose phases are the work of their jobs (summed over
+    workers: on several workers their sum exceeds "jobs (wall)")."""
     table = profile.groupby(["section", "item"], sort=False).seconds.sum().reset_index()
     table["share"] = table.seconds / wall
     return table
 
 
 def by_phase(profile: pd.DataFrame) -> pd.DataFrame:
-    """The study's seconds per case (rows) and phase (columns)."""
-    study = profile[profile.phase != ""]
-    return study.pivot_table(index="item", columns="phase", values="seconds", aggfunc="sum", sort=False).fillna(0.0)
+    """The seconds of the study's and the sweeps' jobs per case (rows) and phase (columns)."""
+    jobs = profile[profile.phase.fillna("") != ""]
+    return jobs.pivot_table(index=["section", "item"], columns="phase", values="seconds", aggfunc="sum",
+                            sort=False).fillna(0.0)

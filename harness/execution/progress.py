@@ -117,12 +117,12 @@ class EventProgress:
     """What a study running on a Dask worker says to the client's ``StudyProgress``: each call
     becomes an event on ``topic`` (``relay`` replays it on the client)."""
 
-    def __init__(self, topic: str):
-        self.topic = topic
+    def __init__(self, topic: str, scope: str = ""):
+        self.topic, self.scope = topic, scope
 
-    def _send(self, *message) -> None:
+    def _send(self, name, case, *args) -> None:
         from distributed import get_worker
-        get_worker().log_event(self.topic, message)
+        get_worker().log_event(self.topic, (name, self.scope + case, *args))
 
     def solving(self, *args) -> None:
         self._send("solving", *args)
