@@ -17,7 +17,7 @@ from .timing import by_phase, by_section
 REPORT_BENCH_COLUMNS = ["engine", "workers", "wall_seconds", "peak_rss_mb", "speedup"]
 
 
-def _measure_report(workers: int, profile: str, connection) -> None:
+def _measure_report(workers: int, profile: str, cases, levels, connection) -> None:
     from .execution import DaskEngine, InProcess
     from .report import make_report
 
@@ -25,7 +25,8 @@ def _measure_report(workers: int, profile: str, connection) -> None:
     with tempfile.TemporaryDirectory(prefix="harness-bench-report-") as folder:
         start = time.perf_counter()
         try:
-            make_report(profile, Path(folder) / "results", Path(folder) / "report", show_progress=False, engine=engine)
+            make_report(profile, Path(folder) / "results", Path(folder) / "report", cases, show_progress=False,
+                        levels=levels, engine=engine)
         finally:
             engine.close()
         wall = time.perf_counter() - start
@@ -36,14 +37,16 @@ def _measure_report(workers: int, profile: str, connection) -> None:
     connection.close()
 
 
-def run_report_bench(workers=(0,), profile: str = "default", progress=print) -> tuple[pd.DataFrame, pd.DataFrame]:
+def run_report_bench(workers=(0,), profile: str = "default", progress=print, cases=None,
+                     levels: int | None = None) -> tuple[pd.DataFrame, pd.DataFrame]:
     """(one row per variant: wall seconds, peak RSS, speedup over the first; the first
-    variant's profile rows). ``workers``: 0 for this process, N for N local Dask workers."""
+    variant's profile rows). ``workers``: 0 for this process, N for N local Dask workers;
+    ``cases``, ``levels``: a smaller report than the profile's (tests)."""
     from .bench import in_fresh_process
     rows, profile_rows = [], None
     for count in workers:
         progress(f"report ({'in process' if not count else f'{count} Dask workers'}) ...")
-        out = in_fresh_process(_measure_report, (count, profile), f"the {profile} report")
+        out = in_fresh_process(_measure_report, (count, profile, cases, levels), f"the {profile} report")
         profile_rows = profile_rows if profile_rows is not None else pd.DataFrame(out.pop("profile"))
         out.pop("profile", None)
         rows.append(out)

@@ -21,7 +21,7 @@ import pandas as pd
 
 from . import __version__
 from .case import Case
-from .execution.budget import solve_weights
+from .execution.budget import SWEEP_SECONDS_PER_DOF, solve_weights
 from .execution.checkpoint import CheckpointStore, code_digest
 from .execution.engines import InProcess, Job, chains, plan, study_weights, tidy
 from .execution.progress import StudyProgress, scoped
@@ -137,8 +137,8 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
             continue
         validate_case(case)
         runs, methods = sweep_plan(config["methods"], config["values"], config["reference"])
-        jobs.append(Job(case, tuple(methods), config["level"] + 1, scope=SWEEP_SCOPE, tag="sweep"))
-        weights |= scoped(solve_weights(case, methods, config["level"] + 1), SWEEP_SCOPE)
+        jobs.append(Job(case, tuple(methods), config["level"] + 1, scope=SWEEP_SCOPE, tag="sweep", per_dof=SWEEP_SECONDS_PER_DOF))
+        weights |= scoped(solve_weights(case, methods, config["level"] + 1, per_dof=SWEEP_SECONDS_PER_DOF), SWEEP_SCOPE)
         pending[SWEEP_SCOPE + case.name] = (case, runs, methods, [])
     engine = engine or InProcess()
     jobs = plan(jobs, engine, check_memory)

@@ -36,7 +36,7 @@ def by_section(profile: pd.DataFrame, wall: float) -> pd.DataFrame:
     """Seconds and share of the wall time per section and item (phases summed); the items of
     the study and the sweeps are cases, whose phases are the work of their jobs (summed over
     workers: on several workers their sum exceeds "jobs (wall)")."""
-    table = profile.groupby(["section", "item"], sort=False).seconds.sum().reset_index()
+    table = profile.fillna({"item": "", "phase": ""}).groupby(["section", "item"], sort=False).seconds.sum().reset_index()
     table["share"] = table.seconds / wall
     return table
 

@@ -11,6 +11,7 @@ from harness import discrete
 from harness.case import registered_cases
 from harness.discrete import ContactTraceFunction, discretise, load_vector
 from harness.errors import NORMS, error_norms, max_penetration
+from harness.mesh import evaluate
 from harness.mesh import mesh_hierarchy
 from harness.methods import METHODS, methods_for
 from harness.quadrature import ElementQuadrature
@@ -156,3 +157,22 @@ def test_red_refinement_halves_h_exactly(case_name):
     np.testing.assert_allclose(sizes, sizes[0] / 2.0 ** np.arange(5), rtol=1e-12)
 
 
+
+
+@pytest.mark.parametrize("case_name", ["transition-r32", "smooth-3d"])
+def test_gamma_c_points_located_without_search_are_netgens_points(case_name, rng):
+    """``mesh.in_elements``: the points of the Gamma_C rules are made from the element on each
+    contact edge (2D) or face (3D), not searched for; values and gradients of a random P2
+    function there are those at the points netgen's search finds."""
+    import harness.mesh as harness_mesh
+    from conftest import problem_at
+    from harness.boundary import contact_quadrature
+    problem = problem_at(case_name, 1)
+    quadrature = contact_quadrature(problem)          # makes its points known (located)
+    gfu = problem.gridfunction(rng.standard_normal(problem.ndof))
+    for cf in (gfu, ngs.grad(gfu), registered_cases()[case_name].u):
+        direct = evaluate(cf, problem.mesh, quadrature.points)
+        harness_mesh._LOCATED.clear()
+        searched = evaluate(cf, problem.mesh, quadrature.points)
+        np.testing.assert_allclose(direct, searched, rtol=1e-12, atol=1e-12 * np.abs(searched).max())
+        contact_quadrature(problem)

@@ -123,6 +123,24 @@ def test_the_progress_bar_weighs_levels_by_size_and_counts_each_once():
     progress.close()
 
 
+def test_the_progress_line_fits_a_100_column_terminal_and_counts_methods_done():
+    """One line (issue 28): the case, level, dofs and how many of the level's methods are done,
+    whatever the names; the bar takes what is left of 100 columns."""
+    from tqdm import tqdm
+    from harness.execution.progress import BAR_FORMAT
+    case = load_case("transition-r32")
+    progress = StudyProgress(budget.solve_weights(case, methods_named(["all"]), 3), show=False)
+    progress.solving("transition-r32", "nodal", 2, 36225)
+    progress.solved("transition-r32", "nodal", 2)
+    progress.solving("transition-r32", "mean", 2, 36225)
+    assert "transition-r32 L2 36,225 dofs 1/7 methods" in progress.bar.desc
+    progress.solving("sweep elastic-transition-incompressible", "nitsche:gamma0=0.0001,theta=-1", 12, 123456789, "reference chain")
+    line = tqdm.format_meter(n=progress.count, total=progress.total, elapsed=3600.0, ncols=100, prefix=progress.bar.desc,
+                             bar_format=BAR_FORMAT)
+    assert len(line) <= 100 and "\n" not in line, line
+    progress.close()
+
+
 # --- nothing lost on a kill ---------------------------------------------------------------------
 
 def test_a_corrupt_checkpoint_is_ignored_and_the_chain_starts_afresh(tmp_path):

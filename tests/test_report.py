@@ -110,3 +110,16 @@ def test_report_states_reference_and_remark_43_findings(tmp_path):
     assert "No closed-form solution: every error is measured against the method" in text and "2 levels finer" in text
     assert "Remark 4.3" in text and "question. The data " in text and "the authors believe (no theorem)" in text
     assert (tmp_path / "report" / "figures" / "smooth-obstacle_contact.png").stat().st_size > 1000
+
+
+def test_bench_report_profiles_the_report_and_compares_engines():
+    """`bench --only report` (here a 2-level report of one case): one row per engine with its
+    wall time and peak memory, the speedup against the first, and where the time went."""
+    from harness.bench_report import profile_tables, report_goals, run_report_bench
+    frame, profile = run_report_bench((0, 2), cases=["transition-r32"], levels=2, progress=lambda *_: None)
+    assert list(frame.workers) == [0, 2] and (frame.wall_seconds > 0).all() and (frame.peak_rss_mb > 100).all()
+    assert frame.speedup.iloc[0] == 1.0
+    sections, phases = profile_tables(profile)
+    assert {"study", "sweeps", "figures", "jobs (wall)", "document"} <= set(sections.section)
+    assert ("study", "transition-r32") in phases.index and phases.loc[("study", "transition-r32"), "solve"] > 0
+    assert [goal for goal, _, _ in report_goals(frame)][:2] == ["make report <= 5 min", "make report peak RSS <= 3 GB"]

@@ -28,13 +28,22 @@ PEAK_BASE = 280 * MB
 PEAK_PER_TRIANGLE = 550.0
 PEAK_PER_DOF = 250.0
 PEAK_PER_REFERENCE_DOF = 450.0
-# Seconds of one solve on level l, with its share of meshing, assembly and errors, one core:
-# SECONDS_PER_TRIANGLE * triangles + SECONDS_PER_DOF * dofs, fitted to transition-r32 with 7
-# levels (nodal alone 4.2 s, p1 alone 9.3 s). Used for the ETA's weights and the estimate a
-# refusal prints; a job of several methods in one process shares meshing and assembly and
-# takes less than the sum.
-SECONDS_PER_TRIANGLE = 4.5e-6
-SECONDS_PER_DOF = 3.3e-6
+# Seconds of a job, for the ETA's weights, the order in which jobs are submitted and the estimate
+# a refusal prints. Each level costs its shared work (mesh refinement, the multigrid's P1
+# hierarchy, assembly, best approximation, errors: SHARED_SECONDS_PER_ELEMENT x its elements,
+# spread over the methods solving it) and each method's solve (SOLVE_SECONDS_PER_DOF x its
+# dofs). Fitted (least squares, one figure per group) to the profile of one default report in
+# one process on 2 cores (2026-11-25, `bench --only report`): per element 6.2e-6 s (2D scalar),
+# 1.8e-5 s (2D elastic), 1.2e-5 s (3D); per dof 1.4e-6 s (cones), 2.2e-6 s (penalty, Nitsche),
+# 5.7e-6 s (elastic cones, factorised), 8.6e-6 s (3D cones); the report's parameter sweeps,
+# whose Nitsche runs past theta = 1's coercivity bound take 60 Newton steps with an LU
+# factorisation each, 2.5e-5 s per dof (``SWEEP_SECONDS_PER_DOF``).
+SHARED_SECONDS_PER_ELEMENT = {(2, "scalar"): 6.2e-6, (2, "elasticity"): 1.8e-5, (3, "scalar"): 1.2e-5,
+                              (3, "elasticity"): 3.6e-5}
+SOLVE_SECONDS_PER_DOF = {("cone", "scalar", 2): 1.4e-6, ("weak", "scalar", 2): 2.2e-6,
+                         ("cone", "elasticity", 2): 5.7e-6, ("cone", "scalar", 3): 8.6e-6,
+                         ("cone", "elasticity", 3): 1.7e-5}
+SWEEP_SECONDS_PER_DOF = 2.5e-5
 
 
 class BudgetError(ValueError):
@@ -106,15 +115,28 @@ class JobEstimate:
                 f"estimated peak memory {_size(self.peak_bytes)}, time {_duration(self.seconds)}")
 
 
-def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None) -> dict:
-    """(case, method, level) -> estimated seconds of that solve: the weights of the progress bar
-    (its ETA is then weighted by the size of each level, not by the count of solves)."""
-    sizes = sizes or LevelSizes.of(case, max(chain_levels(case, m, levels) for m in methods))
-    return {(case.name, m.name, level): SECONDS_PER_TRIANGLE * sizes.triangles[level] + SECONDS_PER_DOF * sizes.ndof(level, m.order, case.physics.components)
-            for m in methods for level in range(chain_levels(case, m, levels))}
+def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, per_dof: float | None = None) -> dict:
+    """(case, method, level) -> estimated seconds of that solve with its share of the level's
+    shared work: the weights of the progress bar (its ETA is then weighted by the size of each
+    level, not by the count of solves). ``per_dof``: the solve's seconds per dof, if not the
+    figure of the method's family (``SOLVE_SECONDS_PER_DOF``)."""
+    from ..methods import WeakContact
+    chains = {m.name: chain_levels(case, m, levels) for m in methods}
+    sizes = sizes or LevelSizes.of(case, max(chains.values()))
+    physics, dim, components = case.physics.name, case.dimension, case.physics.components
+    shared = SHARED_SECONDS_PER_ELEMENT.get((dim, physics), max(SHARED_SECONDS_PER_ELEMENT.values()))
+    weights = {}
+    for level in range(max(chains.values())):
+        solving = [m for m in methods if level < chains[m.name]]
+        for m in solving:
+            family = "weak" if isinstance(m, WeakContact) else "cone"
+            solve = per_dof or SOLVE_SECONDS_PER_DOF.get((family, physics, dim), max(SOLVE_SECONDS_PER_DOF.values()))
+            weights[(case.name, m.name, level)] = (shared * sizes.triangles[level] / len(solving)
+                                                   + solve * sizes.ndof(level, m.order, components))
+    return weights
 
 
-def estimate(case, methods, levels: int, sizes: LevelSizes | None = None) -> JobEstimate:
+def estimate(case, methods, levels: int, sizes: LevelSizes | None = None, per_dof: float | None = None) -> JobEstimate:
     """Peak memory and time of one job: ``methods`` on ``case`` (one process, shared levels)."""
     chains = {m.name: chain_levels(case, m, levels) for m in methods}
     last = max(chains.values())
@@ -123,9 +145,9 @@ def estimate(case, methods, levels: int, sizes: LevelSizes | None = None) -> Job
     for m in methods:
         level = chains[m.name] - 1
         finest[m.order] = max(finest.get(m.order, (0, 0)), (level, sizes.ndof(level, m.order, case.physics.components)))
-    per_dof = PEAK_PER_DOF + (0.0 if case.exact else PEAK_PER_REFERENCE_DOF)
-    peak = PEAK_BASE + PEAK_PER_TRIANGLE * sizes.triangles[last - 1] + per_dof * sum(n for _, n in finest.values())
-    seconds = sum(solve_weights(case, methods, levels, sizes).values())
+    bytes_per_dof = PEAK_PER_DOF + (0.0 if case.exact else PEAK_PER_REFERENCE_DOF)
+    peak = PEAK_BASE + PEAK_PER_TRIANGLE * sizes.triangles[last - 1] + bytes_per_dof * sum(n for _, n in finest.values())
+    seconds = sum(solve_weights(case, methods, levels, sizes, per_dof).values())
     level, ndof = max(finest.values())
     return JobEstimate(case.name, tuple(m.name for m in methods), level, ndof, peak, seconds)
 

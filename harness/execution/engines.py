@@ -72,11 +72,12 @@ class Job:
     checkpoints: Path | None = None
     scope: str = ""
     tag: str = field(default="study", compare=False)
+    per_dof: float | None = None          # a solve's seconds per dof, if not its family's (``budget``)
 
     @property
     def seconds(self) -> float:
         """Estimated time (``budget.estimate``): the order in which jobs are submitted."""
-        return estimate(self.case, self.methods, self.levels).seconds
+        return estimate(self.case, self.methods, self.levels, per_dof=self.per_dof).seconds
 
     def store(self) -> CheckpointStore | None:
         return CheckpointStore(self.checkpoints, self.levels, self.on_level) if self.checkpoints is not None else None
@@ -95,7 +96,7 @@ def by_order(job: Job) -> list[Job]:
     """A job split into one per finite element order (P2 methods, P1 methods)."""
     orders = sorted({m.order for m in job.methods}, reverse=True)
     return [Job(job.case, tuple(m for m in job.methods if m.order == order), job.levels, job.on_level, job.checkpoints,
-                job.scope, job.tag) for order in orders]
+                job.scope, job.tag, job.per_dof) for order in orders]
 
 
 class InProcess:

@@ -10,9 +10,10 @@ from __future__ import annotations
 
 from tqdm import tqdm
 
-BAR_FORMAT = "{percentage:3.0f}%|{bar}| {elapsed}<{remaining} {postfix}"
-# the bar with its counters takes about 40 columns; the description the rest of a 100-column terminal
-DESCRIPTION_WIDTH = 58
+BAR_FORMAT = "{desc}{percentage:3.0f}%|{bar}| {elapsed}<{remaining}"
+# the description, then the percentage, the bar and the times (the bar takes what is left of a
+# 100-column terminal: about 30 columns)
+DESCRIPTION_WIDTH = 52
 
 
 class StudyProgress:
@@ -54,9 +55,9 @@ class StudyProgress:
         text = f"{case} L{level}{' ref' if stage else ''} {ndof:,} dofs {done}/{len(of_level)} methods"
         if others:
             text += f" +{others} jobs"
-        if len(text) > DESCRIPTION_WIDTH:
-            text = text[: DESCRIPTION_WIDTH - 1] + "…"
-        self.bar.set_postfix_str(text, refresh=True)
+        if len(text) > DESCRIPTION_WIDTH - 1:
+            text = text[: DESCRIPTION_WIDTH - 2] + "…"
+        self.bar.set_description_str(text.ljust(DESCRIPTION_WIDTH), refresh=True)
 
     def solved(self, case: str, method: str, level: int) -> None:
         key = (case, method, level)
