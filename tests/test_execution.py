@@ -24,6 +24,7 @@ from harness.execution import DaskEngine, InProcess, run_study
 from harness.execution import budget
 from harness.execution.budget import BudgetError, LevelSizes, estimate
 from harness.execution.checkpoint import CheckpointStore
+from harness.execution.engines import chains
 from harness.execution.progress import StudyProgress
 from harness.mesh import mesh_hierarchy
 from harness.methods import methods_named
@@ -218,12 +219,15 @@ def test_run_killed_after_its_second_level_resumes_to_the_same_csv(tmp_path):
 
 
 def test_two_dask_workers_give_the_serial_results_bit_for_bit():
-    """A real LocalCluster: one job per (case, method) on two worker processes, against one
-    process running every method of a case on shared levels -- an exact case and a case measured
-    against references, every method."""
+    """A real LocalCluster: jobs on two worker processes (transition-r32 whole, smooth-obstacle,
+    the larger, split by order), against one process running every method of a case on shared
+    levels -- an exact case and a case measured against references, every method."""
     cases, methods = [load_case("transition-r32"), load_case("smooth-obstacle")], methods_named(["all"])
     serial = run_study(cases, methods, 3, show_progress=False, engine=InProcess(threads=1))
     engine = DaskEngine(workers=2)
+    jobs = engine.split(chains(cases, methods, 3))
+    assert [(job.case.name, {m.order for m in job.methods}) for job in jobs] == \
+        [("transition-r32", {1, 2}), ("smooth-obstacle", {2}), ("smooth-obstacle", {1})]
     try:
         distributed = run_study(cases, methods, 3, show_progress=False, engine=engine)
     finally:
