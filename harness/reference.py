@@ -24,6 +24,7 @@ method converging like h^p is underestimated by the factor sqrt(1 - 4^{-pk}) (p 
 """
 from __future__ import annotations
 
+import contextlib
 from collections import defaultdict
 from dataclasses import dataclass
 
@@ -133,8 +134,9 @@ class ReferenceErrors:
     level is solved. ``total_levels``: how many levels the study must run.
     """
 
-    def __init__(self, levels_of: dict[str, int], orders: dict[str, int], reference_levels: int):
+    def __init__(self, levels_of: dict[str, int], orders: dict[str, int], reference_levels: int, phases=None):
         self.k = reference_levels
+        self.phases = phases            # ``study.Phases``: this measurement's set-up counts as "errors"
         self.studied = dict(levels_of)
         self.reference_level = {name: n + reference_levels - 1 for name, n in levels_of.items()}
         # the norm matrices of an order are needed only where a method of that order has its reference
@@ -159,6 +161,13 @@ class ReferenceErrors:
     def skip_level(self, level: int, mesh: ngs.Mesh) -> None:
         """A level no method solves (a resumed study's finished levels): its numbering and
         prolongations still carry the kept solutions up to the reference."""
+        with self._phase():
+            self._number(level, mesh)
+
+    def _phase(self):
+        return self.phases("errors") if self.phases is not None else contextlib.nullcontext()
+
+    def _number(self, level: int, mesh: ngs.Mesh) -> None:
         needed = [order for order in self.prolongations if level <= self.last_level.get(order, -1)]
         numbering = LevelNumbering.of(mesh, quadratic=2 in needed)
         if self.numbering:
@@ -168,7 +177,11 @@ class ReferenceErrors:
 
     def begin_level(self, level: int, mesh: ngs.Mesh, problems: dict, quadrature=None, multilevel=None) -> None:
         """Number the new level, prolongations from the previous one, norms where a reference lies."""
-        self.skip_level(level, mesh)
+        with self._phase():
+            self._begin(level, mesh, problems)
+
+    def _begin(self, level: int, mesh: ngs.Mesh, problems: dict) -> None:
+        self._number(level, mesh)
         self.pressure = {order: DiscretePressure(problem) for order, problem in problems.items()}
         self.norms = {}
         for order, problem in problems.items():
