@@ -23,9 +23,9 @@ from . import __version__
 from .case import Case
 from .execution.budget import SWEEP_SECONDS_PER_DOF, solve_weights
 from .execution.checkpoint import CheckpointStore, code_digest
-from .execution.engines import InProcess, Job, chains, plan, study_weights, tidy
+from .execution.engines import InProcess, Job, chains, check_methods, plan, study_weights, tidy
 from .execution.progress import StudyProgress, scoped
-from .methods import methods_for, methods_named
+from .methods import methods_named
 from .results import ensure_writable, write_atomic, write_csv
 from .snapshots import SnapshotHook, save_snapshots
 from .study import PHASES
@@ -123,9 +123,7 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
         methods, levels = methods_named(group_settings["methods"]), group_settings["levels"]
         for case in todo:
             validate_case(case)
-            if not methods_for(case, methods):
-                raise ValueError(f"case {case.name} ({case.physics.name}): none of the methods "
-                                 f"{', '.join(m.name for m in methods)} discretises it")
+            check_methods(case, methods)
             pending[case.name] = (case, group_settings, methods, [])
         jobs += chains(todo, methods, levels, SnapshotHook(levels, methods), checkpoints)
         weights |= study_weights(todo, methods, levels)

@@ -82,9 +82,6 @@ class Job:
     def store(self) -> CheckpointStore | None:
         return CheckpointStore(self.checkpoints, self.levels, self.on_level) if self.checkpoints is not None else None
 
-    def describe(self) -> str:
-        return f"{self.scope}{self.case.name} ({', '.join(m.name for m in self.methods)})"
-
 
 def chains(cases, methods, levels: int, on_level=None, checkpoints=None, scope: str = "", tag: str = "study") -> list[Job]:
     """One job per case (the methods that discretise it), as this process runs them."""
@@ -285,6 +282,13 @@ def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=
     return frame
 
 
+def check_methods(case, methods) -> None:
+    """ValueError in one line if none of ``methods`` discretises ``case`` (its physics, dimension)."""
+    if not methods_for(case, methods):
+        raise ValueError(f"case {case.name} ({case.physics.name}): none of the methods {', '.join(m.name for m in methods)} "
+                         f"discretises it")
+
+
 def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: Path | None = None,
                check_memory: bool = True) -> list[Job]:
     """The jobs of a study at ``engine``'s grain: every case validated, discretised by at least
@@ -294,9 +298,7 @@ def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: 
     for case in cases:
         validate_case(case)
     for case in cases:
-        if not methods_for(case, methods):
-            raise ValueError(f"case {case.name} ({case.physics.name}): none of the methods {', '.join(m.name for m in methods)} "
-                             f"discretises it")
+        check_methods(case, methods)
     return plan(chains(cases, methods, levels, on_level, checkpoints), engine, check_memory)
 
 

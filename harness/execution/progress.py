@@ -78,16 +78,6 @@ class StudyProgress:
         self.bar.total = self.total
         self.bar.refresh()
 
-    def skip(self, cases) -> None:
-        """Every solve of ``cases`` (names as on the bar) is not work of this run (reused from
-        a cache)."""
-        cases = set(cases)
-        for key in [k for k in self.weights if k[0] in cases and k not in self.done]:
-            self.done.add(key)
-            self.total -= self.weights[key]
-        self.bar.total = self.total
-        self.bar.refresh()
-
     def close(self) -> None:
         self.bar.close()
 
