@@ -233,7 +233,13 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
             iterations += 1
             q.data = K_ngs * p
             q_np *= mask
-            step = rs / ngs.InnerProduct(p, q)
+            curvature = ngs.InnerProduct(p, q)
+            if not (curvature > 0 and rs > 0):
+                # K or the V-cycle (smoothing with K) is not positive definite (Nitsche with
+                # theta = 1 past its gamma0 bound): CG cannot converge, the caller checks the
+                # residual and solves directly (without the max_iterations CG steps first)
+                return x_np.copy(), iterations
+            step = rs / curvature
             x.data += step * p
             r.data -= step * q
             if _max_abs(r_np) <= 0.5 * tol:

@@ -122,3 +122,17 @@ def test_method_parameters_are_parsed_named_and_checked():
             get_method(bad)
     with pytest.raises(ValueError, match="positive"):
         weak_contact_system(load_case("transition-r32"), problem_at("transition-r32", 0), 0.0, 1.0, 1.0)
+
+
+def test_nitsche_past_its_coercivity_bound_leaves_cg_at_once_and_matches_ngsolve():
+    """theta = 1 with gamma0 = 0.3 (past the bound 0.145, ``methods/nitsche.py``): J is
+    indefinite, CG stops at its first non-positive curvature and the steps go to the updated
+    LDL^T factorisation; the solution is the one NGSolve's own Newton (a fresh UMFPACK
+    factorisation per step) finds."""
+    case, level = load_case("corner-r12"), 3
+    problem, multilevel = problem_with_hierarchy("corner-r12", level, 2)
+    fast = solve_semismooth_newton(weak_contact_system(case, problem, 0.3, 1.0, 1.0), multilevel=multilevel)
+    reference = ngsolve_reference(case, problem_at("corner-r12", level, 2), 0.3, 1.0, 1.0)
+    assert fast.status == "converged" and fast.residual <= 1e-10
+    assert fast.linear_iterations < 2 * fast.iterations + 20       # not 500 CG steps before the switch
+    assert np.abs(fast.u - reference).max() <= 1e-10 * np.abs(reference).max()
