@@ -22,6 +22,13 @@ def style(method: str) -> dict:
     if method not in METHOD_STYLE:
         METHOD_STYLE[method] = dict(color=_OTHER_COLORS[(len(METHOD_STYLE) - 3) % len(_OTHER_COLORS)], marker="D")
     return METHOD_STYLE[method]
+def register_methods(methods) -> None:
+    """Give ``methods`` their styles in this order, so that every process that draws a figure
+    of the same study draws each method in the same colour."""
+    for method in methods:
+        style(method)
+
+
 FORMATS = ("png", "pdf")
 
 

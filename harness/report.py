@@ -17,11 +17,11 @@ from .case import Case, bound_text, fraction, registered_cases
 from .document import Document
 from .efficiency import efficiency_table, verdicts
 from .execution import InProcess
+from .figure_jobs import FigurePool
 from .methods import methods_named
 from .rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from .report_cache import compute, provenance
 from .results import ensure_writable, write_atomic, write_csv
-from .snapshots import load_snapshots
 from .study import PROFILES
 from .timing import Timings
 
@@ -453,33 +453,26 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     timings = Timings()
     start = time.perf_counter()
     sweep_cases = cases if _has_weak(settings["methods"]) else []
-    results, sweeps = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory, timings)
-    with timings("rates"):
-        rates = rate_table(results)
-        efficiency = efficiency_table(results)
-    with timings("writing", "results"):
-        write_csv(results, results_dir / "results.csv")
-        write_csv(rates, results_dir / "rates.csv")
-        write_csv(efficiency, results_dir / "efficiency.csv")
-    meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
-                                   "engine": (engine or InProcess()).describe()}
-    write_atomic(results_dir / "provenance.json", json.dumps(meta, indent=2))
-
-    figure_dir = Path(report_dir) / "figures"
-    with timings("figures", "summary"):
-        figs = {"summary": figures.summary(rates, figure_dir)}
-    for case in cases:
-        with timings("figures", case.name):
-            contact, domain = load_snapshots(results_dir / "cases" / f"{case.name}.npz")
-            figs[case.name] = {
-                "convergence": figures.convergence(case, results[results.case == case.name], figure_dir),
-                "contact": figures.contact(case, contact, figure_dir),
-                "solution": figures.domain(case, domain, figure_dir),
-                "efficiency": figures.efficiency(case, results[results.case == case.name],
-                                                 efficiency[efficiency.case == case.name].target_err_h1.iloc[0], figure_dir),
-            }
-    with timings("figures", "sweeps"):
-        figs["sweeps"] = {name: figures.sweep(known[name], frame, figure_dir) for name, frame in sweeps.items()}
+    with FigurePool(settings["methods"], Path(report_dir) / "figures") as pool:
+        results, sweeps = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory,
+                                  timings, on_stored=pool.case)
+        with timings("rates"):
+            rates = rate_table(results)
+            efficiency = efficiency_table(results)
+        pool.summary(rates)
+        for name, frame in sweeps.items():
+            pool.sweep(known[name], frame)
+        with timings("writing", "results"):
+            write_csv(results, results_dir / "results.csv")
+            write_csv(rates, results_dir / "rates.csv")
+            write_csv(efficiency, results_dir / "efficiency.csv")
+        meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
+                                       "engine": (engine or InProcess()).describe()}
+        write_atomic(results_dir / "provenance.json", json.dumps(meta, indent=2))
+        with timings("figures", "waiting for them"):
+            figs, seconds = pool.collect()
+    for name, spent in seconds.items():
+        timings.add("figures (in workers)", name, "", spent)
     with timings("document"):
         doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps)
     with timings("writing", "report"):
