@@ -6,7 +6,7 @@ coordinates about 0. With L(r) = |log(r/2)|^{-beta}, beta = 0.6 > 1/2,
 is homogeneous of degree one up to the slowly varying L, and sin^2 + (sin^2)'' = 1/2 != 0,
 so D^2 u_b ~ r^{-1} L(r): |D^2 u_b|^2 r ~ r^{-1} |log r|^{-2 beta} is integrable (beta > 1/2)
 with nothing to spare, and no fractional derivative of order delta > 0 of D^2 u_b is: u_b is
-in H^2 and in no H^{2+delta} (MATH.md Section 4). f = -Laplace(u) ~ r^{-1} L is in L^2.
+in H^2 and in no H^{2+delta} (docs/mathematics.md §4). f = -Laplace(u) ~ r^{-1} L is in L^2.
 On Gamma_C: u_b = 0 for x > 0, u_b = |x| L > 0 for x < 0, du_b/dn = 0 on both sides.
 Adding the transition -r^{3/2} sin(3 theta/2) (in H^{5/2-eps}) gives the binding side a
 positive pressure (3/2) sqrt(x), so 0 is a genuine contact/separation transition point.
@@ -15,8 +15,8 @@ theorems is not expected to be sharp; the study shows which factor the errors fo
 """
 from ngsolve import log, x
 
-from harness.functions import polar, transition
-from harness.geometry import contact_strip
+from harness.problem.functions import polar, transition
+from harness.problem.geometry import contact_strip
 
 name = "borderline-h2"
 description = "(r - x)/2 |log(r/2)|^{-0.6} (exactly H^2) plus an r^{3/2} transition at 0"

@@ -3,7 +3,7 @@
 Omega = (-1, 1) x (0, 1). Bottom: Gamma_g on (-1, 0), Gamma_C on (0, 1); sides Gamma_g,
 top Gamma_u. At the junction 0 the contact is binding (u = 0, Dirichlet-like) and the
 bottom turns Neumann: a mixed Dirichlet-Neumann point of interior angle omega = pi, leading
-exponent pi/(2 omega) = 1/2 (MATH.md Section 4):
+exponent pi/(2 omega) = 1/2 (docs/mathematics.md §4):
     u_s = -r^{1/2} sin(theta/2):  harmonic, u_s = 0 and du_s/dn = r^{-1/2}/2 > 0 on Gamma_C,
     du_s/dn = 0 on the Neumann bottom (theta = pi).
 A transition singularity at x = 1/2 (binding on its left, free on its right) gives Gamma_C a
@@ -14,8 +14,8 @@ the theorems give ||u - u_h||_1 <= C h^{1/2}; g = du/dn is smooth on Gamma_g.
 """
 from ngsolve import IfPos, sin, x
 
-from harness.functions import polar, transition
-from harness.geometry import polygon
+from harness.problem.functions import polar, transition
+from harness.problem.geometry import polygon
 
 name = "corner-r12"
 description = "binding contact meets Gamma_g at a straight junction (r^{1/2}), transition at x = 1/2"
@@ -35,5 +35,5 @@ u = -(r ** 0.5) * sin(theta / 2) + transition(0.5, binding_side="left")
 f = 0                                     # both terms are harmonic
 singular_points = [(0.0, 0.0), (0.5, 0.0)]  # the junction, the transition point
 # On the free part x > 1/2 the load g_C takes over the pressure r^{-1/2}/2 of u_s, so that
-# du/dn - g_C = 0 there: the contact-load generalisation of (2.4) (MATH.md Section 1).
+# du/dn - g_C = 0 there: the contact-load generalisation of (2.4) (docs/mathematics.md §1).
 contact_load = IfPos(x - 0.5, 0.5 * x ** (-0.5), 0.0)

@@ -8,9 +8,9 @@ how much at this Poisson ratio.
 """
 from math import pi
 
-from harness.functions import roller_free_mode
-from harness.geometry import contact_strip
-from harness.physics import Elasticity
+from harness.problem.functions import roller_free_mode
+from harness.problem.geometry import contact_strip
+from harness.problem.physics import Elasticity
 
 name = "elastic-transition-incompressible"
 description = "elastic r^{3/2} transition, nearly incompressible (plane strain, Poisson 0.49)"

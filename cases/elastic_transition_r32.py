@@ -8,7 +8,7 @@ The exponent. Near a transition point the body sees, on a half plane, the roller
 u_y = 0, sigma_xy = 0 on the binding side (theta = 0) and a traction-free side (theta = pi).
 Reflecting across theta = 0 (u_x even, u_y odd in y) gives a plane with a traction-free crack
 along theta = +-pi and the symmetric (mode I) crack fields: the exponents l solve
-sin(2 l pi) = 0, l = 1/2, 1, 3/2, ... (``harness.functions.roller_free_mode``: the
+sin(2 l pi) = 0, l = 1/2, 1, 3/2, ... (``harness.problem.functions.roller_free_mode``: the
 determinant sin(2 l omega) + l sin(2 omega) at omega = pi), for every Poisson ratio. l = 1/2
 is excluded by the sign conditions: its crack-tip field opens the free side (u_y > 0) only
 with a tensile sigma_yy ~ r^{-1/2} ahead of it, and the binding side needs compression -- as
@@ -27,9 +27,9 @@ Regularity: D^2 u ~ r^{-1/2}, u in H^{5/2 - eps}: nu = 5/2, rate h^{3/2} for bot
 """
 from math import pi
 
-from harness.functions import roller_free_mode
-from harness.geometry import contact_strip
-from harness.physics import Elasticity
+from harness.problem.functions import roller_free_mode
+from harness.problem.geometry import contact_strip
+from harness.problem.physics import Elasticity
 
 name = "elastic-transition-r32"
 description = "elastic r^{3/2} contact/separation transition at the middle of Gamma_C (plane strain, Poisson 0.3)"

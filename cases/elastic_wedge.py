@@ -7,7 +7,7 @@ Gamma_C = [0, 1] x {0} (n = -e_y), Gamma_g the right side and the ray from (0,0)
 The exponent. Binding frictionless contact is the roller condition u . n = 0, sigma_t = 0; the
 ray is traction-free. Reflecting across Gamma_C (u_n odd, u_t even) turns the roller face into
 the bisector of a traction-free wedge of angle 2 omega, and the fields into its symmetric ones:
-Williams' characteristic equation of a free-free wedge (``harness.functions.roller_free_mode``)
+Williams' characteristic equation of a free-free wedge (``harness.problem.functions.roller_free_mode``)
 
     sin(2 l omega) + l sin(2 omega) = 0,   here   sin(3 pi l / 2) = l,
 
@@ -28,12 +28,12 @@ from math import pi, sin
 
 from scipy.optimize import brentq
 
-from harness.functions import roller_free_mode
-from harness.geometry import polygon
-from harness.physics import Elasticity
+from harness.problem.functions import roller_free_mode
+from harness.problem.geometry import polygon
+from harness.problem.physics import Elasticity
 
 OMEGA = 3 * pi / 4
-EXPONENT = brentq(lambda l: sin(2 * l * OMEGA) + l * sin(2 * OMEGA), 0.3, 0.9, xtol=1e-15)
+EXPONENT = brentq(lambda s: sin(2 * s * OMEGA) + s * sin(2 * OMEGA), 0.3, 0.9, xtol=1e-15)
 
 name = "elastic-wedge"
 description = f"elastic binding contact meets a traction-free face at 3pi/4: r^{{{EXPONENT:.4f}}} (plane strain, Poisson 0.3)"

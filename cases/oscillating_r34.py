@@ -14,7 +14,7 @@ harmonic (f = 0) and even in x. On Gamma_C (theta = 0 or pi) u = |x|^a s(x) with
 which changes sign at |x_n| = exp((pi/2 - psi + n pi)/beta): infinitely many points
 accumulating at 0, a factor e^{pi/beta} = 2.85 apart.
 
-Signorini conditions. A gap alpha and a contact load g_C (MATH.md Section 1) make u exact:
+Signorini conditions. A gap alpha and a contact load g_C (docs/mathematics.md §1) make u exact:
     alpha = u - |x|^a [s]_+^{3/2},        g_C = du/dn - |x|^{a-1} [-s]_+^{1/2},
 so that on Gamma_C
     u - alpha = |x|^a [s]_+^{3/2} >= 0,   du/dn - g_C = |x|^{a-1} [-s]_+^{1/2} >= 0,
@@ -46,8 +46,8 @@ abstract gives the same h^{3/4}, the second verdict.) Whatever the study measure
 """
 from ngsolve import IfPos, cos, exp, log, pi, sqrt, x, y
 
-from harness.functions import polar
-from harness.geometry import contact_strip
+from harness.problem.functions import polar
+from harness.problem.geometry import contact_strip
 
 name = "oscillating-r34"
 description = "infinitely many transitions accumulating at 0 (r^{3/4} cos(3 log r) on Gamma_C), Remark 4.3"

@@ -27,8 +27,8 @@ from math import cos, pi, sin
 
 from ngsolve import x, y, z
 
-from harness.functions import transition
-from harness.geometry import disc_box
+from harness.problem.functions import transition
+from harness.problem.geometry import disc_box
 
 name = "transition-circle-3d"
 description = "3D: circular contact zone, r^{3/2} transition along the circle x^2 + y^2 = 1/4 of Gamma_C"

@@ -3,7 +3,7 @@
 Omega = (-1, 1)^2 x (0, 1), Gamma_C = the bottom face z = 0 (n = -e_z), Gamma_u = the top,
 Gamma_g = the four sides. With (rho, theta) the polar coordinates of (x, z) about the line
 {x = 0, z = 0} (theta in [0, pi]) and w(y) = 1 + y^2/2 > 0,
-    u = w(y) v(x, z),   v = -rho^{3/2} sin(3 theta / 2)   (``harness.functions.transition``).
+    u = w(y) v(x, z),   v = -rho^{3/2} sin(3 theta / 2)   (``harness.problem.functions.transition``).
 v is harmonic in (x, z), so f = -Laplace(u) = -w''(y) v = -v.
 Signorini conditions on Gamma_C (z = 0, d_n = -d_z), as in 2D times w > 0:
   x > 0 (theta = 0): u = 0 and du/dn = (3/2) w(y) sqrt(x) >= 0   -- binding;
@@ -18,8 +18,8 @@ The box is two boxes glued along x = 0, so every mesh has edges along the transi
 """
 from ngsolve import y
 
-from harness.functions import transition
-from harness.geometry import contact_box
+from harness.problem.functions import transition
+from harness.problem.geometry import contact_box
 
 name = "transition-line-3d"
 description = "3D: (1 + y^2/2) r^{3/2} sin(3 theta/2), transition along the straight line x = 0 of Gamma_C"

@@ -10,7 +10,7 @@ H^{5/2}: nu = 5/2 (from below). Theorems 4.1 ii and 5.1 ii give ||u - u_h||_1 <=
 """
 from ngsolve import atan2, sin, sqrt, x, y
 
-from harness.geometry import contact_strip
+from harness.problem.geometry import contact_strip
 
 name = "transition-r32"
 description = "r^{3/2} sin(3 theta/2) contact/separation transition at the middle of Gamma_C"

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import pandas as pd
 
-from .case import Case, fraction, load_case, registered_cases
 from .methods import METHODS, methods_named
-from .execution import run_study
+from .problem.case import Case, fraction, load_case, registered_cases
+from .study import run_study
 
 
 def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_level=None,

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from .case import CaseError
+from .problem.case import CaseError
 
 EXIT_BAD_INPUT = 2
 
@@ -61,18 +61,18 @@ def selected_methods(args) -> list:
 
 def engine_of(args):
     """Where the jobs run: --workers N (a LocalCluster), --scheduler ADDRESS, or this process."""
-    from .execution import DaskEngine, InProcess
+    from .study import DaskEngine, InProcess
     if args.workers or args.scheduler:
         return DaskEngine(workers=args.workers, scheduler=args.scheduler, threads=args.threads)
     return InProcess(threads=args.threads)
 
 
 def cmd_run(args) -> int:
-    from .case import load_case
-    from .execution import run_study
-    from .execution.checkpoint import CheckpointStore
-    from .execution.engines import study_jobs
-    from .results import ensure_writable, write_csv
+    from .problem.case import load_case
+    from .study import run_study
+    from .study.checkpoint import CheckpointStore
+    from .study.engines import study_jobs
+    from .study.files import ensure_writable, write_csv
 
     methods = selected_methods(args)
     cases = [load_case(spec) for spec in args.case]
@@ -113,10 +113,10 @@ def _print_references(frame: pd.DataFrame) -> None:
 
 
 def cmd_sweep(args) -> int:
-    from . import figures
-    from .case import load_case
-    from .results import ensure_writable, write_csv
-    from .sweep import run_sweep, swept
+    from .problem.case import load_case
+    from .report import figures
+    from .study.files import ensure_writable, write_csv
+    from .study.sweep import run_sweep, swept
 
     case = load_case(args.case)
     for spec in args.method:
@@ -165,7 +165,7 @@ def _method_spec(text: str) -> str:
 
 
 def _known_cases(extra_specs) -> dict:
-    from .case import load_case, registered_cases
+    from .problem.case import load_case, registered_cases
     cases = registered_cases()
     for spec in extra_specs or []:
         case = load_case(spec)
@@ -212,8 +212,8 @@ def _from_model_column(frame: pd.DataFrame, cases: dict, path: Path) -> pd.DataF
 
 
 def cmd_rates(args) -> int:
-    from .rates import rate_table
-    from .results import ensure_writable, write_csv
+    from .measure.rates import rate_table
+    from .study.files import ensure_writable, write_csv
     path = Path(args.results)
     frame = read_results(path, args.case)
     table = rate_table(frame, levels=args.fit_levels)
@@ -226,7 +226,7 @@ def cmd_rates(args) -> int:
 
 
 def cmd_report(args) -> int:
-    from .report import make_report
+    from .report.build import make_report
     engine = engine_of(args)
     try:
         path = make_report(args.profile, Path(args.results), Path(args.report), args.case,
@@ -239,9 +239,12 @@ def cmd_report(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from .bench import (DEFAULT_SIZES, elastic_goals, goals, measure_study, run_3d_bench, run_bench, run_elastic_bench,
-                        study_goals, three_d_goals, write_bench)
-    from .results import ensure_writable
+    from .bench.common import write_bench
+    from .bench.elastic import elastic_goals, run_elastic_bench
+    from .bench.solvers import DEFAULT_SIZES, goals, run_bench
+    from .bench.study import measure_study, study_goals
+    from .bench.three_d import run_3d_bench, three_d_goals
+    from .study.files import ensure_writable
     out = Path(args.out)
     ensure_writable(out.parent)
     lines = []
@@ -265,7 +268,7 @@ def cmd_bench(args) -> int:
         _show(frame, write_bench(frame, out), "")
         lines += goals(frame)
     if args.only == "report":
-        from .bench_report import profile_tables, report_goals, run_report_bench
+        from .bench.report import profile_tables, report_goals, run_report_bench
         frame, profile = run_report_bench(args.workers or (0,))
         _show(frame, write_bench(frame, out.with_name(out.stem + "_report.csv")), "make report (default profile, empty results):")
         sections, phases = profile_tables(profile)
@@ -347,7 +350,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_engine_options(p)
     p.set_defaults(func=cmd_run)
 
-    from .sweep import SWEEP_VALUES
+    from .study.sweep import SWEEP_VALUES
     p = sub.add_parser("sweep", help="a penalty/Nitsche method over values of its parameter, at one level of one case")
     p.add_argument("--case", required=True, metavar="NAME|PATH")
     p.add_argument("--method", action="append", type=_method_spec, required=True, metavar="METHOD",
@@ -397,7 +400,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    from .results import OutputError
+    from .study.files import OutputError
     try:
         args = build_parser().parse_args(argv)
         return args.func(args)

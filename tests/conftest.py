@@ -1,11 +1,11 @@
 import numpy as np
 import pytest
 
-from harness.case import load_case
-from harness.discrete import discretise
-from harness.mesh import mesh_hierarchy
+from harness.fem.assembly import discretise
+from harness.mesh.levels import mesh_hierarchy
 from harness.methods import METHODS, BoundConstrained, WeakContact
-from harness.multigrid import Multilevel
+from harness.problem.case import load_case
+from harness.solvers.multigrid import Multilevel
 
 # The paper's P2 cones by method name (the cone-level tests), the methods that solve a cone
 # exactly (active set), the weak ones (penalty, Nitsche: semismooth Newton), and all.

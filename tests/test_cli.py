@@ -1,14 +1,14 @@
 """Command line: results written atomically; bad input gives one line and a non-zero exit."""
-from pathlib import Path
 import subprocess
 import sys
+from pathlib import Path
 
 import pandas as pd
 import pytest
 
+from harness.measure.rates import RATE_COLUMNS
 from harness.methods import METHODS
-from harness.rates import RATE_COLUMNS
-from harness.study import COLUMNS
+from harness.study.chain import COLUMNS
 
 ROOT = Path(__file__).resolve().parent.parent
 

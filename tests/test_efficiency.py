@@ -3,7 +3,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from harness.efficiency import at_target, efficiency_table
+from harness.measure.efficiency import at_target, efficiency_table
 
 
 def test_cost_at_a_target_interpolates_log_log_between_the_levels_around_it():

@@ -10,17 +10,18 @@ import pytest
 import scipy.sparse as sp
 from qpsolvers import solve_qp
 
-from harness.case import CaseError, load_case, registered_cases
-from harness.discrete import discretise
-from harness.functions import roller_free_mode
-from harness.geometry import polygon
-from harness.mesh import evaluate, mesh_hierarchy
+from harness.fem.assembly import discretise
+from harness.fem.cones import contact_qp
+from harness.mesh.levels import mesh_hierarchy
+from harness.mesh.points import evaluate
 from harness.methods import METHODS, methods_for
-from harness.models import contact_qp
-from harness.physics import Elasticity
-from harness.solver import solve_contact_qp
-from harness.study import run_chain
-from harness.validate import validate_case
+from harness.problem.case import CaseError, load_case, registered_cases
+from harness.problem.functions import roller_free_mode
+from harness.problem.geometry import polygon
+from harness.problem.physics import Elasticity
+from harness.problem.validate import validate_case
+from harness.solvers.active_set import solve_contact_qp
+from harness.study.chain import run_chain
 
 ELASTIC = [name for name, case in registered_cases().items() if case.physics.name == "elasticity"]
 CONES = [name for name in ("mean", "nodal", "p1")]

@@ -5,17 +5,18 @@ import dataclasses
 import ngsolve as ngs
 import numpy as np
 import pytest
-
 from conftest import MODEL_NAMES, MODELS
-from harness import discrete
-from harness.case import registered_cases
-from harness.discrete import ContactTraceFunction, discretise, load_vector
-from harness.errors import NORMS, error_norms, max_penetration
-from harness.mesh import evaluate
-from harness.mesh import mesh_hierarchy
+
+from harness.fem import assembly as discrete
+from harness.fem.assembly import ContactTraceFunction, discretise, load_vector
+from harness.fem.element_quadrature import ElementQuadrature
+from harness.fem.penetration import max_penetration
+from harness.measure.errors import NORMS, error_norms
+from harness.mesh.levels import mesh_hierarchy
+from harness.mesh.points import evaluate
 from harness.methods import METHODS, methods_for
-from harness.quadrature import ElementQuadrature
-from harness.study import PROFILES, run_chain
+from harness.problem.case import registered_cases
+from harness.study.chain import PROFILES, run_chain
 
 # cases measured against u (a reference case's errors are exact matrix norms: tests/test_reference.py)
 EXACT_CASES = [name for name, case in registered_cases(dimension=2).items() if case.exact]     # 3D: test_three_d.py
@@ -109,7 +110,7 @@ def test_graded_rule_integrates_the_corner_singularity():
     """The integral over the reference triangle of r^{-1} about the vertex (0,0) is
     int_0^{pi/2} dt / (cos t + sin t) = sqrt(2) log(1 + sqrt(2)): the graded rule gets it to
     1e-6, a plain Gauss rule of the same order misses by 0.6%."""
-    from harness.quadrature import graded_rule
+    from harness.fem.element_quadrature import graded_rule
     exact = np.sqrt(2) * np.log(1 + np.sqrt(2))
     rule = graded_rule()
     graded = sum(w / np.hypot(*p[:2]) for p, w in zip(rule.points, rule.weights))
@@ -152,7 +153,7 @@ def test_p1_solution_is_conforming_on_the_whole_contact_boundary():
 def test_red_refinement_halves_h_exactly(case_name):
     """The study measures h on level 0 and halves it per level: netgen's red refinement splits
     every edge in two."""
-    from harness.mesh import mesh_size
+    from harness.mesh.levels import mesh_size
     sizes = [mesh_size(mesh) for _, mesh in mesh_hierarchy(registered_cases()[case_name], 5)]
     np.testing.assert_allclose(sizes, sizes[0] / 2.0 ** np.arange(5), rtol=1e-12)
 
@@ -164,9 +165,10 @@ def test_gamma_c_points_located_without_search_are_netgens_points(case_name, rng
     """``mesh.in_elements``: the points of the Gamma_C rules are made from the element on each
     contact edge (2D) or face (3D), not searched for; values and gradients of a random P2
     function there are those at the points netgen's search finds."""
-    import harness.mesh as harness_mesh
     from conftest import problem_at
-    from harness.boundary import contact_quadrature
+
+    import harness.mesh as harness_mesh
+    from harness.fem.contact_quadrature import contact_quadrature
     problem = problem_at(case_name, 1)
     quadrature = contact_quadrature(problem)          # makes its points known (located)
     gfu = problem.gridfunction(rng.standard_normal(problem.ndof))

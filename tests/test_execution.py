@@ -16,17 +16,16 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from harness.case import load_case, registered_cases
 from harness.cli import main
-from harness.discrete import discretise
-from harness.execution import DaskEngine, InProcess, run_study
-from harness.execution import budget
-from harness.execution.budget import BudgetError, LevelSizes, estimate
-from harness.execution.checkpoint import CheckpointStore
-from harness.execution.engines import chains
-from harness.execution.progress import StudyProgress
-from harness.mesh import mesh_hierarchy
+from harness.fem.assembly import discretise
+from harness.mesh.levels import mesh_hierarchy
 from harness.methods import methods_named
+from harness.problem.case import load_case, registered_cases
+from harness.study import DaskEngine, InProcess, budget, run_study
+from harness.study.budget import BudgetError, LevelSizes, estimate
+from harness.study.checkpoint import CheckpointStore
+from harness.study.engines import chains
+from harness.study.progress import StudyProgress
 
 REPOSITORY = Path(__file__).resolve().parents[1]
 # what may differ between two runs of one study: wall times
@@ -127,7 +126,8 @@ def test_the_progress_line_fits_a_100_column_terminal_and_counts_methods_done():
     """One line (issue 28): the case, level, dofs and how many of the level's methods are done,
     whatever the names; the bar takes what is left of 100 columns."""
     from tqdm import tqdm
-    from harness.execution.progress import BAR_FORMAT
+
+    from harness.study.progress import BAR_FORMAT
     case = load_case("transition-r32")
     progress = StudyProgress(budget.solve_weights(case, methods_named(["all"]), 3), show=False)
     progress.solving("transition-r32", "nodal", 2, 36225)

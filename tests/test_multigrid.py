@@ -3,13 +3,13 @@ pins, and CG iteration counts that do not grow under refinement."""
 import numpy as np
 import pytest
 import scipy.sparse as sp
-
 from conftest import CONE_NAMES, problem_with_hierarchy
+
+from harness.fem.cones import contact_qp
 from harness.methods import METHODS
-from harness.case import load_case
-from harness.models import contact_qp
-from harness.multigrid import ContactEdges, TruncatedVCycle
-from harness.solver import MultigridSystem, solve_contact_qp
+from harness.problem.case import load_case
+from harness.solvers.active_set import MultigridSystem, solve_contact_qp
+from harness.solvers.multigrid import ContactEdges, TruncatedVCycle
 
 
 def _csr(matrix) -> sp.csr_matrix:

@@ -1,12 +1,12 @@
 """The theorems, one by one: every case x method converges at least at its own theory's rate."""
 import numpy as np
 import pytest
-
 from conftest import METHOD_NAMES, MODEL_NAMES
+
 from harness import run
-from harness.case import registered_cases
+from harness.measure.rates import fit_rate, normalised_errors, pairwise_rates, rate_table
 from harness.methods import METHODS
-from harness.rates import fit_rate, normalised_errors, pairwise_rates, rate_table
+from harness.problem.case import registered_cases
 
 # Levels 0..5: the finest has about 1.2e5 to 1.4e5 dofs, in the asymptotic range of every case.
 RATE_LEVELS = 6

@@ -5,14 +5,15 @@ from pathlib import Path
 import ngsolve as ngs
 import numpy as np
 import pytest
-
 from conftest import CONE_NAMES, WEAK_NAMES
+
 from harness import run
-from harness.case import CaseError, load_case, registered_cases
-from harness.mesh import coarse_mesh, evaluate, mesh_hierarchy
-from harness.rates import rate_table
-from harness.reference import LevelNumbering, norm_matrices, prolongation
-from harness.validate import validate_case
+from harness.measure.rates import rate_table
+from harness.measure.reference import LevelNumbering, norm_matrices, prolongation
+from harness.mesh.levels import coarse_mesh, mesh_hierarchy
+from harness.mesh.points import evaluate
+from harness.problem.case import CaseError, load_case, registered_cases
+from harness.problem.validate import validate_case
 
 DATA = Path(__file__).parent / "data"
 REFERENCE_CASES = [name for name, case in registered_cases().items() if not case.exact]
@@ -24,7 +25,7 @@ def test_prolongation_reproduces_the_coarse_function_exactly(order, rng):
     the coarse mesh) and keeps its H^1-semi and L^2 norms, to round-off."""
     case = load_case("transition-r32")
     copy = coarse_mesh(case)
-    numberings, meshes = [], None
+    numberings = []
     for level, mesh in mesh_hierarchy(case, 3):
         numberings.append(LevelNumbering.of(mesh))
         if level == 0:

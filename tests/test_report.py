@@ -7,8 +7,8 @@ import pandas as pd
 import pytest
 
 from harness.methods import METHODS
-from harness.report import make_report
-from harness.sweep import REPORT_SWEEP
+from harness.report.build import make_report
+from harness.study.sweep import REPORT_SWEEP
 
 CASES = ["transition-r32", "corner-r12"]
 
@@ -69,12 +69,35 @@ def test_unchanged_results_are_reused(report, capsys):
     assert (root / "results" / "cases" / "corner-r12.csv").stat().st_mtime_ns == stored
 
 
+def test_rewording_the_report_keeps_the_study_cache_key_and_changing_a_solver_does_not(tmp_path):
+    """The cache key hashes the computing stages only: a sentence of the report's prose (or a
+    benchmark) edited in a copy of the package leaves it unchanged, a solver's code does not."""
+    import shutil
+
+    from harness.study.checkpoint import PACKAGE, code_digest
+    copy = tmp_path / "harness"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    before = code_digest(copy)
+    assert before == code_digest(PACKAGE)
+    build = copy / "report" / "build.py"
+    build.write_text(build.read_text().replace("Fitted H¹ rates", "Fitted H1 rates"))
+    (copy / "bench" / "solvers.py").write_text((copy / "bench" / "solvers.py").read_text() + "\n# a note\n")
+    code_digest.cache_clear()
+    assert code_digest(copy) == before
+    newton = copy / "solvers" / "newton.py"
+    newton.write_text(newton.read_text() + "\n# a change\n")
+    code_digest.cache_clear()
+    assert code_digest(copy) != before
+
+
 def test_markdown_table_cells_keep_a_literal_bar_inside():
-    from harness.document import Document
+    from harness.report.document import Document
     doc = Document("t")
     doc.table(pd.DataFrame({"case": ["borderline-h2"], "expected": ["h^1 |log h|^1/4"]}))
     header, _, row = doc.markdown(Path(".")).splitlines()[2:5]
-    unescaped_bars = lambda line: len(re.findall(r"(?<!\\)\|", line))
+
+    def unescaped_bars(line):
+        return len(re.findall(r"(?<!\\)\|", line))
     assert unescaped_bars(row) == unescaped_bars(header) == 3
 
 
@@ -115,7 +138,7 @@ def test_report_states_reference_and_remark_43_findings(tmp_path):
 def test_bench_report_profiles_the_report_and_compares_engines():
     """`bench --only report` (here a 2-level report of one case): one row per engine with its
     wall time and peak memory, the speedup against the first, and where the time went."""
-    from harness.bench_report import profile_tables, report_goals, run_report_bench
+    from harness.bench.report import profile_tables, report_goals, run_report_bench
     frame, profile = run_report_bench((0, 2), cases=["transition-r32"], levels=2, progress=lambda *_: None)
     assert list(frame.workers) == [0, 2] and (frame.wall_seconds > 0).all() and (frame.peak_rss_mb > 100).all()
     assert frame.speedup.iloc[0] == 1.0

@@ -2,13 +2,13 @@
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from conftest import CONE_NAMES, problem_at, problem_with_hierarchy
 from qpsolvers import solve_qp
 
-from conftest import CONE_NAMES, problem_at, problem_with_hierarchy
-from harness.case import load_case
+from harness.fem.cones import contact_qp
 from harness.methods import METHODS
-from harness.models import contact_qp
-from harness.solver import ActiveSetSolver, solve_contact_qp
+from harness.problem.case import load_case
+from harness.solvers.active_set import ActiveSetSolver, solve_contact_qp
 
 CROSS_CHECK_LEVELS = [0, 1, 2]   # 165, 609, 2337 dofs: all <= 3000
 

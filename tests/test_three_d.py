@@ -1,26 +1,27 @@
 """3D (Section 6): the cones edge by edge on the triangles of Gamma_C, solved exactly, and what
 they converge like. Sizes: level 0 has 2.5e3 P2 dofs, level 1 1.8e4, level 2 1.3e5 (the full
 4-level study, 1e6 dofs, is under `make test-full`)."""
-import numpy as np
 import ngsolve as ngs
+import numpy as np
 import pytest
 import scipy.sparse as sp
-from qpsolvers import solve_qp
-
 from conftest import CONE_NAMES
+from qpsolvers import solve_qp
 from test_solver import hierarchical_qp
-from harness.boundary import contact_quadrature
-from harness.case import CaseError, load_case, registered_cases
-from harness.discrete import ContactTraceFunction, discretise
-from harness.errors import error_norms
-from harness.execution.budget import LevelSizes
-from harness.mesh import evaluate, mesh_hierarchy
+
+from harness.fem.assembly import ContactTraceFunction, discretise
+from harness.fem.cones import contact_qp
+from harness.fem.contact_quadrature import contact_quadrature
+from harness.fem.element_quadrature import ElementQuadrature
+from harness.measure.errors import error_norms
+from harness.measure.rates import pairwise_rates
+from harness.mesh.levels import mesh_hierarchy
+from harness.mesh.points import evaluate
 from harness.methods import METHODS, methods_for
-from harness.models import contact_qp
-from harness.quadrature import ElementQuadrature
-from harness.rates import pairwise_rates
-from harness.solver import solve_contact_qp
-from harness.study import run_chain
+from harness.problem.case import CaseError, load_case, registered_cases
+from harness.solvers.active_set import solve_contact_qp
+from harness.study.budget import LevelSizes
+from harness.study.chain import run_chain
 
 THREE_D = list(registered_cases(dimension=3))
 CONES = [METHODS[name] for name in CONE_NAMES]
@@ -44,7 +45,7 @@ def test_only_the_cones_discretise_a_3d_case(case_name):
 
 def test_an_elastic_3d_case_is_refused_in_one_line(tmp_path):
     path = tmp_path / "elastic3d.py"
-    path.write_text("from ngsolve import CF\nfrom harness.geometry import contact_box\nname = 'e3'\n"
+    path.write_text("from ngsolve import CF\nfrom harness.problem.geometry import contact_box\nname = 'e3'\n"
                     "description = 'x'\ngeometry = contact_box()\nmaxh = 0.5\nu = CF((0, 0, 0))\nnu = 3\n"
                     "expected_rate = 2\ntheorem = 'x'\nphysics = 'elasticity'\npoisson = 0.3\n")
     with pytest.raises(CaseError, match="plane strain"):

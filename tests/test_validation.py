@@ -4,8 +4,8 @@ from pathlib import Path
 
 import pytest
 
-from harness.case import CaseError, load_case, registered_cases
-from harness.validate import validate_case
+from harness.problem.case import CaseError, load_case, registered_cases
+from harness.problem.validate import validate_case
 
 DATA = Path(__file__).parent / "data"
 

@@ -4,14 +4,14 @@ the multigrid path equals the direct one, and parameters are parsed and checked.
 import ngsolve as ngs
 import numpy as np
 import pytest
-
 from conftest import WEAK_NAMES, problem_at, problem_with_hierarchy
-from harness.boundary import contact_quadrature
-from harness.case import load_case
-from harness.mesh import evaluate
+
+from harness.fem.contact_quadrature import contact_quadrature
+from harness.fem.weak_contact import weak_contact_system
+from harness.mesh.points import evaluate
 from harness.methods import METHODS, get_method, methods_named
-from harness.newton import solve_semismooth_newton
-from harness.weak_contact import weak_contact_system
+from harness.problem.case import load_case
+from harness.solvers.newton import solve_semismooth_newton
 
 # a straight horizontal Gamma_C; a slanted one with a gap; contact loads g_C
 CASES = ["transition-r32", "tests/data/gap_case.py", "wedge-r23"]

@@ -1,6 +1,7 @@
-"""Running a study: where its jobs run (this process or Dask workers: ``engines``), what makes
-every finished level durable (``checkpoint``), what it will cost before it starts (``budget``),
-and one progress bar for all of it (``progress``)."""
-from .engines import DaskEngine, InProcess, run_jobs, run_study
+"""Deprecated: harness.execution moved to ``harness.study`` (harness 0.3.0); this alias goes in 0.4.0."""
+import warnings
 
-__all__ = ["DaskEngine", "InProcess", "run_jobs", "run_study"]
+from ..study import *  # noqa: F401,F403
+
+warnings.warn("harness.execution is deprecated: import from harness.study (harness 0.3.0; the alias goes in 0.4.0)",
+              DeprecationWarning, stacklevel=2)

@@ -14,13 +14,13 @@ from typing import Callable
 
 import numpy as np
 
-from ..discrete import ContactTraceFunction
-from ..errors import max_penetration
-from ..models import ContactModel, contact_pressure, contact_qp
-from ..multigrid import HIERARCHICAL, nested_start
-from ..newton import solve_semismooth_newton
-from ..solver import solve_contact_qp
-from ..weak_contact import predicted_active, weak_contact_system
+from ..fem.assembly import ContactTraceFunction
+from ..fem.cones import ContactModel, contact_pressure, contact_qp
+from ..fem.penetration import max_penetration
+from ..fem.weak_contact import predicted_active, weak_contact_system
+from ..solvers.active_set import solve_contact_qp
+from ..solvers.multigrid import HIERARCHICAL, nested_start
+from ..solvers.newton import solve_semismooth_newton
 
 # P1 on level l+1 has about the dofs of P2 on level l (the vertices of level l+1 are those of
 # level l plus one per edge): a study gives order-1 methods one more level, so that every

@@ -17,7 +17,7 @@ reachable from this sandbox.)
 """
 import math
 
-from harness.methods.base import Expectation, WeakContact
+from .base import Expectation, WeakContact
 
 REFERENCE = "Chouly & Hild 2013 (SINUM 51); Chouly, Hild & Renard 2015 (Math. Comp. 84), Thm 3.8"
 GAMMA0 = 0.05

@@ -2,8 +2,8 @@
 the edge midpoints of Gamma_C (before (5.1)), the degrees of freedom of the Lagrange
 interpolant I_h. K~_h lies in K_h (Simpson's rule). Rates: Theorems 5.1 and 5.2, the same as
 for `mean`, declared by each case."""
-from harness.methods.base import BoundConstrained, drouet_hild_for, paper_theorem
-from harness.models import ContactModel
+from ..fem.cones import ContactModel
+from .base import BoundConstrained, drouet_hild_for, paper_theorem
 
 method = BoundConstrained(
     name="nodal",

@@ -14,8 +14,8 @@ Expected H^1 rate h^{min(nu - 1, 1)}, no log factor:
   finite-transition assumption or a |log h| factor. (Read here from the abstract: its full text,
   and so its theorem numbers, were not reachable from this sandbox.)
 """
-from harness.methods.base import BoundConstrained, Expectation, drouet_hild_for
-from harness.models import ContactModel
+from ..fem.cones import ContactModel
+from .base import BoundConstrained, Expectation, drouet_hild_for
 
 
 def expected(case) -> Expectation:

@@ -13,7 +13,7 @@ whatever the order of the elements (Gustafsson & Stenberg, J. Struct. Mech. 58 (
 """
 import math
 
-from harness.methods.base import Expectation, WeakContact
+from .base import Expectation, WeakContact
 
 REFERENCE = "Chouly & Hild 2013 (Appl. Numer. Math. 65), eps = eps0 h"
 EPS0 = 0.05

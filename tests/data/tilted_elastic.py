@@ -2,9 +2,9 @@
 the rotated frame at its nodes (``discrete.RotatedFrame``) is not the identity."""
 from math import cos, pi, sin
 
-from harness.functions import roller_free_mode
-from harness.geometry import polygon
-from harness.physics import Elasticity
+from harness.problem.functions import roller_free_mode
+from harness.problem.geometry import polygon
+from harness.problem.physics import Elasticity
 
 ANGLE = 0.3
 name = "tilted-elastic"

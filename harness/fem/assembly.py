@@ -1,0 +1,348 @@
+"""The conforming discretisation of (2.5) on one mesh level: X_h, a(., .), L(.), Dirichlet lift.
+
+X_h is NGSolve's H1 space of order 2 (the paper's P2) or 1 (the P1 baseline), or its vector
+counterpart for an elastic case (``physics``; Remark 2.3). An elastic problem is written in a
+rotated frame at the nodes of Gamma_C: there the two nodal variables are the contact variable
+c = -u . n and the tangential displacement (``RotatedFrame``), so the contact dofs carry one
+scalar each, as in the scalar problem, and every cone, solver and error on Gamma_C is shared. Its basis is
+hierarchical: vertex hat functions and, for order 2, one bubble phi_e = -1/2 lambda_a lambda_b
+per edge (docs/mathematics.md §3). The stiffness matrix is
+NGSolve's, with a scipy CSR view of the same memory (no copy); the contact models change
+variables.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+from scipy.spatial import cKDTree
+
+from ..mesh.trace import ContactTrace, contact_trace
+from .element_quadrature import ElementQuadrature, singular_vertices
+
+# Gauss order of the volume load f v away from singular points (the graded rule near them):
+# see LOAD_ORDER_NOTE in tests/test_errors.py for the measurement that chose it.
+LOAD_ORDER = 4
+# Extra order for the Neumann load g on Gamma_g: O(h^-1) edges, cheap, and g may be singular at
+# a junction.
+BOUNDARY_LOAD_BONUS_ORDER = 6
+# Gauss points per contact edge for the contact load g_C (graded at singular points)
+CONTACT_LOAD_POINTS = 8
+
+
+@dataclass
+class DiscreteProblem:
+    mesh: ngs.Mesh
+    fes: ngs.H1
+    _A: sp.csr_matrix | None    # stiffness matrix a(phi_j, phi_i), all dofs: a view of _A_ngs
+    _A_ngs: object              # the same, as assembled by NGSolve
+    b: np.ndarray               # load vector L(phi_i), all dofs
+    lift: np.ndarray            # Dirichlet data on Gamma_u dofs, zero elsewhere
+    free: np.ndarray            # bool: dofs not on Gamma_u
+    trace: ContactTrace
+    edge_dofs: np.ndarray       # (m,) bubble dof of each contact edge; empty for order 1
+    end_dofs: np.ndarray        # (m, 2) vertex dofs of the end points of each contact edge
+    vertex_dofs: np.ndarray     # dofs of trace.vertices, same order
+    quadrature: ElementQuadrature
+    physics: object                             # the case's (``problem.physics``)
+    contact_rows: sp.csr_matrix | None = None   # A's rows of ``contact_dofs``, kept after A is taken
+    basis: sp.csr_matrix | None = None          # Q: NGSolve's (Cartesian) coefficients = Q @ ours; None: Q = I
+
+    def cartesian(self, vector: np.ndarray) -> np.ndarray:
+        """The coefficients in NGSolve's own basis of a vector of this problem's variables."""
+        return vector if self.basis is None else self.basis @ vector
+
+    @property
+    def contact_dofs(self) -> np.ndarray:
+        """The dofs whose basis functions have a trace on Gamma_C: its vertices, then its edges."""
+        return np.concatenate([self.vertex_dofs, self.edge_dofs])
+
+    def contact_residual(self, u: np.ndarray) -> np.ndarray:
+        """a(u, phi_i) - L(phi_i) for the dofs i of ``contact_dofs``: the discrete contact force."""
+        return self.contact_rows @ u - self.b[self.contact_dofs]
+
+    @property
+    def ndof(self) -> int:
+        return self.fes.ndof
+
+    @property
+    def order(self) -> int:
+        return self.fes.globalorder
+
+    def bubbles(self, u: np.ndarray) -> np.ndarray:
+        """The bubble coefficient of u on each contact edge (zero for order 1)."""
+        return u[self.edge_dofs] if len(self.edge_dofs) else np.zeros(len(self.trace.edges))
+
+    @property
+    def A(self) -> sp.csr_matrix:
+        return self._stiffness()[0]
+
+    @property
+    def A_ngs(self):
+        return self._stiffness()[1]
+
+    def _stiffness(self):
+        if self._A is None:
+            raise RuntimeError("the stiffness matrix of this level was taken by its last contact QP (take_stiffness)")
+        return self._A, self._A_ngs
+
+    def take_stiffness(self):
+        """(A, A_ngs), handed over for good: the last method of a level changes A's values in
+        place into its own matrix (``models.contact_qp``), so a level holds one matrix, not two."""
+        taken = self._stiffness()
+        self._A = self._A_ngs = None
+        return taken
+
+    def gridfunction(self, vector: np.ndarray) -> ngs.GridFunction:
+        gf = ngs.GridFunction(self.fes)
+        gf.vec.FV().NumPy()[:] = self.cartesian(vector)
+        return gf
+
+
+def _contact_dof(fes, node) -> int:
+    """The dof of ``node`` that carries the contact variable: its only one (scalar), or the
+    second component's, where ``RotatedFrame`` puts c = -u . n (elasticity)."""
+    return fes.GetDofNrs(node)[-1]
+
+
+def csr_view(matrix) -> sp.csr_matrix:
+    """A scipy CSR matrix on the memory of an NGSolve sparse matrix (values and column indices
+    shared, not copied); it keeps ``matrix`` alive."""
+    values, columns, pointers = matrix.CSR()
+    view = sp.csr_matrix((values.NumPy(), np.asarray(columns), np.asarray(pointers, dtype=np.int64)),
+                         shape=(matrix.height, matrix.width), copy=False)
+    view.owner = matrix
+    return view
+
+
+def csr_positions(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Positions in ``M.data`` of the entries (rows[k], cols[k]), which must be in M's pattern
+    (column indices sorted within each row, as NGSolve stores them)."""
+    touched = np.unique(rows)
+    starts, lengths = M.indptr[touched], np.diff(M.indptr)[touched]
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    positions = np.repeat(starts - offsets, lengths) + np.arange(lengths.sum())
+    keys = np.repeat(touched, lengths) * M.shape[1] + M.indices[positions]
+    wanted = rows * M.shape[1] + cols
+    where = np.minimum(np.searchsorted(keys, wanted), len(keys) - 1)
+    if not (np.all(np.diff(keys) > 0) and np.array_equal(keys[where], wanted)):
+        raise RuntimeError("S^T A S does not fit the sparsity pattern of A: a contact edge outside one triangle?")
+    return positions[where]
+
+
+def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
+    """L(v) of (2.5) in NGSolve's basis: the volume load and the Neumann data (du/dn, or the
+    traction sigma(u) n), plus, in elasticity, the traction g_C on Gamma_C (the scalar contact
+    load, which may be singular, is integrated on its own: ``contact_load_vector``)."""
+    v = fes.TestFunction()
+    load = ngs.LinearForm(fes)
+    if not case.f_vanishes:
+        f = case.f.Compile()
+        for dx in quadrature.measures(LOAD_ORDER):
+            load += f * v * dx
+    n = ngs.specialcf.normal(fes.mesh.dim)
+    load += case.neumann_data(n) * v * ngs.ds("neumann", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
+    if case.physics.traction_load and case.contact_load is not None:
+        load += case.contact_load * v * ngs.ds("contact", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
+    load.Assemble()
+    return load.vec.FV().NumPy().copy()
+
+
+@dataclass(frozen=True)
+class RotatedFrame:
+    """At each node of Gamma_C of a vector space: the variables (t, c) = (u . tau, -u . n) in
+    place of (u_x, u_y), tau = (-n_y, n_x), so that u = t tau - c n (an orthogonal change of
+    basis Q: NGSolve's coefficients = Q @ ours; Q = I where n = -e_y). The contact variable c
+    then sits in the second component's dof, where ``_contact_dof`` finds it.
+
+    A vertex of Gamma_C needs one normal: Gamma_C must be straight through each of its vertices
+    (the discrete contact conditions on the normal displacement of a kink would need the two
+    normals of its edges, and the cones would no longer be bounds)."""
+
+    pairs: np.ndarray       # (k, 2) the two dofs (x, y components) of each node of Gamma_C
+    normals: np.ndarray     # (k, 2) the outward unit normal there
+
+    @classmethod
+    def of(cls, fes, trace: ContactTrace) -> "RotatedFrame":
+        normal_of = {}
+        for edge, (va, vb), normal in zip(trace.edges, trace.edge_vertices, trace.normals):
+            for kind, number in ((ngs.EDGE, edge), (ngs.VERTEX, va), (ngs.VERTEX, vb)):
+                pair = tuple(fes.GetDofNrs(ngs.NodeId(kind, int(number))))
+                if len(pair) != 2:          # an edge of P1: no dofs
+                    continue
+                if pair in normal_of and not np.allclose(normal_of[pair], normal, atol=1e-12):
+                    point = fes.mesh[ngs.NodeId(kind, int(number))].point
+                    raise ValueError(f"Gamma_C has a kink at ({point[0]:.4g}, {point[1]:.4g}): elastic contact needs it "
+                                     f"straight through each of its vertices")
+                normal_of[pair] = normal
+        return cls(np.array(list(normal_of), dtype=np.int64).reshape(-1, 2),
+                   np.array(list(normal_of.values()), dtype=float).reshape(-1, 2))
+
+    @property
+    def identity(self) -> bool:
+        return bool(np.allclose(self.normals, [0.0, -1.0], atol=1e-14))
+
+    def matrix(self, ndof: int) -> sp.csr_matrix:
+        """Q: identity off Gamma_C; at a node, u_x = tau_x t - n_x c, u_y = tau_y t - n_y c."""
+        x, y = self.pairs[:, 0], self.pairs[:, 1]
+        nx, ny = self.normals[:, 0], self.normals[:, 1]
+        off = np.ones(ndof, bool)
+        off[self.pairs.ravel()] = False
+        rest = np.flatnonzero(off)
+        rows = np.concatenate([rest, x, x, y, y])
+        cols = np.concatenate([rest, x, y, x, y])
+        vals = np.concatenate([np.ones(len(rest)), -ny, -nx, nx, -ny])
+        return sp.csr_matrix((vals, (rows, cols)), shape=(ndof, ndof))
+
+
+def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadrature | None = None) -> DiscreteProblem:
+    """X_h of ``order`` on ``mesh`` for the case's physics; ``quadrature`` (made here if not
+    given) is shared by the problems of one level."""
+    if order not in (1, 2):
+        raise ValueError(f"order must be 1 or 2, got {order}")
+    physics = case.physics
+    fes = physics.space(mesh, order)
+    u, v = fes.TnT()
+    a = ngs.BilinearForm(physics.form(u, v) * ngs.dx).Assemble()
+    quadrature = quadrature or ElementQuadrature.of(case, mesh)
+
+    dirichlet = ngs.GridFunction(fes)
+    dirichlet.Set(case.dirichlet_data, ngs.BND, definedon=mesh.Boundaries("dirichlet"))
+    free = np.array(fes.FreeDofs(), dtype=bool)
+    lift = np.where(free, 0.0, dirichlet.vec.FV().NumPy())
+    b = load_vector(case, fes, quadrature)
+
+    trace = contact_trace(mesh)
+    A = csr_view(a.mat)
+    basis = None
+    if physics.rotated_frame:
+        frame = RotatedFrame.of(fes, trace)
+        if not frame.identity:
+            basis = frame.matrix(fes.ndof)
+            rotate_in_place(A, basis)
+            b, lift = basis.T @ b, basis.T @ lift
+    edge_dofs = np.array([_contact_dof(fes, ngs.NodeId(ngs.EDGE, int(e))) for e in trace.edges] if order == 2 else [],
+                         dtype=np.int64)
+    end_dofs = np.array([[_contact_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in pair]
+                         for pair in trace.edge_vertices])
+    if not free[edge_dofs].all() or not free[end_dofs].all():
+        raise ValueError("Gamma_C touches Gamma_u; the paper (Section 2) assumes they do not")
+    problem = DiscreteProblem(
+        mesh=mesh, fes=fes, _A=A, _A_ngs=a.mat, b=b, lift=lift, free=free, trace=trace, edge_dofs=edge_dofs,
+        end_dofs=end_dofs, quadrature=quadrature, physics=physics, basis=basis,
+        vertex_dofs=np.array([_contact_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in trace.vertices]),
+    )
+    problem.contact_rows = problem.A[problem.contact_dofs].copy()
+    if case.contact_load is not None and not physics.traction_load:
+        problem.b += contact_load_vector(case, problem)
+    return problem
+
+
+def rotate_in_place(A: sp.csr_matrix, Q: sp.csr_matrix) -> None:
+    """A <- Q^T A Q in A's own memory. Q mixes the two dofs of one node, which A already couples
+    with every dof it couples either of them with, so Q^T A Q fits A's sparsity pattern."""
+    K = (Q.T @ A @ Q).tocoo()
+    positions = csr_positions(A, K.row.astype(np.int64), K.col.astype(np.int64))
+    A.data[:] = 0.0
+    np.add.at(A.data, positions, K.data)
+
+
+def contact_load_vector(case, problem: DiscreteProblem) -> np.ndarray:
+    """int_{Gamma_C} g_C v for every basis function v. g_C is the flux of u up to the pressure,
+    so it is as singular as du/dn where u is (r^{-1/2} in corner-r12, r^{-1/4} with infinitely
+    many oscillations in oscillating-r34, where a Gauss rule on the first edge errs by O(1)):
+    the rule is graded on the edges at singular points, as for the best approximation's flux."""
+    from .contact_quadrature import at_points, contact_quadrature
+    quadrature = contact_quadrature(problem, CONTACT_LOAD_POINTS, graded_at=singular_vertices(case, problem.mesh))
+    return quadrature.T.T @ (quadrature.weights * at_points(case.contact_load, problem.mesh, quadrature))
+
+
+@dataclass(frozen=True)
+class ContactTraceFunction:
+    """The trace on Gamma_C of a P2 (or P1: c = 0) function: on edge t_i,
+    v(t) = (1-t) v_a + t v_b - c t(1-t)/2; in 3D also on each triangle of Gamma_C,
+    v = sum_k lambda_k v_k - 1/2 sum_k c_k lambda_k lambda_{k+1} (corner values v_k, bubble c_k of
+    side k, from corner k to corner k+1).
+
+    Kept independently of the mesh so that it survives refinement: the next level uses it to
+    predict its active set (nested iteration), the errors module to find the largest
+    penetration between nodes, the report to draw u_h along Gamma_C.
+    """
+
+    a: np.ndarray
+    b: np.ndarray
+    va: np.ndarray
+    vb: np.ndarray
+    bubble: np.ndarray
+    end_active: np.ndarray      # (m, 2) bool: the vertex constraints at a and b were active
+    edge_active: np.ndarray     # (m,) bool: the edge constraint was active
+    face_points: np.ndarray | None = None   # 3D: (f, 3, 3) corners of the triangles of Gamma_C
+    face_values: np.ndarray | None = None   # 3D: (f, 3) values at the corners
+    face_bubbles: np.ndarray | None = None  # 3D: (f, 3) bubble coefficients of the sides
+    volumes: np.ndarray | None = None       # 2D: (m,) the triangles on the edges (``mesh.in_elements``)
+
+    @classmethod
+    def of(cls, problem: DiscreteProblem, u: np.ndarray, end_active=None, edge_active=None) -> "ContactTraceFunction":
+        ends = u[problem.end_dofs]
+        trace = problem.trace
+        m = len(trace.edges)
+        end_active = np.zeros((m, 2), bool) if end_active is None else np.asarray(end_active, bool)
+        edge_active = np.zeros(m, bool) if edge_active is None or not len(edge_active) else np.asarray(edge_active, bool)
+        bubbles = problem.bubbles(u)
+        faces = {}
+        if trace.faces is not None:
+            corners = np.searchsorted(trace.vertices, trace.faces.vertices)
+            faces = {"face_points": trace.faces.corners(trace), "face_values": u[problem.vertex_dofs][corners],
+                     "face_bubbles": bubbles[trace.faces.edges]}
+        return cls(trace.a, trace.b, ends[:, 0], ends[:, 1], bubbles, end_active, edge_active, **faces,
+                   volumes=trace.volumes)
+
+    def value(self, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Value on edge[k] at parameter t[k] (broadcasting)."""
+        return (1 - t) * self.va[edge] + t * self.vb[edge] - 0.5 * self.bubble[edge] * t * (1 - t)
+
+    def at(self, t: np.ndarray) -> np.ndarray:
+        """Values at parameters t (k,) on every edge: array (m, k)."""
+        return self.value(np.arange(len(self.va))[:, None], np.asarray(t)[None, :])
+
+    def on_faces(self, barycentric: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """3D: (points (f, k, 3), values (f, k)) at the barycentric points (k, 3) of every triangle."""
+        lam = np.asarray(barycentric)
+        bubble_shapes = lam * np.roll(lam, -1, axis=1)           # lambda_k lambda_{k+1}: side k
+        values = self.face_values @ lam.T - 0.5 * self.face_bubbles @ bubble_shapes.T
+        return np.einsum("kc,fcd->fkd", lam, self.face_points), values
+
+    def minimum_parameters(self) -> np.ndarray:
+        """Parameter of the stationary point of each edge's quadratic, clipped to [0, 1]."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = 0.5 - (self.vb - self.va) / np.where(self.bubble != 0, self.bubble, np.nan)
+        return np.clip(np.nan_to_num(t, nan=0.0), 0.0, 1.0)
+
+    def _nearest(self, anchors: np.ndarray, points: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(index of the nearest anchor to each point, whether it lies within that anchor's reach)."""
+        distance, index = cKDTree(anchors).query(points)
+        return index, distance <= reach[index]
+
+    def vertex_status(self, points: np.ndarray) -> np.ndarray:
+        """Active status of the vertex constraint at each point of the next (red-refined) level:
+        that of the coarse vertex it coincides with, or, at a coarse edge midpoint, that of the
+        edge constraint: the coarse function meets the gap at the midpoint (nodal) or dips to it
+        on the edge (mean). (A refinement that moves new boundary vertices onto a curved
+        geometry moves them by O(h^2): matched within a quarter of the coarse edge.)"""
+        length = np.linalg.norm(self.b - self.a, axis=1)
+        anchors = np.concatenate([self.a, self.b, 0.5 * (self.a + self.b)])
+        status = np.concatenate([self.end_active[:, 0], self.end_active[:, 1], self.edge_active])
+        index, near = self._nearest(anchors, points, 0.25 * np.tile(length, 3))
+        return status[index] & near
+
+    def edge_status(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Active status of the edge constraint of each fine edge [a, b]: that of the coarse edge
+        it halves; a fine edge inside a coarse triangle (3D) is predicted active when both its
+        ends are."""
+        length = np.linalg.norm(self.b - self.a, axis=1)
+        quarters = np.concatenate([0.75 * self.a + 0.25 * self.b, 0.25 * self.a + 0.75 * self.b])
+        index, near = self._nearest(quarters, 0.5 * (a + b), 0.125 * np.tile(length, 2))
+        halves = np.tile(self.edge_active, 2)[index]
+        return np.where(near, halves, self.vertex_status(a) & self.vertex_status(b))

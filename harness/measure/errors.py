@@ -1,0 +1,159 @@
+"""Errors of u_h against the exact solution, and the nonconformity of the discrete cones.
+
+The theorems bound ||u - u_h||_{H^1}. All norms of every solution on one mesh (the methods of a
+level share it) come from one integration over the elements (``quadrature``): the graded rule
+on the elements touching a singular point, where an O(1) share of the error lives, and Gauss
+order ``error_order`` on every other element. tests/test_errors.py checks the result against a
+much more accurate reference integration, to 0.1%, on every case's finest default level.
+"""
+
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+from scipy.sparse.linalg import splu
+
+from ..fem.contact_quadrature import contact_quadrature, exact_pressure
+from ..fem.element_quadrature import ElementQuadrature
+from .best_approximation import ritz_projection
+
+
+def error_order(fe_order: int) -> int:
+    """Gauss order on the elements away from singular points. There u - u_h for elements of
+    order k is, to leading order, a polynomial of degree k + 1, so (u - u_h)^2 one of degree
+    2k + 2, which this order integrates exactly: 6 for P2 (within 3e-5 of order 20 on every
+    case), 4 for P1. tests/test_errors.py holds both to 1e-3 against a much finer integration."""
+    return 2 * fe_order + 2
+NORMS = ("err_h1", "err_h1_semi", "err_l2", "err_energy")
+
+
+def error_norms(case, solutions: list[ngs.GridFunction], quadrature: ElementQuadrature,
+                order: int | None = None) -> list[dict]:
+    """H^1, H^1-semi, L^2 and energy errors of each of ``solutions`` (GridFunctions on one
+    mesh): u and grad u are evaluated once per quadrature point for all of them, with the Gauss
+    order the highest-order solution needs (``error_order``) unless ``order`` is given. The
+    energy norm a(e, e)^{1/2} is the H^1 seminorm for the Laplacian, (int sigma(e) : eps(e))^{1/2}
+    in elasticity (``physics``)."""
+    order = order or error_order(max(gfu.space.globalorder for gfu in solutions))
+    squares = []
+    for gfu in solutions:
+        diff = case.u - gfu
+        grad_diff = case.grad_u - ngs.Grad(gfu)
+        squares += [ngs.InnerProduct(diff, diff), ngs.InnerProduct(grad_diff, grad_diff),
+                    case.physics.energy_density(grad_diff)]
+    integrals = quadrature.integrate(ngs.CF(tuple(squares)), order)
+    rows = []
+    for squared in integrals.reshape(len(solutions), 3):
+        l2_sq, semi_sq, energy_sq = (max(value, 0.0) for value in squared)
+        rows.append({"err_h1": float(np.sqrt(l2_sq + semi_sq)), "err_h1_semi": float(np.sqrt(semi_sq)),
+                     "err_l2": float(np.sqrt(l2_sq)), "err_energy": float(np.sqrt(energy_sq))})
+    return rows
+
+
+
+
+
+# Gauss points per contact edge for the errors on Gamma_C: exact for the trace mass matrix,
+# and the pressure singularities sit at edge ends, which Gauss points avoid.
+CONTACT_ERROR_POINTS = 8
+
+
+class DiscretePressure:
+    """The discrete contact pressure lambda_h of a solution u_h on one discrete problem: the
+    Riesz representative, in the trace space W_h of X_h on Gamma_C (continuous P_k on the
+    contact edges), of the residual: int lambda_h w = a(u_h, w) - L(w) for the basis functions w
+    with a trace on Gamma_C. The exact pressure satisfies int lambda w = a(u, w) - L(w) (Green's
+    formula), so this is the same functional for every method -- the cones' multipliers,
+    Nitsche's and the penalty's contact terms all end up in it."""
+
+    def __init__(self, problem):
+        self.problem = problem
+        self.quadrature = contact_quadrature(problem, CONTACT_ERROR_POINTS)
+        q = self.quadrature
+        self.T = q.T[:, problem.contact_dofs].tocsc()
+        self._mass = splu((self.T.T @ (self.T.multiply(q.weights[:, None]))).tocsc())
+
+    def coefficients(self, u_h: np.ndarray) -> np.ndarray:
+        """lambda_h's coefficients on the dofs ``problem.contact_dofs``."""
+        return self._mass.solve(self.problem.contact_residual(u_h))
+
+    def at_points(self, coefficients: np.ndarray) -> np.ndarray:
+        return self.T @ coefficients
+
+    def max_tension(self, coefficients: np.ndarray) -> float:
+        """max over Gamma_C of -lambda_h (the exact pressure is >= 0), at the error points."""
+        return float(max(0.0, -self.at_points(coefficients).min()))
+
+
+class ContactErrors:
+    """Errors on Gamma_C of the solutions on one discrete problem, against the exact u:
+
+    * trace: ||u - u_h||_{L^2(Gamma_C)};
+    * pressure: lambda_h (``DiscretePressure``) against lambda = d_n u - g_C in L^2(Gamma_C) and
+      in the mesh-dependent norm ||h^{1/2} (lambda - lambda_h)||_{L^2(Gamma_C)};
+    * tension: max over Gamma_C of -lambda_h, the flux counterpart of max_penetration.
+    """
+
+    def __init__(self, case, problem):
+        self.own = DiscretePressure(problem)
+        q = self.own.quadrature
+        self.weights, self.h = q.weights, q.h
+        self.u = case.physics.contact_value(case, problem.mesh, q.points, q.normals)
+        self.pressure = exact_pressure(case, problem, q)
+        self._full_T = q.T
+
+    def __call__(self, u_h: np.ndarray) -> dict:
+        w = self.weights
+        trace = self._full_T @ u_h - self.u
+        coefficients = self.own.coefficients(u_h)
+        difference = self.pressure - self.own.at_points(coefficients)
+        return {
+            "err_trace_l2": float(np.sqrt(w @ trace**2)),
+            "err_pressure_l2": float(np.sqrt(w @ difference**2)),
+            "err_pressure_h12": float(np.sqrt((w * self.h) @ difference**2)),
+            "max_tension": self.own.max_tension(coefficients),
+        }
+
+
+class ExactErrors:
+    """The error columns of a study of a case with an exact u, level by level: the contact
+    errors after each solve, the volume norms of every solution and of the best approximation
+    R_h u (``best``) in one integration at the end of the level."""
+
+    def __init__(self, case, phases):
+        self.case, self.phases = case, phases
+
+    def begin_level(self, level: int, mesh, problems: dict, quadrature: ElementQuadrature, multilevel) -> None:
+        self.quadrature, self.pending = quadrature, []
+        self.best, self.contact = {}, {}
+        with self.phases("best"):
+            for order, problem in problems.items():
+                self.best[order] = problem.gridfunction(ritz_projection(self.case, problem, multilevel))
+                self.contact[order] = ContactErrors(self.case, problem)
+
+    def solved(self, method, level: int, problem, u: np.ndarray, row: dict | None) -> dict:
+        self.pending.append((row, method.order, problem.gridfunction(u)))
+        return self.contact[method.order](u)
+
+    def end_level(self) -> None:
+        """The volume norms, order by order: each order's solutions and its R_h u in one
+        integration with that order's Gauss rule (``error_order``), so that a method's errors do
+        not depend on which other methods share the level (a study split into jobs per method
+        gives the same numbers, bit for bit)."""
+        for order in self.best:
+            mine = [(row, gfu) for row, own_order, gfu in self.pending if own_order == order]
+            *norms, best = error_norms(self.case, [gfu for _, gfu in mine] + [self.best[order]], self.quadrature)
+            for (row, _), own in zip(mine, norms):
+                row |= own | {"err_best_h1": best["err_h1"], "err_best_h1_semi": best["err_h1_semi"],
+                              "err_best_energy": best["err_energy"],
+                              "err_h1_over_best": own["err_h1"] / best["err_h1"]}
+
+    # Nothing is carried from level to level (``study.ChainState``): each level is measured on its own.
+    def skip_level(self, level: int, mesh) -> None:
+        pass
+
+    def state_of(self, method_name: str) -> list:
+        return []
+
+    def restore(self, method_name: str, state: list, rows: list[dict]) -> None:
+        pass

@@ -1,0 +1,121 @@
+"""Convergence rates measured against the theorem rates.
+
+For each (case, method) the H^1 errors e_l on levels l with mesh sizes h_l give
+* pairwise rates log(e_l / e_{l-1}) / log(h_l / h_{l-1});
+* a least-squares fit of  log e = log C + p log h + q log|log h|  over the last k >= 3 levels
+  (the asymptotic range), q fixed to the log exponent of the method's theory (1/4 for the
+  paper's Thm 4.2 ii / 5.2 ii, else 0), with the standard error of p;
+* the normalised errors e / (h^p |log h|^q) with the theorem's p and q, which stay bounded
+  exactly when the theorem's bound is observed.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+DEFAULT_FIT_LEVELS = 3
+TOLERANCE = 0.1
+
+RATE_COLUMNS = ["case", "method", "order", "reference", "expected_rate", "expected_log_exponent", "fitted_rate",
+                "fitted_rate_se", "pairwise_rates", "verdict",
+                # the second theory (Drouet & Hild 2015 for the cones), fitted with its own log exponent
+                "sharper_reference", "sharper_rate", "sharper_fitted_rate", "sharper_verdict",
+                # the other errors' rates, no log factor: L^2, the best approximation, on Gamma_C
+                "fitted_rate_l2", "fitted_rate_best", "best_expected_rate", "best_verdict", "pairwise_rates_best",
+                "fitted_rate_trace", "fitted_rate_pressure_l2", "fitted_rate_pressure_h12",
+                # the energy norm a(e, e)^{1/2}: the H^1 seminorm's rate for the Laplacian; in
+                # elasticity equivalent to it (Korn), so the same theorem rate
+                "fitted_rate_energy"]
+# error column -> its rate column (plain fit, q = 0)
+OTHER_RATES = {"err_l2": "fitted_rate_l2", "err_best_h1": "fitted_rate_best", "err_trace_l2": "fitted_rate_trace",
+               "err_pressure_l2": "fitted_rate_pressure_l2", "err_pressure_h12": "fitted_rate_pressure_h12",
+               "err_energy": "fitted_rate_energy"}
+
+
+
+def pairwise_rates(h, e) -> np.ndarray:
+    h, e = np.asarray(h, float), np.asarray(e, float)
+    return np.log(e[1:] / e[:-1]) / np.log(h[1:] / h[:-1])
+
+
+def fit_rate(h, e, log_exponent: float = 0.0, levels: int = DEFAULT_FIT_LEVELS) -> tuple[float, float]:
+    """(p, standard error of p) of log e - q log|log h| = log C + p log h over the last levels."""
+    if levels < 2:
+        raise ValueError("a rate fit needs at least two levels")
+    h, e = np.asarray(h, float)[-levels:], np.asarray(e, float)[-levels:]
+    if len(h) < 2:
+        return float("nan"), float("nan")
+    y = np.log(e) - log_exponent * np.log(np.abs(np.log(h)))
+    X = np.column_stack([np.ones_like(h), np.log(h)])
+    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+    dof = len(h) - 2
+    if dof == 0:
+        return float(coef[1]), float("nan")
+    residual = y - X @ coef
+    sigma2 = residual @ residual / dof
+    se = np.sqrt(sigma2 * np.linalg.inv(X.T @ X)[1, 1])
+    return float(coef[1]), float(se)
+
+
+def normalised_errors(h, e, rate: float, log_exponent: float) -> np.ndarray:
+    h = np.asarray(h, float)
+    return np.asarray(e, float) / (h**rate * np.abs(np.log(h)) ** log_exponent)
+
+
+def verdict(fitted: float, expected: float, tolerance: float = TOLERANCE) -> str:
+    if not np.isfinite(expected):
+        return "no theory"
+    if not np.isfinite(fitted):
+        return "undetermined"
+    if fitted < expected - tolerance:
+        return "below"
+    if fitted > expected + tolerance:
+        return "above"
+    return "meets"
+
+
+def best_approximation_rate(nu: float, order: int) -> float:
+    """The rate of the Ritz projection's H^1 error on uniform meshes: min(nu - 1, order)."""
+    return min(nu - 1.0, float(order))
+
+
+def rate_table(results: pd.DataFrame, error: str = "err_h1", levels: int = DEFAULT_FIT_LEVELS,
+               tolerance: float = TOLERANCE) -> pd.DataFrame:
+    """One row per (case, method) of ``results``, each against its own theories: the expected
+    rates, log exponents and references that the study wrote into every row; and the fitted
+    rates of the other errors, with the best approximation's set against min(nu - 1, order)
+    (``best_verdict``: does the case have the regularity it declares?)."""
+    rows = []
+    for (case_name, method), group in results.groupby(["case", "method"], sort=False):
+        group = group.sort_values("level")
+        first = group.iloc[0]
+        p, se = fit_rate(group.h, group[error], _q(first.expected_log_exponent), levels)
+        row = {
+            "case": case_name, "method": method, "order": int(first.order), "reference": first.reference,
+            "expected_rate": first.expected_rate, "expected_log_exponent": first.expected_log_exponent,
+            "fitted_rate": p, "fitted_rate_se": se,
+            "pairwise_rates": " ".join(f"{r:.3f}" for r in pairwise_rates(group.h, group[error])),
+            "verdict": verdict(p, first.expected_rate, tolerance),
+        }
+        sharper = float(first.get("sharper_rate", np.nan))
+        if np.isfinite(sharper):
+            p2, _ = fit_rate(group.h, group[error], _q(first.sharper_log_exponent), levels)
+            row |= {"sharper_reference": first.sharper_reference, "sharper_rate": sharper, "sharper_fitted_rate": p2,
+                    "sharper_verdict": verdict(p2, sharper, tolerance)}
+        elif isinstance(first.get("sharper_reference"), str) and first.sharper_reference:
+            row |= {"sharper_reference": first.sharper_reference, "sharper_rate": sharper, "sharper_verdict": "no theory"}
+        for column, name in OTHER_RATES.items():
+            if column in group and group[column].notna().all() and (group[column] > 0).all():
+                row[name] = fit_rate(group.h, group[column], 0.0, levels)[0]
+        if "fitted_rate_best" in row:
+            row["best_expected_rate"] = best_approximation_rate(float(first.nu), int(first.order))
+            gap = row["fitted_rate_best"] - row["best_expected_rate"]
+            row["best_verdict"] = ("" if not np.isfinite(gap) else  # no best approximation (reference case) or no nu
+                                   "consistent" if abs(gap) <= tolerance else ("faster than nu" if gap > 0 else "slower than nu"))
+            row["pairwise_rates_best"] = " ".join(f"{r:.3f}" for r in pairwise_rates(group.h, group.err_best_h1))
+        rows.append(row)
+    return pd.DataFrame(rows, columns=RATE_COLUMNS)
+
+
+def _q(log_exponent) -> float:
+    return float(log_exponent) if np.isfinite(log_exponent) else 0.0

@@ -1,0 +1,315 @@
+"""The case contract: what a case module declares, and how the harness finds and loads it.
+
+A case module (one file in ``cases/``, or any file given by path) defines at module level
+
+    name                   short identifier used on the command line and in results
+    description            one line
+    geometry               a netgen 2D geometry whose boundary carries the labels
+                           'contact' (Gamma_C), 'dirichlet' (Gamma_u), 'neumann' (Gamma_g);
+                           ``harness.problem.geometry.polygon`` builds one. Or a netgen 3D geometry
+                           (OCC or CSG) with the same labels on its faces (and 'interior' on
+                           faces inside the body): a 3D case (Section 6; scalar only), whose
+                           u is a function of x, y and z; ``harness.problem.geometry.contact_box``
+    maxh                   mesh size of the coarse (level 0) mesh
+    u                      the exact solution, an NGSolve CoefficientFunction of x and y
+                           (or, for a reference case, no u and the data below)
+    nu                     its Sobolev regularity: u in H^{nu - eps} for every eps > 0
+    expected_rate          exponent p of the theorem's bound C h^p |log h|^q
+    expected_log_exponent  exponent q of that bound (default 0; 1/4 for Thm 4.2 ii / 5.2 ii)
+    theorem                which result of the paper predicts the rate, e.g. "4.1 ii, 5.1 ii"
+                           (nu, expected_rate and theorem are optional for a reference case:
+                           without them the report gives the measured rate only)
+    regime                 optional, the regularity regime in words
+    conjectured            optional, True when expected_rate is a belief, not a theorem (Remark
+                           4.3): the report states whether the data support it or show a loss
+    gap                    optional CoefficientFunction alpha: the constraint is u - alpha >= 0
+    contact_load           optional CoefficientFunction g_C: du/dn - g_C >= 0 on Gamma_C
+    f                      optional volume load, -Laplace(u) in closed form (0 for a harmonic
+                           u): cheaper to evaluate than the derived one, and checked against it
+    singular_points        optional list of points (x, y) where u is singular, each a polygon
+                           corner; the error and load quadratures are graded there. Default:
+                           every point of the geometry. [] for a solution singular nowhere.
+    physics                optional, "scalar" (default) or "elasticity" (Remark 2.3; see below)
+    transition_curve       optional (3D), the exact contact/separation curves on Gamma_C: a
+                           list of polylines, each a list of points (x, y) of the plane of
+                           Gamma_C, which the report draws on its pictures of Gamma_C
+
+An *elastic case* (``physics = "elasticity"``, ``harness.physics.Elasticity``) declares besides
+
+    poisson                Poisson's ratio (plane strain), 0 <= poisson < 1/2
+    young                  optional Young's modulus (default 1)
+    u                      the exact displacement, a 2-vector CoefficientFunction
+    gap                    optional initial gap alpha: the constraint is u . n - alpha <= 0
+    contact_load           optional traction g_C on Gamma_C, a 2-vector: sigma(u) n - g_C = -p n
+                           with p >= 0 the contact pressure (frictionless: its tangential part is
+                           sigma_t(u), which validation checks)
+    f                      optional, -div sigma(u) in closed form (checked against the derived one)
+
+and the harness derives f = -div sigma(u), the traction sigma(u) n on Gamma_g and u on Gamma_u.
+An elastic case needs its exact u (no reference cases in elasticity yet).
+
+From u the harness derives f = -Laplace(u) (unless declared), the Neumann data du/dn on
+Gamma_g and the Dirichlet data u on Gamma_u (docs/mathematics.md §1: nonzero Dirichlet data, a gap and a load on
+Gamma_C are the paper's "straightforward" generalisations that make any u exact).
+
+A *reference case* has no closed-form solution. It leaves out u and declares the data instead:
+
+    f                      the volume load (required)
+    dirichlet              u_D on Gamma_u, a CoefficientFunction (required)
+    neumann                g = du/dn on Gamma_g, a CoefficientFunction (required)
+    reference_levels       k: every method's errors are measured against its own solution on
+                           the mesh k levels finer than the finest studied one (default 2)
+
+gap and contact_load as above. ``python -m harness run --reference-levels K`` chooses k, and
+for an exact case measures against a reference instead of u (which checks the reference).
+"""
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+import sys
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+
+import ngsolve as ngs
+
+from .geometry import geometry_dimension
+from .physics import PHYSICS, SCALAR, Elasticity, gradient
+
+CASES_DIR = Path(__file__).resolve().parents[2] / "cases"
+
+REQUIRED = ("name", "description", "geometry", "maxh", "u", "nu", "expected_rate", "theorem")
+# a reference case replaces u by its data; it may leave its regularity and rate unknown
+REFERENCE_REQUIRED = ("name", "description", "geometry", "maxh", "f", "dirichlet", "neumann")
+REFERENCE_OPTIONAL = {"nu": float("nan"), "expected_rate": float("nan"), "theorem": ""}
+DEFAULT_REFERENCE_LEVELS = 2
+
+
+class CaseError(ValueError):
+    """A case that cannot be loaded or does not satisfy the Signorini conditions."""
+
+
+@dataclass(frozen=True, eq=False)
+class Case:
+    name: str
+    description: str
+    geometry: object
+    maxh: float
+    u: ngs.CoefficientFunction | None     # None: a reference case
+    nu: float
+    expected_rate: float
+    theorem: str
+    expected_log_exponent: float = 0.0
+    regime: str = ""
+    gap: ngs.CoefficientFunction | None = None
+    contact_load: ngs.CoefficientFunction | None = None
+    declared_f: object = None                  # the module's f: a number or a CoefficientFunction
+    singular_points: tuple | None = None
+    source: str = ""
+    dirichlet: ngs.CoefficientFunction | None = None   # reference cases: u_D on Gamma_u
+    neumann: ngs.CoefficientFunction | None = None     # reference cases: g on Gamma_g
+    reference_levels: int | None = None                # None: errors against the exact u
+    conjectured: bool = False                          # expected_rate is a belief, not a theorem
+    physics: object = SCALAR                           # ``physics.Scalar`` or ``physics.Elasticity``
+    transition_curve: tuple = ()                       # 3D: polylines on Gamma_C for the pictures
+
+    @property
+    def exact(self) -> bool:
+        """Errors are measured against the closed-form u (else against a reference solution)."""
+        return self.reference_levels is None
+
+    @property
+    def dirichlet_data(self) -> ngs.CoefficientFunction:
+        """u_D on Gamma_u: the exact u, or the reference case's data."""
+        return self.u if self.u is not None else self.dirichlet
+
+    def neumann_data(self, normal: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
+        """g on Gamma_g (du/dn, or the traction sigma(u) n): from the exact u, or the reference
+        case's data."""
+        return self.physics.flux(self.grad_u, normal) if self.u is not None else self.neumann
+
+    def with_reference(self, levels: int) -> "Case":
+        """This case with errors measured against a reference ``levels`` levels finer."""
+        if levels < 1:
+            raise CaseError(f"reference levels must be a positive integer, got {levels}")
+        return dataclasses.replace(self, reference_levels=int(levels))
+
+    @cached_property
+    def dimension(self) -> int:
+        """2 for a polygon (netgen's SplineGeometry), 3 for an OCC or CSG solid."""
+        return geometry_dimension(self.geometry)
+
+    @cached_property
+    def grad_u(self) -> ngs.CoefficientFunction:
+        if self.u is None:
+            raise AttributeError(f"case {self.name!r} has no exact solution (a reference case)")
+        return gradient(self.u, self.dimension)
+
+    @cached_property
+    def derived_f(self) -> ngs.CoefficientFunction:
+        """The volume load the exact u asks for: -Laplace(u) (2.1), or -div sigma(u)."""
+        if self.u is None:
+            raise AttributeError(f"case {self.name!r} has no exact solution (a reference case)")
+        return self.physics.load(self.u, self.dimension)
+
+    @cached_property
+    def f(self) -> ngs.CoefficientFunction:
+        """Volume load, as declared by the case or derived from u."""
+        if self.declared_f is None:
+            return self.derived_f
+        if isinstance(self.declared_f, (int, float)):
+            return self.physics.constant(self.declared_f)
+        return ngs.CF(self.declared_f)
+
+    @property
+    def f_vanishes(self) -> bool:
+        """The case declares f = 0 (a harmonic u): the volume load needs no quadrature at all."""
+        return isinstance(self.declared_f, (int, float)) and self.declared_f == 0
+
+    @property
+    def obstacle(self) -> ngs.CoefficientFunction | None:
+        """The lower bound of the contact variable (``physics``): alpha, or -alpha in elasticity."""
+        return self.physics.obstacle(self.gap)
+
+    @property
+    def expected_bound(self) -> str:
+        return bound_text(self.expected_rate, self.expected_log_exponent)
+
+
+def bound_text(rate: float, log_exponent: float = 0.0) -> str:
+    """The bound C h^p |log h|^q in words, e.g. 'h^1 |log h|^1/4' (NaN: no proven bound)."""
+    if rate != rate:
+        return "none proven"
+    return f"h^{fraction(rate)}" + (f" |log h|^{fraction(log_exponent)}" if log_exponent else "")
+
+
+def fraction(value: float) -> str:
+    """2/3 rather than 0.666667 for the exponents of the paper."""
+    from fractions import Fraction
+    f = Fraction(value).limit_denominator(12)
+    return str(f) if abs(float(f) - value) < 1e-9 else f"{value:g}"
+
+
+def _import_file(path: Path):
+    module_name = f"_signorini_case_{path.stem.replace('-', '_')}"
+    spec = importlib.util.spec_from_file_location(module_name, path)
+    if spec is None or spec.loader is None:
+        raise CaseError(f"cannot import case file {path}")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[module_name] = module
+    try:
+        spec.loader.exec_module(module)
+    except Exception as exc:  # a broken user file must give one clear line, not a traceback
+        raise CaseError(f"case file {path} failed to import: {type(exc).__name__}: {exc}") from exc
+    return module
+
+
+def case_from_module(module, source: str) -> Case:
+    physics = _physics(module, source)
+    if hasattr(module, "u"):
+        case = _exact_case(module, source)
+    elif physics is not SCALAR:
+        raise CaseError(f"case {source}: an elastic case needs its exact displacement u (no reference cases in elasticity yet)")
+    else:
+        return _reference_case(module, source)
+    if physics is not SCALAR:
+        if case.dimension != 2:
+            raise CaseError(f"case {source}: elasticity is plane strain (2D); a 3D geometry needs physics = 'scalar'")
+        if not physics.is_field(case.u):
+            raise CaseError(f"case {source}: u must be a {physics.components}-vector for {physics.name}, got dimension {case.u.dim}")
+        case = dataclasses.replace(case, physics=physics)
+    return case
+
+
+def _physics(module, source: str):
+    """The case's ``physics``: scalar unless it declares physics = "elasticity" (with poisson)."""
+    name = getattr(module, "physics", "scalar")
+    if name not in PHYSICS:
+        raise CaseError(f"case {source}: physics must be one of {', '.join(PHYSICS)}, got {name!r}")
+    if name == "scalar":
+        return SCALAR
+    if not hasattr(module, "poisson"):
+        raise CaseError(f"case {source}: an elastic case must declare poisson (Poisson's ratio)")
+    try:
+        return Elasticity(young=float(getattr(module, "young", 1.0)), poisson=float(module.poisson))
+    except ValueError as exc:
+        raise CaseError(f"case {source}: {exc}") from None
+
+
+def _exact_case(module, source: str) -> Case:
+    missing = [key for key in REQUIRED if not hasattr(module, key)]
+    if missing:
+        raise CaseError(f"case {source} lacks required attribute(s): {', '.join(missing)}")
+    given = [key for key in ("dirichlet", "neumann") if hasattr(module, key)]
+    if given:
+        raise CaseError(f"case {source} declares u and {', '.join(given)}: the harness derives the boundary "
+                        f"data from u; declare either u or the data (a reference case)")
+    fields = {key: getattr(module, key) for key in REQUIRED}
+    fields["u"] = ngs.CF(fields["u"])
+    return Case(source=source, **fields, **_optional_fields(module))
+
+
+def _reference_case(module, source: str) -> Case:
+    """A case without u: f and the boundary data are required (ValueError names what lacks)."""
+    missing = [key for key in REFERENCE_REQUIRED if not hasattr(module, key)]
+    if missing:
+        raise CaseError(f"case {source} has no exact solution u, so it must declare f, dirichlet and neumann; "
+                        f"it lacks: {', '.join(missing)}")
+    fields = {key: getattr(module, key) for key in REFERENCE_REQUIRED if key not in ("f", "dirichlet", "neumann")}
+    fields |= {key: getattr(module, key, default) for key, default in REFERENCE_OPTIONAL.items()}
+    fields["nu"], fields["expected_rate"] = float(fields["nu"]), float(fields["expected_rate"])
+    fields |= {"u": None, "dirichlet": ngs.CF(module.dirichlet), "neumann": ngs.CF(module.neumann),
+               "reference_levels": _reference_levels(module, source)}
+    return Case(source=source, **fields, **_optional_fields(module))
+
+
+def _reference_levels(module, source: str) -> int:
+    levels = getattr(module, "reference_levels", DEFAULT_REFERENCE_LEVELS)
+    if not isinstance(levels, int) or levels < 1:
+        raise CaseError(f"case {source}: reference_levels must be a positive integer, got {levels!r}")
+    return levels
+
+
+def _optional_fields(module) -> dict:
+    fields = {}
+    for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
+                "transition_curve"):
+        if hasattr(module, key):
+            fields[key] = getattr(module, key)
+    if hasattr(module, "f"):
+        fields["declared_f"] = module.f
+    if "transition_curve" in fields:
+        fields["transition_curve"] = tuple(tuple(tuple(map(float, p)) for p in line) for line in fields["transition_curve"])
+    if fields.get("singular_points") is not None:
+        fields["singular_points"] = tuple(tuple(map(float, point)) for point in fields["singular_points"])
+    for key in ("gap", "contact_load"):
+        if fields.get(key) is not None:
+            fields[key] = ngs.CF(fields[key])
+    return fields
+
+
+def _registered_files() -> list[Path]:
+    return sorted(p for p in CASES_DIR.glob("*.py") if not p.name.startswith("_"))
+
+
+def registered_cases(dimension: int | None = None) -> dict[str, Case]:
+    """Every case module in cases/ (of that ``dimension`` if given), by name: the scalar 2D
+    ones, the elastic ones, then the 3D ones, each in order of regularity nu."""
+    cases = [case_from_module(_import_file(path), str(path)) for path in _registered_files()]
+    cases = [case for case in cases if dimension is None or case.dimension == dimension]
+    return {case.name: case for case in sorted(cases, key=lambda c: (c.dimension, c.physics.name != "scalar",
+                                                                      c.nu if c.nu == c.nu else float("inf"), c.name))}
+
+
+def load_case(spec: str) -> Case:
+    """A registered case by name, or a case file by path."""
+    path = Path(spec)
+    if spec.endswith(".py") or path.is_file():
+        if not path.is_file():
+            raise CaseError(f"case file not found: {spec}")
+        return case_from_module(_import_file(path.resolve()), str(path))
+    cases = registered_cases()
+    if spec not in cases:
+        raise CaseError(f"unknown case {spec!r}; known cases: {', '.join(cases)}")
+    return cases[spec]

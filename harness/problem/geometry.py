@@ -1,0 +1,99 @@
+"""Polygonal netgen geometries with the three boundary labels of the case contract.
+
+The paper (Section 3) works on polygons meshed by straight triangles whose vertices
+include the end points of Gamma_C and Gamma_u; a polygon whose corners include every
+transition point and every label change gives exactly that.
+"""
+from __future__ import annotations
+
+from netgen.geom2d import SplineGeometry
+
+LABELS = ("contact", "dirichlet", "neumann")
+
+
+def polygon(points, labels):
+    """Counter-clockwise polygon; side k joins points[k] to points[k+1] and carries labels[k]."""
+    if len(points) != len(labels):
+        raise ValueError("polygon: need one label per side")
+    for label in labels:
+        if label not in LABELS:
+            raise ValueError(f"polygon: unknown boundary label {label!r}, expected one of {LABELS}")
+    geo = SplineGeometry()
+    ids = [geo.AppendPoint(float(px), float(py)) for px, py in points]
+    for k, label in enumerate(labels):
+        geo.Append(["line", ids[k], ids[(k + 1) % len(ids)]], bc=label, leftdomain=1, rightdomain=0)
+    return geo
+
+
+def contact_strip(breaks=(0.0,)):
+    """Omega = (-1, 1) x (0, 1) with Gamma_C the bottom side, Gamma_g the two vertical sides and
+    Gamma_u the top; ``breaks`` are extra corners on Gamma_C (transition points), so that every
+    mesh has a vertex there."""
+    bottom = [(-1.0, 0.0)] + [(float(x), 0.0) for x in sorted(breaks)] + [(1.0, 0.0)]
+    points = bottom + [(1.0, 1.0), (-1.0, 1.0)]
+    labels = ["contact"] * (len(bottom) - 1) + ["neumann", "dirichlet", "neumann"]
+    return polygon(points, labels)
+
+
+def split_strip(at: float = 0.0):
+    """``contact_strip(breaks=[at])`` cut in two by the interior line x = ``at`` (labelled
+    'interior', no boundary condition): every mesh then has edges along it, so a solution
+    whose derivatives jump across that line (a transition at (at, 0) continued into the body)
+    is smooth on every element, and the element quadratures see no kink inside an element."""
+    geo = SplineGeometry()
+    ids = [geo.AppendPoint(float(px), float(py)) for px, py in
+           [(-1.0, 0.0), (at, 0.0), (1.0, 0.0), (1.0, 1.0), (at, 1.0), (-1.0, 1.0)]]
+    left, right = 1, 2
+    sides = [(0, 1, "contact", left), (1, 2, "contact", right), (2, 3, "neumann", right), (3, 4, "dirichlet", right),
+             (4, 5, "dirichlet", left), (5, 0, "neumann", left)]
+    for a, b, label, domain in sides:
+        geo.Append(["line", ids[a], ids[b]], bc=label, leftdomain=domain, rightdomain=0)
+    geo.Append(["line", ids[1], ids[4]], bc="interior", leftdomain=left, rightdomain=right)
+    return geo
+
+
+def geometry_dimension(geometry) -> int:
+    """2 for a polygon (netgen's SplineGeometry), 3 for a solid (OCC or CSG)."""
+    return 2 if isinstance(geometry, SplineGeometry) else 3
+
+
+def _labelled_box(x0: float, x1: float, interior=()):
+    """The box (x0, x1) x (-1, 1) x (0, 1) with Gamma_C the bottom face z = 0, Gamma_u the top,
+    Gamma_g the sides; the faces named in ``interior`` ('xmin', 'xmax') lie inside the body."""
+    from netgen.occ import Box, Pnt, X, Z
+    box = Box(Pnt(x0, -1.0, 0.0), Pnt(x1, 1.0, 1.0))
+    box.faces.name = "neumann"
+    box.faces.Min(Z).name = "contact"
+    box.faces.Max(Z).name = "dirichlet"
+    for side in interior:
+        (box.faces.Min(X) if side == "xmin" else box.faces.Max(X)).name = "interior"
+    return box
+
+
+def contact_box(split_at: float | None = None):
+    """Omega = (-1, 1) x (-1, 1) x (0, 1), the 3D counterpart of ``contact_strip``: Gamma_C the
+    bottom face (n = -e_z), Gamma_u the top, Gamma_g the four sides. ``split_at``: the box is two
+    boxes glued along the plane x = split_at (faces labelled 'interior'), so that every mesh
+    has edges along the line {x = split_at, z = 0} of Gamma_C (a straight transition line) and
+    faces along the plane."""
+    from netgen.occ import Glue, OCCGeometry
+    if split_at is None:
+        return OCCGeometry(_labelled_box(-1.0, 1.0))
+    return OCCGeometry(Glue([_labelled_box(-1.0, split_at, ["xmax"]), _labelled_box(split_at, 1.0, ["xmin"])]))
+
+
+def disc_box(radius: float):
+    """``contact_box()`` with the cylinder x^2 + y^2 < radius^2 glued in (its side labelled
+    'interior'): the circle x^2 + y^2 = radius^2 of Gamma_C (a curved transition line) is then a
+    curve of the geometry, on which every coarse mesh has vertices and edges (chords)."""
+    from netgen.occ import Axes, Cylinder, Glue, OCCGeometry, Pnt, X, Z
+    box = _labelled_box(-1.0, 1.0)
+    cylinder = Cylinder(Axes(Pnt(0, 0, 0), Z, X), radius, 1.0)
+    cylinder.faces.name = "interior"
+    cylinder.faces.Min(Z).name = "contact"
+    cylinder.faces.Max(Z).name = "dirichlet"
+    outside = box - cylinder
+    for face in outside.faces:
+        if face.name not in ("contact", "dirichlet", "neumann"):
+            face.name = "interior"
+    return OCCGeometry(Glue([outside, cylinder]))

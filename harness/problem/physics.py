@@ -1,0 +1,219 @@
+"""The physics axis: which partial differential equation a case poses, and what its contact
+condition constrains.
+
+* ``Scalar`` -- the paper's problem (2.1)-(2.4): -Laplace(u) = f, u - alpha >= 0 on Gamma_C.
+* ``Elasticity`` -- Remark 2.3: frictionless unilateral contact of a linear elastic body (plane
+  strain) on a rigid foundation, -div sigma(u) = f, sigma(u) = 2 mu eps(u) + lambda tr eps(u) I.
+
+Both are written with one *contact variable* c(v) on Gamma_C and its obstacle, so that each
+discrete cone, its solver and the errors on Gamma_C are the same code for both:
+
+    scalar:      c(v) = v,        obstacle alpha,     pressure lambda = d_n u - g_C;
+    elasticity:  c(v) = -v . n,   obstacle -alpha,    pressure p = -(sigma_n(u) - g_C . n),
+
+with sigma_n = n . sigma(u) n. The elastic conditions on Gamma_C (sign conventions: n the
+outward unit normal, alpha the initial gap, compression negative),
+
+    u . n - alpha <= 0,   sigma_n(u) - g_n <= 0,   (u . n - alpha)(sigma_n(u) - g_n) = 0,
+    sigma_t(u) = g_t   (frictionless; g_t = 0 unless a tangential load is manufactured),
+
+read c(u) - obstacle >= 0, p >= 0, (c(u) - obstacle) p = 0: the scalar conditions (2.4) of the
+contact variable. In the rotated frame (c, tangential component) at each Gamma_C node
+(``discrete``), the P2 trace of c on a straight contact edge is a 1D quadratic, so both P2
+models (vertex values and edge means or midpoints of c >= obstacle) are again bounds after the
+same local change of variables as in the scalar case (``models``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+from ..mesh.points import evaluate
+
+COORDINATES = (ngs.x, ngs.y, ngs.z)
+
+
+def gradient(u: ngs.CoefficientFunction, dim: int = 2) -> ngs.CoefficientFunction:
+    """grad u of a scalar CF (a dim-vector), or the Jacobian of a vector CF (row i = grad u_i)."""
+    axes = COORDINATES[:dim]
+    if u.dim == 1:
+        return ngs.CF(tuple(u.Diff(d) for d in axes))
+    return ngs.CF(tuple(u[i].Diff(d) for i in range(u.dim) for d in axes), dims=(u.dim, dim))
+
+
+@dataclass(frozen=True)
+class Scalar:
+    """The Poisson-Signorini problem of the paper."""
+
+    name = "scalar"
+    components = 1
+    multigrid = True        # the truncated P1 V-cycle of ``multigrid`` applies
+    elastic = False         # the report: H1 error tables, u_h drawn on the domain
+    rotated_frame = False   # the contact condition is on u itself: no change of basis on Gamma_C
+    traction_load = False   # g_C enters through the Gamma_C quadrature (``fem.assembly.contact_load_vector``)
+    flux_rows = True        # d_n u on Gamma_C is a row of normal derivatives: Nitsche and penalty apply
+    modulus = 1.0           # the scale of the flux beside the second derivatives of u
+    operator = "-Laplace(u)"
+
+    def constant(self, value: float) -> ngs.CoefficientFunction:
+        return ngs.CF(float(value))
+
+    def is_field(self, u: ngs.CoefficientFunction) -> bool:
+        """Is ``u`` a field of this physics (a scalar)?"""
+        return u.dim == self.components
+
+    def tangential(self, case, mesh, points, normals) -> None:
+        """No tangential condition on Gamma_C."""
+        return None
+
+    def describe(self) -> str:
+        return "scalar (Poisson)"
+
+    def space(self, mesh, order: int):
+        return ngs.H1(mesh, order=order, dirichlet="dirichlet")
+
+    def form(self, u, v):
+        return ngs.grad(u) * ngs.grad(v)
+
+    def energy_density(self, grad_e):
+        return ngs.InnerProduct(grad_e, grad_e)
+
+    def load(self, u: ngs.CoefficientFunction, dim: int = 2) -> ngs.CoefficientFunction:
+        """f = -Laplace(u) of (2.1)."""
+        return -sum((u.Diff(d).Diff(d) for d in COORDINATES[1:dim]), u.Diff(ngs.x).Diff(ngs.x))
+
+    def flux(self, grad_u, normal):
+        """d_n u: the Neumann datum on Gamma_g."""
+        return grad_u * normal
+
+    def contact_value(self, case, mesh, points, normals) -> np.ndarray:
+        return evaluate(case.u, mesh, points)
+
+    def pressure(self, case, mesh, points, normals) -> np.ndarray:
+        """lambda = d_n u - g_C at ``points`` with outward unit ``normals`` (same leading shape)."""
+        flux = (evaluate(case.grad_u, mesh, points) * normals).sum(axis=-1)
+        return flux - _contact_load(case, mesh, points)
+
+    def obstacle(self, gap):
+        return gap
+
+    def displacement_at_vertices(self, problem, u: np.ndarray) -> np.ndarray:
+        return u[: problem.mesh.nv].copy()
+
+
+@dataclass(frozen=True)
+class Elasticity:
+    """Plane-strain linear elasticity with Young's modulus ``young`` and Poisson's ratio
+    ``poisson`` (0 <= poisson < 1/2; nearly incompressible as poisson -> 1/2)."""
+
+    young: float = 1.0
+    poisson: float = 0.3
+    name = "elasticity"
+    components = 2
+    elastic = True          # the report: energy-norm errors, the deformed shape, the Poisson ratio
+    rotated_frame = True    # u . n is constrained: Gamma_C's dofs in the normal-tangential frame
+    traction_load = True    # g_C is a traction, integrated into the load vector
+    flux_rows = False       # sigma_n(u) is not a normal derivative: no Nitsche or penalty here
+    operator = "-div sigma(u)"
+    # The scalar V-cycle (P1 hats, truncated at pinned vertices) does not transfer as is: the
+    # coarse spaces would have to be vector P1 in the rotated frame at Gamma_C and truncated
+    # per component. The elastic solves use the factorised system instead (``solver``).
+    multigrid = False
+
+    def __post_init__(self):
+        if not (self.young > 0 and 0 <= self.poisson < 0.5):
+            raise ValueError(f"elasticity needs young > 0 and 0 <= poisson < 1/2, got E = {self.young}, nu = {self.poisson}")
+
+    @property
+    def mu(self) -> float:
+        return self.young / (2 * (1 + self.poisson))
+
+    @property
+    def lam(self) -> float:
+        return self.young * self.poisson / ((1 + self.poisson) * (1 - 2 * self.poisson))
+
+    @property
+    def modulus(self) -> float:
+        """lambda + 2 mu: the largest factor between second derivatives of u and the load."""
+        return self.lam + 2 * self.mu
+
+    def constant(self, value: float) -> ngs.CoefficientFunction:
+        """A constant load ``value`` in every component."""
+        return ngs.CF((float(value),) * self.components)
+
+    def is_field(self, u: ngs.CoefficientFunction) -> bool:
+        """Is ``u`` a displacement (``components`` entries)?"""
+        return u.dim == self.components
+
+    @property
+    def kappa(self) -> float:
+        """Kolosov's constant of plane strain, 3 - 4 nu (the complex potentials of ``functions``)."""
+        return 3 - 4 * self.poisson
+
+    def describe(self) -> str:
+        return f"linear elasticity, plane strain, E = {self.young:g}, Poisson ratio {self.poisson:g} (λ/μ = {self.lam / self.mu:.3g})"
+
+    def strain(self, grad):
+        return 0.5 * (grad + grad.trans)
+
+    def stress(self, grad):
+        eps = self.strain(grad)
+        return 2 * self.mu * eps + self.lam * ngs.Trace(eps) * ngs.Id(2)
+
+    def space(self, mesh, order: int):
+        return ngs.VectorH1(mesh, order=order, dirichlet="dirichlet")
+
+    def form(self, u, v):
+        return ngs.InnerProduct(self.stress(ngs.Grad(u)), self.strain(ngs.Grad(v)))
+
+    def energy_density(self, grad_e):
+        """sigma(e) : eps(e), whose integral is the squared energy norm a(e, e)."""
+        return ngs.InnerProduct(self.stress(grad_e), self.strain(grad_e))
+
+    def load(self, u: ngs.CoefficientFunction, dim: int = 2) -> ngs.CoefficientFunction:
+        """f = -div sigma(u) (plane strain: dim is 2)."""
+        s = self.stress(gradient(u))
+        return -ngs.CF(tuple(s[i, 0].Diff(ngs.x) + s[i, 1].Diff(ngs.y) for i in range(2)))
+
+    def flux(self, grad_u, normal):
+        """sigma(u) n: the traction on Gamma_g."""
+        return self.stress(grad_u) * normal
+
+    def traction(self, case, mesh, points, normals) -> np.ndarray:
+        """sigma(u) n - g_C at ``points``: shape (..., 2)."""
+        sigma = evaluate(self.stress(case.grad_u), mesh, points).reshape(points.shape[:-1] + (2, 2))
+        return np.einsum("...ij,...j->...i", sigma, normals) - _contact_load(case, mesh, points, 2)
+
+    def contact_value(self, case, mesh, points, normals) -> np.ndarray:
+        """c(u) = -u . n."""
+        return -(evaluate(case.u, mesh, points) * normals).sum(axis=-1)
+
+    def pressure(self, case, mesh, points, normals) -> np.ndarray:
+        """p = -(sigma_n(u) - g_C . n)."""
+        return -(self.traction(case, mesh, points, normals) * normals).sum(axis=-1)
+
+    def tangential(self, case, mesh, points, normals) -> np.ndarray:
+        """sigma_t(u) - g_t (zero for a frictionless contact)."""
+        tangents = np.stack([-normals[..., 1], normals[..., 0]], axis=-1)
+        return (self.traction(case, mesh, points, normals) * tangents).sum(axis=-1)
+
+    def obstacle(self, gap):
+        return None if gap is None else -gap
+
+    def displacement_at_vertices(self, problem, u: np.ndarray) -> np.ndarray:
+        """(nv, 2) Cartesian displacement at the vertices (vertex dofs are nodal values)."""
+        cartesian = problem.cartesian(u)
+        nv, half = problem.mesh.nv, problem.ndof // 2
+        return np.stack([cartesian[:nv], cartesian[half: half + nv]], axis=1)
+
+
+def _contact_load(case, mesh, points, components: int = 1) -> np.ndarray:
+    if case.contact_load is None:
+        return np.zeros(points.shape[:-1] + ((components,) if components > 1 else ()))
+    return evaluate(case.contact_load, mesh, points)
+
+
+SCALAR = Scalar()
+PHYSICS = ("scalar", "elasticity")

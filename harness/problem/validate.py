@@ -1,0 +1,151 @@
+"""Refuse a case whose exact solution does not satisfy the Signorini conditions (2.4).
+
+With gap alpha and contact load g_C the conditions read, on Gamma_C,
+    u - alpha >= 0,   du/dn - g_C >= 0,   (u - alpha)(du/dn - g_C) = 0,
+which is what makes u the solution of the variational inequality (2.5) with the data the
+harness derives from it. For an elastic case (Remark 2.3; ``physics``) they are
+    u . n - alpha <= 0,   sigma_n(u) - g_n <= 0,   (u . n - alpha)(sigma_n(u) - g_n) = 0,
+and, frictionless, sigma_t(u) = g_t: checked as the scalar conditions of the contact variable
+c(u) = -u . n >= -alpha and the pressure p = -(sigma_n - g_n) >= 0, plus the tangential one. They are sampled densely on the coarse contact trace. A declared
+volume load f must equal -Laplace(u) (sampled inside every coarse element), and declared
+singular points must be vertices of the mesh.
+
+A reference case (no u) cannot be checked against (2.4); its data must be finite where they
+act: f inside the coarse elements, u_D, g, gap and contact load on their boundaries.
+"""
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+
+from ..mesh.levels import boundary_labels, coarse_mesh
+from ..mesh.points import cells, coordinates, evaluate, format_point, vertices_at
+from ..mesh.trace import contact_trace
+from .case import CaseError
+from .geometry import LABELS
+from .physics import COORDINATES
+
+SAMPLES_PER_EDGE = 64
+# The conditions in words, by physics (elasticity: sigma_n = n . sigma(u) n, compression < 0).
+CONDITIONS = {
+    "scalar": ("u - gap >= 0", "du/dn - contact_load >= 0", "(u - gap)(du/dn - contact_load) = 0"),
+    "elasticity": ("u.n - gap <= 0", "sigma_n(u) - g_n <= 0", "(u.n - gap)(sigma_n(u) - g_n) = 0",
+                   "sigma_t(u) = g_t (frictionless)"),
+}
+RELATIVE_TOLERANCE = 1e-8
+
+
+def contact_samples(case, mesh):
+    """Points strictly inside the coarse contact edges, their normals, the excess c(u) - obstacle
+    (u - alpha; alpha - u . n in elasticity) and the pressure (du/dn - g_C; -(sigma_n - g_n))."""
+    trace = contact_trace(mesh)
+    if trace.faces is None:
+        t = (np.arange(SAMPLES_PER_EDGE) + 0.5) / SAMPLES_PER_EDGE
+        points = trace.points(t)
+        normals = np.broadcast_to(trace.normals[:, None, :], points.shape)
+    else:       # 3D: points strictly inside the coarse triangles of Gamma_C
+        points = np.einsum("kc,fcd->fkd", _FACE_INTERIOR, trace.faces.corners(trace))
+        normals = np.broadcast_to(trace.faces.normals[:, None, :], points.shape)
+    excess = case.physics.contact_value(case, mesh, points, normals)
+    if case.obstacle is not None:
+        excess = excess - evaluate(case.obstacle, mesh, points)
+    pressure = case.physics.pressure(case, mesh, points, normals)
+    dim = mesh.dim
+    return points.reshape(-1, dim), excess.ravel(), pressure.ravel(), normals.reshape(-1, dim)
+
+
+def _strict_lattice(n: int, corners: int) -> np.ndarray:
+    """Barycentric points (k, corners) of the lattice of step 1/n strictly inside the simplex."""
+    import itertools
+    points = [p for p in itertools.product(range(1, n), repeat=corners - 1) if sum(p) < n]
+    return np.array([(*p, n - sum(p)) for p in points], dtype=float) / n
+
+
+# the points of each coarse triangle of a 3D Gamma_C where the conditions are sampled
+_FACE_INTERIOR = _strict_lattice(24, 3)
+# barycentric coordinates of the points where a declared f is compared with -Laplace(u)
+_INTERIOR = {2: _strict_lattice(5, 3), 3: _strict_lattice(5, 4)}
+
+
+def interior_samples(mesh) -> np.ndarray:
+    """Points strictly inside every element of ``mesh``."""
+    return np.einsum("kv,evd->ekd", _INTERIOR[mesh.dim], coordinates(mesh)[cells(mesh)]).reshape(-1, mesh.dim)
+
+
+def check_declared_f(case, mesh) -> None:
+    if case.declared_f is None:
+        return
+    points = interior_samples(mesh)
+    derived = evaluate(case.derived_f, mesh, points).reshape(len(points), -1)
+    declared = evaluate(case.f, mesh, points).reshape(len(points), -1)
+    # the size of the second derivatives of u (times the largest modulus lambda + 2 mu in elasticity)
+    second = max(np.abs(evaluate(case.u.Diff(d).Diff(d), mesh, points)).max() for d in COORDINATES[:mesh.dim])
+    modulus = case.physics.modulus
+    scale = max(second * modulus, 1e-300)
+    wrong = ~(np.abs(declared - derived) <= RELATIVE_TOLERANCE * scale).all(axis=1)
+    if wrong.any():
+        k = int(np.argmax(wrong))
+        raise CaseError(f"case {case.name!r}: declared f is not {case.physics.operator} at {format_point(points[k])}: "
+                        f"{declared[k]} against {derived[k]}")
+
+
+def boundary_samples(mesh, label: str) -> np.ndarray:
+    """Points strictly inside the coarse boundary edges labelled ``label``."""
+    t = (np.arange(SAMPLES_PER_EDGE) + 0.5) / SAMPLES_PER_EDGE
+    ends = [[mesh[v].point for v in el.vertices] for el in mesh.Elements(ngs.BND) if el.mat == label]
+    ends = np.array(ends, dtype=float)
+    return (ends[:, :1, :] + t[None, :, None] * (ends[:, 1:, :] - ends[:, :1, :])).reshape(-1, 2)
+
+
+def check_reference_data(case, mesh) -> None:
+    """The data of a reference case are finite where they act."""
+    data = [("f", case.f, interior_samples(mesh)), ("dirichlet", case.dirichlet, boundary_samples(mesh, "dirichlet")),
+            ("neumann", case.neumann, boundary_samples(mesh, "neumann"))]
+    data += [(name, cf, boundary_samples(mesh, "contact")) for name, cf in (("gap", case.gap), ("contact_load", case.contact_load))
+             if cf is not None]
+    for name, cf, points in data:
+        values = evaluate(cf, mesh, points)
+        if not np.all(np.isfinite(values)):
+            bad = points[~np.isfinite(values)][0]
+            raise CaseError(f"case {case.name!r}: {name} is not finite at {format_point(bad)}")
+
+
+def validate_case(case) -> None:
+    mesh = coarse_mesh(case)
+    missing = [label for label in LABELS if label not in boundary_labels(mesh)]
+    if missing:
+        raise CaseError(f"case {case.name!r}: geometry has no boundary labelled {', '.join(missing)}")
+    if mesh.dim == 3 and case.singular_points:
+        raise CaseError(f"case {case.name!r}: singular_points are 2D only (a 3D solution is singular along curves)")
+    if mesh.dim == 3 and case.u is None:
+        raise CaseError(f"case {case.name!r}: a 3D case needs its exact solution u (no 3D reference cases yet)")
+    try:
+        vertices_at(mesh, case.singular_points or ())
+    except ValueError as exc:
+        raise CaseError(f"case {case.name!r}: singular point {exc}") from None
+    if case.u is None:
+        check_reference_data(case, mesh)
+        return
+    check_declared_f(case, mesh)
+    points, excess, flux, normals = contact_samples(case, mesh)
+    if not (np.all(np.isfinite(excess)) and np.all(np.isfinite(flux))):
+        bad = points[~(np.isfinite(excess) & np.isfinite(flux))][0]
+        raise CaseError(f"case {case.name!r}: u or its flux is not finite on Gamma_C at {format_point(bad)}")
+    tol_u = RELATIVE_TOLERANCE * max(np.abs(excess).max(), 1e-300)
+    tol_flux = RELATIVE_TOLERANCE * max(np.abs(flux).max(), 1e-300)
+    names = CONDITIONS[case.physics.name]
+    checks = [
+        (names[0], excess < -tol_u, excess),
+        (names[1], flux < -tol_flux, flux),
+        (names[2], (np.abs(excess) > tol_u) & (np.abs(flux) > tol_flux), excess * flux),
+    ]
+    tangential = case.physics.tangential(case, mesh, points, normals)
+    if tangential is not None:
+        checks.append((names[3], np.abs(tangential) > tol_flux, tangential))
+    for condition, violated, value in checks:
+        if violated.any():
+            k = int(np.argmax(violated))
+            raise CaseError(
+                f"case {case.name!r} violates the Signorini condition {condition} on Gamma_C "
+                f"at {format_point(points[k])}: value {value[k]:.3e} ({int(violated.sum())} of {len(points)} samples)"
+            )

@@ -1,0 +1,176 @@
+"""`make report`: the study of a profile (computed, or reused, by ``study.cache``: results of a
+case are reused while the computing code, the case file and the settings are unchanged), its
+rates, figures and the document (Markdown and HTML), from the tables of ``tables`` and the
+sentences of ``prose``.
+"""
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..problem.case import Case, bound_text, fraction, registered_cases
+from .document import Document
+from ..measure.efficiency import efficiency_table, verdicts
+from ..study import InProcess
+from .figure_jobs import FIGURE_WORKERS, FigurePool
+from ..methods import methods_named
+from ..measure.rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
+from ..study.cache import compute, provenance
+from ..study.files import ensure_writable, write_atomic, write_csv
+from ..study.chain import PROFILES
+from ..study.timing import Timings
+from .prose import (EFFICIENCY_NOTE, ELASTICITY_NOTE, GAMMA_C_NOTE, INTRO, RATES_NOTE, REGULARITY_NOTE, SWEEP_NOTE,
+                    THREE_D_NOTE, belief_finding, reference_sentence, which_bound)
+from .tables import (efficiency_view, elasticity_view, gamma_c_view, level_table, normalised_view, regularity_view,
+                     summary_table, sweep_view, three_d_view)
+
+
+def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame, efficiency: pd.DataFrame,
+                   figs: dict, meta: dict, sweeps: dict | None = None) -> Document:
+    doc = Document("The Signorini problem in P2 and P1: measured against the theorems")
+    settings = meta["settings"]
+    doc.paragraph(
+        f"Belhachmi and Ben Belgacem, Math. Comp. 72 (2003). Harness {meta['harness_version']} "
+        f"(commit {meta['git_commit'][:12]}), NGSolve {meta['ngsolve_version']}, {meta['date']}, "
+        f"{meta['machine']['node']} ({meta['machine']['cpus']} cpus); profile {settings['profile']}, "
+        f"{settings['levels']} P2 levels; methods {', '.join(settings['methods'])}; "
+        f"study wall time {meta['wall_seconds']:.0f} s{' ' + meta['engine'] if meta.get('engine') else ''}.", css="meta")
+    doc.heading("Problem and methods")
+    doc.paragraph(INTRO)
+    doc.table(pd.DataFrame([{"method": m.name, "order": m.order, "contact condition": m.contact,
+                             "parameters": m.parameter_text, "reference": m.reference}
+                            for m in methods_named(settings["methods"])]))
+    doc.heading("Summary: every case x method")
+    doc.paragraph(RATES_NOTE)
+    doc.table(summary_table(rates), verdict_column="verdict")
+    doc.figures([(figs["summary"]["png"], "Fitted against theory rates; grey band: ±0.1.")])
+    if "fitted_rate_best" in rates and rates.fitted_rate_best.notna().any():
+        doc.heading("Regularity check: best approximation")
+        doc.paragraph(REGULARITY_NOTE)
+        doc.table(regularity_view(rates, results), verdict_column="verdict")
+        doc.heading("Errors on Γ_C")
+        doc.paragraph(GAMMA_C_NOTE)
+    claims = verdicts(efficiency, rates)
+    if claims:
+        doc.heading("Is P2 worth it? Cost at equal accuracy")
+        doc.paragraph(EFFICIENCY_NOTE)
+        for case in cases:
+            if case.name in claims:
+                doc.paragraph(f"{case.name}: {claims[case.name]}")
+        doc.table(efficiency_view(efficiency))
+    if sweeps:
+        doc.heading("Penalty and Nitsche: where their parameter is safe")
+        doc.paragraph(SWEEP_NOTE)
+        for name, frame in sweeps.items():
+            doc.figures([(figs["sweeps"][name]["png"], f"{name}: H¹ error and largest penetration against ε₀ / γ₀.")],
+                        wide=True)
+            doc.table(sweep_view(frame))
+    if any(case.physics.elastic for case in cases):
+        doc.heading("Unilateral contact in linear elasticity (Remark 2.3)")
+        doc.paragraph(ELASTICITY_NOTE)
+        doc.table(elasticity_view(cases, rates))
+    if any(case.dimension == 3 for case in cases):
+        doc.heading("Three dimensions (Section 6)")
+        doc.paragraph(THREE_D_NOTE + f" Levels: {settings.get('levels_3d', settings['levels'])} per 3D case.")
+        doc.table(three_d_view(cases, rates, results), verdict_column="verdict")
+    for case in cases:
+        doc.heading(f"{case.name}: P2 " + (case.theorem if case.conjectured else f"Theorem {case.theorem}"))
+        if case.physics.elastic:
+            doc.paragraph(f"Physics: {case.physics.describe()}.")
+        doc.paragraph(f"{case.description}. Regime {case.regime or '-'}, "
+                      + (f"ν = {fraction(case.nu)}; " if np.isfinite(case.nu) else "ν not declared; ")
+                      + (f"the authors believe (no theorem) the P2 H¹ error behaves like {case.expected_bound}."
+                         if case.conjectured else f"the paper bounds the P2 H¹ error by C {case.expected_bound}."))
+        against = reference_sentence(case, results)
+        if against:
+            doc.paragraph(against)
+        doc.table(summary_table(rates[rates.case == case.name]), verdict_column="verdict")
+        if case.conjectured:
+            doc.paragraph(belief_finding(case, rates))
+        sentences = "" if case.conjectured else which_bound(case, rates, results)   # no bound to follow
+        if sentences:
+            doc.paragraph(sentences)
+        if case.expected_log_exponent:
+            view = normalised_view(case, results)
+            if view is not None:
+                doc.table(view)
+        if "err_trace_l2" in results:
+            doc.paragraph("On Γ_C, finest level (the paper's Section 5 remark; the measures are defined "
+                          "under 'Errors on Γ_C' above):")
+            doc.table(gamma_c_view(rates, results, case.name))
+        f = figs[case.name]
+        doc.figures([(f["convergence"]["png"], "H¹ error against h; dashed: each theory's bound through the coarsest point."),
+                     (f["contact"]["png"], "Finest level along Γ_C: u_h - α and the discrete contact pressure; shaded: exact contact zone."
+                      if case.dimension == 2 else "Γ_C from below, finest level: u_h - α and the discrete pressure per triangle.")])
+        doc.figures([(f["efficiency"]["png"], "H¹ error against ndof and against seconds summed over the levels; dotted: the target.")],
+                    wide=True)
+        if f["solution"] is not None:
+            doc.figures([(f["solution"]["png"], "Deformed shape: the mesh moved by u_h (magnified), coloured by |u_h|; grey: the body at rest."
+                          if case.physics.elastic else "u_h on Ω.")])
+        for method, group in results[results.case == case.name].groupby("method", sort=False):
+            doc.heading(f"method {method}", level=3)
+            doc.table(level_table(group, energy=case.physics.elastic))
+    return doc
+
+
+def make_report(profile: str = "default", results_dir: Path = Path("results"), report_dir: Path = Path("report"),
+                case_names=None, show_progress: bool = True, levels: int | None = None, methods=("all",),
+                engine=None, check_memory: bool = True) -> Path:
+    """Run (or reuse) the study of a profile, its sweeps, rates and figures, and write the report;
+    ``engine``: where the jobs run (``execution``; default this process). Where the time went is
+    written to ``results_dir/report_profile.csv`` (``timing``)."""
+    if profile not in PROFILES:
+        raise ValueError(f"unknown profile {profile!r}; expected one of: {', '.join(PROFILES)}")
+    known = registered_cases()
+    cases = list(known.values()) if not case_names else [known[n] if n in known else _unknown(n, known) for n in case_names]
+    methods = [m if isinstance(m, str) else m.name for m in methods]
+    settings = {"profile": profile, "methods": [m.name for m in methods_named(methods)], **PROFILES[profile]}
+    if levels is not None:
+        settings["levels"] = levels
+    results_dir = Path(results_dir)
+    ensure_writable(report_dir / "figures")
+    timings = Timings()
+    start = time.perf_counter()
+    sweep_cases = cases if _has_weak(settings["methods"]) else []
+    results, sweeps = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory, timings)
+    with timings("rates"):
+        rates = rate_table(results)
+        efficiency = efficiency_table(results)
+    with timings("writing", "results"):
+        write_csv(results, results_dir / "results.csv")
+        write_csv(rates, results_dir / "rates.csv")
+        write_csv(efficiency, results_dir / "efficiency.csv")
+    meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
+                                   "engine": (engine or InProcess()).describe()}
+    write_atomic(results_dir / "provenance.json", json.dumps(meta, indent=2))
+    drawing = timings("figures", f"drawn in {FIGURE_WORKERS} processes")
+    with drawing, FigurePool(settings["methods"], Path(report_dir) / "figures") as pool:
+        for case in cases:
+            pool.case(case, results_dir / "cases")
+        pool.summary(rates)
+        for name, frame in sweeps.items():
+            pool.sweep(known[name], frame)
+        figs, seconds = pool.collect()
+    for name, spent in seconds.items():
+        timings.add("figures (in workers)", name, "", spent)
+    with timings("document"):
+        doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps)
+    with timings("writing", "report"):
+        write_atomic(Path(report_dir) / "report.md", doc.markdown(Path(report_dir)))
+        html_path = write_atomic(Path(report_dir) / "report.html", doc.html())
+    timings.add("total", "wall", "", time.perf_counter() - start)
+    write_csv(timings.frame(), results_dir / "report_profile.csv")
+    return html_path
+
+
+def _has_weak(names) -> bool:
+    from ..methods import WeakContact
+    return any(isinstance(m, WeakContact) for m in methods_named(names))
+
+
+def _unknown(name, known):
+    raise ValueError(f"unknown case {name!r}; known cases: {', '.join(known)}")

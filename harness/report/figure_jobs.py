@@ -1,0 +1,94 @@
+"""The report's figures, drawn in worker processes once the study is computed.
+
+matplotlib draws on one core, and the report has about forty figures (each in PNG and PDF:
+40 s of the default report on one core, measured 2026-11-25); each needs only its case's stored
+rows and snapshots, so two processes draw them side by side. Drawing them beside the running
+study instead (as each case was stored) slowed the study more than it saved, at normal and at
+the lowest priority alike (the study's NGSolve threads lose their cores: 375-384 s against
+about 360 s). Workers are spawned, not forked: the parent runs NGSolve's threads. Every figure
+is drawn with the same colour per method in every process (``figures.register_methods``).
+"""
+from __future__ import annotations
+
+import multiprocessing
+import time
+from concurrent.futures import Future, ProcessPoolExecutor
+from pathlib import Path
+
+import pandas as pd
+
+FIGURE_WORKERS = 2
+
+
+def _timed(draw, methods, *args) -> tuple[dict, float]:
+    from . import figures
+    clock = time.perf_counter()
+    figures.register_methods(methods)
+    return draw(*args), time.perf_counter() - clock
+
+
+def _case_figures(source: str, store: str, folder: str) -> dict:
+    """The figures of one case from its stored rows (``report_cache``) and snapshots."""
+    from . import figures
+    from ..problem.case import load_case
+    from ..measure.efficiency import efficiency_table
+    from ..study.snapshots import load_snapshots
+    case, store, folder = load_case(source), Path(store), Path(folder)
+    frame = pd.read_csv(store / f"{case.name}.csv")
+    contact, domain = load_snapshots(store / f"{case.name}.npz")
+    return {
+        "convergence": figures.convergence(case, frame, folder),
+        "contact": figures.contact(case, contact, folder),
+        "solution": figures.domain(case, domain, folder),
+        "efficiency": figures.efficiency(case, frame, efficiency_table(frame).target_err_h1.iloc[0], folder),
+    }
+
+
+def _summary(rates: pd.DataFrame, folder: str) -> dict:
+    from . import figures
+    return figures.summary(rates, Path(folder))
+
+
+def _sweep(source: str, frame: pd.DataFrame, folder: str) -> dict:
+    from . import figures
+    from ..problem.case import load_case
+    return figures.sweep(load_case(source), frame, Path(folder))
+
+
+class FigurePool:
+    """Figures drawn in ``workers`` processes; ``collect`` gives them by name (a case's name,
+    "summary", "sweeps") with the seconds each took in its worker."""
+
+    def __init__(self, methods, folder: Path, workers: int = FIGURE_WORKERS):
+        self.methods, self.folder = list(methods), str(folder)
+        self.pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+        self.futures: dict[str, Future] = {}
+        self.sweeps: dict[str, Future] = {}
+
+    def __enter__(self) -> "FigurePool":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.pool.shutdown(wait=exc[0] is None, cancel_futures=exc[0] is not None)
+
+    def _submit(self, draw, *args) -> Future:
+        return self.pool.submit(_timed, draw, self.methods, *args, self.folder)
+
+    def case(self, case, store: Path) -> None:
+        self.futures[case.name] = self._submit(_case_figures, str(case.source), str(store))
+
+    def summary(self, rates: pd.DataFrame) -> None:
+        self.futures["summary"] = self._submit(_summary, rates)
+
+    def sweep(self, case, frame: pd.DataFrame) -> None:
+        self.sweeps[case.name] = self._submit(_sweep, str(case.source), frame)
+
+    def collect(self) -> tuple[dict, dict]:
+        """(figures by name, the sweeps' under "sweeps"; worker seconds by name)."""
+        figs, seconds = {}, {}
+        for name, future in self.futures.items():
+            figs[name], seconds[name] = future.result()
+        done = {name: future.result() for name, future in self.sweeps.items()}
+        figs["sweeps"] = {name: paths for name, (paths, _) in done.items()}
+        seconds["sweeps"] = sum(s for _, s in done.values())
+        return figs, seconds

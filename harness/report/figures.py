@@ -1,0 +1,264 @@
+"""Figures of the report (matplotlib, Agg): PNG for the HTML page, PDF for papers."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.tri as mtri  # noqa: E402
+import numpy as np  # noqa: E402
+
+from ..problem.case import fraction
+
+METHOD_STYLE = {"mean": dict(color="tab:blue", marker="o"), "nodal": dict(color="tab:orange", marker="s"),
+                "p1": dict(color="tab:green", marker="^")}
+_OTHER_COLORS = ["tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
+
+
+def style(method: str) -> dict:
+    """A fixed colour and marker per method (methods added later get the next free colour)."""
+    if method not in METHOD_STYLE:
+        METHOD_STYLE[method] = dict(color=_OTHER_COLORS[(len(METHOD_STYLE) - 3) % len(_OTHER_COLORS)], marker="D")
+    return METHOD_STYLE[method]
+def register_methods(methods) -> None:
+    """Give ``methods`` their styles in this order, so that every process that draws a figure
+    of the same study draws each method in the same colour."""
+    for method in methods:
+        style(method)
+
+
+FORMATS = ("png", "pdf")
+
+
+def save(fig, folder: Path, stem: str) -> dict[str, Path]:
+    paths = {}
+    for fmt in FORMATS:
+        paths[fmt] = folder / f"{stem}.{fmt}"
+        fig.savefig(paths[fmt], dpi=130, bbox_inches="tight")
+    plt.close(fig)
+    return paths
+
+
+def _bound_tex(p: float, q: float) -> str:
+    bound = rf"$C\,h^{{{fraction(p)}}}"
+    if q:
+        bound += rf"\,|\log h|^{{{fraction(q)}}}"
+    return bound + "$"
+
+
+def _slope_marker(ax, h, e, rate, label):
+    """A slope triangle of the theorem's rate below the data, in the middle of the range."""
+    h0, h1 = h[len(h) // 2], h[len(h) // 2 + 1] if len(h) > 2 else h[-1]
+    e0 = e[len(e) // 2] * 0.45
+    e1 = e0 * (h1 / h0) ** rate
+    ax.plot([h0, h1, h0, h0], [e0, e1, e1, e0], color="0.3", lw=0.8)
+    ax.annotate(label, (h0, np.sqrt(e0 * e1)), textcoords="offset points", xytext=(4, 0), fontsize=8, color="0.3")
+
+
+def convergence(case, results, folder: Path) -> dict[str, Path]:
+    """log-log H^1 error against h, every method, each with its theory's bound (dashed, in its
+    colour) through its finest point."""
+    fig, ax = plt.subplots(figsize=(5.2, 4.0))
+    for method, g in results.groupby("method", sort=False):
+        g = g.sort_values("h")
+        ax.loglog(g.h, g.err_h1, label=method, lw=1.2, ms=5, **style(method))
+    theories = results.groupby(["expected_rate", "expected_log_exponent"], sort=False).method.unique()
+    for (p, q), methods in theories.items():
+        g = results[results.method == methods[0]].sort_values("h")
+        h = np.geomspace(g.h.min(), g.h.max(), 50)
+        anchor = g.err_h1.iloc[0] / (g.h.iloc[0] ** p * abs(np.log(g.h.iloc[0])) ** q)
+        ax.loglog(h, anchor * h**p * np.abs(np.log(h)) ** q, "--", color=style(methods[0])["color"], lw=0.8,
+                  label=f"theory ({', '.join(methods)}): {_bound_tex(p, q)}")
+    g = results[results.order == results.order.max()]
+    hs = np.sort(g.h.unique())[::-1]
+    es = g.groupby("h").err_h1.max().reindex(hs).to_numpy()
+    _slope_marker(ax, hs, es, case.expected_rate, fraction(case.expected_rate))
+    ax.set_xlabel("h (largest element diameter)")
+    ax.set_ylabel(r"$\|u-u_h\|_{H^1(\Omega)}$")
+    ax.set_title(f"{case.name}: P2 Theorem {case.theorem}", fontsize=10)
+    ax.grid(True, which="both", alpha=0.25)
+    ax.legend(fontsize=8)
+    return save(fig, folder, f"{case.name}_convergence")
+
+
+# What the contact figure draws, by physics (``harness.physics``): the contact variable minus its
+# obstacle (the gap left open), of the exact and the discrete solution, and the exact pressure.
+CONTACT_LABELS = {
+    "scalar": (r"$u-\alpha$", r"$u_h-\alpha$", r"$\partial_n u - g_C$"),
+    "elasticity": (r"$\alpha - u\cdot n$", r"$\alpha - u_h\cdot n$", r"$-(\sigma_n(u) - g_n)$"),
+}
+
+
+def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
+    """u_h (in elasticity its normal displacement) and the discrete contact pressure along
+    Gamma_C on the finest level (3D: over Gamma_C, ``contact_faces``)."""
+    if "faces" in next(iter(snapshots.values())):
+        return contact_faces(case, snapshots, folder)
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 5.2), sharex=True)
+    first = next(iter(snapshots.values()))
+    exact = bool(np.isfinite(first["u"]).any())        # a reference case has no exact u to draw
+    gap_u, gap_uh, pressure_label = CONTACT_LABELS[case.physics.name]
+    if exact:
+        top.plot(first["s"], first["u"] - first["gap"], "k-", lw=1.0, label=f"exact {gap_u}")
+        bottom.plot(first["s"], first["exact_pressure"], "k-", lw=1.0, label=f"exact {pressure_label}")
+    for method, snap in snapshots.items():
+        color = style(method)["color"]
+        top.plot(snap["s"], snap["u_h"] - snap["gap"], color=color, lw=1.0, ls="--", label=f"{method}: {gap_uh}")
+        bottom.step(snap["edge_s"], snap["pressure"], where="mid", color=color, lw=1.0, label=f"{method}: discrete pressure")
+    free = first["u"] - first["gap"] > 1e-12 * max(1.0, np.abs(first["u"]).max())
+    for ax in (top, bottom):
+        ax.axhline(0, color="0.6", lw=0.6)
+        if exact:
+            ax.fill_between(first["s"], 0, 1, where=~free, transform=ax.get_xaxis_transform(), color="0.85", alpha=0.6, lw=0)
+        ax.grid(True, alpha=0.25)
+        ax.legend(fontsize=7, loc="best")
+    top.set_ylabel(f"{gap_uh} on $\\Gamma_C$")
+    bottom.set_ylabel("contact pressure")
+    bottom.set_xlabel(r"coordinate along $\Gamma_C$ (x for a horizontal $\Gamma_C$)"
+                      + ("; shaded: exact contact zone" if exact else "; no closed-form solution"))
+    top.set_title(f"{case.name}: finest level of each method", fontsize=10)
+    return save(fig, folder, f"{case.name}_contact")
+
+
+def contact_faces(case, snapshots: dict, folder: Path) -> dict[str, Path]:
+    """3D: Gamma_C seen from below (x runs to the left), one column per method: u_h - alpha
+    (red: below the obstacle, i.e. penetration) and the discrete pressure per triangle, with
+    the exact transition curve in black."""
+    methods = list(snapshots)
+    fig, axes = plt.subplots(2, len(methods), figsize=(3.3 * len(methods) + 0.6, 6.4), squeeze=False)
+    gaps = [snap["u_h"] - snap["gap"] for snap in snapshots.values()]
+    scale = max(np.abs(g).max() for g in gaps) or 1.0
+    for k, (method, snap) in enumerate(snapshots.items()):
+        tri = mtri.Triangulation(snap["points"][:, 0], snap["points"][:, 1], snap["triangles"])
+        top, bottom = axes[0, k], axes[1, k]
+        shown = top.tripcolor(tri, gaps[k], shading="gouraud", cmap="RdBu", norm=matplotlib.colors.TwoSlopeNorm(0.0, -scale, scale))
+        fig.colorbar(shown, ax=top, shrink=0.8)
+        pressure = np.tile(snap["pressure"], 4)          # the four sub-triangles of each triangle
+        shown = bottom.tripcolor(tri, facecolors=pressure, cmap="viridis")
+        fig.colorbar(shown, ax=bottom, shrink=0.8)
+        top.set_title(f"{method}: $u_h - \\alpha$ (min {gaps[k].min():.2g})", fontsize=9)
+        bottom.set_title(f"{method}: discrete pressure", fontsize=9)
+        for ax in (top, bottom):
+            for line in case.transition_curve:
+                ax.plot(*np.array(line).T, color="k", lw=1.0)
+            ax.set_aspect("equal")
+            ax.invert_xaxis()                 # seen from below
+            ax.set_xlabel("x (seen from below)", fontsize=8)
+            ax.tick_params(labelsize=7)
+    fig.suptitle(f"{case.name}: Γ_C on the finest level; black: the exact transition curve", fontsize=10)
+    return save(fig, folder, f"{case.name}_contact")
+
+
+def domain(case, snapshot: dict, folder: Path) -> dict[str, Path] | None:
+    """u_h on Omega (2D; the deformed shape in elasticity); None without a snapshot (3D)."""
+    if not snapshot:
+        return None
+    if snapshot["values"].ndim == 2:
+        return deformed(case, snapshot, folder)
+    tri = mtri.Triangulation(snapshot["points"][:, 0], snapshot["points"][:, 1], snapshot["triangles"])
+    fig, ax = plt.subplots(figsize=(5.6, 3.6))
+    shading = ax.tricontourf(tri, snapshot["values"], levels=30, cmap="viridis")
+    ax.tricontour(tri, snapshot["values"], levels=12, colors="k", linewidths=0.3)
+    fig.colorbar(shading, ax=ax, shrink=0.85)
+    ax.set_aspect("equal")
+    ax.set_title(f"{case.name}: $u_h$ ({snapshot.get('method', 'nodal')})", fontsize=10)
+    return save(fig, folder, f"{case.name}_solution")
+
+
+def deformed(case, snapshot: dict, folder: Path) -> dict[str, Path]:
+    """The deformed body of an elastic case: the mesh moved by u_h, magnified so that the largest
+    displacement is a tenth of the body's size, coloured by |u_h|; the body at rest in grey."""
+    points, displacement = snapshot["points"], snapshot["values"]
+    size = np.ptp(points, axis=0).max()
+    largest = np.abs(displacement).max()
+    scale = 0.1 * size / largest if largest > 0 else 1.0
+    moved = points + scale * displacement
+    fig, ax = plt.subplots(figsize=(5.6, 3.8))
+    rest = mtri.Triangulation(points[:, 0], points[:, 1], snapshot["triangles"])
+    ax.triplot(rest, color="0.8", lw=0.3)
+    tri = mtri.Triangulation(moved[:, 0], moved[:, 1], snapshot["triangles"])
+    shading = ax.tripcolor(tri, np.hypot(*displacement.T), shading="gouraud", cmap="viridis")
+    ax.triplot(tri, color="k", lw=0.2, alpha=0.5)
+    ax.axhline(points[:, 1].min(), color="0.3", lw=1.2, ls="-")         # the foundation's surface
+    fig.colorbar(shading, ax=ax, shrink=0.85, label=r"$|u_h|$")
+    ax.set_aspect("equal")
+    ax.set_title(f"{case.name}: deformed shape, displacement x{scale:.3g} ({snapshot.get('method', 'nodal')})", fontsize=10)
+    return save(fig, folder, f"{case.name}_solution")
+
+
+def summary(rates, folder: Path) -> dict[str, Path]:
+    """Fitted against expected rates, every case x method, with the +-0.1 verdict band."""
+    fig, ax = plt.subplots(figsize=(5.0, 4.4))
+    lo, hi = 0.3, 2.3
+    ax.plot([lo, hi], [lo, hi], "k-", lw=0.8)
+    ax.fill_between([lo, hi], [lo - 0.1, hi - 0.1], [lo + 0.1, hi + 0.1], color="0.9")
+    methods = list(dict.fromkeys(rates.method))
+    for k, (method, g) in enumerate(rates.groupby("method", sort=False)):
+        offset = 0.03 * (k - (len(methods) - 1) / 2)
+        ax.errorbar(g.expected_rate + offset, g.fitted_rate, yerr=g.fitted_rate_se.fillna(0), ls="none",
+                    label=method, ms=6, **style(method))
+    for _, row in rates.drop_duplicates("case").iterrows():
+        ax.annotate(row.case, (row.expected_rate, row.fitted_rate), textcoords="offset points",
+                    xytext=(8, -10), fontsize=7)
+    ax.set_xlim(lo, hi), ax.set_ylim(lo, hi)
+    ax.set_xlabel("rate p of the method's theory")
+    ax.set_ylabel("fitted rate (last levels)")
+    ax.set_title("Fitted H¹ rates against the theorems", fontsize=10)
+    ax.grid(True, alpha=0.25)
+    ax.legend(fontsize=8, loc="upper left")
+    return save(fig, folder, "summary_rates")
+
+
+def efficiency(case, results, target: float, folder: Path) -> dict[str, Path]:
+    """H^1 error against ndof and against time (cumulated over the levels, as nested iteration
+    needs them: solid everything from mesh to solve, dashed the contact solves alone), every method."""
+    fig, (by_ndof, by_time) = plt.subplots(1, 2, figsize=(9.6, 3.9), sharey=True)
+    for method, g in results.groupby("method", sort=False):
+        g = g.sort_values("level")
+        st = style(method)
+        by_ndof.loglog(g.ndof, g.err_h1, label=method, lw=1.2, ms=5, **st)
+        by_time.loglog(g.total_seconds.cumsum(), g.err_h1, label=f"{method}: mesh to solve", lw=1.2, ms=5, **st)
+        by_time.loglog(g.solve_seconds.cumsum(), g.err_h1, ls="--", lw=0.9, color=st["color"],
+                       label=f"{method}: contact solves")
+    for ax in (by_ndof, by_time):
+        ax.axhline(target, color="0.4", lw=0.7, ls=":")
+        ax.grid(True, which="both", alpha=0.25)
+    by_ndof.annotate("target", (by_ndof.get_xlim()[0], target), textcoords="offset points", xytext=(4, 3), fontsize=7)
+    by_ndof.set_xlabel("ndof")
+    by_ndof.set_ylabel(r"$\|u-u_h\|_{H^1(\Omega)}$")
+    by_time.set_xlabel("seconds, summed over the levels so far")
+    by_ndof.legend(fontsize=7)
+    by_time.legend(fontsize=6)
+    fig.suptitle(f"{case.name}: error against cost", fontsize=10)
+    return save(fig, folder, f"{case.name}_efficiency")
+
+
+def sweep(case, frame, folder: Path) -> dict[str, Path]:
+    """H^1 error and largest penetration against the swept parameter (eps0 / gamma0), one line
+    per swept method, the reference methods as horizontal lines; hollow markers: not converged."""
+    fig, (left, right) = plt.subplots(1, 2, figsize=(10.4, 4.0))
+    swept = frame[frame.sweep_parameter.fillna("") != ""]
+    for k, (label, g) in enumerate(swept.groupby("sweep_method", sort=False)):
+        g = g.sort_values("sweep_value")
+        color = _OTHER_COLORS[k % len(_OTHER_COLORS)]
+        ok = g.status == "converged"
+        for ax, column in ((left, "err_h1"), (right, "max_penetration")):
+            ax.loglog(g.sweep_value, g[column].clip(lower=1e-16), color=color, lw=1.2, label=label)
+            ax.plot(g.sweep_value[ok], g[column][ok].clip(lower=1e-16), "o", color=color, ms=4)
+            ax.plot(g.sweep_value[~ok], g[column][~ok].clip(lower=1e-16), "o", mfc="none", color=color, ms=7)
+    for _, row in frame[frame.sweep_parameter.fillna("") == ""].iterrows():
+        for ax, column in ((left, "err_h1"), (right, "max_penetration")):
+            if row[column] > 0:
+                ax.axhline(row[column], color="0.3", ls="--", lw=1.0, label=f"{row.method} (no parameter)")
+    names = sorted(set(swept.sweep_parameter))
+    for ax, ylabel in ((left, r"$H^1$ error"), (right, r"max penetration $\max(\alpha - u_h)$ on $\Gamma_C$")):
+        ax.set_xlabel(" / ".join(names) + r"  ($\varepsilon = $ value $\cdot\, h$)")
+        ax.set_ylabel(ylabel)
+        ax.grid(True, which="both", alpha=0.3)
+    ndof = ", ".join(f"{n:.3g}" for n in sorted(set(frame.ndof)))
+    left.set_title(f"{case.name}: level {int(frame.level.max())}, {ndof} dofs", fontsize=9)
+    left.legend(fontsize=7)
+    right.set_title("hollow: Newton not converged", fontsize=9)
+    return save(fig, folder, f"sweep_{case.name}")

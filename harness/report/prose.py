@@ -1,0 +1,208 @@
+"""The report's prose: the notes under its headings and the sentences it writes from the
+measured rates (which bound the errors follow, what a reference or a belief shows)."""
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..problem.case import Case, bound_text, fraction, registered_cases
+from .document import Document
+from ..measure.efficiency import efficiency_table, verdicts
+from ..study import InProcess
+from .figure_jobs import FigurePool
+from ..methods import methods_named
+from ..measure.rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
+from ..study.cache import compute, provenance
+from ..study.files import ensure_writable, write_atomic, write_csv
+from ..study.chain import PROFILES
+from ..study.timing import Timings
+
+
+REGULARITY_NOTE = (
+    "Does each case have the regularity ν it declares? The Ritz projection R_h u (the Galerkin "
+    "solution with u's own flux on Γ_C as Neumann data: the best approximation in |·|₁ with the "
+    "methods' Dirichlet lift; no contact involved) converges at min(ν − 1, k) for P_k. Its fitted "
+    "rate is set against that (verdict within ±0.1); err / best, the methods' H¹ error over R_h u's "
+    "on the finest level, is what the contact discretisation costs beyond best approximation "
+    "(Falk's lemma's extra terms, Remark 4.6)."
+)
+
+
+GAMMA_C_NOTE = (
+    "Section 5 of the paper: `mean` is \"suitable for checking the contact condition on the normal "
+    "constraint\", `nodal` \"for the normal displacement\". Measured on Γ_C, finest level: the trace "
+    "error ‖u − u_h‖ in L²(Γ_C); the pressure error, λ_h being for every method the Riesz "
+    "representative in the trace space of the residual a(u_h, ·) − L(·) (the discrete contact force: "
+    "the multipliers of the cones, the contact terms of penalty and Nitsche), against λ = ∂ₙu − g_C, "
+    "in L²(Γ_C) and in ‖h^{1/2}·‖_{L²(Γ_C)}; the largest penetration max(α − u_h) and the largest "
+    "tension max(−λ_h). Rates: fitted over the last three levels. Where λ ∉ L²(Γ_C) (λ ~ r^{-1/2}: "
+    "corner-r12) the L² pressure error cannot converge (its rate is 0), only the h^{1/2}-weighted one."
+)
+
+
+ELASTICITY_NOTE = (
+    "Frictionless unilateral contact of a plane-strain elastic body on a rigid foundation: "
+    "−div σ(u) = f, σ = 2μ ε(u) + λ tr ε(u) I; on Γ_C, with n the outward normal and σ_n = n·σ(u)n, "
+    "u·n − α ≤ 0, σ_n − g_n ≤ 0, (u·n − α)(σ_n − g_n) = 0 and σ_t = g_t. Both P2 models constrain "
+    "the normal displacement: written in the variables (−u·n, u·t) at the nodes of Γ_C, the contact "
+    "variable c = −u·n has the scalar problem's trace, so `mean` (vertex values and edge means of "
+    "c ≥ −α) and `nodal` (vertex and midpoint values) are again bounds, solved exactly by the same "
+    "active-set solver (sparse Cholesky with bordered updates: the scalar V-cycle does not transfer). "
+    "The pressure p = −(σ_n − g_n) plays λ's part. Singular exponents: a roller (binding, frictionless) "
+    "face next to a traction-free one at angle ω reflects to a traction-free wedge of angle 2ω, whose "
+    "symmetric exponents solve sin(2lω) + l sin(2ω) = 0 — with no elastic constant in it: l = 3/2 at "
+    "a transition (ω = π; 1/2 is excluded by the signs), l = 0.5445 at ω = 3π/4, for every Poisson "
+    "ratio. The energy norm a(e, e)^{1/2} is equivalent to the H¹ norm (Korn): same theorem rate; "
+    "R_h u is the best approximation in energy, so err / best in H¹ may fall below 1."
+)
+
+
+THREE_D_NOTE = (
+    "The paper's Section 6 names 3D as open. Here Ω = (−1, 1)² × (0, 1) in tetrahedra (netgen, red "
+    "refinement: every edge halves, 8 children per tetrahedron), Γ_C its bottom face. Both cones are "
+    "imposed edge by edge on the triangles of Γ_C: on each edge the P2 trace is a 1D quadratic, and the "
+    "same local change of variables as in 2D makes `nodal` (vertex and edge-midpoint values ≥ α: the P2 "
+    "Lagrange cone of the 3D analyses, Drouet & Hild 2015) and `mean` (vertex values and edge means ≥ α: "
+    "our extension of K_h, for which no theorem exists) bounds on single variables; P1 bounds its vertex "
+    "values. Solved exactly by the same active set method with the truncated P1 multigrid of the "
+    "tetrahedral hierarchy. In 3D an edge-wise cone does not control the trace inside the triangles: with "
+    "all vertex values v > 0 and all edge means 0, the P2 trace of a triangle is −v at its centroid and its "
+    "mean is −v/2, yet every constraint of `mean` holds. The table shows what the discrete solutions do with "
+    "that freedom (the smallest value of u_h − α over Γ_C: penetration is negative). The pictures show Γ_C "
+    "from below: red where u_h dips below the obstacle."
+)
+
+
+def which_bound(case, rates: pd.DataFrame, results: pd.DataFrame) -> str:
+    """Two sentences: which of the two bounds the P2 cones' errors follow."""
+    r = rates[(rates.case == case.name) & rates.method.isin(["mean", "nodal"])]
+    if r.empty:
+        return ""
+    fitted = ", ".join(f"{m} {p:.2f}" for m, p in zip(r.method, r.fitted_rate))
+    paper = bound_text(case.expected_rate, case.expected_log_exponent)
+    first = r.iloc[0]
+    dh = bound_text(first.sharper_rate) if np.isfinite(first.sharper_rate) else None
+    text = f"Fitted H¹ rates (last three levels, with each theory's log factor) {fitted}; the paper bounds them by {paper}"
+    text += (f", Drouet & Hild by {dh}." if dh else "; Drouet & Hild say nothing for ν ≤ 3/2.")
+    if not dh:
+        return text + " The data follow the paper's bound."
+    if not case.expected_log_exponent and np.isclose(first.sharper_rate, case.expected_rate):
+        return text + " Both bounds are the same here, and the data " + \
+            ("follow it." if (r.verdict == "meets").all() else "beat it (verdicts above).")
+    if not case.expected_log_exponent:
+        follows = "follow" if (r.verdict == "meets").all() else "reach"
+        return text + (f" The data {follows} the paper's {paper} (Remark 4.9, under its finite-transition "
+                       f"assumption), beyond Drouet & Hild's {dh}, whose estimate stops at the H^(5/2) "
+                       f"regularity of Signorini solutions.")
+    # a log factor in the paper's bound: which normalised error levels off?
+    g = results[(results.case == case.name) & (results.method == "nodal")].sort_values("level")
+    with_log = normalised_errors(g.h, g.err_h1, case.expected_rate, case.expected_log_exponent)[-3:]
+    plain = normalised_errors(g.h, g.err_h1, case.expected_rate, 0.0)[-3:]
+    drop = lambda v: 1 - v[-1] / v[-2]
+    level_off = 0.02
+    if abs(drop(plain)) <= level_off < abs(drop(with_log)):
+        verdict_text = "e/h has levelled off and the data follow Drouet & Hild's h, without the paper's log factor."
+    elif abs(drop(with_log)) <= level_off < abs(drop(plain)):
+        verdict_text = f"e/({paper}) has levelled off: the data follow the paper's bound."
+    elif abs(drop(plain)) < abs(drop(with_log)):
+        verdict_text = ("neither has levelled off (both fall by more than 2%), e/h the less: the data are nearer "
+                        "Drouet & Hild's h than the paper's bound, and still faster than both, like the best "
+                        "approximation (table above).")
+    else:
+        verdict_text = "neither has levelled off (both fall by more than 2%)."
+    return text + (f" Over the last level, nodal's e/({paper}) falls by {drop(with_log):.1%} and e/h by "
+                   f"{drop(plain):.1%}: " + verdict_text)
+
+
+def reference_sentence(case, results: pd.DataFrame) -> str:
+    """For a case measured against references: against what, how fine, how exactly solved."""
+    rows = results[(results.case == case.name) & (results.get("errors_against", "exact") == "reference")]
+    if rows.empty:
+        return ""
+    firsts = rows.groupby("method", sort=False).first()
+    levels = sorted({int(v) for v in firsts.reference_level})
+    return (f"No closed-form solution: every error is measured against the method's own solution "
+            f"{case.reference_levels} levels finer than its finest studied level (level {' and '.join(map(str, levels))}, "
+            f"up to {int(firsts.reference_ndof.max()):,} dofs; KKT / Newton residual of the reference solves at most "
+            f"{firsts.reference_kkt_residual.max():.1e}). On nested meshes u_h is exactly a function of the "
+            f"reference space, so the errors are exact norms of u_R − u_h; they miss |u − u_R|, which "
+            f"for an error like h^p lowers the finest studied level's error by the factor √(1 − 4^(−p·k)) "
+            f"(k = {case.reference_levels}: {np.sqrt(1 - 4.0 ** (-1.0 * case.reference_levels)):.3f} for p = 1). "
+            f"No best approximation (it would need u).")
+
+
+def belief_finding(case, rates: pd.DataFrame) -> str:
+    """What the data say about a conjectured rate (``Case.conjectured``): supported or a loss."""
+    r = rates[rates.case == case.name]
+    belief = bound_text(case.expected_rate, case.expected_log_exponent)
+    parts = [f"{m} {p:.3f} (pairwise {pw})" for m, p, pw in zip(r.method, r.fitted_rate, r.pairwise_rates)
+             if np.isfinite(case.expected_rate)]
+    cones = r[r.method.isin(["mean", "nodal"])]
+    if cones.empty:
+        return f"The expected rate {belief} is a belief, not a theorem (Theorem {case.theorem}). Measured: " + "; ".join(parts) + "."
+    low = cones.fitted_rate.min()
+    if low >= case.expected_rate - TOLERANCE:
+        finding = (f"The data support the authors' belief: both P2 models converge at {belief} "
+                   f"(within ±{TOLERANCE}) although Γ_C has infinitely many transition points.")
+    else:
+        finding = (f"The data show a loss against the authors' belief {belief}: the P2 models' fitted rate is "
+                   f"{low:.3f}, {case.expected_rate - low:.3f} below it.")
+    best = cones.fitted_rate_best.iloc[0] if "fitted_rate_best" in cones else np.nan
+    best_text = f" The best approximation converges at {best:.3f} (ν − 1 = {case.nu - 1:.3g}: the regularity is as derived)." \
+        if np.isfinite(best) else ""
+    return (f"Remark 4.3's question. {finding} Fitted rates (pairwise rates level by level): " + "; ".join(parts) + "."
+            + best_text)
+
+
+INTRO = (
+    "The Poisson-Signorini problem (2.1)-(2.4): -Δu = f in Ω, u = u_D on Γ_u, ∂u/∂n = g on Γ_g and "
+    "u ≥ 0, ∂u/∂n ≥ 0, u ∂u/∂n = 0 on Γ_C (with a gap α and a contact load g_C where a case "
+    "declares them), on uniformly refined meshes (NGSolve); h halves per level. The paper's two P2 "
+    "methods have nonconforming cones: `mean` (K_h, Section 3: vertex values and edge means ≥ 0, the "
+    "degrees of freedom of J_h) and `nodal` (K̃_h, Section 5: vertex and midpoint values ≥ 0, the "
+    "degrees of freedom of I_h); K̃_h ⊂ K_h by Simpson's rule. The baseline `p1` (linear elements, "
+    "vertex values ≥ 0) has an exact cone. Each discrete inequality is solved exactly: every row's KKT "
+    "residual is listed. What users of NGSolve or FEniCS write instead impose contact weakly, by a term "
+    "on Γ_C with no constraint on the space: `nitsche` (Chouly & Hild 2013; θ-variants of Chouly, Hild "
+    "& Renard 2015) and `penalty` (Chouly & Hild 2013), P2 and P1 (`-p1`), ε = γ₀h; their nonlinear "
+    "equations are solved by semismooth Newton to a relative residual ≤ 1e-10, listed in the same "
+    "column. Max penetration is max over Γ_C of α - u_h, between nodes included: the nonconformity of "
+    "the cones, and how far the weak methods let u_h through the obstacle. P1 runs one level more than "
+    "P2, so that every method ends at about the same number of dofs (P1 on level l+1 has the dofs of "
+    "P2 on level l)."
+)
+
+
+RATES_NOTE = (
+    "Fitted rate: least squares of log e = log C + p log h + q log|log h| over the last three "
+    "levels, q fixed to the log exponent of the method's theory, with its standard error. Verdict: "
+    "meets if within 0.1 of that theory's rate; above/below otherwise. The theorems give upper "
+    "bounds, so 'above' is consistent with them; 'below' would contradict them."
+)
+
+
+EFFICIENCY_NOTE = (
+    "The paper's claim (abstract, Section 6): its quadratic methods are more accurate than linear "
+    "finite elements. Measured as cost at equal accuracy: per case, the target H¹ error is the "
+    "largest of the methods' finest errors (so each method reaches it within its own levels; its "
+    "fraction of the coarsest error is given), and each method's dofs and seconds to reach it are "
+    "read off its levels by log-log interpolation. Seconds are summed over the levels up to the "
+    "target (nested iteration needs them): 'solve' the contact solves, 'total' all a user pays for "
+    "u_h (mesh refinement, assembly, set-up, solve; not the error measurement). P1 / it > 1: the "
+    "method is cheaper than P1."
+)
+
+
+SWEEP_NOTE = (
+    "Penalty and Nitsche ask the user for a parameter: ε = ε₀h (penalty) or γ₀h (Nitsche) on each "
+    "contact edge. Each curve is one method over that parameter at one level, every other setting "
+    "fixed; the dashed line is `nodal`, which has no parameter. Hollow markers: Newton did not "
+    "converge (its status is in the table below). Nitsche with θ = 1 is coercive only while "
+    "γ₀ h‖∂ₙv‖² < a(v, v) on X_h, measured here as γ₀ < 0.145 for P2 on every registered case "
+    "(`methods/nitsche.py`); θ = -1 is coercive for every γ₀. The penalty method is not consistent: "
+    "in contact u_h sits about ε λ below the obstacle, so its error and penetration grow with ε₀."
+)

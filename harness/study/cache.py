@@ -1,0 +1,192 @@
+"""The report's computations and their cache: the 2D and 3D studies of a profile and the
+parameter sweeps, run as one set of jobs on one engine (the largest first: no worker waits for
+one study to end before the next begins), each case stored under ``results/cases`` (and each
+sweep under ``results/sweeps``) as soon as its last job is done, and reused while the code, the
+case file and the settings that produced it are unchanged (a hash of all three is stored
+beside it); ``make clean`` forgets them.
+"""
+from __future__ import annotations
+
+import datetime
+import hashlib
+import json
+import os
+import platform
+import subprocess
+import time
+from pathlib import Path
+
+import ngsolve as ngs
+import pandas as pd
+
+from .. import __version__
+from ..methods import methods_named
+from ..problem.case import Case
+from ..problem.validate import validate_case
+from .budget import SWEEP_SECONDS_PER_DOF, solve_weights
+from .chain import PHASES
+from .checkpoint import CheckpointStore, code_digest
+from .engines import InProcess, Job, chains, check_methods, plan, study_weights, tidy
+from .files import ensure_writable, write_atomic, write_csv
+from .progress import StudyProgress, scoped
+from .snapshots import SnapshotHook, save_snapshots
+from .sweep import REPORT_SWEEP, label_sweep, sweep_plan
+from .timing import Timings
+
+PACKAGE = Path(__file__).resolve().parents[1]
+REPOSITORY = PACKAGE.parent
+SWEEP_SCOPE = "sweep "      # the sweeps' solves on the progress bar, apart from the study's
+
+
+def git_commit() -> str:
+    try:
+        commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=REPOSITORY, capture_output=True, text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--", "harness", "cases"], cwd=REPOSITORY,
+                               capture_output=True, text=True).stdout.strip()
+        return commit + ("+dirty" if dirty else "")
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def provenance(settings: dict) -> dict:
+    return {
+        "harness_version": __version__, "git_commit": git_commit(), "ngsolve_version": ngs.__version__,
+        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "machine": {"node": platform.node(), "platform": platform.platform(), "processor": platform.machine(),
+                    "cpus": os.cpu_count(), "python": platform.python_version()},
+        "settings": settings,
+    }
+
+
+def cache_key(case: Case, settings: dict) -> str:
+    """Hash of the harness source, the case file and the settings."""
+    digest = hashlib.sha256(code_digest().encode())
+    digest.update(Path(case.source).read_bytes())
+    digest.update(json.dumps(settings, sort_keys=True).encode())
+    digest.update(ngs.__version__.encode())
+    return digest.hexdigest()
+
+
+def _stored(meta_path: Path, files, key: str) -> bool:
+    return all(path.is_file() for path in files) and meta_path.is_file() and \
+        json.loads(meta_path.read_text()).get("cache_key") == key
+
+
+def stale_cases(cases: list[Case], settings: dict, results_dir: Path) -> list[Case]:
+    """The cases whose stored results (``results_dir/cases``) are missing or were made by other
+    code, case files or settings: those a report has to run."""
+    store = Path(results_dir) / "cases"
+    return [case for case in cases if not _stored(store / f"{case.name}.json",
+                                                  [store / f"{case.name}.{ext}" for ext in ("csv", "npz")],
+                                                  cache_key(case, settings))]
+
+
+def sweep_config(levels: int) -> dict:
+    """What the report sweeps (``sweep.REPORT_SWEEP``), at a level no finer than the study's
+    finest P2 level (``report --levels 3`` sweeps level 2)."""
+    config = {key: list(value) if isinstance(value, tuple) else value for key, value in REPORT_SWEEP.items()}
+    config["level"] = min(REPORT_SWEEP["level"], levels - 1)
+    return config
+
+
+def stale_sweeps(cases: list[Case], config: dict, results_dir: Path) -> list[Case]:
+    """Those of ``cases`` the report sweeps whose stored sweep is missing or was made otherwise."""
+    store = Path(results_dir) / "sweeps"
+    return [case for case in cases if case.name in config["cases"] and
+            not _stored(store / f"{case.name}.json", [store / f"{case.name}.csv"], cache_key(case, {"sweep": config}))]
+
+
+def study_groups(cases: list[Case], settings: dict) -> list[tuple[list[Case], dict]]:
+    """The report's studies: the 2D cases, and the 3D cases with their own (smaller) number of
+    levels (a 3D level has 8 times the dofs)."""
+    groups = [([c for c in cases if c.dimension == 2], settings),
+              ([c for c in cases if c.dimension == 3], settings | {"levels": settings["levels_3d"]})]
+    return [(group, group_settings) for group, group_settings in groups if group]
+
+
+def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: list[Case], show_progress: bool = True,
+            engine=None, check_memory: bool = True, timings: Timings | None = None) -> tuple[pd.DataFrame, dict]:
+    """(the rows of every case, the sweep of every case in ``sweep_cases`` the report sweeps):
+    reused where stored and unchanged, the rest run as one set of jobs on ``engine`` (default
+    this process) under one progress bar, its ETA for all of it. Every finished level is
+    checkpointed under ``cases/.checkpoints``: a report killed at any moment continues there."""
+    results_dir = Path(results_dir)
+    case_store, sweep_store = ensure_writable(results_dir / "cases"), ensure_writable(results_dir / "sweeps")
+    checkpoints = case_store / ".checkpoints"
+    config = sweep_config(settings["levels"])
+    jobs, weights, pending = [], {}, {}
+    for group, group_settings in study_groups(cases, settings):
+        todo = stale_cases(group, group_settings, results_dir)
+        for case in group:
+            if case not in todo:
+                print(f"{case.name}: reusing results computed with the same code and settings")
+        methods, levels = methods_named(group_settings["methods"]), group_settings["levels"]
+        for case in todo:
+            validate_case(case)
+            check_methods(case, methods)
+            pending[case.name] = (case, group_settings, methods, [])
+        jobs += chains(todo, methods, levels, SnapshotHook(levels, methods), checkpoints)
+        weights |= study_weights(todo, methods, levels)
+    sweeps = {}
+    for case in [c for c in sweep_cases if c.name in config["cases"]]:
+        if case not in stale_sweeps([case], config, results_dir):
+            print(f"{case.name}: reusing the parameter sweep computed with the same code and settings")
+            sweeps[case.name] = pd.read_csv(sweep_store / f"{case.name}.csv")
+            continue
+        validate_case(case)
+        runs, methods = sweep_plan(config["methods"], config["values"], config["reference"])
+        jobs.append(Job(case, tuple(methods), config["level"] + 1, scope=SWEEP_SCOPE, tag="sweep", per_dof=SWEEP_SECONDS_PER_DOF))
+        weights |= scoped(solve_weights(case, methods, config["level"] + 1, per_dof=SWEEP_SECONDS_PER_DOF), SWEEP_SCOPE)
+        pending[SWEEP_SCOPE + case.name] = (case, runs, methods, [])
+    engine = engine or InProcess()
+    jobs = plan(jobs, engine, check_memory)
+    remaining = {name: sum(1 for job in jobs if job.scope + job.case.name == name) for name in pending}
+    progress = StudyProgress(weights, show_progress and bool(jobs))
+    clock = time.perf_counter()
+    try:
+        for job, output in engine.run(jobs, progress):
+            name = job.scope + job.case.name
+            pending[name][-1].append(output)
+            remaining[name] -= 1
+            if remaining[name]:
+                continue
+            outputs = pending[name][-1]
+            if timings is not None:
+                section = "sweeps" if job.tag == "sweep" else "study"
+                for phase in PHASES:
+                    timings.add(section, job.case.name, phase, sum(o.phases.get(phase, 0.0) for o in outputs))
+            if job.tag == "sweep":
+                case, runs, methods, _ = pending[name]
+                sweeps[case.name] = _store_sweep(sweep_store, case, outputs, runs, methods, config)
+            else:
+                case, group_settings, methods, _ = pending[name]
+                _store_case(case_store, case, outputs, methods, group_settings)
+                CheckpointStore(checkpoints, group_settings["levels"]).forget(case)
+    finally:
+        progress.close()
+    if timings is not None:
+        timings.add("jobs (wall)", engine.describe(), "", time.perf_counter() - clock)
+    results = pd.concat([pd.read_csv(case_store / f"{case.name}.csv") for group, _ in study_groups(cases, settings)
+                         for case in group], ignore_index=True)
+    return results, {name: sweeps[name] for name in config["cases"] if name in sweeps}
+
+
+def _store_case(store: Path, case: Case, outputs: list, methods, settings: dict) -> None:
+    """One case's rows, snapshots and provenance in the report's cache (the .json last: it
+    marks the case complete). ``work_seconds``: the seconds its jobs spent, summed (they may
+    have run side by side on workers, and a resumed job counts only what it redid)."""
+    frame = tidy(outputs, [case], methods)
+    write_csv(frame, store / f"{case.name}.csv")
+    save_snapshots({k: v for output in outputs for k, v in output.kept.items()}, store / f"{case.name}.npz")
+    work = sum(sum(output.phases.values()) for output in outputs)
+    meta = provenance(settings) | {"cache_key": cache_key(case, settings), "case": case.name, "work_seconds": work}
+    write_atomic(store / f"{case.name}.json", json.dumps(meta, indent=2))
+
+
+def _store_sweep(store: Path, case: Case, outputs: list, runs, methods, config: dict) -> pd.DataFrame:
+    frame = label_sweep(tidy(outputs, [case], methods), runs, methods, config["level"])
+    write_csv(frame, store / f"{case.name}.csv")
+    write_atomic(store / f"{case.name}.json", json.dumps(provenance({"sweep": config}) |
+                                                         {"cache_key": cache_key(case, {"sweep": config}), "case": case.name},
+                                                         indent=2))
+    return frame

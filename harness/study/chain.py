@@ -1,0 +1,233 @@
+"""A convergence study: case -> mesh hierarchy -> discrete problems -> methods -> solve ->
+errors -> one tidy row per (case, method, level)."""
+from __future__ import annotations
+
+import time
+from collections import defaultdict
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+import ngsolve as ngs
+
+from ..fem.assembly import discretise
+from ..fem.element_quadrature import ElementQuadrature
+from ..measure.errors import ExactErrors
+from ..measure.reference import ReferenceErrors
+from ..mesh.levels import LevelSequence, UniformRefinement
+from ..methods import Method, methods_for
+from ..problem.case import Case
+from ..solvers.multigrid import Multilevel
+
+COLUMNS = [
+    "case", "method", "order", "parameters", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
+    "err_l2", "err_energy", "err_best_h1", "err_best_h1_semi", "err_best_energy", "err_h1_over_best", "err_trace_l2", "err_pressure_l2", "err_pressure_h12",
+    "max_penetration", "max_tension", "min_pressure", "active_constraints", "solver_iterations", "linear_iterations",
+    "kkt_residual", "solve_seconds", "total_seconds", "status",
+    # what the errors are measured against: "exact" (u), or "reference" (the method's solution
+    # on level reference_level, with its KKT residual and status)
+    "errors_against", "reference_level", "reference_ndof", "reference_kkt_residual", "reference_status",
+    # what `rates` needs to fit a results file on its own: the case and the method's theories
+    "nu", "expected_rate", "expected_log_exponent", "reference",
+    "sharper_rate", "sharper_log_exponent", "sharper_reference", "case_source",
+]
+
+ngs.ngsglobals.msg_level = 0
+
+PROFILES = {
+    # finest levels: about 5.8e5 dofs (transition geometry), well inside 10 minutes on 2 cores;
+    # the 3D cases (8 times the dofs per level): 1.3e5 P2 dofs
+    "default": {"levels": 7, "levels_3d": 3},
+    # finest levels: about 2.3e6 dofs; 3D: 1.3e6
+    "fine": {"levels": 8, "levels_3d": 4},
+}
+
+# The phases of a study, in the order of the data flow; ``Phases`` sums the wall time of each.
+PHASES = ("mesh", "assembly", "best", "setup", "solve", "errors", "hooks")
+
+
+class Phases:
+    """Wall seconds per phase of a study (``PHASES``): where a study spends its time."""
+
+    def __init__(self):
+        self.seconds: dict[str, float] = defaultdict(float)
+
+    @contextmanager
+    def __call__(self, phase: str):
+        start = time.perf_counter()
+        try:
+            yield
+        finally:
+            self.seconds[phase] += time.perf_counter() - start
+
+    def as_dict(self) -> dict[str, float]:
+        return {phase: self.seconds.get(phase, 0.0) for phase in PHASES}
+
+
+
+def study_levels(method: Method, levels: int) -> int:
+    """Levels a method runs in a study of ``levels`` levels: more for P1, so that every method
+    ends at about the same number of dofs (``methods.base.EXTRA_LEVELS``)."""
+    return levels + method.extra_levels
+
+
+def chain_levels(case: Case, method: Method, levels: int) -> int:
+    """Levels a method solves for a case: its studied levels, then, for a case measured against
+    a reference, k more (nested iteration all the way; the last is the reference)."""
+    return study_levels(method, levels) + (0 if case.exact else case.reference_levels)
+
+
+@dataclass
+class ChainState:
+    """A method's level chain after its last finished level (``next_level`` - 1): everything
+    resuming it needs. Saved by the study after every level (``checkpoints``)."""
+
+    next_level: int
+    rows: list[dict]          # its rows so far (a reference case's stay without errors until the reference)
+    carry: object             # what the next level's solve starts from (nested iteration)
+    pending: list             # what the error measure keeps across levels (``state_of``)
+    kept: dict                # level -> what ``on_level`` returned
+
+
+@dataclass
+class ChainOutput:
+    """What a chain of one case and some methods produced: its rows (level by level, methods in
+    the order given), what ``on_level`` returned by (method name, level), the wall time of each
+    phase, and the level each method resumed from (0: it started afresh)."""
+
+    rows: list[dict]
+    kept: dict
+    phases: dict
+    resumed: dict
+
+
+def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_level=None,
+              phases: Phases | None = None, checkpoints=None, sequence: LevelSequence | None = None) -> ChainOutput:
+    """The level chains of ``methods`` on one case, sharing each level's mesh and assembly.
+
+    The meshes, and the h of each row, are ``sequence``'s (``mesh.levels``; default the
+    case's uniform refinement).
+
+    ``on_level(case, method, level, problem, solve)`` sees every studied solve (``solve``: a
+    ``methods.LevelSolve``); what it returns (if not None) is kept, by (method, level). The
+    report keeps the finest solutions that way. ``progress`` (if given) hears
+    ``solving(case, method, level, ndof, stage)``, ``solved(case, method, level)`` and
+    ``restored(case, method, levels)``. ``checkpoints`` (if given: ``load(case, method)`` ->
+    ``ChainState`` or None, ``save(case, method, state)``) makes every finished level durable
+    and lets a chain killed at any moment continue from its last finished level: the meshes
+    and the multigrid's hierarchy are rebuilt (they are determined by the case), the solves
+    start again from the saved coarser solution.
+
+    Per level: one mesh, one discrete problem per finite element order shared by the methods
+    of that order (the last of them takes its stiffness matrix), one error measurement for all:
+    ``errors.ExactErrors`` against u, or ``reference.ReferenceErrors`` against each method's
+    solution k levels finer (the rows of a method get their errors when it gets there).
+    ``total_seconds`` of a row: what the level costs a user of that method alone -- the
+    refinement, its order's assembly, its own set-up and solve; not the error measurement.
+    """
+    phases = phases or Phases()
+    methods = methods_for(case, methods)       # the weak methods are scalar and 2D only
+    studied = {m.name: study_levels(m, levels) for m in methods}
+    chain = {m.name: chain_levels(case, m, levels) for m in methods}
+    measure = ExactErrors(case, phases) if case.exact else ReferenceErrors(studied, {m.name: m.order for m in methods}, case.reference_levels, phases)
+    saved = {m.name: checkpoints.load(case, m) if checkpoints is not None else None for m in methods}
+    start = {name: state.next_level if state else 0 for name, state in saved.items()}
+    carry = {name: state.carry if state else None for name, state in saved.items()}
+    method_rows = {name: list(state.rows) if state else [] for name, state in saved.items()}
+    kept = {(name, level): value for name, state in saved.items() if state for level, value in state.kept.items()}
+    for method in methods:
+        if saved[method.name]:
+            measure.restore(method.name, saved[method.name].pending, method_rows[method.name])
+            if progress is not None:
+                progress.restored(case.name, method.name, start[method.name])
+    expectations = {m.name: m.expected(case) for m in methods}
+    sharper = {m.name: m.sharper(case) for m in methods}
+    last_level = max((chain[n] for n in chain if start[n] < chain[n]), default=0)
+    multilevel = None
+    sequence = sequence or UniformRefinement(case)
+    # the P1 hierarchy of the truncated multigrid (scalar only: ``physics``; nested meshes
+    # only: its prolongations are the refinement's); else the solves factorise
+    hierarchical = case.physics.multigrid and sequence.nested
+    with ngs.TaskManager():
+        walk = sequence.levels(last_level)
+        for level in range(last_level):
+            clock = time.perf_counter()
+            with phases("mesh"):
+                mesh, h = (step := next(walk)).mesh, step.h
+                if hierarchical:
+                    multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+            active = [m for m in methods if start[m.name] <= level < chain[m.name]]
+            if not active:          # a level every method has finished: rebuilt, not solved
+                measure.skip_level(level, mesh)
+                continue
+            with phases("mesh"):
+                quadrature = ElementQuadrature.of(case, mesh)
+            mesh_seconds = time.perf_counter() - clock
+            problems, assembly_seconds = {}, {}
+            for order in sorted({m.order for m in active}, reverse=True):
+                clock = time.perf_counter()
+                with phases("assembly"):
+                    problems[order] = discretise(case, mesh, order, quadrature)
+                assembly_seconds[order] = time.perf_counter() - clock
+            # before a method takes the stiffness matrix (the best approximation needs it)
+            measure.begin_level(level, mesh, problems, quadrature, multilevel)
+            for method in active:
+                problem = problems[method.order]
+                stage = "" if level < studied[method.name] else "reference chain"
+                if progress is not None:
+                    progress.solving(case.name, method.name, level, problem.ndof, stage)
+                last = method is [m for m in active if m.order == method.order][-1]
+                clock = time.perf_counter()
+                solve = method.solve(case, problem, carry[method.name], multilevel, take_stiffness=last, phases=phases)
+                own_seconds = time.perf_counter() - clock
+                carry[method.name] = solve.carry
+                row = None
+                if level < studied[method.name]:
+                    expectation = expectations[method.name]
+                    row = {
+                        "case": case.name, "method": method.name, "order": method.order,
+                        "parameters": method.parameter_text, "level": level, "h": h,
+                        "ndof": problem.ndof, **solve.fields,
+                        "total_seconds": mesh_seconds + assembly_seconds[method.order] + own_seconds,
+                        "nu": case.nu, "expected_rate": expectation.rate, "expected_log_exponent": expectation.log_exponent,
+                        "reference": expectation.reference, **_sharper(sharper[method.name]), "case_source": case.source,
+                        "errors_against": "exact" if case.exact else "reference",
+                    }
+                    method_rows[method.name].append(row)
+                elif level == chain[method.name] - 1:
+                    _reference_fields(method_rows[method.name], level, problem.ndof, solve.fields)
+                with phases("errors"):
+                    columns = measure.solved(method, level, problem, solve.u, row)
+                if row is not None:
+                    row.update(columns)
+                    if on_level is not None:
+                        with phases("hooks"):
+                            value = on_level(case, method, level, problem, solve)
+                        if value is not None:
+                            kept[(method.name, level)] = value
+                if progress is not None:
+                    progress.solved(case.name, method.name, level)
+            with phases("errors"):
+                measure.end_level()
+            for method in active:
+                if checkpoints is not None:
+                    checkpoints.save(case, method, ChainState(
+                        level + 1, method_rows[method.name], carry[method.name], measure.state_of(method.name),
+                        {lev: value for (name, lev), value in kept.items() if name == method.name}))
+    order = {m.name: k for k, m in enumerate(methods)}
+    rows = sorted((row for name in method_rows for row in method_rows[name]), key=lambda r: (r["level"], order[r["method"]]))
+    return ChainOutput(rows, kept, phases.as_dict(), {name: start[name] for name in start})
+
+
+def _reference_fields(rows: list[dict], level: int, ndof: int, fields: dict) -> None:
+    """What the rows of a method say about the reference they were measured against."""
+    for row in rows:
+        row.update({"reference_level": level, "reference_ndof": ndof,
+                    "reference_kkt_residual": fields["kkt_residual"], "reference_status": fields["status"]})
+
+
+def _sharper(expectation) -> dict:
+    """The row's second theory (``Method.sharper``), NaN where the method has none."""
+    if expectation is None:
+        return {"sharper_rate": float("nan"), "sharper_log_exponent": float("nan"), "sharper_reference": ""}
+    return {"sharper_rate": expectation.rate, "sharper_log_exponent": expectation.log_exponent,
+            "sharper_reference": expectation.reference}

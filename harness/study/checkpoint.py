@@ -1,0 +1,80 @@
+"""Durable level chains: after every finished level, each (case, method) chain's state
+(``study.ChainState``) is written atomically to its own file, so that a study killed at any
+moment -- the process, or a Dask worker mid-job -- continues from the last finished level.
+
+A checkpoint is valid only for the code, the case file and the settings that wrote it (a
+digest of all of them is stored in it); any other is ignored and overwritten. The files are
+pickles written by this harness for itself: never load a checkpoint from a source you do not
+trust.
+"""
+from __future__ import annotations
+
+import functools
+import hashlib
+import pickle
+import re
+import shutil
+from pathlib import Path
+
+from .files import write_atomic
+
+PACKAGE = Path(__file__).resolve().parents[1]
+
+
+# the stages whose code computes a study's rows and snapshots; the report (which renders them),
+# the benchmarks and the entry points are left out, so that rewording the report reuses the study
+COMPUTING_STAGES = ("mesh", "problem", "fem", "solvers", "methods", "measure", "study")
+
+
+@functools.lru_cache(maxsize=4)
+def code_digest(package: Path = PACKAGE) -> str:
+    """Hash of the computing stages' source (of ``package``, default this harness): results and
+    checkpoints of other code are not reused."""
+    digest = hashlib.sha256()
+    for stage in COMPUTING_STAGES:
+        for path in sorted((package / stage).rglob("*.py")):
+            digest.update(str(path.relative_to(package)).encode())
+            digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
+def chain_key(case, method, levels: int, hook=None) -> str:
+    """What a (case, method) chain's results depend on: the code, the case file and its
+    reference setting, the method and its parameters, the number of levels, the hook."""
+    digest = hashlib.sha256(code_digest().encode())
+    digest.update(Path(case.source).read_bytes())
+    digest.update(repr((case.name, case.reference_levels, method.name, method.parameter_text, levels,
+                        type(hook).__qualname__)).encode())
+    return digest.hexdigest()
+
+
+class CheckpointStore:
+    """Checkpoints of the chains of one study, one file per (case, method) under ``folder``."""
+
+    def __init__(self, folder: Path, levels: int, hook=None):
+        self.folder, self.levels, self.hook = Path(folder), levels, hook
+
+    def path(self, case, method) -> Path:
+        # a method name may carry parameters (nitsche:gamma0=0.1,theta=-1)
+        safe = re.sub(r"[^A-Za-z0-9_.-]", "_", method.name)
+        return self.folder / case.name / f"{safe}-{hashlib.sha1(method.name.encode()).hexdigest()[:8]}.ckpt"
+
+    def load(self, case, method):
+        """The chain's saved ``ChainState``, or None (none saved, or saved by other code or
+        settings, or unreadable)."""
+        path = self.path(case, method)
+        try:
+            key, state = pickle.loads(path.read_bytes())
+        except (OSError, EOFError, pickle.UnpicklingError, ValueError, TypeError, AttributeError, ImportError):
+            return None
+        return state if key == chain_key(case, method, self.levels, self.hook) else None
+
+    def save(self, case, method, state) -> None:
+        path = self.path(case, method)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_atomic(path, pickle.dumps((chain_key(case, method, self.levels, self.hook), state),
+                                        protocol=pickle.HIGHEST_PROTOCOL))
+
+    def forget(self, case=None) -> None:
+        """Delete the checkpoints of ``case`` (all if None): its results are written elsewhere."""
+        shutil.rmtree(self.folder if case is None else self.folder / case.name, ignore_errors=True)

@@ -1,0 +1,311 @@
+"""Where a study's jobs run: in this process (``InProcess``, the default), or on Dask workers
+(``DaskEngine``: a LocalCluster of N worker processes, or an existing cluster by its scheduler's
+address). A job (``Job``) is a level chain (``study.run_chain``) of one case and some methods,
+sharing each level's mesh, assembly, multigrid hierarchy and best approximation: in this process
+one job per case; on Dask also one job per case, except that a case whose estimated time is a
+large share of what each worker gets is split by finite element order (its P2 and P1 chains
+share only the mesh refinement, so the split repeats little), so that no single job outlasts
+the rest. Jobs of different studies (the report's 2D and 3D studies and its sweeps) go to the
+engine together (``Engine.run``), the largest first, so that no worker waits for a study to end.
+Both engines write the same per-(case, method) checkpoints, so a study killed under one engine
+resumes under either.
+
+Every error column is computed level by level from the same data whichever job it runs in, so
+the results do not depend on the engine or the number of workers -- bit for bit when NGSolve
+runs one thread per process (``--threads 1``; a Dask worker's default). With more threads, the
+task manager's parallel sums (sparse Cholesky, Integrate, the element colouring of a space made
+under it) are not done in a fixed order, and two runs agree only to about 1e-14 relative.
+"""
+from __future__ import annotations
+
+import os
+import time
+import uuid
+from contextlib import contextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pandas as pd
+
+from ..methods import methods_for
+from ..problem.case import load_case
+from ..problem.validate import validate_case
+from . import budget
+from .budget import check_fits, estimate, solve_weights
+from .chain import COLUMNS, Phases, run_chain
+from .checkpoint import CheckpointStore
+from .progress import EventProgress, Scoped, StudyProgress, relay
+
+
+@contextmanager
+def thread_count(threads: int | None):
+    """NGSolve's task manager and the BLAS use ``threads`` threads in this process while the
+    context lasts (None: as they are). One per process makes every sum in a fixed order:
+    results reproducible bit for bit."""
+    if threads is None:
+        yield
+        return
+    import ngsolve as ngs
+    from threadpoolctl import threadpool_limits
+    with ngs.TaskManager():
+        previous = ngs.GetNumThreads()      # outside a task manager it reads 1
+    ngs.SetNumThreads(int(threads))
+    try:
+        with threadpool_limits(int(threads)):
+            yield
+    finally:
+        ngs.SetNumThreads(previous)
+
+
+@dataclass(frozen=True)
+class Job:
+    """One level chain: ``methods`` on ``case`` over ``levels`` P2 levels, sharing each level.
+    ``on_level``: the study's hook; ``checkpoints``: the folder of its checkpoints (or None);
+    ``scope``: how its solves are named on a progress bar shared with other studies
+    (``progress.Scoped``); ``tag``: what the caller makes of its output (the report: "study"
+    or "sweep")."""
+
+    case: object
+    methods: tuple
+    levels: int
+    on_level: object = None
+    checkpoints: Path | None = None
+    scope: str = ""
+    tag: str = field(default="study", compare=False)
+    per_dof: float | None = None          # a solve's seconds per dof, if not its family's (``budget``)
+
+    @property
+    def seconds(self) -> float:
+        """Estimated time (``budget.estimate``): the order in which jobs are submitted."""
+        return estimate(self.case, self.methods, self.levels, per_dof=self.per_dof).seconds
+
+    def store(self) -> CheckpointStore | None:
+        return CheckpointStore(self.checkpoints, self.levels, self.on_level) if self.checkpoints is not None else None
+
+
+def chains(cases, methods, levels: int, on_level=None, checkpoints=None, scope: str = "", tag: str = "study") -> list[Job]:
+    """One job per case (the methods that discretise it), as this process runs them."""
+    return [Job(case, tuple(methods_for(case, methods)), levels, on_level, Path(checkpoints) if checkpoints else None,
+                scope, tag) for case in cases if methods_for(case, methods)]
+
+
+def by_order(job: Job) -> list[Job]:
+    """A job split into one per finite element order (P2 methods, P1 methods)."""
+    orders = sorted({m.order for m in job.methods}, reverse=True)
+    return [Job(job.case, tuple(m for m in job.methods if m.order == order), job.levels, job.on_level, job.checkpoints,
+                job.scope, job.tag, job.per_dof) for order in orders]
+
+
+class InProcess:
+    """The study in this process: one job per case, its methods sharing each level."""
+
+    def __init__(self, threads: int | None = None):
+        self.threads = threads
+
+    def split(self, jobs: list[Job]) -> list[Job]:
+        return list(jobs)
+
+    def describe(self) -> str:
+        return "in one process" + ("" if self.threads is None else f" ({self.threads} thread{'s' if self.threads > 1 else ''})")
+
+    def memory(self) -> tuple[float, str]:
+        return budget.machine_memory(), "this machine"
+
+    def run(self, jobs: list[Job], progress=None):
+        """(job, ``study.ChainOutput``) for each job, as they finish."""
+        for job in jobs:
+            view = Scoped(progress, job.scope) if progress is not None and job.scope else progress
+            with thread_count(self.threads):
+                output = run_chain(job.case, list(job.methods), job.levels, view, job.on_level, Phases(), job.store())
+            yield job, output
+
+    def close(self) -> None:
+        pass
+
+
+def run_job(source: str, reference_levels, methods, levels: int, on_level, threads, folder, topic, scope=""):
+    """A job on a Dask worker: the case is loaded there from its file (what a worker needs of
+    it is its source, not NGSolve objects)."""
+    case = load_case(source)
+    if reference_levels != case.reference_levels:
+        case = case.with_reference(reference_levels)
+    store = CheckpointStore(folder, levels, on_level) if folder is not None else None
+    with thread_count(threads):
+        return run_chain(case, list(methods), levels, EventProgress(topic, scope), on_level, Phases(), store)
+
+
+class DaskEngine:
+    """The study on Dask workers, one job per case (split by order where large: ``split``), the
+    largest first. A worker that
+    dies mid-job (killed, out of memory) loses nothing durable: Dask reruns the job elsewhere and
+    it resumes from its checkpoint (the checkpoint folder must then be on a file system the
+    workers share, as on a cluster's home or scratch; otherwise the job starts again)."""
+
+    def __init__(self, workers: int | None = None, scheduler: str | None = None, threads: int | None = None):
+        if (workers is None) == (scheduler is None):
+            raise ValueError("a Dask engine needs either a number of local workers or a scheduler address")
+        self.workers, self.scheduler = workers, scheduler
+        cores = os.cpu_count() or 1
+        # N local workers share the cores: no more NGSolve threads than cores in all
+        self.threads = threads or (max(1, cores // workers) if workers else 1)
+        self._client = self._cluster = None
+
+    @property
+    def client(self):
+        if self._client is None:
+            import logging
+
+            from distributed import Client, LocalCluster
+            if self.workers:
+                self._cluster = LocalCluster(n_workers=self.workers, threads_per_worker=1, processes=True,
+                                             memory_limit=budget.machine_memory() / self.workers,
+                                             dashboard_address=":0", silence_logs=logging.ERROR)
+                self._client = Client(self._cluster)
+            else:
+                self._client = Client(self.scheduler, timeout="20s")
+        return self._client
+
+    # a case is split by order when its estimated time exceeds this share of what each worker
+    # gets: then no job is much longer than the rest, and the split repeats only the coarser
+    # P2 job's mesh refinement
+    SPLIT_SHARE = 0.5
+
+    def worker_count(self) -> int:
+        if self.workers:
+            return self.workers
+        return max(1, len(self.client.scheduler_info()["workers"]))
+
+    def split(self, jobs: list[Job]) -> list[Job]:
+        """Jobs at the grain that pays: whole cases, and the largest split by order."""
+        seconds = [job.seconds for job in jobs]
+        share = self.SPLIT_SHARE * sum(seconds) / self.worker_count()
+        return [part for job, t in zip(jobs, seconds) for part in (by_order(job) if t > share else [job])]
+
+    def describe(self) -> str:
+        where = f"{self.workers} local Dask workers" if self.workers else f"the Dask cluster at {self.scheduler}"
+        return f"on {where} ({self.threads} thread{'s' if self.threads > 1 else ''} per job)"
+
+    def memory(self) -> tuple[float, str]:
+        """The memory of one worker (the largest, for an existing cluster)."""
+        if self.workers:
+            return budget.machine_memory() / self.workers, f"one of {self.workers} local Dask workers"
+        limits = [w.get("memory_limit") or budget.machine_memory() for w in self.client.scheduler_info()["workers"].values()]
+        if not limits:
+            raise ValueError(f"the Dask cluster at {self.scheduler} has no workers")
+        return max(limits), f"the largest Dask worker at {self.scheduler}"
+
+    def run(self, jobs: list[Job], progress=None):
+        from distributed import as_completed
+        client = self.client
+        topic = f"harness-progress-{uuid.uuid4().hex}"
+        if progress is not None:
+            client.subscribe_topic(topic, relay(progress))
+        futures = {}
+        for job in sorted(jobs, key=lambda j: -j.seconds):     # the largest first
+            folder = str(job.checkpoints.resolve()) if job.checkpoints is not None else None
+            future = client.submit(run_job, job.case.source, job.case.reference_levels, job.methods, job.levels,
+                                   job.on_level, self.threads, folder, topic, job.scope, pure=False,
+                                   priority=int(job.seconds * 1000),
+                                   key=f"{job.scope.strip()}{job.case.name}-{'-'.join(m.name for m in job.methods)}-"
+                                       f"{uuid.uuid4().hex[:8]}")
+            futures[future] = job
+        try:
+            for future in as_completed(futures):
+                yield futures[future], future.result()
+        finally:
+            for future in futures:
+                future.cancel()
+            if progress is not None:
+                client.unsubscribe_topic(topic)
+
+    def close(self) -> None:
+        if self._client is not None:
+            self._client.close()
+        if self._cluster is not None:
+            self._cluster.close()
+        self._client = self._cluster = None
+
+
+def plan(jobs: list[Job], engine, check_memory: bool = True) -> list[Job]:
+    """The jobs at ``engine``'s grain, refused (``budget.BudgetError``, before anything is
+    allocated) if the largest would not fit in the memory it would run in."""
+    jobs = engine.split(jobs)
+    if check_memory and jobs:
+        check_fits([estimate(job.case, job.methods, job.levels) for job in jobs], *engine.memory())
+    return jobs
+
+
+def study_weights(cases, methods, levels: int) -> dict:
+    """The progress bar's weights of every solve of a study (``budget.solve_weights``)."""
+    weights = {}
+    for case in cases:
+        if methods_for(case, methods):
+            weights |= solve_weights(case, methods_for(case, methods), levels)
+    return weights
+
+
+def study_progress(cases, methods, levels: int, show: bool) -> StudyProgress:
+    return StudyProgress(study_weights(cases, methods, levels), show)
+
+
+def tidy(outputs, cases, methods) -> pd.DataFrame:
+    """One frame of the rows of all jobs: by case, then level, then method, as given (the same
+    order whichever engine ran them)."""
+    case_order = {c.name: k for k, c in enumerate(cases)}
+    method_order = {m.name: k for k, m in enumerate(methods)}
+    rows = sorted((row for output in outputs for row in output.rows),
+                  key=lambda r: (case_order[r["case"]], r["level"], method_order[r["method"]]))
+    return pd.DataFrame(rows, columns=COLUMNS)
+
+
+def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=None, progress=None,
+              engine=None, checkpoints: Path | None = None, check_memory: bool = True) -> pd.DataFrame:
+    """Every case x method x level; one tidy row each (columns ``study.COLUMNS``). ``levels``
+    counts the P2 levels (P1 runs one more: ``study.study_levels``). ``engine``: where the jobs
+    run (default ``InProcess()``). ``checkpoints``: a folder that makes every finished level
+    durable; a study started again with the same folder continues where it stopped.
+    ``progress``: a bar shared with a larger run (else one is made). The frame's attrs: wall
+    seconds, seconds per phase (summed over jobs), and the level each (case, method) chain
+    resumed from (0: it started afresh)."""
+    start = time.perf_counter()
+    own = progress is None
+    progress = study_progress(cases, methods, levels, show_progress) if own else progress
+    try:
+        done = list(run_jobs(cases, methods, levels, engine, progress, on_level, checkpoints, check_memory))
+    finally:
+        if own:
+            progress.close()
+    outputs = [output for _job, output in done]
+    frame = tidy(outputs, cases, methods)
+    frame.attrs["wall_seconds"] = time.perf_counter() - start
+    frame.attrs["phase_seconds"] = {phase: sum(o.phases.get(phase, 0.0) for o in outputs) for phase in Phases().as_dict()}
+    frame.attrs["resumed"] = {(job.case.name, name): level for job, output in done for name, level in output.resumed.items()}
+    return frame
+
+
+def check_methods(case, methods) -> None:
+    """ValueError in one line if none of ``methods`` discretises ``case`` (its physics, dimension)."""
+    if not methods_for(case, methods):
+        raise ValueError(f"case {case.name} ({case.physics.name}): none of the methods {', '.join(m.name for m in methods)} "
+                         f"discretises it")
+
+
+def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: Path | None = None,
+               check_memory: bool = True) -> list[Job]:
+    """The jobs of a study at ``engine``'s grain: every case validated, discretised by at least
+    one of ``methods``, and its largest job within the memory (``plan``); refused otherwise."""
+    if levels < 1:
+        raise ValueError(f"levels must be a positive integer, got {levels}")
+    for case in cases:
+        validate_case(case)
+    for case in cases:
+        check_methods(case, methods)
+    return plan(chains(cases, methods, levels, on_level, checkpoints), engine, check_memory)
+
+
+def run_jobs(cases, methods, levels: int, engine=None, progress=None, on_level=None, checkpoints: Path | None = None,
+             check_memory: bool = True):
+    """(job, ``study.ChainOutput``) of every job of a study, as they finish: validated and
+    checked against the memory first (``study_jobs``), then run on ``engine`` (default: this process)."""
+    engine = engine or InProcess()
+    yield from engine.run(study_jobs(cases, methods, levels, engine, on_level, checkpoints, check_memory), progress)

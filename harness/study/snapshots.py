@@ -1,0 +1,132 @@
+"""What the report draws besides the error table: u_h and the contact pressure along Gamma_C on
+the finest level (in 3D over Gamma_C, a face of the body), and u_h on Omega (2D) on a level
+fine enough to look smooth. Collected during the
+study through its ``on_level`` hook and stored as .npz beside the results."""
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+
+from ..mesh.points import evaluate
+from .chain import study_levels
+from .files import write_atomic
+
+PICTURE_LEVEL = 3
+SAMPLES_PER_EDGE = 9
+
+
+def contact_snapshot(case, problem, trace_u, pressure) -> dict:
+    """The contact variable of u_h and of u, its obstacle and the pressures along Gamma_C
+    (u_h, u, alpha, d_n u - g_C; in elasticity -u_h . n, -u . n, -alpha, -(sigma_n - g_n):
+    ``physics``), ordered by the coordinate along it."""
+    trace = problem.trace
+    t = np.linspace(0.0, 1.0, SAMPLES_PER_EDGE)
+    points = trace.points(t)
+    start, end = trace.vertex_points.min(axis=0), trace.vertex_points.max(axis=0)
+    direction = (end - start) / np.linalg.norm(end - start)
+    # the coordinate along Gamma_C's direction (x itself for a horizontal Gamma_C)
+    s = (points @ direction).ravel()
+    order = np.argsort(s, kind="stable")
+    if case.u is None:          # a reference case: nothing exact to draw
+        exact_u = exact_pressure = np.full(points.shape[:-1], np.nan)
+    else:
+        normals = np.broadcast_to(trace.normals[:, None, :], points.shape)
+        exact_u = case.physics.contact_value(case, problem.mesh, points, normals)
+        exact_pressure = case.physics.pressure(case, problem.mesh, points, normals)
+    edge_s = trace.midpoints @ direction
+    edge_order = np.argsort(edge_s)
+    along = {"s": s, "u_h": trace_u.at(t), "u": exact_u,
+             "gap": evaluate(case.obstacle, problem.mesh, points) if case.obstacle is not None else np.zeros(points.shape[:-1]),
+             "exact_pressure": exact_pressure}
+    return {
+        **{key: np.ravel(value)[order] for key, value in along.items()},
+        "edge_s": edge_s[edge_order], "edge_lengths": trace.lengths[edge_order],
+        "pressure": pressure[edge_order],
+    }
+
+
+def contact_face_snapshot(case, problem, trace_u, pressure) -> dict:
+    """3D: Gamma_C seen as its triangles, each split into four at its edge midpoints: the
+    points (x, y), those sub-triangles, u_h - alpha and u - alpha at the points (u_h at the
+    midpoints from its quadratic trace, so that a dip of u_h between the vertices shows) and
+    the discrete pressure per triangle (``models.contact_pressure``)."""
+    trace = problem.trace
+    corners = trace.faces.corners(trace)                         # (f, 3, 3)
+    sides = trace.faces.edges                                    # (f, 3): side k from corner k to k+1
+    points = np.concatenate([trace.vertex_points, trace.midpoints])
+    nv = len(trace.vertices)
+    c = np.searchsorted(trace.vertices, trace.faces.vertices)    # corner index in points
+    m = nv + sides                                               # side midpoint index in points
+    triangles = np.concatenate([np.stack([c[:, 0], m[:, 0], m[:, 2]], 1), np.stack([m[:, 0], c[:, 1], m[:, 1]], 1),
+                                np.stack([m[:, 2], m[:, 1], c[:, 2]], 1), np.stack([m[:, 0], m[:, 1], m[:, 2]], 1)])
+    u_h = np.concatenate([problem_vertex_values(problem, trace_u), trace_u.at(np.array([0.5]))[:, 0]])
+    gap = evaluate(case.obstacle, problem.mesh, points) if case.obstacle is not None else np.zeros(len(points))
+    exact = evaluate(case.u, problem.mesh, points) if case.u is not None else np.full(len(points), np.nan)
+    return {"faces": np.array(True), "points": points[:, :2], "triangles": triangles, "face_corners": corners[:, :, :2],
+            "u_h": u_h, "u": exact, "gap": gap, "pressure": pressure}
+
+
+def problem_vertex_values(problem, trace_u) -> np.ndarray:
+    """u_h at the vertices of Gamma_C (``trace.vertices`` order), from the edge end values."""
+    values = np.empty(len(problem.trace.vertices))
+    index = np.searchsorted(problem.trace.vertices, problem.trace.edge_vertices)
+    values[index[:, 0]], values[index[:, 1]] = trace_u.va, trace_u.vb
+    return values
+
+
+def domain_snapshot(case, problem, u: np.ndarray) -> dict:
+    """Vertices, triangles and vertex values of u_h (vertex dofs are nodal values; (nv, 2)
+    Cartesian displacements in elasticity). Copies: netgen hands out views of a mesh that the
+    next level refines in place."""
+    ngmesh = problem.mesh.ngmesh
+    coords = np.array(ngmesh.Coordinates()[:, :2], copy=True)
+    triangles = np.array(ngmesh.Elements2D().NumPy()["nodes"][:, :3], dtype=np.int64) - 1
+    return {"points": coords, "triangles": triangles, "values": case.physics.displacement_at_vertices(problem, u)}
+
+
+class SnapshotHook:
+    """``on_level`` hook of the study: returns the finest contact snapshot of each (case, method)
+    and the domain picture of each case (method `nodal` if it runs, else the first; level
+    PICTURE_LEVEL or the finest). The study keeps what it returns (in checkpoints too, and back
+    from a worker), so the hook itself holds nothing."""
+
+    def __init__(self, levels: int, methods):
+        self.finest = {m.name: study_levels(m, levels) - 1 for m in methods}
+        self.picture_method = "nodal" if "nodal" in self.finest else next(iter(self.finest))
+        self.picture_level = min(PICTURE_LEVEL, self.finest[self.picture_method])
+
+    def __call__(self, case, method, level, problem, solve) -> dict | None:
+        kept = {}
+        three_d = problem.trace.faces is not None
+        if level == self.finest.get(method.name):
+            snapshot = contact_face_snapshot if three_d else contact_snapshot
+            kept["contact"] = snapshot(case, problem, solve.trace_u, solve.pressure)
+        if method.name == self.picture_method and level == self.picture_level and not three_d:
+            kept["domain"] = domain_snapshot(case, problem, solve.u) | {"method": np.array(method.name)}
+        return kept or None
+
+
+def save_snapshots(kept: dict, path: Path) -> None:
+    """The snapshots one case's study kept (by (method, level), from ``SnapshotHook``), as .npz."""
+    arrays = {}
+    for (method, _level), snaps in kept.items():
+        arrays.update({f"contact__{method}__{k}": v for k, v in snaps.get("contact", {}).items()})
+        arrays.update({f"domain_{k}": v for k, v in snaps.get("domain", {}).items()})
+    buffer = io.BytesIO()
+    np.savez_compressed(buffer, **arrays)
+    write_atomic(path, buffer.getvalue())
+
+
+def load_snapshots(path: Path) -> tuple[dict, dict]:
+    """(contact snapshots by method, domain snapshot) of one case."""
+    data = np.load(path)
+    contact, domain = {}, {}
+    for key in data.files:
+        if key.startswith("contact__"):
+            _, method, field = key.split("__", 2)
+            contact.setdefault(method, {})[field] = data[key]
+        elif key.startswith("domain_"):
+            domain[key[len("domain_"):]] = data[key]
+    return contact, domain

@@ -1,0 +1,98 @@
+"""The layout promises of README ("How the code is laid out"): the package reads as the
+pipeline, imports run one way, the physics owns the scalar/elastic differences, and every
+file a docstring cites exists."""
+import ast
+import re
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parent.parent / "harness"
+REPOSITORY = PACKAGE.parent
+# the stages in pipeline order: a module imports only from its own stage and earlier ones
+STAGES = ["mesh", "problem", "fem", "solvers", "methods", "measure", "study", "report", "bench"]
+TOP = {"__init__", "__main__", "api", "cli"}                  # the entry points: import anything
+DEPRECATED = {"geometry": "problem", "functions": "problem", "rates": "measure", "execution": "study"}
+
+
+def modules() -> list[Path]:
+    return sorted(PACKAGE.rglob("*.py"))
+
+
+def stage_of(parts: list[str]) -> str:
+    return parts[0] if parts else "__init__"
+
+
+def imported(path: Path) -> set[tuple[str, ...]]:
+    """The harness modules ``path`` imports, as parts below ``harness`` (names imported from
+    a package count as that package)."""
+    here = list(path.relative_to(PACKAGE).with_suffix("").parts)
+    package = here[:-1]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[:len(package) - (node.level - 1)] if node.level > 1 else package
+                target = base + (node.module.split(".") if node.module else [])
+            elif (node.module or "").split(".")[0] == "harness":
+                target = node.module.split(".")[1:]
+            else:
+                continue
+            found.add(tuple(target))
+        elif isinstance(node, ast.Import):
+            found |= {tuple(a.name.split(".")[1:]) for a in node.names if a.name.split(".")[0] == "harness"}
+    return found
+
+
+def test_the_top_level_holds_at_most_eight_modules():
+    top = [p.stem for p in PACKAGE.glob("*.py")]
+    assert len(top) <= 8, top
+    assert {p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").is_file()} == set(STAGES) | {"execution"}
+
+
+@pytest.mark.parametrize("path", modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_imports_run_from_earlier_stages_to_later_ones(path):
+    here = list(path.relative_to(PACKAGE).with_suffix("").parts)
+    stage = stage_of(here if len(here) > 1 or here[0] in TOP | set(DEPRECATED) else here)
+    if here[0] in TOP:
+        return
+    allowed = set(STAGES[:STAGES.index(DEPRECATED.get(here[0], here[0])) + 1])
+    for target in imported(path):
+        if not target:              # ``from .. import __version__``: the package's one version
+            continue
+        assert target[0] in allowed, f"{'/'.join(here)} (stage {stage}) imports {'.'.join(target)}"
+
+
+def test_only_the_physics_tells_scalar_from_elastic():
+    pattern = re.compile(r"components\s*(>|==|<|!=)")
+    offenders = [f"{p.relative_to(REPOSITORY)}:{n}" for p in modules() if p.name != "physics.py"
+                 for n, line in enumerate(p.read_text().splitlines(), 1) if pattern.search(line)]
+    assert not offenders
+
+
+def test_the_study_takes_h_from_its_level_sequence():
+    assert "h / 2" not in (PACKAGE / "study" / "chain.py").read_text()
+
+
+def test_every_cited_file_exists():
+    cited = re.compile(r"`([\w./-]+\.(?:md|py|pdf))`|(\b[\w-]+/[\w./-]+\.md)\b|\b(MATH\.md)\b")
+    missing = []
+    for path in modules():
+        for match in cited.finditer(path.read_text()):
+            name = next(g for g in match.groups() if g)
+            if not any((base / name).exists() for base in (REPOSITORY, PACKAGE, path.parent, REPOSITORY / "docs")):
+                missing.append(f"{path.relative_to(REPOSITORY)}: {name}")
+    assert not missing
+
+
+@pytest.mark.parametrize("old, new, name", [("harness.geometry", "harness.problem.geometry", "contact_strip"),
+                                            ("harness.functions", "harness.problem.functions", "roller_free_mode"),
+                                            ("harness.rates", "harness.measure.rates", "rate_table"),
+                                            ("harness.execution", "harness.study", "DaskEngine")])
+def test_the_import_paths_of_version_0_2_still_work_with_a_deprecation_warning(old, new, name):
+    import importlib
+    import sys
+    sys.modules.pop(old, None)
+    with pytest.warns(DeprecationWarning, match=new):
+        module = importlib.import_module(old)
+    assert getattr(module, name) is getattr(importlib.import_module(new), name)
