@@ -1,17 +1,16 @@
-"""The report's figures, rendered in worker processes beside the study.
+"""The report's figures, drawn in worker processes once the study is computed.
 
 matplotlib draws on one core, and the report has about forty figures (each in PNG and PDF:
-40 s of the default report on one core, measured 2026-11-25). A case's figures need only its
-stored rows and snapshots, so they are drawn as soon as the case is stored, in a separate
-process, while the study goes on with the next case (whose serial parts leave a core idle);
-the summary and the sweeps' figures once everything is computed. Workers are spawned, not
-forked: the parent runs NGSolve's threads. Every figure is drawn with the same colour per
-method in every process (``figures.register_methods``).
+40 s of the default report on one core, measured 2026-11-25); each needs only its case's stored
+rows and snapshots, so two processes draw them side by side. Drawing them beside the running
+study instead (as each case was stored) slowed the study more than it saved, at normal and at
+the lowest priority alike (the study's NGSolve threads lose their cores: 375-384 s against
+about 360 s). Workers are spawned, not forked: the parent runs NGSolve's threads. Every figure
+is drawn with the same colour per method in every process (``figures.register_methods``).
 """
 from __future__ import annotations
 
 import multiprocessing
-import os
 import time
 from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
@@ -19,13 +18,6 @@ from pathlib import Path
 import pandas as pd
 
 FIGURE_WORKERS = 2
-
-
-def _lowest_priority() -> None:
-    """Figure workers take only the cycles the study leaves idle: at equal priority they would
-    preempt NGSolve's threads, whose parallel loops then wait for the descheduled one
-    (measured: the study 15% slower, a reference case's error phase 6x)."""
-    os.nice(19)
 
 
 def _timed(draw, methods, *args) -> tuple[dict, float]:
@@ -69,8 +61,7 @@ class FigurePool:
 
     def __init__(self, methods, folder: Path, workers: int = FIGURE_WORKERS):
         self.methods, self.folder = list(methods), str(folder)
-        self.pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"),
-                                        initializer=_lowest_priority)
+        self.pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
         self.futures: dict[str, Future] = {}
         self.sweeps: dict[str, Future] = {}
 

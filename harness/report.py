@@ -17,7 +17,7 @@ from .case import Case, bound_text, fraction, registered_cases
 from .document import Document
 from .efficiency import efficiency_table, verdicts
 from .execution import InProcess
-from .figure_jobs import FigurePool
+from .figure_jobs import FIGURE_WORKERS, FigurePool
 from .methods import methods_named
 from .rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from .report_cache import compute, provenance
@@ -453,24 +453,24 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     timings = Timings()
     start = time.perf_counter()
     sweep_cases = cases if _has_weak(settings["methods"]) else []
-    with FigurePool(settings["methods"], Path(report_dir) / "figures") as pool:
-        results, sweeps = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory,
-                                  timings, on_stored=pool.case)
-        with timings("rates"):
-            rates = rate_table(results)
-            efficiency = efficiency_table(results)
+    results, sweeps = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory, timings)
+    with timings("rates"):
+        rates = rate_table(results)
+        efficiency = efficiency_table(results)
+    with timings("writing", "results"):
+        write_csv(results, results_dir / "results.csv")
+        write_csv(rates, results_dir / "rates.csv")
+        write_csv(efficiency, results_dir / "efficiency.csv")
+    meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
+                                   "engine": (engine or InProcess()).describe()}
+    write_atomic(results_dir / "provenance.json", json.dumps(meta, indent=2))
+    with timings("figures", f"drawn in {FIGURE_WORKERS} processes"), FigurePool(settings["methods"], Path(report_dir) / "figures") as pool:
+        for case in cases:
+            pool.case(case, results_dir / "cases")
         pool.summary(rates)
         for name, frame in sweeps.items():
             pool.sweep(known[name], frame)
-        with timings("writing", "results"):
-            write_csv(results, results_dir / "results.csv")
-            write_csv(rates, results_dir / "rates.csv")
-            write_csv(efficiency, results_dir / "efficiency.csv")
-        meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
-                                       "engine": (engine or InProcess()).describe()}
-        write_atomic(results_dir / "provenance.json", json.dumps(meta, indent=2))
-        with timings("figures", "waiting for them"):
-            figs, seconds = pool.collect()
+        figs, seconds = pool.collect()
     for name, spent in seconds.items():
         timings.add("figures (in workers)", name, "", spent)
     with timings("document"):

@@ -105,13 +105,11 @@ def study_groups(cases: list[Case], settings: dict) -> list[tuple[list[Case], di
 
 
 def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: list[Case], show_progress: bool = True,
-            engine=None, check_memory: bool = True, timings: Timings | None = None,
-            on_stored=None) -> tuple[pd.DataFrame, dict]:
+            engine=None, check_memory: bool = True, timings: Timings | None = None) -> tuple[pd.DataFrame, dict]:
     """(the rows of every case, the sweep of every case in ``sweep_cases`` the report sweeps):
     reused where stored and unchanged, the rest run as one set of jobs on ``engine`` (default
     this process) under one progress bar, its ETA for all of it. Every finished level is
-    checkpointed under ``cases/.checkpoints``: a report killed at any moment continues there.
-    ``on_stored(case, store)``: called for each case once its rows are in ``store``."""
+    checkpointed under ``cases/.checkpoints``: a report killed at any moment continues there."""
     results_dir = Path(results_dir)
     case_store, sweep_store = ensure_writable(results_dir / "cases"), ensure_writable(results_dir / "sweeps")
     checkpoints = case_store / ".checkpoints"
@@ -122,8 +120,6 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
         for case in group:
             if case not in todo:
                 print(f"{case.name}: reusing results computed with the same code and settings")
-                if on_stored:
-                    on_stored(case, case_store)
         methods, levels = methods_named(group_settings["methods"]), group_settings["levels"]
         for case in todo:
             validate_case(case)
@@ -166,8 +162,6 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
                 case, group_settings, methods, _ = pending[name]
                 _store_case(case_store, case, outputs, methods, group_settings)
                 CheckpointStore(checkpoints, group_settings["levels"]).forget(case)
-                if on_stored:
-                    on_stored(case, case_store)
     finally:
         progress.close()
     if timings is not None:
