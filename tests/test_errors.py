@@ -167,7 +167,7 @@ def test_gamma_c_points_located_without_search_are_netgens_points(case_name, rng
     function there are those at the points netgen's search finds."""
     from conftest import problem_at
 
-    import harness.mesh as harness_mesh
+    import harness.mesh.points as harness_mesh
     from harness.fem.contact_quadrature import contact_quadrature
     problem = problem_at(case_name, 1)
     quadrature = contact_quadrature(problem)          # makes its points known (located)
