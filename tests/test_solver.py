@@ -132,3 +132,33 @@ def test_random_bound_qps_match_clarabel(seed):
     ref = solve_qp(sp.csc_matrix(K), -r, G=sp.csc_matrix(G), h=-alpha, solver="clarabel", tol_gap_abs=1e-13, tol_gap_rel=1e-13, tol_feas=1e-13)
     assert sol.status == "converged"
     assert np.abs(sol.z - ref).max() <= 1e-7 * max(1, np.abs(ref).max())
+
+
+def _p1_qp(case_file: str, level: int):
+    case, method = load_case(case_file), METHODS["p1"]
+    problem, multilevel = problem_with_hierarchy(case_file, level, method.order)
+    return contact_qp(case, problem, method.cone, take_stiffness=True), multilevel
+
+
+def test_a_tolerance_below_the_round_off_floor_ends_converged_at_round_off_not_stalled():
+    """The floor of the relative KKT residual grows like eps cond(K); asking 1e-14 on 1.2e4 P1
+    dofs (floor about 5e-12) is the stall of a 7.9e5-dof reference, small. The solve ends
+    converged, the normwise backward error of its forces at round-off, primal feasibility exact."""
+    from harness.solvers.active_set import ROUNDOFF_BACKWARD_ERROR
+    qp, multilevel = _p1_qp("tests/data/square_sine.py", 5)
+    solution = solve_contact_qp(qp, tol=1e-14, multilevel=multilevel)
+    assert solution.status == "converged"
+    assert solution.kkt.residual > 1e-14                      # the relative residual cannot get there
+    assert solution.kkt.backward <= ROUNDOFF_BACKWARD_ERROR
+    assert solution.kkt.primal <= 1e-14
+    # the same active set as at the usual tolerance
+    assert (solution.active == solve_contact_qp(qp, multilevel=multilevel).active).all()
+
+
+@pytest.mark.slow
+def test_the_issue_30_reference_solve_converges():
+    """P1 on 7.9e5 dofs of the square case: stalled at KKT 1.3e-10 before; now converged with
+    backward error ~3e-16 (KKT residual 1.5e-10, the floor)."""
+    qp, multilevel = _p1_qp("tests/data/square_sine.py", 8)
+    solution = solve_contact_qp(qp, multilevel=multilevel)
+    assert solution.status == "converged" and solution.kkt.backward <= 1e-13

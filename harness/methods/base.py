@@ -8,6 +8,7 @@ the next level (nested iteration) and the report need (``LevelSolve``).
 """
 from __future__ import annotations
 
+import math
 from contextlib import nullcontext
 from dataclasses import dataclass, replace
 from typing import Callable
@@ -125,11 +126,29 @@ class BoundConstrained(Method):
             "active_constraints": int(solution.active.sum()),
             "solver_iterations": solution.iterations,
             "linear_iterations": solution.work.get("cg_iterations", solution.work.get("factorizations")),
-            "kkt_residual": solution.kkt.residual,
+            "kkt_residual": solution.kkt.residual, "backward_error": solution.kkt.backward,
             "solve_seconds": solution.seconds,
             "status": solution.status,
         }
         return LevelSolve(fields, u, trace_u, pressure, (trace_u, u[:problem.mesh.nv].copy()))
+
+
+# theta: the three members of the family of Chouly, Hild & Renard, Math. Comp. 84 (2015), eq. (10)
+# (symmetric, incomplete, skew-symmetric); its analysis covers no other value
+THETAS = (1.0, 0.0, -1.0)
+
+
+def check_parameter(method: str, name: str, key: str, value) -> float:
+    """``value`` of a weak method's parameter as a float, or a one-line ValueError naming what
+    the method allows: the scale of eps (gamma0, epsilon0) a finite positive number, theta one
+    of 1, 0, -1. The one place where parameter values are checked."""
+    number = float(value)
+    if key == "theta":
+        if number not in THETAS:
+            raise ValueError(f"method {method!r}: theta must be 1, 0 or -1 (Chouly, Hild & Renard 2015), got {value}")
+    elif not (math.isfinite(number) and number > 0):
+        raise ValueError(f"method {method!r}: {name} must be a finite positive number, got {value}")
+    return number
 
 
 @dataclass(frozen=True)
@@ -150,12 +169,13 @@ class WeakContact(Method):
         return {name: values[key] for name, key in zip(self.parameter_names, ("gamma0", "theta"))}
 
     def with_parameters(self, **values) -> "WeakContact":
-        """The same method with other parameter values, named by them: nitsche:gamma0=0.1,theta=-1."""
+        """The same method with other parameter values, named by them: nitsche:gamma0=0.1,theta=-1.
+        Each value is checked against what the method's theory allows (``check_parameter``)."""
         unknown = set(values) - set(self.parameter_names)
         if unknown:
             raise ValueError(f"method {self.name!r} has parameters {', '.join(self.parameter_names)}, not {', '.join(sorted(unknown))}")
         keys = dict(zip(self.parameter_names, ("gamma0", "theta")))
-        changed = {keys[name]: float(value) for name, value in values.items()}
+        changed = {keys[name]: check_parameter(self.name, name, keys[name], value) for name, value in values.items()}
         base = self.name.split(":")[0]
         label = ",".join(f"{name}={_number(float(values[name]))}" for name in self.parameter_names if name in values)
         return replace(self, name=f"{base}:{label}" if label else base, **changed)
@@ -190,7 +210,7 @@ class WeakContact(Method):
             "active_constraints": int(solution.active.sum()),
             "solver_iterations": solution.iterations,
             "linear_iterations": solution.linear_iterations,
-            "kkt_residual": solution.residual,
+            "kkt_residual": solution.residual, "backward_error": solution.backward,
             "solve_seconds": solution.seconds,
             "status": solution.status,
         }

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .active_set import MultigridSystem
+from .active_set import ROUNDOFF_BACKWARD_ERROR, MultigridSystem, row_norm
 from .multigrid import HIERARCHICAL
 
 DEFAULT_TOLERANCE = 1e-10
@@ -45,6 +45,7 @@ class NewtonSolution:
     linear_iterations: int      # CG iterations (multigrid), or LU factorisations
     seconds: float
     status: str
+    backward: float = 0.0       # the normwise backward error of the last affine system (``backward_error``)
 
 
 class _DirectSystem:
@@ -113,7 +114,7 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
     direct = multilevel is None or not system.symmetric
     factored = None             # the factorisation of J, updated step by step once direct
     status = f"not converged in {max_iterations} iterations"
-    residual = np.inf
+    residual, step_set, J_norm = np.inf, None, None
     for iteration in range(max_iterations + 1):
         F = system.residual(u)
         residual = float(np.abs(F).max(initial=0.0) / scale)
@@ -121,6 +122,13 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
         if residual <= tol:
             status = "converged"
             break
+        if step_set is not None and np.array_equal(active, step_set):
+            # u solved the affine system of its own set: what is left of F is the linear solve's,
+            # at the round-off floor when its backward error is (``active_set.KKT.converged``)
+            J_norm = J_norm if J_norm is not None else row_norm(system.J, problem.free)
+            if backward_error(system, u, F, J_norm) <= ROUNDOFF_BACKWARD_ERROR:
+                status = "converged"
+                break
         if not np.isfinite(residual):
             status = "diverged: the residual is not finite"
             break
@@ -150,7 +158,16 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
         if damped:
             candidate = _damped(system, u, candidate, residual * scale)
         u = candidate
-    return NewtonSolution(u, active, residual, iteration, linear_iterations, time.perf_counter() - clock, status)
+    backward = backward_error(system, u, F, J_norm if J_norm is not None else row_norm(system.J, problem.free))
+    return NewtonSolution(u, active, residual, iteration, linear_iterations, time.perf_counter() - clock, status, backward)
+
+
+def backward_error(system, u: np.ndarray, F: np.ndarray, J_norm: float) -> float:
+    """max |F(u)| / (||J||_inf ||u||_inf + ||rhs||_inf) over the free dofs: the normwise backward
+    error of the affine system J u = rhs of u's set (Higham 2002, Theorem 7.1)."""
+    free = system.problem.free
+    return float(np.abs(F[free]).max(initial=0.0)
+                 / max(J_norm * np.abs(u).max(initial=0.0) + np.abs(system.rhs[free]).max(initial=0.0), np.finfo(float).tiny))
 
 
 def _linear_residual(system, u: np.ndarray, rhs: np.ndarray) -> float:

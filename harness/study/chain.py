@@ -22,7 +22,7 @@ COLUMNS = [
     "case", "method", "order", "parameters", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
     "err_l2", "err_energy", "err_best_h1", "err_best_h1_semi", "err_best_energy", "err_h1_over_best", "err_trace_l2", "err_pressure_l2", "err_pressure_h12",
     "max_penetration", "max_tension", "min_pressure", "active_constraints", "solver_iterations", "linear_iterations",
-    "kkt_residual", "solve_seconds", "total_seconds", "status",
+    "kkt_residual", "backward_error", "solve_seconds", "total_seconds", "status",
     # what the errors are measured against: "exact" (u), or "reference" (the method's solution
     # on level reference_level, with its KKT residual and status)
     "errors_against", "reference_level", "reference_ndof", "reference_kkt_residual", "reference_status",
