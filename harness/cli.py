@@ -14,6 +14,7 @@ import pandas as pd
 from .problem.case import CaseError
 
 EXIT_BAD_INPUT = 2
+EXIT_FAILED = 1
 
 
 class BadInput(Exception):
@@ -99,8 +100,28 @@ def cmd_run(args) -> int:
                          "solver_iterations", "kkt_residual", "status"]].to_string(index=False))
             _print_references(frame)
     print(f"wrote {path}")
-    references_converged = frame["reference_status"].isin(["converged"]) | (frame["errors_against"] == "exact")
-    return 0 if ((frame["status"] == "converged") & references_converged).all() else 1
+    return report_failures(frame)
+
+
+def failures(frame: pd.DataFrame) -> list[str]:
+    """One line per solve that did not converge: case, method, level and why; and per method
+    whose reference solve did not (a case measured against a reference)."""
+    lines = [f"case {r.case}, method {r.method}, level {r.level}: {r.status}"
+             for r in frame[frame["status"] != "converged"].itertuples()]
+    measured = frame[(frame["errors_against"] == "reference") & (frame["reference_status"] != "converged")]
+    for (case, method), group in measured.groupby(["case", "method"], sort=False):
+        first = group.iloc[0]
+        lines.append(f"case {case}, method {method}, reference on level {int(first.reference_level)}: "
+                     f"{first.reference_status}")
+    return lines
+
+
+def report_failures(frame: pd.DataFrame) -> int:
+    """Every failure on stderr, one line each, --quiet or not; the exit status: 1 if any."""
+    lines = failures(frame)
+    for line in lines:
+        print(f"harness: {line}", file=sys.stderr)
+    return 1 if lines else 0
 
 
 def _print_references(frame: pd.DataFrame) -> None:
@@ -235,7 +256,7 @@ def cmd_report(args) -> int:
     finally:
         engine.close()
     print(f"wrote {path}")
-    return 0
+    return report_failures(pd.read_csv(Path(args.results) / "results.csv"))
 
 
 def cmd_bench(args) -> int:
@@ -329,6 +350,8 @@ def add_engine_options(p) -> None:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="python -m harness", description=__doc__.splitlines()[0])
+    parser.add_argument("--debug", action="store_true",
+                        help="let an error through with its traceback (accepted anywhere on the line)")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
 
     p = sub.add_parser("cases", help="list the registered cases with regularity and expected rate")
@@ -400,13 +423,32 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
+    """Every failure ends as one line on stderr and a non-zero exit: 2 for bad input (before
+    anything on disk is touched), 1 for a run that failed; ``--debug`` (anywhere on the line)
+    lets the exception through with its traceback."""
+    from .study.engines import SchedulerUnreachable
     from .study.files import OutputError
+    argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    argv = [arg for arg in argv if arg != "--debug"]
     try:
         args = build_parser().parse_args(argv)
         return args.func(args)
     except (BadInput, CaseError, OutputError, ValueError, FileNotFoundError) as exc:
+        if debug:
+            raise
         print(f"harness: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except SchedulerUnreachable as exc:
+        if debug:
+            raise
+        print(f"harness: error: {exc}", file=sys.stderr)
+        return EXIT_FAILED
     except KeyboardInterrupt:
         print("harness: interrupted; no results file was written (run and report continue from their last finished level when started again)", file=sys.stderr)
         return 130
+    except Exception as exc:
+        if debug:
+            raise
+        print(f"harness: error: {type(exc).__name__}: {exc} (run with --debug for the traceback)", file=sys.stderr)
+        return EXIT_FAILED

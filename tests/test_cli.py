@@ -142,3 +142,67 @@ def test_sweep_refuses_bad_input_in_one_line(tmp_path, args, message):
     done = harness("sweep", "--case", "transition-r32", *[x for kv in base.items() for x in kv], "--out", str(tmp_path / "s"))
     assert done.returncode == 2 and message in done.stderr and len(done.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "s").exists()
+
+
+def _one_line(err: str) -> str:
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and "Traceback" not in err, err
+    return lines[0]
+
+
+@pytest.mark.parametrize("spec, message", [("nitsche:theta=5", "theta must be 1, 0 or -1"),
+                                           ("penalty:epsilon0=-1", "epsilon0 must be a finite positive number"),
+                                           ("nitsche:gamma0=nan", "gamma0 must be a finite positive number")])
+def test_a_parameter_outside_what_the_method_allows_is_refused_in_one_line(tmp_path, spec, message):
+    done = harness("run", "--case", "transition-r32", "--method", spec, "--levels", "1", "--out", str(tmp_path / "out"))
+    assert done.returncode == 2 and message in _one_line(done.stderr)
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("body, what, line", [("x = 1\nraise SystemExit(3)\n", "SystemExit: 3", 2),
+                                              ("import math\n\ny = 1 / 0\n", "ZeroDivisionError", 3),
+                                              ("def f(:\n", "SyntaxError", 1)])
+def test_a_case_file_that_exits_or_raises_at_import_is_one_line_naming_file_and_line(tmp_path, body, what, line):
+    case = tmp_path / "broken.py"
+    case.write_text(body)
+    done = harness("run", "--case", str(case), "--levels", "1", "--out", str(tmp_path / "out"))
+    assert done.returncode == 2
+    assert f"{case}, line {line} failed to import: {what}" in _one_line(done.stderr)
+
+
+def test_an_unreachable_scheduler_is_one_line_within_its_timeout(tmp_path, capsys, monkeypatch):
+    from harness import cli
+    from harness.study import engines
+    monkeypatch.setattr(engines, "SCHEDULER_TIMEOUT", 1)
+    code = cli.main(["run", "--case", "transition-r32", "--method", "nodal", "--levels", "1", "--out", str(tmp_path),
+                     "--scheduler", "tcp://127.0.0.1:1", "--quiet"])
+    assert code == 1
+    assert "no Dask scheduler answered at tcp://127.0.0.1:1 within 1 s" in _one_line(capsys.readouterr().err)
+
+
+def test_every_failed_solve_is_one_line_on_stderr_even_with_quiet(tmp_path, capsys, monkeypatch):
+    """A solver that never meets its test (forced here): the run still writes its rows, says on
+    stderr which case, method and level failed and why, one line each, and exits 1."""
+    from harness import cli
+    from harness.solvers.active_set import KKT
+    monkeypatch.setattr(KKT, "converged", lambda self, tol: False)
+    code = cli.main(["run", "--case", "transition-r32", "--method", "nodal", "--levels", "2", "--out", str(tmp_path), "--quiet"])
+    err = capsys.readouterr().err.splitlines()
+    assert code == 1 and (tmp_path / "results.csv").is_file()
+    assert len(err) == 2
+    for line, level in zip(err, (0, 1)):
+        assert line.startswith(f"harness: case transition-r32, method nodal, level {level}: stalled: KKT residual")
+
+
+def test_an_unexpected_error_is_one_line_and_debug_shows_its_traceback(tmp_path, capsys, monkeypatch):
+    from harness import cli
+    from harness.study import engines
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("something inside")
+    monkeypatch.setattr(engines, "run_chain", broken)
+    args = ["run", "--case", "transition-r32", "--method", "nodal", "--levels", "1", "--out", str(tmp_path), "--quiet"]
+    assert cli.main(args) == 1
+    assert _one_line(capsys.readouterr().err) == "harness: error: RuntimeError: something inside (run with --debug for the traceback)"
+    with pytest.raises(RuntimeError, match="something inside"):
+        cli.main(args + ["--debug"])

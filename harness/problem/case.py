@@ -68,6 +68,7 @@ from __future__ import annotations
 import dataclasses
 import importlib.util
 import sys
+import traceback
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -200,9 +201,20 @@ def _import_file(path: Path):
     sys.modules[module_name] = module
     try:
         spec.loader.exec_module(module)
-    except Exception as exc:  # a broken user file must give one clear line, not a traceback
-        raise CaseError(f"case file {path} failed to import: {type(exc).__name__}: {exc}") from exc
+    except (Exception, SystemExit) as exc:  # a broken user file: one clear line, not a traceback or its exit
+        raise CaseError(f"case file {path}{_line_in(exc, path)} failed to import: {type(exc).__name__}"
+                        + (f": {exc}" if str(exc) else "")) from exc
     return module
+
+
+def _line_in(exc: BaseException, path: Path) -> str:
+    """", line N": the last line of the case file in the exception's traceback (or a syntax
+    error's own line)."""
+    if isinstance(exc, SyntaxError) and exc.lineno:
+        return f", line {exc.lineno}"
+    lines = [lineno for frame, lineno in traceback.walk_tb(exc.__traceback__)
+             if Path(frame.f_code.co_filename).resolve() == Path(path).resolve()]
+    return f", line {lines[-1]}" if lines else ""
 
 
 def case_from_module(module, source: str) -> Case:

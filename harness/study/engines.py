@@ -134,6 +134,14 @@ def run_job(source: str, reference_levels, methods, levels: int, on_level, threa
         return run_chain(case, list(methods), levels, EventProgress(topic, scope), on_level, Phases(), store)
 
 
+# seconds to wait for an existing scheduler to answer before saying it is unreachable
+SCHEDULER_TIMEOUT = 10
+
+
+class SchedulerUnreachable(RuntimeError):
+    """--scheduler names an address where no Dask scheduler answers."""
+
+
 class DaskEngine:
     """The study on Dask workers, one job per case (split by order where large: ``split``), the
     largest first. A worker that
@@ -162,7 +170,12 @@ class DaskEngine:
                                              dashboard_address=":0", silence_logs=logging.ERROR)
                 self._client = Client(self._cluster)
             else:
-                self._client = Client(self.scheduler, timeout="20s")
+                try:
+                    self._client = Client(self.scheduler, timeout=f"{SCHEDULER_TIMEOUT}s")
+                except (OSError, TimeoutError) as exc:
+                    raise SchedulerUnreachable(
+                        f"no Dask scheduler answered at {self.scheduler} within {SCHEDULER_TIMEOUT} s "
+                        f"({type(exc).__name__}); start one with `dask scheduler` or drop --scheduler") from None
         return self._client
 
     # a case is split by order when its estimated time exceeds this share of what each worker
