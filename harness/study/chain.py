@@ -2,7 +2,9 @@
 errors -> one tidy row per (case, method, level)."""
 from __future__ import annotations
 
+import inspect
 import time
+import warnings
 from collections import defaultdict
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -98,6 +100,38 @@ class ChainOutput:
     kept: dict
     phases: dict
     resumed: dict
+
+
+class _LevelHook_0_1:
+    """A hook written for harness 0.1, ``on_level(case, model, level, problem, u, solution,
+    trace_u)``, called as one of 0.2 on: ``model`` is now the method (it has ``.name``, as the
+    model had), ``solution`` the ``methods.LevelSolve`` (its ``fields`` hold status, iterations
+    and residual), ``u`` and ``trace_u`` as before."""
+
+    def __init__(self, hook):
+        self.hook = hook
+
+    def __call__(self, case, method, level, problem, solve):
+        return self.hook(case, method, level, problem, solve.u, solve, solve.trace_u)
+
+
+def level_hook(on_level):
+    """``on_level`` as the study calls it, ``(case, method, level, problem, solve)``; a hook with
+    the seven positional parameters of harness 0.1 is adapted, with a DeprecationWarning (the
+    adapter goes in 0.4)."""
+    if on_level is None:
+        return None
+    try:
+        parameters = inspect.signature(on_level).parameters.values()
+    except (TypeError, ValueError):         # a callable without a signature: taken as it is
+        return on_level
+    positional = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD) and p.default is p.empty]
+    if len(positional) == 7 and not any(p.kind == p.VAR_POSITIONAL for p in parameters):
+        warnings.warn("on_level(case, model, level, problem, u, solution, trace_u) is the hook of harness 0.1; "
+                      "since 0.2 it is on_level(case, method, level, problem, solve) with solve.u, solve.trace_u, "
+                      "solve.fields (adapted until 0.4)", DeprecationWarning, stacklevel=3)
+        return _LevelHook_0_1(on_level)
+    return on_level
 
 
 def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_level=None,

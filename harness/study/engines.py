@@ -32,7 +32,7 @@ from ..problem.case import load_case
 from ..problem.validate import validate_case
 from . import budget
 from .budget import check_fits, estimate, solve_weights
-from .chain import COLUMNS, Phases, run_chain
+from .chain import COLUMNS, Phases, level_hook, run_chain
 from .checkpoint import CheckpointStore
 from .progress import EventProgress, Scoped, StudyProgress, relay
 
@@ -281,6 +281,7 @@ def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=
     seconds, seconds per phase (summed over jobs), and the level each (case, method) chain
     resumed from (0: it started afresh)."""
     start = time.perf_counter()
+    on_level = level_hook(on_level)
     own = progress is None
     progress = study_progress(cases, methods, levels, show_progress) if own else progress
     try:

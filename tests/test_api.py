@@ -1,0 +1,63 @@
+"""The public API README shows (harness 0.3): names and signatures pinned, the hook's two forms."""
+import inspect
+import warnings
+
+import numpy as np
+import pytest
+
+import harness
+from harness.measure.rates import rate_table
+from harness.methods.base import LevelSolve
+from harness.study import DaskEngine, InProcess
+
+E = inspect.Parameter.empty
+# parameter names and defaults, in order (annotations are strings under `from __future__ import annotations`)
+SIGNATURES = {
+    harness.run: [("cases", E), ("methods", "all"), ("levels", 5), ("show_progress", True), ("on_level", None),
+                  ("models", None), ("engine", None), ("checkpoints", None)],
+    harness.case_table: [("cases", None)],
+    harness.method_table: [],
+    harness.load_case: [("spec", E)],
+    harness.registered_cases: [("dimension", None)],
+    rate_table: None,
+    harness.methods_named: None,
+}
+
+
+def test_the_api_readme_shows_exists_with_its_signatures():
+    assert harness.__version__ == "0.3.0"
+    assert harness.cases is harness.case_table
+    for function, expected in SIGNATURES.items():
+        parameters = inspect.signature(function).parameters.values()
+        if expected is not None:
+            assert [(p.name, p.default) for p in parameters] == expected, function.__name__
+    assert {"workers", "scheduler", "threads"} <= set(inspect.signature(DaskEngine).parameters)
+    assert "threads" in inspect.signature(InProcess).parameters
+    assert set(harness.__all__) >= {"run", "cases", "case_table", "method_table", "load_case", "registered_cases",
+                                    "Case", "CaseError", "METHODS", "methods_named"}
+
+
+def test_the_hook_sees_every_studied_solve_and_keeps_what_it_returns():
+    seen = []
+
+    def on_level(case, method, level, problem, solve):
+        assert isinstance(solve, LevelSolve) and solve.u.shape == (problem.ndof,)
+        seen.append((method.name, level, solve.fields["status"]))
+
+    frame = harness.run("transition-r32", methods="nodal", levels=2, show_progress=False, on_level=on_level)
+    assert seen == [("nodal", 0, "converged"), ("nodal", 1, "converged")] and len(frame) == 2
+
+
+def test_a_hook_of_version_0_1_still_runs_with_a_deprecation_warning():
+    seen = []
+
+    def old_hook(case, model, level, problem, u, solution, trace_u):
+        seen.append((model.name, level, float(np.abs(u).max()), solution.fields["status"]))
+
+    with pytest.warns(DeprecationWarning, match=r"on_level\(case, method, level, problem, solve\)"):
+        harness.run("transition-r32", methods="nodal", levels=2, show_progress=False, on_level=old_hook)
+    assert [s[:2] for s in seen] == [("nodal", 0), ("nodal", 1)] and all(s[3] == "converged" for s in seen)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")          # the current form warns about nothing
+        harness.run("transition-r32", methods="nodal", levels=1, show_progress=False,
+                    on_level=lambda case, method, level, problem, solve: None)
