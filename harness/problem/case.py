@@ -67,6 +67,7 @@ from __future__ import annotations
 
 import dataclasses
 import importlib.util
+import math
 import sys
 import traceback
 from dataclasses import dataclass
@@ -217,7 +218,56 @@ def _line_in(exc: BaseException, path: Path) -> str:
     return f", line {lines[-1]}" if lines else ""
 
 
+def _check_declared(module, source: str) -> None:
+    """The plain values of the contract, each of the type and range it must have, refused in
+    one line (wrong type, NaN or infinite where a finite number is meant, wrong sign), before
+    anything is built from them."""
+    def number(key: str, low: float, finite: bool = True, optional_nan: bool = False):
+        if not hasattr(module, key):
+            return
+        value = getattr(module, key)
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        if ok and math.isnan(value):
+            ok = optional_nan
+        elif ok:
+            ok = value > low and (math.isfinite(value) or not finite)
+        if not ok:
+            bound = f"> {low:g}" + ("" if finite else " (inf allowed)")
+            raise CaseError(f"case {source}: {key} must be a number {bound}, got {value!r}")
+
+    for key in ("name", "description", "theorem", "regime"):
+        if hasattr(module, key) and not isinstance(getattr(module, key), str):
+            raise CaseError(f"case {source}: {key} must be a string, got {getattr(module, key)!r}")
+    if hasattr(module, "name") and not module.name.strip():
+        raise CaseError(f"case {source}: name must not be empty")
+    number("maxh", 0.0)
+    if hasattr(module, "reference_levels"):
+        _reference_levels(module, source)
+    reference = not hasattr(module, "u")
+    number("nu", 1.0, finite=False, optional_nan=reference)               # u in H^{nu - eps}, nu > 1
+    number("expected_rate", 0.0, optional_nan=reference)
+    number("expected_log_exponent", -math.inf)
+    if hasattr(module, "geometry") and not hasattr(module.geometry, "GenerateMesh"):
+        raise CaseError(f"case {source}: geometry must be a netgen geometry (harness.problem.geometry.polygon builds one), "
+                        f"got {type(module.geometry).__name__}")
+    for key in ("u", "f", "dirichlet", "neumann", "gap", "contact_load"):
+        value = getattr(module, key, None)
+        if (value is None and not (key == "u" and hasattr(module, "u"))) or isinstance(value, ngs.CoefficientFunction):
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise CaseError(f"case {source}: {key} must be an NGSolve CoefficientFunction or a finite number, got {value!r}")
+    points = getattr(module, "singular_points", None)
+    if points is not None:
+        try:
+            ok = all(len(point) == 2 and all(math.isfinite(float(c)) for c in point) for point in points)
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise CaseError(f"case {source}: singular_points must be a list of (x, y) pairs of finite numbers, got {points!r}")
+
+
 def case_from_module(module, source: str) -> Case:
+    _check_declared(module, source)
     physics = _physics(module, source)
     if hasattr(module, "u"):
         case = _exact_case(module, source)
