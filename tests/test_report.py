@@ -67,6 +67,8 @@ def test_unchanged_results_are_reused(report, capsys):
     make_report("default", root / "results", root / "report", CASES, show_progress=False, levels=3)
     assert "corner-r12: reusing" in capsys.readouterr().out
     assert (root / "results" / "cases" / "corner-r12.csv").stat().st_mtime_ns == stored
+    # the header says so, instead of the wall time of a run that computed nothing
+    assert "study reused from results/cases" in (root / "report" / "report.md").read_text()
 
 
 def test_rewording_the_report_keeps_the_study_cache_key_and_changing_a_solver_does_not(tmp_path):

@@ -5,6 +5,7 @@ sentences of ``prose``.
 """
 from __future__ import annotations
 
+import datetime
 import json
 import time
 from pathlib import Path
@@ -38,7 +39,7 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         f"(commit {meta['git_commit'][:12]}), NGSolve {meta['ngsolve_version']}, {meta['date']}, "
         f"{meta['machine']['node']} ({meta['machine']['cpus']} cpus); profile {settings['profile']}, "
         f"{settings['levels']} P2 levels; methods {', '.join(settings['methods'])}; "
-        f"study wall time {meta['wall_seconds']:.0f} s{' ' + meta['engine'] if meta.get('engine') else ''}.", css="meta")
+        + study_sentence(meta), css="meta")
     doc.heading("Problem and methods")
     doc.paragraph(INTRO)
     doc.table(pd.DataFrame([{"method": m.name, "order": m.order, "contact condition": m.contact,
@@ -117,6 +118,27 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
     return doc
 
 
+def computed_since(cases, store: Path, since: datetime.datetime) -> list[str]:
+    """The cases whose stored results (``study.cache``) were written by this run."""
+    def date(case):
+        meta = store / f"{case.name}.json"
+        return datetime.datetime.fromisoformat(json.loads(meta.read_text())["date"]) if meta.is_file() else None
+    return [case.name for case in cases if (d := date(case)) is not None and d >= since]
+
+
+def study_sentence(meta: dict) -> str:
+    """How the study of this report was obtained: computed now (wall time, engine), reused from
+    the results cache, or both."""
+    computed, total = len(meta.get("computed", meta["cases"])), len(meta["cases"])
+    engine = f" {meta['engine']}" if meta.get("engine") else ""
+    if computed == total:
+        return f"study wall time {meta['wall_seconds']:.0f} s{engine}."
+    if computed == 0:
+        return "study reused from results/cases (same computing code, case files and settings)."
+    return (f"{computed} of {total} cases computed in this run (wall time {meta['wall_seconds']:.0f} s{engine}), "
+            f"the rest reused from results/cases.")
+
+
 def make_report(profile: str = "default", results_dir: Path = Path("results"), report_dir: Path = Path("report"),
                 case_names=None, show_progress: bool = True, levels: int | None = None, methods=("all",),
                 engine=None, check_memory: bool = True) -> Path:
@@ -135,6 +157,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     ensure_writable(report_dir / "figures")
     timings = Timings()
     start = time.perf_counter()
+    run_started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
     sweep_cases = cases if _has_weak(settings["methods"]) else []
     results, sweeps = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory, timings)
     with timings("rates"):
@@ -145,7 +168,8 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
         write_csv(rates, results_dir / "rates.csv")
         write_csv(efficiency, results_dir / "efficiency.csv")
     meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
-                                   "engine": (engine or InProcess()).describe()}
+                                   "engine": (engine or InProcess()).describe(),
+                                   "computed": computed_since(cases, results_dir / "cases", run_started)}
     write_atomic(results_dir / "provenance.json", json.dumps(meta, indent=2))
     drawing = timings("figures", f"drawn in {FIGURE_WORKERS} processes")
     with drawing, FigurePool(settings["methods"], Path(report_dir) / "figures") as pool:
