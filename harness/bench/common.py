@@ -69,6 +69,17 @@ def fresh_rows(measure, label: str, linear: str, levels, models, progress, colum
     return pd.DataFrame(rows, columns=columns)
 
 
+def contact_goals(frame: pd.DataFrame, label: str, bound: float) -> list[tuple[str, bool, str]]:
+    """The two goals of a contact-solve table: at its largest size the contact solve costs at
+    most ``bound`` linear solves, and every size meets the KKT tolerance."""
+    largest = frame[frame.ndof == frame.ndof.max()]
+    return [
+        (f"{label} contact solve <= {bound:g}x one linear solve at the largest size", bool((largest.ratio_linear <= bound).all()),
+         ", ".join(f"{m} {r:.2f} at {n:.2g} dofs" for m, r, n in zip(largest.method, largest.ratio_linear, largest.ndof))),
+        (f"{label} KKT residual <= 1e-10 at every size", bool((frame.kkt_residual <= 1e-10).all()), f"max {frame.kkt_residual.max():.1e}"),
+    ]
+
+
 def write_bench(frame: pd.DataFrame, path: Path) -> Path:
     from ..study.files import ensure_writable, write_csv
     ensure_writable(path.parent)

@@ -7,7 +7,7 @@ import resource
 import numpy as np
 import pandas as pd
 
-from .common import fastest, fresh_rows, own_seconds, timed
+from .common import contact_goals, fastest, fresh_rows, own_seconds, timed
 
 # Elasticity (Remark 2.3): the contact solve of each P2 model against one linear elastic solve
 # (sparse Cholesky, factorisation and solve, of the same matrix with the Dirichlet pins only) on
@@ -70,9 +70,4 @@ def run_elastic_bench(levels=ELASTIC_LEVELS, models=("mean", "nodal"), progress=
 
 def elastic_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
     """Issue 18: the elastic contact solve is exact and costs at most a few linear solves."""
-    largest = frame[frame.ndof == frame.ndof.max()]
-    return [
-        ("elastic contact solve <= 3x one linear elastic solve at the largest size", bool((largest.ratio_linear <= 3).all()),
-         ", ".join(f"{m} {r:.2f} at {n:.2g} dofs" for m, r, n in zip(largest.method, largest.ratio_linear, largest.ndof))),
-        ("elastic KKT residual <= 1e-10 at every size", bool((frame.kkt_residual <= 1e-10).all()), f"max {frame.kkt_residual.max():.1e}"),
-    ]
+    return contact_goals(frame, "elastic", 3)

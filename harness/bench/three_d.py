@@ -6,7 +6,7 @@ import resource
 
 import pandas as pd
 
-from .common import fastest, fresh_rows, own_seconds, timed
+from .common import contact_goals, fastest, fresh_rows, own_seconds, timed
 from .solvers import cone_problem
 
 THREE_D_CASE = "transition-line-3d"
@@ -54,9 +54,4 @@ def run_3d_bench(levels=THREE_D_LEVELS, models=("mean", "nodal", "p1"), progress
 
 def three_d_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
     """Issue 19: the 3D contact solve is exact and within 2x one linear solve at the largest size."""
-    largest = frame[frame.ndof == frame.ndof.max()]
-    return [
-        ("3D contact solve <= 2x one linear solve at the largest size", bool((largest.ratio_linear <= 2).all()),
-         ", ".join(f"{m} {r:.2f} at {n:.2g} dofs" for m, r, n in zip(largest.method, largest.ratio_linear, largest.ndof))),
-        ("3D KKT residual <= 1e-10 at every size", bool((frame.kkt_residual <= 1e-10).all()), f"max {frame.kkt_residual.max():.1e}"),
-    ]
+    return contact_goals(frame, "3D", 2)
