@@ -162,3 +162,13 @@ def test_the_issue_30_reference_solve_converges():
     qp, multilevel = _p1_qp("tests/data/square_sine.py", 8)
     solution = solve_contact_qp(qp, multilevel=multilevel)
     assert solution.status == "converged" and solution.kkt.backward <= 1e-13
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 1 << 22])
+def test_row_norm_is_the_infinity_norm_of_the_chosen_rows(chunk, rng):
+    from harness.solvers.active_set import row_norm
+    K = sp.random(60, 45, density=0.15, format="csr", random_state=3)
+    K = sp.vstack([K[:10], sp.csr_matrix((2, 45)), K[10:]]).tocsr()         # empty rows too
+    rows = rng.random(K.shape[0]) < 0.6
+    expected = np.asarray(abs(K).sum(axis=1)).ravel()[rows].max()
+    assert row_norm(K, rows, chunk) == pytest.approx(expected, rel=1e-13)

