@@ -185,55 +185,9 @@ def _method_spec(text: str) -> str:
     return text
 
 
-def _known_cases(extra_specs) -> dict:
-    from .problem.case import load_case, registered_cases
-    cases = registered_cases()
-    for spec in extra_specs or []:
-        case = load_case(spec)
-        cases[case.name] = case
-    return cases
-
-
-# What `rates` needs of a results file: the errors, and each row's theory (written by the study
-# since the method axis; older files, with a `model` column, get it from their case files).
-RATE_INPUT = ["case", "method", "order", "level", "h", "err_h1", "expected_rate", "expected_log_exponent", "reference"]
-
-
-def read_results(path: Path, extra_cases=None) -> pd.DataFrame:
-    if not path.is_file():
-        raise FileNotFoundError(f"results file not found: {path}")
-    try:
-        frame = pd.read_csv(path)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path} is not a results CSV: {exc}") from exc
-    if "model" in frame.columns and "method" not in frame.columns:
-        frame = _from_model_column(frame, _known_cases(extra_cases), path)
-    missing = [c for c in RATE_INPUT if c not in frame.columns]
-    if missing:
-        raise ValueError(f"{path} is not a results CSV: missing column(s) {', '.join(missing)}")
-    return frame
-
-
-def _from_model_column(frame: pd.DataFrame, cases: dict, path: Path) -> pd.DataFrame:
-    """A results file of harness 0.1 (one `model` column, the P2 models only, no theory in the
-    rows): read `model` as `method`, order 2, and the theory from the case files."""
-    from .methods import get_method
-    unknown = sorted(set(frame.case) - set(cases))
-    if unknown:
-        raise ValueError(f"{path} has a `model` column (harness 0.1) and cases {', '.join(unknown)} that are not "
-                         f"registered: pass their case files with --case")
-    print(f"{path}: a `model` column (harness 0.1) read as `method`", file=sys.stderr)
-    frame = frame.rename(columns={"model": "method"})
-    frame.insert(frame.columns.get_loc("method") + 1, "order", 2)
-    theory = {(c, m): get_method(m).expected(cases[c]) for c, m in frame[["case", "method"]].drop_duplicates().itertuples(index=False)}
-    frame["expected_rate"] = [theory[k].rate for k in zip(frame.case, frame.method)]
-    frame["expected_log_exponent"] = [theory[k].log_exponent for k in zip(frame.case, frame.method)]
-    frame["reference"] = [theory[k].reference for k in zip(frame.case, frame.method)]
-    return frame
-
-
 def cmd_rates(args) -> int:
     from .measure.rates import rate_table
+    from .measure.results_file import read_results
     from .study.files import ensure_writable, write_csv
     path = Path(args.results)
     frame = read_results(path, args.case)
@@ -260,55 +214,8 @@ def cmd_report(args) -> int:
 
 
 def cmd_bench(args) -> int:
-    from .bench.common import write_bench
-    from .bench.elastic import elastic_goals, run_elastic_bench
-    from .bench.solvers import DEFAULT_SIZES, goals, run_bench
-    from .bench.study import measure_study, study_goals
-    from .bench.three_d import run_3d_bench, three_d_goals
-    from .study.files import ensure_writable
-    out = Path(args.out)
-    ensure_writable(out.parent)
-    lines = []
-    if args.only in (None, "study"):
-        study = measure_study()
-        _show(study, write_bench(study, out.with_name(out.stem + "_study.csv")),
-              "study (default profile, every case; the paper's methods, then every method):")
-        lines += study_goals(study)
-    if args.only in (None, "elastic"):
-        elastic = run_elastic_bench()
-        _show(elastic, write_bench(elastic, out.with_name(out.stem + "_elastic.csv")),
-              "elasticity (Remark 2.3): contact solve against one linear elastic solve, same matrix:")
-        lines += elastic_goals(elastic)
-    if args.only in (None, "3d"):
-        solid = run_3d_bench()
-        _show(solid, write_bench(solid, out.with_name(out.stem + "_3d.csv")),
-              "3D (Section 6): contact solve against one linear solve of the same matrix (multigrid CG):")
-        lines += three_d_goals(solid)
-    if args.only in (None, "solver"):
-        frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.method or ("mean", "nodal")))
-        _show(frame, write_bench(frame, out), "")
-        lines += goals(frame)
-    if args.only == "report":
-        from .bench.report import profile_tables, report_goals, run_report_bench
-        frame, profile = run_report_bench(args.workers or (0,))
-        _show(frame, write_bench(frame, out.with_name(out.stem + "_report.csv")), "make report (default profile, empty results):")
-        sections, phases = profile_tables(profile)
-        _show(sections, write_bench(sections, out.with_name(out.stem + "_report_profile.csv")),
-              "where the report's time goes (first variant; study: work of each case's jobs):")
-        _show(phases.reset_index(), write_bench(phases.reset_index(), out.with_name(out.stem + "_report_phases.csv")),
-              "the study's seconds by case and phase:")
-        lines += report_goals(frame)
-    for goal, met, figure in lines:
-        print(f"[{'met' if met else 'MISSED'}] {goal}: {figure}")
-    return 0
-
-
-def _show(frame: pd.DataFrame, path: Path, title: str) -> None:
-    with pd.option_context("display.width", 220, "display.max_columns", 20):
-        if title:
-            print(title)
-        print(frame.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
-    print(f"wrote {path}")
+    from .bench.command import run_bench_command
+    return run_bench_command(args)
 
 
 def _sizes(text: str) -> list[tuple[float, int]]:

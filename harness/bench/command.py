@@ -1,0 +1,60 @@
+"""The `bench` command: runs the benchmark tables, writes each as CSV and prints the goals."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+
+def run_bench_command(args) -> int:
+    """`python -m harness bench`: the tables of ``args.only`` (all but the report's by default), each
+    written beside ``args.out``, then every goal with its measured figure."""
+    from ..study.files import ensure_writable
+    from .common import write_bench
+    from .elastic import elastic_goals, run_elastic_bench
+    from .solvers import DEFAULT_SIZES, goals, run_bench
+    from .study import measure_study, study_goals
+    from .three_d import run_3d_bench, three_d_goals
+    out = Path(args.out)
+    ensure_writable(out.parent)
+    lines = []
+    if args.only in (None, "study"):
+        study = measure_study()
+        _show(study, write_bench(study, out.with_name(out.stem + "_study.csv")),
+              "study (default profile, every case; the paper's methods, then every method):")
+        lines += study_goals(study)
+    if args.only in (None, "elastic"):
+        elastic = run_elastic_bench()
+        _show(elastic, write_bench(elastic, out.with_name(out.stem + "_elastic.csv")),
+              "elasticity (Remark 2.3): contact solve against one linear elastic solve, same matrix:")
+        lines += elastic_goals(elastic)
+    if args.only in (None, "3d"):
+        solid = run_3d_bench()
+        _show(solid, write_bench(solid, out.with_name(out.stem + "_3d.csv")),
+              "3D (Section 6): contact solve against one linear solve of the same matrix (multigrid CG):")
+        lines += three_d_goals(solid)
+    if args.only in (None, "solver"):
+        frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.method or ("mean", "nodal")))
+        _show(frame, write_bench(frame, out), "")
+        lines += goals(frame)
+    if args.only == "report":
+        from .report import profile_tables, report_goals, run_report_bench
+        frame, profile = run_report_bench(args.workers or (0,))
+        _show(frame, write_bench(frame, out.with_name(out.stem + "_report.csv")), "make report (default profile, empty results):")
+        sections, phases = profile_tables(profile)
+        _show(sections, write_bench(sections, out.with_name(out.stem + "_report_profile.csv")),
+              "where the report's time goes (first variant; study: work of each case's jobs):")
+        _show(phases.reset_index(), write_bench(phases.reset_index(), out.with_name(out.stem + "_report_phases.csv")),
+              "the study's seconds by case and phase:")
+        lines += report_goals(frame)
+    for goal, met, figure in lines:
+        print(f"[{'met' if met else 'MISSED'}] {goal}: {figure}")
+    return 0
+
+
+def _show(frame: pd.DataFrame, path: Path, title: str) -> None:
+    with pd.option_context("display.width", 220, "display.max_columns", 20):
+        if title:
+            print(title)
+        print(frame.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
+    print(f"wrote {path}")
