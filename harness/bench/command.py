@@ -18,21 +18,18 @@ def run_bench_command(args) -> int:
     out = Path(args.out)
     ensure_writable(out.parent)
     lines = []
-    if args.only in (None, "study"):
-        study = measure_study()
-        _show(study, write_bench(study, out.with_name(out.stem + "_study.csv")),
-              "study (default profile, every case; the paper's methods, then every method):")
-        lines += study_goals(study)
-    if args.only in (None, "elastic"):
-        elastic = run_elastic_bench()
-        _show(elastic, write_bench(elastic, out.with_name(out.stem + "_elastic.csv")),
-              "elasticity (Remark 2.3): contact solve against one linear elastic solve, same matrix:")
-        lines += elastic_goals(elastic)
-    if args.only in (None, "3d"):
-        solid = run_3d_bench()
-        _show(solid, write_bench(solid, out.with_name(out.stem + "_3d.csv")),
-              "3D (Section 6): contact solve against one linear solve of the same matrix (multigrid CG):")
-        lines += three_d_goals(solid)
+    # (the --only name, how to run it, the CSV's suffix, the title, its goals)
+    tables = [("study", measure_study, "_study", "study (default profile, every case; the paper's methods, then every method):",
+               study_goals),
+              ("elastic", run_elastic_bench, "_elastic",
+               "elasticity (Remark 2.3): contact solve against one linear elastic solve, same matrix:", elastic_goals),
+              ("3d", run_3d_bench, "_3d",
+               "3D (Section 6): contact solve against one linear solve of the same matrix (multigrid CG):", three_d_goals)]
+    for name, run, suffix, title, judge in tables:
+        if args.only in (None, name):
+            frame = run()
+            _show(frame, write_bench(frame, out.with_name(out.stem + suffix + ".csv")), title)
+            lines += judge(frame)
     if args.only in (None, "solver"):
         frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.method or ("mean", "nodal")))
         _show(frame, write_bench(frame, out), "")

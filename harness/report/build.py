@@ -132,10 +132,10 @@ def study_sentence(meta: dict) -> str:
     computed, total = len(meta.get("computed", meta["cases"])), len(meta["cases"])
     engine = f" {meta['engine']}" if meta.get("engine") else ""
     if computed == total:
-        return f"study wall time {meta['wall_seconds']:.0f} s{engine}."
+        return f"study wall time {meta['wall_seconds']:.3g} s{engine}."
     if computed == 0:
         return "study reused from results/cases (same computing code, case files and settings)."
-    return (f"{computed} of {total} cases computed in this run (wall time {meta['wall_seconds']:.0f} s{engine}), "
+    return (f"{computed} of {total} cases computed in this run (wall time {meta['wall_seconds']:.3g} s{engine}), "
             f"the rest reused from results/cases.")
 
 

@@ -8,7 +8,10 @@ linear solver's tolerance -- as soon as the set no longer changes: like the acti
 of the cones, whose nested iteration (a start interpolated from the coarser level) it shares.
 
 Stopping test: the relative residual max |F(u)| / max |b - A u_D| over the free dofs <= 1e-10
-(the stationarity part of the cones' KKT residual; F = 0 is the whole discrete problem).
+(the stationarity part of the cones' KKT residual; F = 0 is the whole discrete problem), or,
+once u solved the affine system of its own set, the normwise backward error of that system at
+round-off (<= 1e-13: the relative residual's floor grows like eps cond(J) on fine meshes;
+``active_set.KKT.converged``).
 No silent failure: a status "converged" or why not. A repeated set without convergence
 switches to damped steps (halving on max |F|), which ends cycling of the full steps.
 
@@ -114,7 +117,7 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
     direct = multilevel is None or not system.symmetric
     factored = None             # the factorisation of J, updated step by step once direct
     status = f"not converged in {max_iterations} iterations"
-    residual, step_set, J_norm = np.inf, None, None
+    residual, step_set = np.inf, None
     for iteration in range(max_iterations + 1):
         F = system.residual(u)
         residual = float(np.abs(F).max(initial=0.0) / scale)
@@ -125,8 +128,7 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
         if step_set is not None and np.array_equal(active, step_set):
             # u solved the affine system of its own set: what is left of F is the linear solve's,
             # at the round-off floor when its backward error is (``active_set.KKT.converged``)
-            J_norm = J_norm if J_norm is not None else row_norm(system.J, problem.free)
-            if backward_error(system, u, F, J_norm) <= ROUNDOFF_BACKWARD_ERROR:
+            if backward_error(system, u, F) <= ROUNDOFF_BACKWARD_ERROR:
                 status = "converged"
                 break
         if not np.isfinite(residual):
@@ -158,16 +160,16 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
         if damped:
             candidate = _damped(system, u, candidate, residual * scale)
         u = candidate
-    backward = backward_error(system, u, F, J_norm if J_norm is not None else row_norm(system.J, problem.free))
+    backward = backward_error(system, u, F)
     return NewtonSolution(u, active, residual, iteration, linear_iterations, time.perf_counter() - clock, status, backward)
 
 
-def backward_error(system, u: np.ndarray, F: np.ndarray, J_norm: float) -> float:
+def backward_error(system, u: np.ndarray, F: np.ndarray) -> float:
     """max |F(u)| / (||J||_inf ||u||_inf + ||rhs||_inf) over the free dofs: the normwise backward
     error of the affine system J u = rhs of u's set (Higham 2002, Theorem 7.1)."""
     free = system.problem.free
     return float(np.abs(F[free]).max(initial=0.0)
-                 / max(J_norm * np.abs(u).max(initial=0.0) + np.abs(system.rhs[free]).max(initial=0.0), np.finfo(float).tiny))
+                 / max(row_norm(system.J, free) * np.abs(u).max(initial=0.0) + np.abs(system.rhs[free]).max(initial=0.0), np.finfo(float).tiny))
 
 
 def _linear_residual(system, u: np.ndarray, rhs: np.ndarray) -> float:
