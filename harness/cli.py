@@ -76,17 +76,18 @@ def cmd_run(args) -> int:
     from .study.files import ensure_writable, write_csv
 
     methods = selected_methods(args)
+    args.mesh = selected_meshes(args)
     cases = [load_case(spec) for spec in args.case]
     if args.reference_levels:
         cases = [case.with_reference(args.reference_levels) for case in cases]
     engine = engine_of(args)
     try:
         # refused before the output folder is touched or a worker started
-        study_jobs(cases, methods, args.levels, engine, check_memory=not args.skip_memory_check)
+        study_jobs(cases, methods, args.levels, engine, check_memory=not args.skip_memory_check, meshes=args.mesh)
         out = ensure_writable(Path(args.out))
         checkpoints = out / ".checkpoints"
         frame = run_study(cases, methods, args.levels, show_progress=not args.quiet, engine=engine,
-                          checkpoints=checkpoints, check_memory=False)
+                          checkpoints=checkpoints, check_memory=False, meshes=args.mesh)
     finally:
         engine.close()
     path = write_csv(frame, out / "results.csv")
@@ -96,8 +97,12 @@ def cmd_run(args) -> int:
             if level:
                 print(f"{case} {method}: resumed after level {level - 1} from {checkpoints}")
         with pd.option_context("display.width", 200, "display.max_columns", 30):
-            print(frame[["case", "method", "level", "h", "ndof", "err_h1", "max_penetration",
-                         "solver_iterations", "kkt_residual", "status"]].to_string(index=False))
+            columns = ["case", "method", "level", "h", "ndof", "err_h1", "max_penetration", "solver_iterations",
+                       "kkt_residual", "status"]
+            if (frame["mesh"] != "uniform").any():
+                columns[2:2] = ["mesh"]
+                columns[-2:-2] = ["effectivity"]
+            print(frame[columns].to_string(index=False))
             _print_references(frame)
     print(f"wrote {path}")
     return report_failures(frame)
@@ -106,7 +111,7 @@ def cmd_run(args) -> int:
 def failures(frame: pd.DataFrame) -> list[str]:
     """One line per solve that did not converge: case, method, level and why; and per method
     whose reference solve did not (a case measured against a reference)."""
-    lines = [f"case {r.case}, method {r.method}, level {r.level}: {r.status}"
+    lines = [f"case {r.case}, method {r.method}, {_mesh_words(getattr(r, 'mesh', None))}level {r.level}: {r.status}"
              for r in frame[frame["status"] != "converged"].itertuples()]
     measured = frame[(frame["errors_against"] == "reference") & (frame["reference_status"] != "converged")]
     for (case, method), group in measured.groupby(["case", "method"], sort=False):
@@ -114,6 +119,30 @@ def failures(frame: pd.DataFrame) -> list[str]:
         lines.append(f"case {case}, method {method}, reference on level {int(first.reference_level)}: "
                      f"{first.reference_status}")
     return lines
+
+
+def _mesh_words(mesh) -> str:
+    """'graded mesh, ' in a failure line; nothing for the uniform meshes (or an old file's NaN)."""
+    return f"{mesh} mesh, " if isinstance(mesh, str) and mesh != "uniform" else ""
+
+
+def _mesh_list(text: str) -> list:
+    from .mesh.strategies import parse_mesh
+    try:
+        return parse_mesh(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(str(exc))
+
+
+def add_mesh_option(p) -> None:
+    p.add_argument("--mesh", action="append", type=_mesh_list, metavar="STRATEGY",
+                   help="uniform (the default), graded (Remark 4.4), adaptive (Dörfler, adaptive:theta=0.3) or all; "
+                        "repeat for several")
+
+
+def selected_meshes(args) -> list:
+    from .mesh.strategies import parse_meshes
+    return parse_meshes([s.label for group in (args.mesh or []) for s in group] or ["uniform"])
 
 
 def report_failures(frame: pd.DataFrame) -> int:
@@ -275,6 +304,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--reference-levels", type=_positive_int, metavar="K",
                    help="measure errors against each method's solution K levels finer than its finest "
                         "(a case without u: default 2 or its own; a case with u: instead of u)")
+    add_mesh_option(p)
     p.add_argument("--out", default="results", metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bar or table")
     add_engine_options(p)

@@ -6,7 +6,13 @@ For each (case, method) the H^1 errors e_l on levels l with mesh sizes h_l give
   (the asymptotic range), q fixed to the log exponent of the method's theory (1/4 for the
   paper's Thm 4.2 ii / 5.2 ii, else 0), with the standard error of p;
 * the normalised errors e / (h^p |log h|^q) with the theorem's p and q, which stay bounded
-  exactly when the theorem's bound is observed.
+  exactly when the theorem's bound is observed;
+* the rate against the number of dofs N, e ~ N^-r (``fit_ndof_rate``), the measure that
+  compares meshes (``mesh.strategies``): on uniform meshes in d dimensions r = p / d; on any
+  2D mesh family P_k can do at best r = k / 2 (``optimal_ndof_rate``), which graded meshes
+  (Remark 4.4; Apel, Sändig & Whiteman 1996) and adaptive ones reach on singular solutions.
+
+Each (case, mesh, method) is fitted on its own.
 """
 from __future__ import annotations
 
@@ -16,7 +22,7 @@ import pandas as pd
 DEFAULT_FIT_LEVELS = 3
 TOLERANCE = 0.1
 
-RATE_COLUMNS = ["case", "method", "order", "reference", "expected_rate", "expected_log_exponent", "fitted_rate",
+RATE_COLUMNS = ["case", "mesh", "method", "order", "reference", "expected_rate", "expected_log_exponent", "fitted_rate",
                 "fitted_rate_se", "pairwise_rates", "verdict",
                 # the second theory (Drouet & Hild 2015 for the cones), fitted with its own log exponent
                 "sharper_reference", "sharper_rate", "sharper_fitted_rate", "sharper_verdict",
@@ -25,7 +31,11 @@ RATE_COLUMNS = ["case", "method", "order", "reference", "expected_rate", "expect
                 "fitted_rate_trace", "fitted_rate_pressure_l2", "fitted_rate_pressure_h12",
                 # the energy norm a(e, e)^{1/2}: the H^1 seminorm's rate for the Laplacian; in
                 # elasticity equivalent to it (Korn), so the same theorem rate
-                "fitted_rate_energy"]
+                "fitted_rate_energy",
+                # against the number of dofs: fitted, the theory's on this mesh (p/d uniform), the
+                # optimal k/2 and its verdict; the estimator's rate and its effectivity on the finest level
+                "fitted_rate_ndof", "uniform_rate_ndof", "optimal_rate_ndof", "ndof_verdict", "pairwise_rates_ndof",
+                "fitted_rate_estimator", "effectivity_finest"]
 # error column -> its rate column (plain fit, q = 0)
 OTHER_RATES = {"err_l2": "fitted_rate_l2", "err_best_h1": "fitted_rate_best", "err_trace_l2": "fitted_rate_trace",
                "err_pressure_l2": "fitted_rate_pressure_l2", "err_pressure_h12": "fitted_rate_pressure_h12",
@@ -57,6 +67,16 @@ def fit_rate(h, e, log_exponent: float = 0.0, levels: int = DEFAULT_FIT_LEVELS) 
     return float(coef[1]), float(se)
 
 
+def fit_ndof_rate(ndof, e, levels: int = DEFAULT_FIT_LEVELS) -> float:
+    """r of e = C N^-r over the last ``levels`` levels (least squares)."""
+    return -fit_rate(ndof, e, 0.0, levels)[0]
+
+
+def optimal_ndof_rate(order: int, dimension: int = 2) -> float:
+    """The best rate in N of P_order on any mesh family in ``dimension``: k / d."""
+    return order / dimension
+
+
 def normalised_errors(h, e, rate: float, log_exponent: float) -> np.ndarray:
     h = np.asarray(h, float)
     return np.asarray(e, float) / (h**rate * np.abs(np.log(h)) ** log_exponent)
@@ -86,12 +106,22 @@ def rate_table(results: pd.DataFrame, error: str = "err_h1", levels: int = DEFAU
     rates of the other errors, with the best approximation's set against min(nu - 1, order)
     (``best_verdict``: does the case have the regularity it declares?)."""
     rows = []
-    for (case_name, method), group in results.groupby(["case", "method"], sort=False):
+    if "mesh" not in results.columns:
+        results = results.assign(mesh="uniform")
+    for (case_name, mesh, method), group in results.groupby(["case", "mesh", "method"], sort=False):
         group = group.sort_values("level")
         first = group.iloc[0]
+        if mesh != "uniform":
+            # h (the largest element) says nothing of a graded or adaptive mesh: rates in N only,
+            # judged against the optimal k/2
+            ndof = ndof_rates(group, error, levels, tolerance)
+            rows.append({"case": case_name, "mesh": mesh, "method": method, "order": int(first.order),
+                         "reference": first.reference, "expected_rate": first.expected_rate,
+                         "expected_log_exponent": first.expected_log_exponent, "verdict": ndof["ndof_verdict"], **ndof})
+            continue
         p, se = fit_rate(group.h, group[error], _q(first.expected_log_exponent), levels)
         row = {
-            "case": case_name, "method": method, "order": int(first.order), "reference": first.reference,
+            "case": case_name, "mesh": mesh, "method": method, "order": int(first.order), "reference": first.reference,
             "expected_rate": first.expected_rate, "expected_log_exponent": first.expected_log_exponent,
             "fitted_rate": p, "fitted_rate_se": se,
             "pairwise_rates": " ".join(f"{r:.3f}" for r in pairwise_rates(group.h, group[error])),
@@ -113,8 +143,34 @@ def rate_table(results: pd.DataFrame, error: str = "err_h1", levels: int = DEFAU
             row["best_verdict"] = ("" if not np.isfinite(gap) else  # no best approximation (reference case) or no nu
                                    "consistent" if abs(gap) <= tolerance else ("faster than nu" if gap > 0 else "slower than nu"))
             row["pairwise_rates_best"] = " ".join(f"{r:.3f}" for r in pairwise_rates(group.h, group.err_best_h1))
+        row |= ndof_rates(group, error, levels, tolerance)
         rows.append(row)
     return pd.DataFrame(rows, columns=RATE_COLUMNS)
+
+
+def ndof_rates(group: pd.DataFrame, error: str, levels: int, tolerance: float = TOLERANCE) -> dict:
+    """The rate columns against N of one (case, mesh, method)'s levels."""
+    order = int(group.order.iloc[0])
+    dimension = space_dimension(group)
+    r = fit_ndof_rate(group.ndof, group[error], levels)
+    optimal = optimal_ndof_rate(order, dimension)
+    out = {"fitted_rate_ndof": r, "optimal_rate_ndof": optimal,
+           "uniform_rate_ndof": float(group.expected_rate.iloc[0]) / dimension,
+           "ndof_verdict": "optimal" if r >= optimal - tolerance else ("below optimal" if np.isfinite(r) else "undetermined"),
+           "pairwise_rates_ndof": " ".join(f"{-x:.3f}" for x in pairwise_rates(group.ndof, group[error]))}
+    if "estimator" in group and group.estimator.notna().all() and (group.estimator > 0).all():
+        out["fitted_rate_estimator"] = fit_ndof_rate(group.ndof, group.estimator, levels)
+    if "effectivity" in group and np.isfinite(group.effectivity.iloc[-1]):
+        out["effectivity_finest"] = float(group.effectivity.iloc[-1])
+    return out
+
+
+def space_dimension(group: pd.DataFrame) -> int:
+    """d of the levels' meshes: read off N ~ h^-d on uniform meshes (a results file does not
+    say it otherwise); graded and adaptive meshes are 2D."""
+    if group.mesh.iloc[0] != "uniform" or len(group) < 2:
+        return 2
+    return int(round(-np.polyfit(np.log(group.h.astype(float)), np.log(group.ndof.astype(float)), 1)[0]))
 
 
 def _q(log_exponent) -> float:

@@ -34,6 +34,7 @@ class LevelSequence(Protocol):
 
     name: str
     nested: bool        # each mesh refines the previous one in place (multigrid prolongations)
+    adaptive: bool      # the next level needs ``observe(indicators)`` of this level's solve
 
     def levels(self, count: int) -> Iterator[Level]:
         """The first ``count`` levels, coarse to fine."""
@@ -79,6 +80,7 @@ class UniformRefinement:
 
     name = "uniform"
     nested = True
+    adaptive = False
 
     def __init__(self, case):
         self.case = case

@@ -28,10 +28,15 @@ DIRICHLET = "dirichlet"
 
 
 class Multilevel:
-    """The P1 spaces of a mesh hierarchy refined in place (``mesh.mesh_hierarchy``): their
-    stiffness matrices and free dofs per level, and NGSolve's P1 prolongation between them.
+    """The P1 spaces of a mesh hierarchy refined in place (``mesh.levels``): their stiffness
+    matrices and free dofs per level, and NGSolve's P1 prolongation between them.
 
-    Create it on the coarse mesh, call ``refined()`` after every refinement.
+    Create it on the coarse mesh, call ``refined()`` at every level of the sequence. Between two
+    levels the mesh may have been refined several times (a graded or adaptive level is many
+    bisection sweeps, ``mesh.bisection``): a level's prolongation is then the product of the
+    sweeps' ones, each parent-averaging only the vertices its sweep created, so it stays
+    O(new vertices); the spaces are nested all the same and every coarse matrix is still the
+    Galerkin product R A P.
     """
 
     def __init__(self, mesh: ngs.Mesh):
@@ -41,19 +46,40 @@ class Multilevel:
         self._form = ngs.BilinearForm(ngs.grad(u) * ngs.grad(v) * ngs.dx)
         self.matrices: list = []
         self.free: list[np.ndarray] = []
+        self.mesh_levels: list[int] = []      # NGSolve's refinement count at each of our levels
         self._add_level()
 
     def _add_level(self) -> None:
         self._form.Assemble()
         self.matrices.append(self._form.mat)
         self.free.append(np.array(self.fes.FreeDofs(), dtype=bool))
+        self.mesh_levels.append(self.mesh.levels - 1)
 
     def refined(self) -> "Multilevel":
-        if self.mesh.levels != len(self.matrices) + 1:
-            raise RuntimeError("Multilevel.refined() must follow every refinement of its mesh, once")
+        if self.mesh.levels - 1 <= self.mesh_levels[-1]:
+            raise RuntimeError("Multilevel.refined() must follow a refinement of its mesh")
         self.fes.Update()
         self._add_level()
         return self
+
+    def _sweeps(self, level: int) -> range:
+        """NGSolve's refinement steps from our ``level`` - 1 to ``level``."""
+        return range(self.mesh_levels[level - 1] + 1, self.mesh_levels[level] + 1)
+
+    def restrict(self, level: int, vector) -> None:
+        """In place: the first nv(level - 1) entries of ``vector`` (of level's size) become the
+        restriction (the prolongation's transpose) of level's entries."""
+        for sweep in reversed(self._sweeps(level)):
+            self._prolongation.Restrict(sweep, vector)
+
+    def prolongate(self, level: int, vector) -> None:
+        """In place: ``vector``'s first nv(level - 1) entries, prolongated to all of level's."""
+        for sweep in self._sweeps(level):
+            self._prolongation.Prolongate(sweep, vector)
+
+    @property
+    def _prolongation(self):
+        return self.fes.Prolongation()
 
     @property
     def nvertices(self) -> int:
@@ -63,11 +89,10 @@ class Multilevel:
         """Pinned P1 dofs per level, coarse to fine: a coarse hat is pinned when its prolongation
         touches a pinned finer dof (or it lies on Gamma_u)."""
         pins = [pinned_vertices | ~self.free[-1]]
-        prolongation = self.fes.Prolongation()
         for level in range(len(self.matrices) - 1, 0, -1):
             indicator = self.matrices[level].CreateColVector()
             indicator.FV().NumPy()[:] = pins[0]
-            prolongation.Restrict(level, indicator)
+            self.restrict(level, indicator)
             coarse = indicator.FV().NumPy()[: self.matrices[level - 1].height] > 0
             pins.insert(0, coarse | ~self.free[level - 1])
         return pins
@@ -80,7 +105,7 @@ def nested_start(multilevel: Multilevel, coarse_vertex_values: np.ndarray, probl
     fine = multilevel.matrices[-1].CreateColVector()
     fine[:] = 0.0
     fine.FV().NumPy()[: len(coarse_vertex_values)] = coarse_vertex_values
-    multilevel.fes.Prolongation().Prolongate(len(multilevel.matrices) - 1, fine)
+    multilevel.prolongate(len(multilevel.matrices) - 1, fine)
     z = np.zeros(problem.ndof)
     (ContactEdges.of(problem) if edges is None else edges).prolongate(fine.FV().NumPy(), z)
     return z
@@ -154,7 +179,6 @@ class TruncatedVCycle:
         self.matrices = [*multilevel.matrices[:-1], K_ngs if self.fine_is_p1 else multilevel.matrices[-1]]
         self.smoothers = [m.CreateSmoother(_bits(~p)) for m, p in zip(self.matrices, self.pins)]
         self.coarsest = self.matrices[0].Inverse(_bits(~self.pins[0]), inverse="sparsecholesky")
-        self.prolongation = multilevel.fes.Prolongation()
         # NGSolve work vectors with their NumPy views made once: a view costs microseconds, which
         # on small meshes is a good part of a V-cycle
         self._work = [_vectors(m, 3) for m in multilevel.matrices]
@@ -170,12 +194,12 @@ class TruncatedVCycle:
         self.smoothers[level].Smooth(x, b)
         r.data = b - self.matrices[level] * x
         r_np *= self.keep[level]
-        self.prolongation.Restrict(level, r)
+        self.multilevel.restrict(level, r)
         nc = len(self.keep[level - 1])
         correction = self._p1_cycle(level - 1, r_np[:nc] * self.keep[level - 1])
         r_np[:] = 0.0
         r_np[:nc] = correction
-        self.prolongation.Prolongate(level, r)
+        self.multilevel.prolongate(level, r)
         x_np += r_np * self.keep[level]
         self.smoothers[level].SmoothBack(x, b)
         return x_np.copy()

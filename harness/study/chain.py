@@ -14,15 +14,20 @@ import ngsolve as ngs
 from ..fem.assembly import discretise
 from ..fem.element_quadrature import ElementQuadrature
 from ..measure.errors import ExactErrors
+from ..measure.estimator import ResidualEstimator, estimate
 from ..measure.reference import ReferenceErrors
-from ..mesh.levels import LevelSequence, UniformRefinement
+from ..mesh.levels import LevelSequence
+from ..mesh.strategies import MeshStrategy
 from ..methods import Method, methods_for
 from ..problem.case import Case
 from ..solvers.multigrid import Multilevel
 
 COLUMNS = [
-    "case", "method", "order", "parameters", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
+    "case", "method", "order", "parameters", "mesh", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
     "err_l2", "err_energy", "err_best_h1", "err_best_h1_semi", "err_best_energy", "err_h1_over_best", "err_trace_l2", "err_pressure_l2", "err_pressure_h12",
+    # the residual a posteriori estimator eta (``measure.estimator``; NaN where it has no terms:
+    # elasticity, 3D) and eta / err_energy on the exact cases
+    "estimator", "effectivity",
     "max_penetration", "max_tension", "min_pressure", "active_constraints", "solver_iterations", "linear_iterations",
     "kkt_residual", "backward_error", "solve_seconds", "total_seconds", "status",
     # what the errors are measured against: "exact" (u), or "reference" (the method's solution
@@ -134,12 +139,27 @@ def level_hook(on_level):
     return on_level
 
 
+UNIFORM = MeshStrategy("uniform")
+# an adaptive chain stops when its mesh has more elements than the uniform level it replaces
+# (the same budget of dofs as the uniform chain), or after this many levels
+MAX_ADAPTIVE_LEVELS = 60
+
+
+def has_estimator(case) -> bool:
+    """The residual estimator has terms for 2D scalar problems (``measure.estimator``)."""
+    return case.dimension == 2 and not case.physics.elastic
+
+
 def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_level=None,
-              phases: Phases | None = None, checkpoints=None, sequence: LevelSequence | None = None) -> ChainOutput:
+              phases: Phases | None = None, checkpoints=None, sequence: LevelSequence | None = None,
+              mesh: MeshStrategy = UNIFORM) -> ChainOutput:
     """The level chains of ``methods`` on one case, sharing each level's mesh and assembly.
 
     The meshes, and the h of each row, are ``sequence``'s (``mesh.levels``; default the
-    case's uniform refinement).
+    ``mesh`` strategy's sequence for the methods' order: the caller groups methods that can
+    share one, ``MeshStrategy.group_key``). An adaptive sequence is driven by the estimator of
+    the (one) method's solutions, and runs until its mesh has as many elements as the uniform
+    level ``levels`` - 1 (+ the method's extra levels) would have: the same budget of dofs.
 
     ``on_level(case, method, level, problem, solve)`` sees every studied solve (``solve``: a
     ``methods.LevelSolve``); what it returns (if not None) is kept, by (method, level). The
@@ -160,6 +180,14 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     """
     phases = phases or Phases()
     methods = methods_for(case, methods)       # the weak methods are scalar and 2D only
+    sequence = sequence or mesh.sequence(case, max(m.order for m in methods))
+    if sequence.adaptive:
+        if len(methods) != 1:
+            raise ValueError("an adaptive mesh serves one method: run one chain per method")
+        if not case.exact:
+            raise ValueError(f"case {case.name}: adaptive meshes need an exact case (reference errors need uniform refinement)")
+        # its meshes come from its solves: a killed adaptive chain starts again (no checkpoints)
+        checkpoints = None
     studied = {m.name: study_levels(m, levels) for m in methods}
     chain = {m.name: chain_levels(case, m, levels) for m in methods}
     measure = ExactErrors(case, phases) if case.exact else ReferenceErrors(studied, {m.name: m.order for m in methods}, case.reference_levels, phases)
@@ -176,19 +204,34 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     expectations = {m.name: m.expected(case) for m in methods}
     sharper = {m.name: m.sharper(case) for m in methods}
     last_level = max((chain[n] for n in chain if start[n] < chain[n]), default=0)
+    mesh_label = mesh.label
     multilevel = None
-    sequence = sequence or UniformRefinement(case)
+    budget_elements = None
+    if sequence.adaptive:
+        # every level of an adaptive chain after the first: as many as it takes to reach the
+        # budget (or MAX_ADAPTIVE_LEVELS)
+        studied = chain = {m.name: MAX_ADAPTIVE_LEVELS for m in methods}
+        last_level = MAX_ADAPTIVE_LEVELS
     # the P1 hierarchy of the truncated multigrid (scalar only: ``physics``; nested meshes
     # only: its prolongations are the refinement's); else the solves factorise
     hierarchical = case.physics.multigrid and sequence.nested
+    estimating = has_estimator(case)
     with ngs.TaskManager():
         walk = sequence.levels(last_level)
         for level in range(last_level):
             clock = time.perf_counter()
             with phases("mesh"):
-                mesh, h = (step := next(walk)).mesh, step.h
+                step = next(walk, None)
+                if step is None:
+                    break
+                mesh, h = step.mesh, step.h
                 if hierarchical:
                     multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+                if sequence.adaptive:
+                    if budget_elements is None:
+                        budget_elements = mesh.ne * 4 ** (levels - 1 + methods[0].extra_levels)
+                    elif mesh.ne > budget_elements:
+                        break
             active = [m for m in methods if start[m.name] <= level < chain[m.name]]
             if not active:          # a level every method has finished: rebuilt, not solved
                 measure.skip_level(level, mesh)
@@ -196,12 +239,15 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
             with phases("mesh"):
                 quadrature = ElementQuadrature.of(case, mesh)
             mesh_seconds = time.perf_counter() - clock
-            problems, assembly_seconds = {}, {}
+            problems, assembly_seconds, estimators = {}, {}, {}
             for order in sorted({m.order for m in active}, reverse=True):
                 clock = time.perf_counter()
                 with phases("assembly"):
                     problems[order] = discretise(case, mesh, order, quadrature)
                 assembly_seconds[order] = time.perf_counter() - clock
+                if estimating:
+                    with phases("errors"):
+                        estimators[order] = ResidualEstimator(case, problems[order])
             # before a method takes the stiffness matrix (the best approximation needs it)
             measure.begin_level(level, mesh, problems, quadrature, multilevel)
             for method in active:
@@ -214,13 +260,20 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                 solve = method.solve(case, problem, carry[method.name], multilevel, take_stiffness=last, phases=phases)
                 own_seconds = time.perf_counter() - clock
                 carry[method.name] = solve.carry
+                indicators = None
+                if estimating:
+                    with phases("errors"):
+                        indicators = estimators[method.order].indicators(solve.u)
+                if sequence.adaptive:
+                    sequence.observe(indicators)
                 row = None
                 if level < studied[method.name]:
                     expectation = expectations[method.name]
                     row = {
                         "case": case.name, "method": method.name, "order": method.order,
-                        "parameters": method.parameter_text, "level": level, "h": h,
+                        "parameters": method.parameter_text, "mesh": mesh_label, "level": level, "h": h,
                         "ndof": problem.ndof, **solve.fields,
+                        "estimator": estimate(indicators) if indicators is not None else float("nan"),
                         "total_seconds": mesh_seconds + assembly_seconds[method.order] + own_seconds,
                         "nu": case.nu, "expected_rate": expectation.rate, "expected_log_exponent": expectation.log_exponent,
                         "reference": expectation.reference, **_sharper(sharper[method.name]), "case_source": case.source,
@@ -242,6 +295,9 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                     progress.solved(case.name, method.name, level)
             with phases("errors"):
                 measure.end_level()
+            for row in (rows[-1] for rows in method_rows.values() if rows and rows[-1]["level"] == level):
+                if row["errors_against"] == "exact":
+                    row["effectivity"] = row["estimator"] / row["err_energy"]
             for method in active:
                 if checkpoints is not None:
                     checkpoints.save(case, method, ChainState(

@@ -38,26 +38,31 @@ def code_digest(package: Path = PACKAGE) -> str:
     return digest.hexdigest()
 
 
-def chain_key(case, method, levels: int, hook=None) -> str:
+def chain_key(case, method, levels: int, hook=None, mesh: str = "uniform") -> str:
     """What a (case, method) chain's results depend on: the code, the case file and its
-    reference setting, the method and its parameters, the number of levels, the hook."""
+    reference setting, the method and its parameters, the number of levels, the hook, the
+    mesh strategy."""
     digest = hashlib.sha256(code_digest().encode())
     digest.update(Path(case.source).read_bytes())
-    digest.update(repr((case.name, case.reference_levels, method.name, method.parameter_text, levels,
-                        type(hook).__qualname__)).encode())
+    settings = (case.name, case.reference_levels, method.name, method.parameter_text, levels, type(hook).__qualname__)
+    digest.update(repr(settings if mesh == "uniform" else (*settings, mesh)).encode())
     return digest.hexdigest()
 
 
 class CheckpointStore:
-    """Checkpoints of the chains of one study, one file per (case, method) under ``folder``."""
+    """Checkpoints of the chains of one study, one file per (case, method) under ``folder``
+    (per (case, mesh, method) for meshes other than uniform)."""
 
-    def __init__(self, folder: Path, levels: int, hook=None):
-        self.folder, self.levels, self.hook = Path(folder), levels, hook
+    def __init__(self, folder: Path, levels: int, hook=None, mesh: str = "uniform"):
+        self.folder, self.levels, self.hook, self.mesh = Path(folder), levels, hook, mesh
 
     def path(self, case, method) -> Path:
         # a method name may carry parameters (nitsche:gamma0=0.1,theta=-1)
         safe = re.sub(r"[^A-Za-z0-9_.-]", "_", method.name)
-        return self.folder / case.name / f"{safe}-{hashlib.sha1(method.name.encode()).hexdigest()[:8]}.ckpt"
+        folder = self.folder / case.name
+        if self.mesh != "uniform":
+            folder = folder / re.sub(r"[^A-Za-z0-9_.-]", "_", self.mesh)
+        return folder / f"{safe}-{hashlib.sha1(method.name.encode()).hexdigest()[:8]}.ckpt"
 
     def load(self, case, method):
         """The chain's saved ``ChainState``, or None (none saved, or saved by other code or
@@ -67,12 +72,12 @@ class CheckpointStore:
             key, state = pickle.loads(path.read_bytes())
         except (OSError, EOFError, pickle.UnpicklingError, ValueError, TypeError, AttributeError, ImportError):
             return None
-        return state if key == chain_key(case, method, self.levels, self.hook) else None
+        return state if key == chain_key(case, method, self.levels, self.hook, self.mesh) else None
 
     def save(self, case, method, state) -> None:
         path = self.path(case, method)
         path.parent.mkdir(parents=True, exist_ok=True)
-        write_atomic(path, pickle.dumps((chain_key(case, method, self.levels, self.hook), state),
+        write_atomic(path, pickle.dumps((chain_key(case, method, self.levels, self.hook, self.mesh), state),
                                         protocol=pickle.HIGHEST_PROTOCOL))
 
     def forget(self, case=None) -> None:

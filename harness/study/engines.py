@@ -27,6 +27,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from ..mesh.strategies import MeshStrategy
 from ..methods import methods_for
 from ..problem.case import load_case
 from ..problem.validate import validate_case
@@ -34,7 +35,7 @@ from . import budget
 from .budget import check_fits, estimate, solve_weights
 from .chain import COLUMNS, Phases, level_hook, run_chain
 from .checkpoint import CheckpointStore
-from .progress import EventProgress, Scoped, StudyProgress, relay
+from .progress import EventProgress, Scoped, StudyProgress, relay, scoped
 
 
 @contextmanager
@@ -73,6 +74,7 @@ class Job:
     scope: str = ""
     tag: str = field(default="study", compare=False)
     per_dof: float | None = None          # a solve's seconds per dof, if not its family's (``budget``)
+    mesh: MeshStrategy = MeshStrategy("uniform")
 
     @property
     def seconds(self) -> float:
@@ -80,20 +82,39 @@ class Job:
         return estimate(self.case, self.methods, self.levels, per_dof=self.per_dof).seconds
 
     def store(self) -> CheckpointStore | None:
-        return CheckpointStore(self.checkpoints, self.levels, self.on_level) if self.checkpoints is not None else None
+        if self.checkpoints is None:
+            return None
+        return CheckpointStore(self.checkpoints, self.levels, self.on_level, self.mesh.label)
 
 
-def chains(cases, methods, levels: int, on_level=None, checkpoints=None, scope: str = "", tag: str = "study") -> list[Job]:
-    """One job per case (the methods that discretise it), as this process runs them."""
-    return [Job(case, tuple(methods_for(case, methods)), levels, on_level, Path(checkpoints) if checkpoints else None,
-                scope, tag) for case in cases if methods_for(case, methods)]
+def mesh_scope(scope: str, mesh: MeshStrategy) -> str:
+    """The progress bar's scope of a job on ``mesh`` (uniform: the study's own)."""
+    return scope if mesh.name == "uniform" else f"{scope}{mesh.label} "
+
+
+def chains(cases, methods, levels: int, on_level=None, checkpoints=None, scope: str = "", tag: str = "study",
+           meshes=(MeshStrategy("uniform"),)) -> list[Job]:
+    """The jobs of a study as this process runs them: per case and mesh strategy, the methods
+    that discretise the case, grouped by the level sequence they can share
+    (``MeshStrategy.group_key``: all of them on uniform meshes)."""
+    jobs = []
+    for case in cases:
+        for mesh in meshes:
+            if mesh.applies_to(case) is not None:
+                continue
+            groups: dict = {}
+            for method in methods_for(case, methods):
+                groups.setdefault(mesh.group_key(method), []).append(method)
+            jobs += [Job(case, tuple(group), levels, on_level, Path(checkpoints) if checkpoints else None,
+                         mesh_scope(scope, mesh), tag, mesh=mesh) for group in groups.values()]
+    return jobs
 
 
 def by_order(job: Job) -> list[Job]:
     """A job split into one per finite element order (P2 methods, P1 methods)."""
     orders = sorted({m.order for m in job.methods}, reverse=True)
     return [Job(job.case, tuple(m for m in job.methods if m.order == order), job.levels, job.on_level, job.checkpoints,
-                job.scope, job.tag, job.per_dof) for order in orders]
+                job.scope, job.tag, job.per_dof, job.mesh) for order in orders]
 
 
 class InProcess:
@@ -116,22 +137,24 @@ class InProcess:
         for job in jobs:
             view = Scoped(progress, job.scope) if progress is not None and job.scope else progress
             with thread_count(self.threads):
-                output = run_chain(job.case, list(job.methods), job.levels, view, job.on_level, Phases(), job.store())
+                output = run_chain(job.case, list(job.methods), job.levels, view, job.on_level, Phases(), job.store(),
+                                   mesh=job.mesh)
             yield job, output
 
     def close(self) -> None:
         pass
 
 
-def run_job(source: str, reference_levels, methods, levels: int, on_level, threads, folder, topic, scope=""):
+def run_job(source: str, reference_levels, methods, levels: int, on_level, threads, folder, topic, scope="",
+            mesh: MeshStrategy = MeshStrategy("uniform")):
     """A job on a Dask worker: the case is loaded there from its file (what a worker needs of
     it is its source, not NGSolve objects)."""
     case = load_case(source)
     if reference_levels != case.reference_levels:
         case = case.with_reference(reference_levels)
-    store = CheckpointStore(folder, levels, on_level) if folder is not None else None
+    store = CheckpointStore(folder, levels, on_level, mesh.label) if folder is not None else None
     with thread_count(threads):
-        return run_chain(case, list(methods), levels, EventProgress(topic, scope), on_level, Phases(), store)
+        return run_chain(case, list(methods), levels, EventProgress(topic, scope), on_level, Phases(), store, mesh=mesh)
 
 
 # seconds to wait for an existing scheduler to answer before saying it is unreachable
@@ -217,9 +240,9 @@ class DaskEngine:
         for job in sorted(jobs, key=lambda j: -j.seconds):     # the largest first
             folder = str(job.checkpoints.resolve()) if job.checkpoints is not None else None
             future = client.submit(run_job, job.case.source, job.case.reference_levels, job.methods, job.levels,
-                                   job.on_level, self.threads, folder, topic, job.scope, pure=False,
+                                   job.on_level, self.threads, folder, topic, job.scope, job.mesh, pure=False,
                                    priority=int(job.seconds * 1000),
-                                   key=f"{job.scope.strip()}{job.case.name}-{'-'.join(m.name for m in job.methods)}-"
+                                   key=f"{job.scope.strip().replace(' ', '-')}{job.case.name}-{'-'.join(m.name for m in job.methods)}-"
                                        f"{uuid.uuid4().hex[:8]}")
             futures[future] = job
         try:
@@ -248,49 +271,55 @@ def plan(jobs: list[Job], engine, check_memory: bool = True) -> list[Job]:
     return jobs
 
 
-def study_weights(cases, methods, levels: int) -> dict:
-    """The progress bar's weights of every solve of a study (``budget.solve_weights``)."""
+def study_weights(cases, methods, levels: int, meshes=(MeshStrategy("uniform"),)) -> dict:
+    """The progress bar's weights of every solve of a study (``budget.solve_weights``); a graded
+    or adaptive chain is weighed as the uniform one of the same budget of dofs, under its scope."""
     weights = {}
     for case in cases:
         if methods_for(case, methods):
-            weights |= solve_weights(case, methods_for(case, methods), levels)
+            own = solve_weights(case, methods_for(case, methods), levels)
+            for mesh in meshes:
+                if mesh.applies_to(case) is None:
+                    weights |= scoped(own, mesh_scope("", mesh))
     return weights
 
 
-def study_progress(cases, methods, levels: int, show: bool) -> StudyProgress:
-    return StudyProgress(study_weights(cases, methods, levels), show)
+def study_progress(cases, methods, levels: int, show: bool, meshes=(MeshStrategy("uniform"),)) -> StudyProgress:
+    return StudyProgress(study_weights(cases, methods, levels, meshes), show)
 
 
-def tidy(outputs, cases, methods) -> pd.DataFrame:
-    """One frame of the rows of all jobs: by case, then level, then method, as given (the same
-    order whichever engine ran them)."""
+def tidy(outputs, cases, methods, meshes=(MeshStrategy("uniform"),)) -> pd.DataFrame:
+    """One frame of the rows of all jobs: by case, then mesh strategy, level, method, as given
+    (the same order whichever engine ran them)."""
     case_order = {c.name: k for k, c in enumerate(cases)}
     method_order = {m.name: k for k, m in enumerate(methods)}
+    mesh_order = {m.label: k for k, m in enumerate(meshes)}
     rows = sorted((row for output in outputs for row in output.rows),
-                  key=lambda r: (case_order[r["case"]], r["level"], method_order[r["method"]]))
+                  key=lambda r: (case_order[r["case"]], mesh_order.get(r["mesh"], 0), r["level"], method_order[r["method"]]))
     return pd.DataFrame(rows, columns=COLUMNS)
 
 
 def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=None, progress=None,
-              engine=None, checkpoints: Path | None = None, check_memory: bool = True) -> pd.DataFrame:
+              engine=None, checkpoints: Path | None = None, check_memory: bool = True, meshes=(MeshStrategy("uniform"),)) -> pd.DataFrame:
     """Every case x method x level; one tidy row each (columns ``study.COLUMNS``). ``levels``
     counts the P2 levels (P1 runs one more: ``study.study_levels``). ``engine``: where the jobs
     run (default ``InProcess()``). ``checkpoints``: a folder that makes every finished level
     durable; a study started again with the same folder continues where it stopped.
     ``progress``: a bar shared with a larger run (else one is made). The frame's attrs: wall
     seconds, seconds per phase (summed over jobs), and the level each (case, method) chain
-    resumed from (0: it started afresh)."""
+    resumed from (0: it started afresh). ``meshes``: the mesh strategies
+    (``mesh.strategies``), each case on each that applies to it."""
     start = time.perf_counter()
     on_level = level_hook(on_level)
     own = progress is None
-    progress = study_progress(cases, methods, levels, show_progress) if own else progress
+    progress = study_progress(cases, methods, levels, show_progress, meshes) if own else progress
     try:
-        done = list(run_jobs(cases, methods, levels, engine, progress, on_level, checkpoints, check_memory))
+        done = list(run_jobs(cases, methods, levels, engine, progress, on_level, checkpoints, check_memory, meshes))
     finally:
         if own:
             progress.close()
     outputs = [output for _job, output in done]
-    frame = tidy(outputs, cases, methods)
+    frame = tidy(outputs, cases, methods, meshes)
     frame.attrs["wall_seconds"] = time.perf_counter() - start
     frame.attrs["phase_seconds"] = {phase: sum(o.phases.get(phase, 0.0) for o in outputs) for phase in Phases().as_dict()}
     frame.attrs["resumed"] = {(job.case.name, name): level for job, output in done for name, level in output.resumed.items()}
@@ -304,22 +333,32 @@ def check_methods(case, methods) -> None:
                          f"discretises it")
 
 
+def check_meshes(cases, meshes) -> None:
+    """ValueError in one line if a mesh strategy applies to none of ``cases``."""
+    for mesh in meshes:
+        reasons = [mesh.applies_to(case) for case in cases]
+        if cases and all(reasons):
+            raise ValueError(f"--mesh {mesh.label}: {reasons[0]} ({', '.join(c.name for c in cases)})")
+
+
 def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: Path | None = None,
-               check_memory: bool = True) -> list[Job]:
+               check_memory: bool = True, meshes=(MeshStrategy("uniform"),)) -> list[Job]:
     """The jobs of a study at ``engine``'s grain: every case validated, discretised by at least
-    one of ``methods``, and its largest job within the memory (``plan``); refused otherwise."""
+    one of ``methods``, meshed by at least one strategy, and its largest job within the memory
+    (``plan``); refused otherwise."""
     if levels < 1:
         raise ValueError(f"levels must be a positive integer, got {levels}")
     for case in cases:
         validate_case(case)
     for case in cases:
         check_methods(case, methods)
-    return plan(chains(cases, methods, levels, on_level, checkpoints), engine, check_memory)
+    check_meshes(cases, meshes)
+    return plan(chains(cases, methods, levels, on_level, checkpoints, meshes=meshes), engine, check_memory)
 
 
 def run_jobs(cases, methods, levels: int, engine=None, progress=None, on_level=None, checkpoints: Path | None = None,
-             check_memory: bool = True):
+             check_memory: bool = True, meshes=(MeshStrategy("uniform"),)):
     """(job, ``study.ChainOutput``) of every job of a study, as they finish: validated and
     checked against the memory first (``study_jobs``), then run on ``engine`` (default: this process)."""
     engine = engine or InProcess()
-    yield from engine.run(study_jobs(cases, methods, levels, engine, on_level, checkpoints, check_memory), progress)
+    yield from engine.run(study_jobs(cases, methods, levels, engine, on_level, checkpoints, check_memory, meshes), progress)

@@ -1,0 +1,146 @@
+"""Meshes that fit the singularity: graded a priori (Remark 4.4) and adaptive (SOLVE -> ESTIMATE
+-> MARK -> REFINE), both by NGSolve's bisection of marked elements, so that each level refines
+the previous one in place (nested: the multigrid's prolongations and the nested iteration work
+as on uniform meshes, ``solvers.multigrid.Multilevel``).
+
+Both are ``mesh.levels.LevelSequence`` implementations; ``strategies`` names them.
+"""
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+import ngsolve as ngs
+import numpy as np
+
+from .levels import Level, coarse_mesh, mesh_size
+from .points import cells, coordinates
+
+# Graded meshes: the size function h(r) = H (r / R)^(1 - mu) holds within GRADING_RADIUS of a
+# singular point (h = H beyond). A fixed length of the cases' scale (their domains are about 2 x 1):
+# it changes the constant of N(H), not the rate.
+GRADING_RADIUS = 0.5
+# mu = GRADING_MARGIN * lambda / k: strictly inside Apel's condition mu < lambda / k (at equality
+# the rate keeps a log factor), close to it so that the smallest elements, of size ~ H^(1/mu),
+# stay as large as the theory allows.
+GRADING_MARGIN = 0.9
+# a bound on the bisection sweeps of one level (each at least halves the area of every marked
+# element; a graded level needs about 2/mu of them): a size function that cannot be met is an error
+MAX_SWEEPS = 400
+
+
+def element_sizes(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
+    """(h_T, centroid) of every element: its longest edge and its centre of mass."""
+    p = coordinates(mesh)[cells(mesh)]
+    corners = p.shape[1]
+    sides = np.stack([p[:, j] - p[:, i] for i in range(corners) for j in range(i + 1, corners)], axis=1)
+    return np.sqrt((sides**2).sum(axis=2)).max(axis=1), p.mean(axis=1)
+
+
+def refine_marked(mesh: ngs.Mesh, marked: np.ndarray) -> None:
+    """Bisect the marked elements (and what conformity asks besides), in place: NGSolve's
+    ``Mesh.Refine`` with refinement flags, which records every new vertex's parents."""
+    mesh.SetRefinementFlags([bool(m) for m in marked])
+    mesh.Refine()
+
+
+def dorfler(indicators: np.ndarray, theta: float) -> np.ndarray:
+    """Dörfler's marking (SIAM J. Numer. Anal. 33 (1996), the bulk criterion): the smallest set M
+    of elements with sum_{T in M} eta_T^2 >= theta sum_T eta_T^2, taken largest first.
+    ``indicators``: eta_T^2 per element."""
+    eta2 = np.asarray(indicators, dtype=float)
+    order = np.argsort(-eta2, kind="stable")
+    total = eta2.sum()
+    marked = np.zeros(len(eta2), dtype=bool)
+    if not total > 0:
+        return marked
+    count = int(np.searchsorted(np.cumsum(eta2[order]), theta * total * (1 - 1e-12))) + 1
+    marked[order[:min(count, len(eta2))]] = True
+    return marked
+
+
+def grading_exponent(lam: float, order: int) -> float:
+    """mu of the graded mesh h_T ~ H r^(1 - mu) for P_order near a point where u ~ r^lam.
+
+    T. Apel, A.-M. Sändig and J. R. Whiteman, Math. Methods Appl. Sci. 19 (1996) 63-85: on such
+    meshes P_k reaches the error of a smooth solution, ||u - u_h||_1 <= C H^k = C N^(-k/2),
+    for mu < lam / k (their Theorem for k = 1 with mu < lam; the same local interpolation
+    argument for P_k, Apel's survey "Anisotropic finite elements", Teubner 1999, Section 3);
+    equivalently radial meshes r_i = R (i/n)^beta with beta = 1/mu > k / lam. mu = 1 is
+    the uniform mesh (nothing to grade: lam >= k)."""
+    if not (lam > 0):
+        raise ValueError(f"the singular exponent lambda = nu - 1 must be positive to grade a mesh, got {lam}")
+    return min(1.0, GRADING_MARGIN * lam / order)
+
+
+class GradedRefinement:
+    """Remark 4.4's meshes: level l satisfies h_T <= H_l min(1, r_T / R)^(1 - mu) on every element
+    T (r_T: the distance of its centroid to the nearest singular point, R = GRADING_RADIUS),
+    with H_l = maxh 2^-l, so that N grows by about 4 per level as on uniform meshes (the size
+    function's integral, N ~ H^-2 int h(r)^-2 ... r dr, is finite for mu > 0). Made by bisecting
+    the violating elements until none is left, from the previous level: nested.
+
+    ``lam``: the exponent of the case's leading singularity (nu - 1); ``order``: the method's k.
+    """
+
+    name = "graded"
+    nested = True
+    adaptive = False
+
+    def __init__(self, case, lam: float, order: int, points: np.ndarray):
+        self.case, self.order = case, order
+        self.mu = grading_exponent(lam, order)
+        self.points = np.asarray(points, dtype=float).reshape(-1, 2)
+
+    def target(self, H: float, centroids: np.ndarray) -> np.ndarray:
+        if not len(self.points) or self.mu >= 1.0:
+            return np.full(len(centroids), H)
+        r = np.min(np.linalg.norm(centroids[:, None, :] - self.points[None, :, :], axis=2), axis=1)
+        return H * np.minimum(1.0, r / GRADING_RADIUS) ** (1.0 - self.mu)
+
+    def grade(self, mesh: ngs.Mesh, H: float) -> None:
+        for _sweep in range(MAX_SWEEPS):
+            sizes, centroids = element_sizes(mesh)
+            marked = sizes > self.target(H, centroids) * (1 + 1e-9)
+            if not marked.any():
+                return
+            refine_marked(mesh, marked)
+        raise RuntimeError(f"graded mesh of {self.case.name}: {MAX_SWEEPS} bisection sweeps did not meet h(r) at H = {H:g}")
+
+    def levels(self, count: int) -> Iterator[Level]:
+        mesh = coarse_mesh(self.case)
+        H = self.case.maxh
+        for index in range(count):
+            self.grade(mesh, H)
+            yield Level(index, mesh, mesh_size(mesh))
+            H /= 2
+
+
+class AdaptiveRefinement:
+    """SOLVE -> ESTIMATE -> MARK -> REFINE: level 0 is the case's coarse mesh; after each level's
+    solve the study hands the error indicators eta_T^2 to ``observe``; the next level bisects
+    Dörfler's set for ``theta`` (``dorfler``) once. One method's solutions drive its own
+    meshes: a sequence serves one method."""
+
+    name = "adaptive"
+    nested = True
+    adaptive = True
+
+    def __init__(self, case, theta: float = 0.5):
+        if not (0 < theta <= 1):
+            raise ValueError(f"adaptive: theta must be in (0, 1], got {theta}")
+        self.case, self.theta = case, theta
+        self._indicators = None
+
+    def observe(self, indicators: np.ndarray) -> None:
+        """eta_T^2 of the solve on the last level yielded (one per element)."""
+        self._indicators = np.asarray(indicators, dtype=float)
+
+    def levels(self, count: int) -> Iterator[Level]:
+        mesh = coarse_mesh(self.case)
+        for index in range(count):
+            if index:
+                if self._indicators is None or len(self._indicators) != mesh.ne:
+                    raise RuntimeError("adaptive refinement: observe() the level's indicators before asking for the next level")
+                refine_marked(mesh, dorfler(self._indicators, self.theta))
+                self._indicators = None
+            yield Level(index, mesh, mesh_size(mesh))
