@@ -8,25 +8,30 @@ from __future__ import annotations
 
 import pandas as pd
 
+from .mesh.strategies import parse_meshes
 from .methods import METHODS, methods_named
 from .problem.case import Case, fraction, load_case, registered_cases
 from .study import run_study
 
 
 def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_level=None,
-        models=None, engine=None, checkpoints=None) -> pd.DataFrame:
+        models=None, engine=None, checkpoints=None, meshes="uniform") -> pd.DataFrame:
     """Run a convergence study; ``cases`` are names, paths or Case objects (or one of them);
     ``methods`` names, groups ('paper' = mean + nodal) or 'all' (``models`` is the old name:
     'all' there means the paper's two models). ``engine``: ``harness.study.DaskEngine(workers=2)``
     or ``DaskEngine(scheduler="tcp://...")`` to run on Dask (default: this process);
-    ``checkpoints``: a folder that makes every finished level durable (run again to resume)."""
+    ``checkpoints``: a folder that makes every finished level durable (run again to resume).
+    ``meshes``: a mesh strategy or a list of them -- "uniform" (the default), "graded",
+    "adaptive" (or "adaptive:theta=0.3"), "all" (``harness.mesh.strategies``); each case runs on
+    each strategy that applies to it, and the rows say which in their ``mesh`` column."""
     if isinstance(cases, (str, Case)):
         cases = [cases]
     if models is not None:
         methods = "paper" if models == "all" else models
     loaded = [c if isinstance(c, Case) else load_case(c) for c in cases]
+    strategies = parse_meshes([meshes] if isinstance(meshes, str) else list(meshes))
     return run_study(loaded, methods_named(methods), levels, show_progress=show_progress, on_level=on_level,
-                     engine=engine, checkpoints=checkpoints)
+                     engine=engine, checkpoints=checkpoints, meshes=strategies)
 
 
 def case_table(cases=None) -> pd.DataFrame:

@@ -14,7 +14,7 @@ E = inspect.Parameter.empty
 # parameter names and defaults, in order (annotations are strings under `from __future__ import annotations`)
 SIGNATURES = {
     harness.run: [("cases", E), ("methods", "all"), ("levels", 5), ("show_progress", True), ("on_level", None),
-                  ("models", None), ("engine", None), ("checkpoints", None)],
+                  ("models", None), ("engine", None), ("checkpoints", None), ("meshes", "uniform")],
     harness.case_table: [("cases", None)],
     harness.method_table: [],
     harness.load_case: [("spec", E)],

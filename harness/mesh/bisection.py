@@ -39,6 +39,8 @@ def element_sizes(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
 def refine_marked(mesh: ngs.Mesh, marked: np.ndarray) -> None:
     """Bisect the marked elements (and what conformity asks besides), in place: NGSolve's
     ``Mesh.Refine`` with refinement flags, which records every new vertex's parents."""
+    if len(marked) != mesh.ne:
+        raise ValueError(f"{len(marked)} refinement flags for a mesh of {mesh.ne} elements")
     mesh.SetRefinementFlags([bool(m) for m in marked])
     mesh.Refine()
 

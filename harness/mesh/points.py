@@ -70,10 +70,17 @@ _LOCATED: "OrderedDict[tuple, tuple]" = OrderedDict()
 _LOCATED_KEPT = 8
 
 
+def _key(mesh: ngs.Mesh, flat: np.ndarray) -> tuple:
+    """The cache key of a point set in a mesh. A mesh refined in place keeps its id, and under
+    local refinement (``mesh.bisection``) a point set can stay the same while the elements
+    holding the points change: the key holds the refinement count and the element count too."""
+    return (id(mesh), mesh.levels, mesh.ne, flat.shape, hashlib.blake2b(flat.tobytes(), digest_size=16).digest())
+
+
 def located(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
     """NGSolve's mesh points (element and local coordinates) of ``points`` (..., dim), flattened."""
     flat = np.ascontiguousarray(points.reshape(-1, mesh.dim), dtype=float)
-    key = (id(mesh), flat.shape, hashlib.blake2b(flat.tobytes(), digest_size=16).digest())
+    key = _key(mesh, flat)
     hit = _LOCATED.get(key)
     if hit is not None and hit[0] is mesh:          # the mesh itself is kept: its id is not reused
         _LOCATED.move_to_end(key)
@@ -86,8 +93,7 @@ def located(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:
 def remember(mesh: ngs.Mesh, points: np.ndarray, found: np.ndarray) -> None:
     """Record that ``points`` (n, dim) are NGSolve's mesh points ``found``."""
     flat = np.ascontiguousarray(points.reshape(-1, mesh.dim), dtype=float)
-    key = (id(mesh), flat.shape, hashlib.blake2b(flat.tobytes(), digest_size=16).digest())
-    _LOCATED[key] = (mesh, found)
+    _LOCATED[_key(mesh, flat)] = (mesh, found)
     while len(_LOCATED) > _LOCATED_KEPT:
         _LOCATED.popitem(last=False)
 

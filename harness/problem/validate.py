@@ -131,7 +131,10 @@ def validate_case(case) -> None:
     if not (np.all(np.isfinite(excess)) and np.all(np.isfinite(flux))):
         bad = points[~(np.isfinite(excess) & np.isfinite(flux))][0]
         raise CaseError(f"case {case.name!r}: u or its flux is not finite on Gamma_C at {format_point(bad)}")
-    tol_u = RELATIVE_TOLERANCE * max(np.abs(excess).max(), 1e-300)
+    # the scale of u - gap: its own, or, where u = gap on all of Gamma_C (its round-off is then
+    # all there is), the flux times Gamma_C's extent
+    extent = float(np.ptp(points, axis=0).max())
+    tol_u = RELATIVE_TOLERANCE * max(np.abs(excess).max(), np.abs(flux).max() * extent, 1e-300)
     tol_flux = RELATIVE_TOLERANCE * max(np.abs(flux).max(), 1e-300)
     names = CONDITIONS[case.physics.name]
     checks = [

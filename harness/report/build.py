@@ -18,11 +18,13 @@ from .document import Document
 from ..measure.efficiency import efficiency_table, verdicts
 from ..study import InProcess
 from .figure_jobs import FIGURE_WORKERS, FigurePool
+from .mesh_section import add_mesh_section, mesh_rows
 from ..methods import methods_named
 from ..measure.rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from ..study.cache import compute, provenance
 from ..study.files import ensure_writable, write_atomic, write_csv
 from ..study.chain import PROFILES
+from ..study.mesh_study import PICTURE_METHOD
 from ..study.timing import Timings
 from .prose import (EFFICIENCY_NOTE, ELASTICITY_NOTE, GAMMA_C_NOTE, INTRO, RATES_NOTE, REGULARITY_NOTE, SWEEP_NOTE,
                     THREE_D_NOTE, belief_finding, reference_sentence, which_bound)
@@ -31,7 +33,7 @@ from .tables import (efficiency_view, elasticity_view, gamma_c_view, level_table
 
 
 def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame, efficiency: pd.DataFrame,
-                   figs: dict, meta: dict, sweeps: dict | None = None) -> Document:
+                   figs: dict, meta: dict, sweeps: dict | None = None, meshes: pd.DataFrame | None = None) -> Document:
     doc = Document("The Signorini problem in P2 and P1: measured against the theorems")
     settings = meta["settings"]
     doc.paragraph(
@@ -70,6 +72,8 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
             doc.figures([(figs["sweeps"][name]["png"], f"{name}: H¹ error and largest penetration against ε₀ / γ₀.")],
                         wide=True)
             doc.table(sweep_view(frame))
+    if meshes is not None and not meshes.empty:
+        add_mesh_section(doc, results, meshes, figs)
     if any(case.physics.elastic for case in cases):
         doc.heading("Unilateral contact in linear elasticity (Remark 2.3)")
         doc.paragraph(ELASTICITY_NOTE)
@@ -153,18 +157,21 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     settings = {"profile": profile, "methods": [m.name for m in methods_named(methods)], **PROFILES[profile]}
     if levels is not None:
         settings["levels"] = levels
+        settings["mesh_levels"] = min(settings["mesh_levels"], levels)
     results_dir = Path(results_dir)
     ensure_writable(report_dir / "figures")
     timings = Timings()
     start = time.perf_counter()
     run_started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
     sweep_cases = cases if _has_weak(settings["methods"]) else []
-    results, sweeps = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory, timings)
+    results, sweeps, meshes = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory, timings)
     with timings("rates"):
         rates = rate_table(results)
         efficiency = efficiency_table(results)
     with timings("writing", "results"):
         write_csv(results, results_dir / "results.csv")
+        if not meshes.empty:
+            write_csv(meshes, results_dir / "meshes.csv")
         write_csv(rates, results_dir / "rates.csv")
         write_csv(efficiency, results_dir / "efficiency.csv")
     meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
@@ -178,11 +185,15 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
         pool.summary(rates)
         for name, frame in sweeps.items():
             pool.sweep(known[name], frame)
+        both = mesh_rows(results, meshes)
+        for name in dict.fromkeys(meshes.case) if not meshes.empty else []:
+            adaptive = next((p for p in sorted((results_dir / "meshes").glob(f"{name}-adaptive*.npz"))), None)
+            pool.meshes_of(known[name], both[both.case == name], adaptive or Path("-"), PICTURE_METHOD)
         figs, seconds = pool.collect()
     for name, spent in seconds.items():
         timings.add("figures (in workers)", name, "", spent)
     with timings("document"):
-        doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps)
+        doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps, meshes)
     with timings("writing", "report"):
         write_atomic(Path(report_dir) / "report.md", doc.markdown(Path(report_dir)))
         html_path = write_atomic(Path(report_dir) / "report.html", doc.html())

@@ -44,6 +44,17 @@ def _case_figures(source: str, store: str, folder: str) -> dict:
     }
 
 
+def _mesh_figures(source: str, frame: pd.DataFrame, mesh_file: str, method: str, folder: str) -> dict:
+    """The mesh study's figures of one case (``report.mesh_figures``)."""
+    from . import mesh_figures
+    from ..problem.case import load_case
+    from ..study.mesh_study import load_finest_mesh
+    case, folder = load_case(source), Path(folder)
+    finest = load_finest_mesh(Path(mesh_file))
+    return {"errors": mesh_figures.error_against_ndof(case, frame, folder),
+            "mesh": mesh_figures.adaptive_mesh(case, *finest, folder, method) if finest is not None else None}
+
+
 def _summary(rates: pd.DataFrame, folder: str) -> dict:
     from . import figures
     return figures.summary(rates, Path(folder))
@@ -64,6 +75,7 @@ class FigurePool:
         self.pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
         self.futures: dict[str, Future] = {}
         self.sweeps: dict[str, Future] = {}
+        self.meshes: dict[str, Future] = {}
 
     def __enter__(self) -> "FigurePool":
         return self
@@ -83,6 +95,9 @@ class FigurePool:
     def sweep(self, case, frame: pd.DataFrame) -> None:
         self.sweeps[case.name] = self._submit(_sweep, str(case.source), frame)
 
+    def meshes_of(self, case, frame: pd.DataFrame, mesh_file: Path, method: str) -> None:
+        self.meshes[case.name] = self._submit(_mesh_figures, str(case.source), frame, str(mesh_file), method)
+
     def collect(self) -> tuple[dict, dict]:
         """(figures by name, the sweeps' under "sweeps"; worker seconds by name)."""
         figs, seconds = {}, {}
@@ -91,4 +106,7 @@ class FigurePool:
         done = {name: future.result() for name, future in self.sweeps.items()}
         figs["sweeps"] = {name: paths for name, (paths, _) in done.items()}
         seconds["sweeps"] = sum(s for _, s in done.values())
+        drawn = {name: future.result() for name, future in self.meshes.items()}
+        figs["meshes"] = {name: paths for name, (paths, _) in drawn.items()}
+        seconds["meshes"] = sum(s for _, s in drawn.values())
         return figs, seconds

@@ -26,8 +26,9 @@ from ..problem.validate import validate_case
 from .budget import SWEEP_SECONDS_PER_DOF, solve_weights
 from .chain import PHASES
 from .checkpoint import CheckpointStore, code_digest
-from .engines import InProcess, Job, chains, check_methods, plan, study_weights, tidy
+from .engines import InProcess, Job, chains, check_methods, mesh_scope, plan, study_weights, tidy
 from .files import ensure_writable, write_atomic, write_csv
+from .mesh_study import FinestMesh, mesh_config, mesh_jobs_plan, read_mesh_results, save_finest_mesh, store_name
 from .progress import StudyProgress, scoped
 from .snapshots import SnapshotHook, save_snapshots
 from .sweep import REPORT_SWEEP, label_sweep, sweep_plan
@@ -105,8 +106,9 @@ def study_groups(cases: list[Case], settings: dict) -> list[tuple[list[Case], di
 
 
 def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: list[Case], show_progress: bool = True,
-            engine=None, check_memory: bool = True, timings: Timings | None = None) -> tuple[pd.DataFrame, dict]:
-    """(the rows of every case, the sweep of every case in ``sweep_cases`` the report sweeps):
+            engine=None, check_memory: bool = True, timings: Timings | None = None) -> tuple[pd.DataFrame, dict, pd.DataFrame]:
+    """(the rows of every case, the sweep of every case in ``sweep_cases`` the report sweeps,
+    the rows of the mesh study, ``mesh_study``):
     reused where stored and unchanged, the rest run as one set of jobs on ``engine`` (default
     this process) under one progress bar, its ETA for all of it. Every finished level is
     checkpointed under ``cases/.checkpoints``: a report killed at any moment continues there."""
@@ -138,6 +140,18 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
         jobs.append(Job(case, tuple(methods), config["level"] + 1, scope=SWEEP_SCOPE, tag="sweep", per_dof=SWEEP_SECONDS_PER_DOF))
         weights |= scoped(solve_weights(case, methods, config["level"] + 1, per_dof=SWEEP_SECONDS_PER_DOF), SWEEP_SCOPE)
         pending[SWEEP_SCOPE + case.name] = (case, runs, methods, [])
+    mconfig = mesh_config(settings)
+    mesh_store = ensure_writable(results_dir / "meshes")
+    for case, mesh, methods in mesh_jobs_plan(cases, mconfig):
+        name, key = store_name(case, mesh), cache_key(case, {"meshes": mconfig, "mesh": mesh.label})
+        if _stored(mesh_store / f"{name}.json", [mesh_store / f"{name}.csv"], key):
+            print(f"{case.name}: reusing the {mesh.label} meshes computed with the same code and settings")
+            continue
+        validate_case(case)
+        hook = FinestMesh() if mesh.name == "adaptive" else None
+        jobs += chains([case], methods, mconfig["levels"], hook, checkpoints, tag="mesh", meshes=[mesh])
+        weights |= study_weights([case], methods, mconfig["levels"], [mesh])
+        pending[mesh_scope("", mesh) + case.name] = (case, mesh, methods, [])
     engine = engine or InProcess()
     jobs = plan(jobs, engine, check_memory)
     remaining = {name: sum(1 for job in jobs if job.scope + job.case.name == name) for name in pending}
@@ -152,12 +166,15 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
                 continue
             outputs = pending[name][-1]
             if timings is not None:
-                section = "sweeps" if job.tag == "sweep" else "study"
+                section = {"sweep": "sweeps", "mesh": "meshes"}.get(job.tag, "study")
                 for phase in PHASES:
                     timings.add(section, job.case.name, phase, sum(o.phases.get(phase, 0.0) for o in outputs))
             if job.tag == "sweep":
                 case, runs, methods, _ = pending[name]
                 sweeps[case.name] = _store_sweep(sweep_store, case, outputs, runs, methods, config)
+            elif job.tag == "mesh":
+                case, mesh, methods, _ = pending[name]
+                _store_meshes(mesh_store, case, mesh, outputs, methods, mconfig)
             else:
                 case, group_settings, methods, _ = pending[name]
                 _store_case(case_store, case, outputs, methods, group_settings)
@@ -168,7 +185,18 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
         timings.add("jobs (wall)", engine.describe(), "", time.perf_counter() - clock)
     results = pd.concat([pd.read_csv(case_store / f"{case.name}.csv") for group, _ in study_groups(cases, settings)
                          for case in group], ignore_index=True)
-    return results, {name: sweeps[name] for name in config["cases"] if name in sweeps}
+    return (results, {name: sweeps[name] for name in config["cases"] if name in sweeps},
+            read_mesh_results(mesh_store, cases, mconfig))
+
+
+def _store_meshes(store: Path, case: Case, mesh, outputs: list, methods, config: dict) -> None:
+    """One (case, mesh strategy)'s rows (and its finest adaptive mesh) in the report's cache."""
+    name = store_name(case, mesh)
+    write_csv(tidy(outputs, [case], methods, [mesh]), store / f"{name}.csv")
+    save_finest_mesh({k: v for output in outputs for k, v in output.kept.items()}, store / f"{name}.npz")
+    write_atomic(store / f"{name}.json", json.dumps(provenance({"meshes": config}) | {
+        "cache_key": cache_key(case, {"meshes": config, "mesh": mesh.label}), "case": case.name, "mesh": mesh.label},
+        indent=2))
 
 
 def _store_case(store: Path, case: Case, outputs: list, methods, settings: dict) -> None:

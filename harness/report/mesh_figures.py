@@ -1,0 +1,64 @@
+"""The figures of the report's section on meshes (``study.mesh_study``): error and effectivity
+against the number of dofs per mesh strategy, and the finest adaptive mesh with a zoom on the
+singular point."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from .figures import plt, save, style
+
+LINESTYLE = {"uniform": ":", "graded": "--", "adaptive": "-"}
+
+
+def error_against_ndof(case, frame: pd.DataFrame, folder: Path) -> dict[str, Path]:
+    """H^1 error (left) and the estimator's effectivity (right) against N, every method on every
+    mesh strategy; the slopes N^-1/2 and N^-1 (P1's and P2's best) for comparison."""
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for (mesh, method), g in frame.groupby(["mesh", "method"], sort=False):
+        g = g.sort_values("ndof")
+        kind = str(mesh).split(":")[0]
+        s = style(method)
+        line = dict(color=s["color"], linestyle=LINESTYLE.get(kind, "-."), lw=1.2)
+        marker = dict(marker=s["marker"], ms=3 if kind == "adaptive" else 4)
+        left.loglog(g.ndof, g.err_h1, **line, **marker, label=f"{method}, {mesh}")
+        if g.effectivity.notna().any():
+            right.semilogx(g.ndof, g.effectivity, **line, **marker)
+    n = np.array([frame.ndof.min(), frame.ndof.max()], float)
+    e0 = frame.err_h1.min()
+    for rate, label in ((0.5, "N^-1/2"), (1.0, "N^-1")):
+        left.loglog(n, e0 * (n / n[1]) ** -rate * 3, color="0.6", lw=0.8)
+        left.annotate(label, (n[0], e0 * (n[0] / n[1]) ** -rate * 3), fontsize=8, color="0.4")
+    left.set_xlabel("ndof N")
+    left.set_ylabel("H¹ error")
+    left.set_title(f"{case.name}: error against N")
+    left.legend(fontsize=6.5, ncol=2, loc="lower left")
+    right.axhspan(0.5, 10, color="0.93", zorder=0)
+    right.set_xlabel("ndof N")
+    right.set_ylabel("η / ‖u − u_h‖ₐ")
+    right.set_title("effectivity of the estimator")
+    return save(fig, folder, f"{case.name}-meshes")
+
+
+def adaptive_mesh(case, points: np.ndarray, triangles: np.ndarray, folder: Path, method: str) -> dict[str, Path]:
+    """The finest adaptive mesh, whole and zoomed (x1000) on the singular point that attracted its
+    smallest element."""
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
+    corners = points[triangles]
+    sizes = np.sqrt(((corners - np.roll(corners, 1, axis=1)) ** 2).sum(axis=2)).max(axis=1)
+    centre = corners[int(np.argmin(sizes))].mean(axis=0)
+    extent = np.ptp(points, axis=0).max()
+    for ax, zoom in zip(axes, (1.0, 1e-2, 1e-4)):
+        ax.triplot(points[:, 0], points[:, 1], triangles, lw=0.25, color="0.2")
+        if zoom < 1:
+            r = 0.5 * extent * zoom
+            ax.set_xlim(centre[0] - r, centre[0] + r)
+            ax.set_ylim(max(points[:, 1].min(), centre[1] - r) - 0.05 * r, centre[1] + r)
+            ax.set_title(f"zoom ×{1 / zoom:.0f} at ({centre[0]:.3g}, {centre[1]:.3g})", fontsize=9)
+        else:
+            ax.set_title(f"{case.name}, {method}: {len(triangles):,} triangles", fontsize=9)
+        ax.set_aspect("equal")
+        ax.tick_params(labelsize=7)
+    return save(fig, folder, f"{case.name}-adaptive-mesh")

@@ -1,0 +1,85 @@
+"""The report's mesh study: the cases of the paper limited by one singular point, on graded and
+adaptive meshes (``mesh.strategies``), beside the uniform rows of the main study; stored per
+(case, mesh) under ``results/meshes`` and reused while code, case file and settings are unchanged.
+
+The finest adaptive mesh of ``PICTURE_METHOD`` is kept (``FinestMesh``) for the report's picture.
+"""
+from __future__ import annotations
+
+import io
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..mesh.points import cells, coordinates
+from ..mesh.strategies import parse_meshes
+from ..methods import methods_named
+from .files import write_atomic
+
+MESH_STUDY = {
+    # a junction (r^1/2), a transition point (r^3/2), a junction at 3 pi / 4 (r^2/3)
+    "cases": ("corner-r12", "transition-r32", "wedge-r23"),
+    "methods": ("mean", "nodal", "p1", "nitsche", "penalty"),
+    "meshes": ("graded", "adaptive"),
+}
+PICTURE_METHOD = "nodal"
+
+
+def mesh_config(settings: dict) -> dict:
+    """What the report runs on graded and adaptive meshes: the profile's ``mesh_levels``
+    (the budget of dofs: an adaptive chain stops at the uniform level's number of elements),
+    the methods of ``MESH_STUDY`` the report runs."""
+    chosen = set(settings["methods"])
+    return {"cases": list(MESH_STUDY["cases"]), "meshes": list(MESH_STUDY["meshes"]),
+            "methods": [m for m in MESH_STUDY["methods"] if m in chosen], "levels": settings["mesh_levels"]}
+
+
+def mesh_jobs_plan(cases, config: dict):
+    """(case, mesh strategy, methods) of every chain group the mesh study runs."""
+    methods = methods_named(config["methods"]) if config["methods"] else []
+    for case in cases:
+        if case.name not in config["cases"] or not methods:
+            continue
+        for mesh in parse_meshes(config["meshes"]):
+            if mesh.applies_to(case) is None:
+                yield case, mesh, methods
+
+
+def store_name(case, mesh) -> str:
+    return f"{case.name}-{mesh.label.replace(':', '_').replace('=', '')}"
+
+
+class FinestMesh:
+    """An ``on_level`` hook keeping every adaptive level's mesh of ``PICTURE_METHOD`` (vertices and
+    triangles); the store keeps the finest."""
+
+    def __call__(self, case, method, level, problem, solve):
+        if method.name != PICTURE_METHOD:
+            return None
+        return coordinates(problem.mesh), cells(problem.mesh)
+
+
+def save_finest_mesh(kept: dict, path: Path) -> None:
+    levels = [level for (name, level) in kept if name == PICTURE_METHOD]
+    if not levels:
+        return
+    points, triangles = kept[(PICTURE_METHOD, max(levels))]
+    buffer = io.BytesIO()
+    np.savez_compressed(buffer, points=points, triangles=triangles)
+    write_atomic(path, buffer.getvalue())
+
+
+def load_finest_mesh(path: Path):
+    """(points, triangles) or None."""
+    if not Path(path).is_file():
+        return None
+    with np.load(path) as data:
+        return data["points"], data["triangles"]
+
+
+def read_mesh_results(store: Path, cases, config: dict) -> pd.DataFrame:
+    """Every stored (case, mesh) frame the mesh study of ``config`` has for ``cases`` (empty if none)."""
+    paths = [Path(store) / f"{store_name(case, mesh)}.csv" for case, mesh, _ in mesh_jobs_plan(cases, config)]
+    frames = [pd.read_csv(path) for path in paths if path.is_file()]
+    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()

@@ -1,0 +1,238 @@
+"""The mesh axis (issue 31): graded and adaptive level sequences, the residual estimator, the
+multigrid on bisection hierarchies, the study's `mesh` column and the rates against N."""
+from pathlib import Path
+
+import ngsolve as ngs
+import numpy as np
+import pandas as pd
+import pytest
+
+from harness.cli import main
+from harness.fem.assembly import discretise
+from harness.measure.errors import error_norms
+from harness.measure.estimator import ResidualEstimator, estimate
+from harness.measure.rates import fit_ndof_rate, rate_table
+from harness.mesh.bisection import AdaptiveRefinement, GradedRefinement, dorfler, element_sizes, grading_exponent
+from harness.mesh.points import cells, coordinates
+from harness.mesh.strategies import MeshStrategy, parse_mesh, parse_meshes, singular_points
+from harness.methods import get_method
+from harness.problem.case import load_case
+from harness.problem.validate import validate_case
+from harness.solvers.multigrid import Multilevel
+from harness.study.chain import run_chain
+
+DATA = Path(__file__).parent / "data"
+TOLERANCE = 1e-10
+STRATEGIES = ["uniform", "graded", "adaptive"]
+METHODS = ["mean", "nodal", "p1", "nitsche", "penalty", "nitsche-p1", "penalty-p1"]
+
+
+@pytest.fixture(scope="module")
+def corner():
+    return load_case("corner-r12")
+
+
+def test_dorfler_marks_the_smallest_set_holding_theta_of_the_total():
+    eta2 = np.array([1.0, 8.0, 0.5, 4.0, 2.0])
+    marked = dorfler(eta2, 0.5)
+    assert marked.tolist() == [False, True, False, False, False]       # 8 >= 0.5 * 15.5
+    marked = dorfler(eta2, 0.8)
+    assert marked.tolist() == [False, True, False, True, True]         # 14 >= 12.4, 12 < 12.4
+    assert dorfler(eta2, 1.0).all()
+    assert not dorfler(np.zeros(4), 0.5).any()
+
+
+@pytest.mark.parametrize("lam, order, mu", [(0.5, 2, 0.225), (0.5, 1, 0.45), (1.5, 2, 0.675), (3.0, 2, 1.0)])
+def test_the_grading_exponent_is_inside_apels_condition(lam, order, mu):
+    assert grading_exponent(lam, order) == pytest.approx(mu)
+    assert grading_exponent(lam, order) < lam / order or grading_exponent(lam, order) == 1.0
+
+
+def test_a_graded_mesh_meets_its_size_function_and_nests(corner):
+    sequence = GradedRefinement(corner, corner.nu - 1, 2, singular_points(corner))
+    counts = []
+    H = corner.maxh
+    for level in sequence.levels(3):
+        sizes, centroids = element_sizes(level.mesh)
+        assert (sizes <= sequence.target(H, centroids) * (1 + 1e-9)).all()
+        counts.append(level.mesh.ne)
+        H /= 2
+    assert 3 < counts[2] / counts[1] < 5           # N grows by about 4 per level, as on uniform meshes
+    # the smallest triangles touch the singular points, ~ H^(1/mu) across
+    sizes, centroids = element_sizes(level.mesh)
+    distance = np.linalg.norm(centroids[:, None] - singular_points(corner)[None], axis=2).min(axis=1)
+    assert distance[np.argmin(sizes)] < 2 * sizes.min()
+
+
+def test_adaptive_refinement_concentrates_at_the_singular_point(corner):
+    """corner-r12's junction (0, 0) is where u ~ r^1/2: the smallest triangle (by area) of the
+    finest adaptive mesh of `nodal` has a vertex there. (By longest edge a bisection neighbour
+    may be a little smaller: newest-vertex bisection makes two shapes of each triangle.)"""
+    output = run_chain(corner, [get_method("nodal")], 3, mesh=MeshStrategy("adaptive"),
+                       on_level=lambda case, method, level, problem, solve: (coordinates(problem.mesh), cells(problem.mesh)))
+    points, triangles = output.kept[max(output.kept)]
+    assert len(output.rows) > 5
+    corners = points[triangles]
+    sides = corners - np.roll(corners, 1, axis=1)
+    areas = 0.5 * np.abs(sides[:, 0, 0] * sides[:, 1, 1] - sides[:, 0, 1] * sides[:, 1, 0])
+    smallest = corners[np.argmin(areas)]
+    assert np.linalg.norm(smallest - [0.0, 0.0], axis=1).min() < 1e-14
+    assert areas.min() < 1e-6 * areas.max()
+
+
+@pytest.mark.parametrize("method", ["mean", "nodal"])
+def test_the_estimator_vanishes_where_u_h_is_u(method):
+    """u = x y + y^2 is in P2 and in both cones: the solve gives u_h = u and every term of
+    eta (the residuals, the flux against the discrete pressure, penetration, complementarity)
+    vanishes to round-off."""
+    case = load_case(str(DATA / "quadratic_binding.py"))
+    validate_case(case)             # u = gap on all of Gamma_C: validation allows its round-off
+    mesh = ngs.Mesh(case.geometry.GenerateMesh(maxh=case.maxh))
+    problem = discretise(case, mesh, 2)
+    solve = get_method(method).solve(case, problem, None, None)
+    assert solve.fields["kkt_residual"] <= TOLERANCE
+    assert error_norms(case, [problem.gridfunction(solve.u)], _quadrature(case, mesh))[0]["err_h1"] < 1e-10
+    eta2 = ResidualEstimator(case, problem).indicators(solve.u)
+    assert eta2.shape == (mesh.ne,)
+    assert estimate(eta2) < 1e-8
+
+
+def test_the_estimator_sees_each_term_it_names(corner):
+    """On a coarse corner-r12 solve each kind of term is nonzero somewhere: the estimator is the
+    sum of the volume, jump, Neumann and contact parts."""
+    mesh = ngs.Mesh(corner.geometry.GenerateMesh(maxh=corner.maxh))
+    problem = discretise(corner, mesh, 2)
+    solve = get_method("nodal").solve(corner, problem, None, None)
+    estimator = ResidualEstimator(corner, problem)
+    total = estimator.indicators(solve.u)
+    contact = estimator.contact_terms(solve.u)
+    assert contact.sum() > 0 and (total >= 0).all()
+    assert total.sum() > contact.sum()
+    # the contact part is added to the triangles on Gamma_C only
+    on_contact = np.zeros(mesh.ne, bool)
+    on_contact[problem.trace.volumes] = True
+    assert total[on_contact].sum() >= contact.sum()
+
+
+def _quadrature(case, mesh):
+    from harness.fem.element_quadrature import ElementQuadrature
+    return ElementQuadrature.of(case, mesh)
+
+
+def test_multigrid_across_several_bisection_sweeps_matches_the_factorised_solve(corner):
+    """A graded level is many bisection sweeps: the multigrid's prolongations chain them, and
+    the solve agrees with the one that factorises."""
+    sequence = GradedRefinement(corner, corner.nu - 1, 2, singular_points(corner))
+    multilevel, method = None, get_method("nodal")
+    for level in sequence.levels(2):
+        multilevel = Multilevel(level.mesh) if multilevel is None else multilevel.refined()
+    assert multilevel.mesh_levels[-1] - multilevel.mesh_levels[0] >= 5      # bisection sweeps between the two levels
+    problem = discretise(corner, level.mesh, 2)
+    with_multigrid = method.solve(corner, problem, None, multilevel)
+    factorised = method.solve(corner, discretise(corner, level.mesh, 2), None, None)
+    assert with_multigrid.fields["kkt_residual"] <= TOLERANCE and with_multigrid.fields["status"] == "converged"
+    assert np.abs(with_multigrid.u - factorised.u).max() < 1e-8
+
+
+@pytest.mark.parametrize("strategy", STRATEGIES)
+@pytest.mark.parametrize("method", METHODS)
+def test_every_method_runs_exactly_on_every_mesh_strategy(corner, method, strategy):
+    output = run_chain(corner, [get_method(method)], 2, mesh=parse_mesh(strategy)[0])
+    frame = pd.DataFrame(output.rows)
+    assert (frame.mesh == strategy).all()
+    assert (frame.status == "converged").all()
+    assert (frame.kkt_residual <= TOLERANCE).all()
+    assert np.isfinite(frame.estimator).all() and (frame.estimator > 0).all()
+    assert np.allclose(frame.effectivity, frame.estimator / frame.err_energy)
+    if strategy == "adaptive":         # the same budget of triangles as uniform level 1 (+ P1's extra level)
+        assert len(frame) > 2
+        assert (np.diff(frame.ndof) > 0).all()
+
+
+def test_parse_mesh_reads_every_strategy_and_refuses_others():
+    assert [s.label for s in parse_meshes(["all"])] == STRATEGIES
+    assert parse_mesh("adaptive:theta=0.3")[0].theta == 0.3
+    assert parse_mesh("adaptive:theta=0.3")[0].label == "adaptive:theta=0.3"
+    assert parse_meshes(["uniform", "all", "graded"]) == [MeshStrategy(s) for s in STRATEGIES]
+    for bad in ["refined", "graded:theta=0.3", "adaptive:theta=0", "adaptive:theta=2", "adaptive:beta=0.5", "adaptive:theta=x"]:
+        with pytest.raises(ValueError):
+            parse_mesh(bad)
+
+
+def test_an_adaptive_theta_outside_0_1_is_refused():
+    with pytest.raises(ValueError, match="theta"):
+        AdaptiveRefinement(load_case("corner-r12"), theta=1.5)
+
+
+def test_strategies_say_which_cases_they_mesh():
+    assert MeshStrategy("graded").applies_to(load_case("transition-r32")) is None
+    assert "2D" in MeshStrategy("adaptive").applies_to(load_case("transition-line-3d"))
+    assert "scalar" in MeshStrategy("graded").applies_to(load_case("elastic-transition-r32"))
+    reference = load_case("corner-r12").with_reference(1)
+    assert "exact" in MeshStrategy("adaptive").applies_to(reference)
+
+
+def test_ndof_rates_are_the_h_rate_over_d_on_uniform_meshes():
+    h = 0.5 ** np.arange(5)
+    frame = pd.DataFrame({"case": "c", "mesh": "uniform", "method": "m", "order": 2, "level": range(5), "h": h,
+                          "ndof": 100 * h ** -2.0, "err_h1": 0.3 * h ** 1.5, "expected_rate": 1.5,
+                          "expected_log_exponent": 0.0, "reference": "r", "nu": 2.5})
+    row = rate_table(frame).iloc[0]
+    assert row.fitted_rate == pytest.approx(1.5)
+    assert row.fitted_rate_ndof == pytest.approx(0.75)
+    assert row.uniform_rate_ndof == pytest.approx(0.75) and row.optimal_rate_ndof == 1.0
+    assert row.ndof_verdict == "below optimal"
+    assert fit_ndof_rate([1e3, 4e3, 1.6e4], [1e-2, 2.5e-3, 6.25e-4]) == pytest.approx(1.0)
+
+
+def test_a_case_file_given_by_path_runs_with_mesh_all(tmp_path, capsys):
+    source = Path(__file__).parents[1] / "cases" / "corner_r12.py"
+    code = main(["run", "--case", str(source), "--method", "nodal", "--mesh", "all", "--levels", "2",
+                 "--out", str(tmp_path), "--quiet"])
+    assert code == 0
+    frame = pd.read_csv(tmp_path / "results.csv")
+    assert list(dict.fromkeys(frame["mesh"])) == STRATEGIES
+    assert (frame.kkt_residual <= TOLERANCE).all()
+    rates = main(["rates", str(tmp_path / "results.csv")])
+    assert rates == 0
+    assert set(pd.read_csv(tmp_path / "rates.csv")["mesh"]) == set(STRATEGIES)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--mesh", "refined"], "unknown mesh strategy"),
+    (["--mesh", "adaptive:theta=3"], "theta"),
+])
+def test_a_bad_mesh_strategy_is_one_line_and_exit_2(tmp_path, capsys, argv, words):
+    code = main(["run", "--case", "corner-r12", "--levels", "1", "--out", str(tmp_path / "out"), *argv])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and words in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_mesh_strategy_no_case_takes_is_refused_in_one_line(tmp_path, capsys):
+    code = main(["run", "--case", "transition-line-3d", "--mesh", "graded", "--levels", "1", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "2D" in err
+    assert not (tmp_path / "o").exists()
+
+
+def _effectivities(case_name: str, method: str, levels: int) -> np.ndarray:
+    frame = pd.DataFrame(run_chain(load_case(case_name), [get_method(method)], levels, mesh=MeshStrategy("adaptive")).rows)
+    return frame.effectivity.to_numpy()
+
+
+EXACT_2D = ["smooth", "corner-r12", "transition-r32", "wedge-r23", "oscillating-r34", "borderline-h2", "smooth-obstacle"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("method", ["mean", "nodal", "p1"])
+@pytest.mark.parametrize("case_name", EXACT_2D)
+def test_the_effectivity_is_bounded_and_steady_on_every_exact_case(case_name, method):
+    """Issue 31: on every exact 2D case x cone method x adaptive level >= 2 the effectivity
+    index lies in [0.5, 10], and over the last four levels max/min <= 2."""
+    case = load_case(case_name)
+    if not case.exact:
+        pytest.skip(f"{case_name} has no exact solution")
+    eff = _effectivities(case_name, method, 5)
+    assert ((eff[2:] >= 0.5) & (eff[2:] <= 10)).all(), eff
+    assert eff[-4:].max() / eff[-4:].min() <= 2, eff
