@@ -31,11 +31,11 @@ def read_results(path: Path, extra_cases=None) -> pd.DataFrame:
         raise ValueError(f"{path} is not a results CSV: {exc}") from exc
     if "model" in frame.columns and "method" not in frame.columns:
         frame = _from_model_column(frame, _known_cases(extra_cases), path)
-    if "mesh" not in frame.columns:         # before the mesh axis: every row on uniform meshes
-        frame.insert(frame.columns.get_loc("method") + 1, "mesh", "uniform")
     missing = [c for c in RATE_INPUT if c not in frame.columns]
     if missing:
         raise ValueError(f"{path} is not a results CSV: missing column(s) {', '.join(missing)}")
+    if "mesh" not in frame.columns:         # before the mesh axis: every row on uniform meshes
+        frame.insert(frame.columns.get_loc("method") + 1, "mesh", "uniform")
     return frame
 
 
