@@ -10,6 +10,7 @@ def run_bench_command(args) -> int:
     """`python -m harness bench`: the tables of ``args.only`` (all but the report's by default), each
     written beside ``args.out``, then every goal with its measured figure."""
     from ..study.files import ensure_writable
+    from .adaptive import adaptive_goals, run_adaptive_bench
     from .common import write_bench
     from .elastic import elastic_goals, run_elastic_bench
     from .solvers import DEFAULT_SIZES, goals, run_bench
@@ -24,7 +25,10 @@ def run_bench_command(args) -> int:
               ("elastic", run_elastic_bench, "_elastic",
                "elasticity (Remark 2.3): contact solve against one linear elastic solve, same matrix:", elastic_goals),
               ("3d", run_3d_bench, "_3d",
-               "3D (Section 6): contact solve against one linear solve of the same matrix (multigrid CG):", three_d_goals)]
+               "3D (Section 6): contact solve against one linear solve of the same matrix (multigrid CG):", three_d_goals),
+              ("adaptive", run_adaptive_bench, "_adaptive",
+               "adaptive meshes (corner-r12): contact solve on the finest against one linear solve (multigrid CG):",
+               adaptive_goals)]
     for name, run, suffix, title, judge in tables:
         if args.only in (None, name):
             frame = run()

@@ -23,6 +23,9 @@ GRADING_RADIUS = 0.5
 # the rate keeps a log factor), close to it so that the smallest elements, of size ~ H^(1/mu),
 # stay as large as the theory allows.
 GRADING_MARGIN = 0.9
+# Level 0 grades with H = GRADED_START x maxh: away from the singular points the case's own mesh
+# is then fine enough already, and the refinement goes where it pays; each level halves H.
+GRADED_START = 4.0
 # a bound on the bisection sweeps of one level (each at least halves the area of every marked
 # element; a graded level needs about 2/mu of them): a size function that cannot be met is an error
 MAX_SWEEPS = 400
@@ -77,7 +80,7 @@ def grading_exponent(lam: float, order: int) -> float:
 class GradedRefinement:
     """Remark 4.4's meshes: level l satisfies h_T <= H_l min(1, r_T / R)^(1 - mu) on every element
     T (r_T: the distance of its centroid to the nearest singular point, R = GRADING_RADIUS),
-    with H_l = maxh 2^-l, so that N grows by about 4 per level as on uniform meshes (the size
+    with H_l = GRADED_START maxh 2^-l, so that N grows by about 4 per level as on uniform meshes (the size
     function's integral, N ~ H^-2 int h(r)^-2 ... r dr, is finite for mu > 0). Made by bisecting
     the violating elements until none is left, from the previous level: nested.
 
@@ -110,7 +113,7 @@ class GradedRefinement:
 
     def levels(self, count: int) -> Iterator[Level]:
         mesh = coarse_mesh(self.case)
-        H = self.case.maxh
+        H = GRADED_START * self.case.maxh
         for index in range(count):
             self.grade(mesh, H)
             yield Level(index, mesh, mesh_size(mesh))

@@ -1,0 +1,91 @@
+"""The adaptive rows of `bench` (issue 31): on corner-r12's adaptive meshes (SOLVE -> ESTIMATE ->
+MARK -> REFINE), the contact solve on the finest mesh against one linear solve of the same
+matrix by the same multigrid CG (its hierarchy: the bisection levels of the adaptive loop), and
+how the cost per level grows with N."""
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from .common import fastest, own_seconds, timed
+
+ADAPTIVE_CASE = "corner-r12"
+ADAPTIVE_LEVELS = 7            # the budget of uniform level 6: about 5.8e5 P2 dofs
+
+ADAPTIVE_COLUMNS = ["case", "method", "levels", "ndof", "t_contact", "t_linear", "ratio_linear", "iterations",
+                    "cg_iterations", "linear_cg_iterations", "kkt_residual", "cost_exponent", "multigrid_levels"]
+
+
+def _adaptive_row(method_name: str, levels: int) -> dict:
+    import ngsolve as ngs
+
+    from ..fem.assembly import discretise
+    from ..fem.cones import contact_qp
+    from ..measure.estimator import ResidualEstimator
+    from ..mesh.strategies import MeshStrategy
+    from ..methods import get_method
+    from ..problem.case import load_case
+    from ..solvers.active_set import DEFAULT_TOLERANCE, ActiveSetSolver, MultigridSystem, solve_contact_qp
+    from ..solvers.multigrid import ContactEdges, Multilevel, nested_start
+
+    case, method = load_case(ADAPTIVE_CASE), get_method(method_name)
+    sequence = MeshStrategy("adaptive").sequence(case, method.order)
+    budget = None
+    multilevel, carry, ndofs, seconds = None, None, [], []
+    for level in sequence.levels(60):
+        mesh = level.mesh
+        budget = budget or mesh.ne * 4 ** (levels - 1 + method.extra_levels)
+        if mesh.ne > budget:
+            break
+        multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+        with ngs.TaskManager():
+            problem = discretise(case, mesh, method.order)
+            estimator = ResidualEstimator(case, problem)
+            qp = contact_qp(case, problem, method.cone)
+            previous, coarse = carry or (None, None)
+            start = nested_start(multilevel, coarse, problem) if coarse is not None else None
+            predicted = qp.predicted_active(previous)
+            t_contact, solution = fastest(lambda: own_seconds(solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)))
+            u = qp.to_u(solution.z)
+            carry = (qp.trace_function(u, solution.active), u[:mesh.nv].copy())
+            sequence.observe(estimator.indicators(u))
+        ndofs.append(problem.ndof)
+        seconds.append(t_contact)
+        last = (qp, solution, t_contact, multilevel.mesh_levels[-1] + 1, len(multilevel.matrices))
+    qp, solution, t_contact, sweeps, stored = last
+    with ngs.TaskManager():
+        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
+        scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
+
+        def linear():
+            system.cg_iterations = 0
+            return timed(system.solve, ~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * scale)
+        t_linear, _ = fastest(linear)
+    # the cost per level against N over the finer half of the levels: t ~ N^a
+    half = len(ndofs) // 2
+    exponent = float(np.polyfit(np.log(ndofs[half:]), np.log(seconds[half:]), 1)[0])
+    return {"case": ADAPTIVE_CASE, "method": method_name, "levels": len(ndofs), "ndof": qp.problem.ndof,
+            "t_contact": t_contact, "t_linear": t_linear, "ratio_linear": t_contact / t_linear,
+            "iterations": solution.iterations, "cg_iterations": solution.work.get("cg_iterations"),
+            "linear_cg_iterations": system.cg_iterations, "kkt_residual": solution.kkt.residual,
+            "cost_exponent": exponent, "multigrid_levels": f"{stored} of {sweeps} bisection sweeps"}
+
+
+def run_adaptive_bench(methods=("mean", "nodal", "p1"), levels: int = ADAPTIVE_LEVELS, progress=print) -> pd.DataFrame:
+    rows = []
+    for name in methods:
+        rows.append(_adaptive_row(name, levels))
+        row = rows[-1]
+        progress(f"adaptive {name:5s} ndof {row['ndof']:>8d} contact {row['t_contact']:.3f} s linear {row['t_linear']:.3f} s "
+                 f"ratio {row['ratio_linear']:.2f}")
+    return pd.DataFrame(rows, columns=ADAPTIVE_COLUMNS)
+
+
+def adaptive_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
+    """Exact on every adaptive level's finest mesh; the contact solve against one linear solve."""
+    exact = bool((frame.kkt_residual <= 1e-10).all())
+    return [("adaptive meshes: KKT <= 1e-10 on the finest mesh", exact, f"max {frame.kkt_residual.max():.1e}"),
+            ("adaptive meshes: contact solve / one linear solve on the finest mesh (shown)", True,
+             ", ".join(f"{m} {r:.2f}" for m, r in zip(frame.method, frame.ratio_linear))),
+            ("adaptive meshes: cost per level ~ N^a (shown)", True,
+             ", ".join(f"{m} a = {a:.2f}" for m, a in zip(frame.method, frame.cost_exponent)))]
