@@ -236,3 +236,11 @@ def test_the_effectivity_is_bounded_and_steady_on_every_exact_case(case_name, me
     eff = _effectivities(case_name, method, 5)
     assert ((eff[2:] >= 0.5) & (eff[2:] <= 10)).all(), eff
     assert eff[-4:].max() / eff[-4:].min() <= 2, eff
+
+
+def test_a_level_without_refinement_keeps_the_multigrid_hierarchy(corner):
+    """A graded level may need no bisection (the coarse mesh already meets h(r)): the hierarchy
+    gains no level, and the study goes on."""
+    mesh = ngs.Mesh(corner.geometry.GenerateMesh(maxh=corner.maxh))
+    multilevel = Multilevel(mesh)
+    assert multilevel.refined() is multilevel and len(multilevel.matrices) == 1

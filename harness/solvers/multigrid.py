@@ -56,8 +56,10 @@ class Multilevel:
         self.mesh_levels.append(self.mesh.levels - 1)
 
     def refined(self) -> "Multilevel":
-        if self.mesh.levels - 1 <= self.mesh_levels[-1]:
-            raise RuntimeError("Multilevel.refined() must follow a refinement of its mesh")
+        """The hierarchy with the mesh's current refinement as its finest level (unchanged if
+        the mesh was not refined since: a graded level may need no bisection at all)."""
+        if self.mesh.levels - 1 == self.mesh_levels[-1]:
+            return self
         self.fes.Update()
         self._add_level()
         return self

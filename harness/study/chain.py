@@ -44,8 +44,8 @@ PROFILES = {
     # finest levels: about 5.8e5 dofs (transition geometry), well inside 10 minutes on 2 cores;
     # the 3D cases (8 times the dofs per level): 1.3e5 P2 dofs
     # the mesh study (graded and adaptive meshes, ``mesh_study``): the budget of uniform level
-    # mesh_levels - 1, 3.7e4 P2 dofs on corner-r12
-    "default": {"levels": 7, "levels_3d": 3, "mesh_levels": 5},
+    # mesh_levels - 1, 9.2e3 P2 dofs on corner-r12
+    "default": {"levels": 7, "levels_3d": 3, "mesh_levels": 4},
     # finest levels: about 2.3e6 dofs; 3D: 1.3e6; the mesh study to 5.8e5 dofs
     "fine": {"levels": 8, "levels_3d": 4, "mesh_levels": 7},
 }
