@@ -270,7 +270,8 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                 own_seconds = time.perf_counter() - clock
                 carry[method.name] = solve.carry
                 indicators = None
-                if estimating:
+                # the studied rows' estimator (a reference chain's finer solves need none)
+                if estimating and level < studied[method.name]:
                     with phases("errors"):
                         indicators = estimators[method.order].indicators(solve.u)
                 if sequence.adaptive:
