@@ -254,7 +254,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                 with phases("assembly"):
                     problems[order] = discretise(case, mesh, order, quadrature)
                 assembly_seconds[order] = time.perf_counter() - clock
-                if estimating:
+                if estimating and any(level < studied[m.name] for m in active if m.order == order):
                     with phases("errors"):
                         estimators[order] = ResidualEstimator(case, problems[order])
             # before a method takes the stiffness matrix (the best approximation needs it)
