@@ -102,21 +102,25 @@ class GradedRefinement:
         r = np.min(np.linalg.norm(centroids[:, None, :] - self.points[None, :, :], axis=2), axis=1)
         return H * np.minimum(1.0, r / GRADING_RADIUS) ** (1.0 - self.mu)
 
-    def grade(self, mesh: ngs.Mesh, H: float) -> None:
-        for _sweep in range(MAX_SWEEPS):
+    def grade(self, mesh: ngs.Mesh, H: float) -> int:
+        """Bisect until h(r) holds; the number of sweeps it took."""
+        for sweep in range(MAX_SWEEPS):
             sizes, centroids = element_sizes(mesh)
             marked = sizes > self.target(H, centroids) * (1 + 1e-9)
             if not marked.any():
-                return
+                return sweep
             refine_marked(mesh, marked)
         raise RuntimeError(f"graded mesh of {self.case.name}: {MAX_SWEEPS} bisection sweeps did not meet h(r) at H = {H:g}")
 
     def levels(self, count: int) -> Iterator[Level]:
         mesh = coarse_mesh(self.case)
         H = GRADED_START * self.case.maxh
-        for index in range(count):
-            self.grade(mesh, H)
-            yield Level(index, mesh, mesh_size(mesh))
+        index = 0
+        while index < count:
+            # an H the mesh already meets (the coarse mesh, at the first halvings) is no new level
+            if self.grade(mesh, H) or index == 0:
+                yield Level(index, mesh, mesh_size(mesh))
+                index += 1
             H /= 2
 
 
