@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .common import fastest, own_seconds, timed
+from .common import fastest, own_seconds
 
 ADAPTIVE_CASE = "corner-r12"
 ADAPTIVE_LEVELS = 7            # the budget of uniform level 6: about 5.8e5 P2 dofs
@@ -25,8 +25,9 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
     from ..mesh.strategies import MeshStrategy
     from ..methods import get_method
     from ..problem.case import load_case
-    from ..solvers.active_set import DEFAULT_TOLERANCE, ActiveSetSolver, MultigridSystem, solve_contact_qp
-    from ..solvers.multigrid import ContactEdges, Multilevel, nested_start
+    from ..solvers.active_set import solve_contact_qp
+    from ..solvers.multigrid import Multilevel, nested_start
+    from .three_d import linear_multigrid_seconds
 
     case, method = load_case(ADAPTIVE_CASE), get_method(method_name)
     sequence = MeshStrategy("adaptive").sequence(case, method.order)
@@ -54,13 +55,7 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
         last = (qp, solution, t_contact, multilevel.mesh_levels[-1] + 1, len(multilevel.matrices))
     qp, solution, t_contact, sweeps, stored = last
     with ngs.TaskManager():
-        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
-        scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
-
-        def linear():
-            system.cg_iterations = 0
-            return timed(system.solve, ~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * scale)
-        t_linear, _ = fastest(linear)
+        t_linear, system = linear_multigrid_seconds(qp, multilevel)
     # the cost per level against N over the finer half of the levels: t ~ N^a
     half = len(ndofs) // 2
     exponent = float(np.polyfit(np.log(ndofs[half:]), np.log(seconds[half:]), 1)[0])

@@ -19,24 +19,32 @@ THREE_D_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_lin
                    "linear_cg_iterations", "kkt_residual", "peak_rss_mb"]
 
 
+def linear_multigrid_seconds(qp, multilevel) -> tuple[float, object]:
+    """(seconds, the MultigridSystem) of one unconstrained solve of ``qp``'s matrix by the
+    contact solver's multigrid CG, from zero, as deep as its linear solves go (fastest of
+    repeats)."""
+    from ..solvers.active_set import DEFAULT_TOLERANCE, ActiveSetSolver, MultigridSystem
+    from ..solvers.multigrid import ContactEdges
+    system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
+    load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
+
+    def linear():
+        system.cg_iterations = 0
+        return timed(system.solve, ~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * load_scale)
+    return fastest(linear)[0], system
+
+
 def _measure_3d(model_name: str, level: int, connection):
     """Issue 19: a 3D contact solve (truncated multigrid, nested iteration) against one
     unconstrained solve of the same matrix by the same multigrid CG, from zero, as deep."""
     import ngsolve as ngs
 
-    from ..solvers.active_set import DEFAULT_TOLERANCE, ActiveSetSolver, MultigridSystem, solve_contact_qp
-    from ..solvers.multigrid import ContactEdges
+    from ..solvers.active_set import solve_contact_qp
 
     ngs.ngsglobals.msg_level = 0
     with ngs.TaskManager():
         qp, predicted, multilevel, start = cone_problem(model_name, level, None, THREE_D_CASE)
-        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
-        load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
-
-        def linear():
-            system.cg_iterations = 0
-            return timed(system.solve, ~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * load_scale)
-        t_linear, _ = fastest(linear)
+        t_linear, system = linear_multigrid_seconds(qp, multilevel)
         t_contact, solution = fastest(lambda: own_seconds(solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)))
     connection.send({
         "case": THREE_D_CASE, "method": model_name, "ndof": qp.problem.ndof, "t_contact": t_contact, "t_linear": t_linear,
