@@ -21,7 +21,7 @@ Math. 130 (2015)), the same for every method. The terms are those of the residua
 for Signorini's problem of Hild & Nicaise (Numer. Math. 101 (2005)), Weiss & Wohlmuth (Math.
 Comp. 78 (2009)), Krause, Veeser & Walloth, and, for quadratic elements, the adaptive P2
 method of arXiv 2209.04906 (element and jump residuals, the flux mismatch on Gamma_C, the
-penetration, the complementarity; ``../shared/MATH.md`` §8): the penetration term is the one
+penetration, the complementarity): the penetration term is the one
 the P2 cones need, as their nodal or mean constraints let u_h dip below alpha between nodes.
 The texts of these papers were not reachable from this sandbox: the weights above are the
 standard scalings (h for flux terms, h^-1 for the H^1/2-like penetration), not a quotation of
