@@ -28,7 +28,7 @@ def error_against_ndof(case, frame: pd.DataFrame, folder: Path) -> dict[str, Pat
             right.semilogx(g.ndof, g.effectivity, **line, **marker)
     n = np.array([frame.ndof.min(), frame.ndof.max()], float)
     e0 = frame.err_h1.min()
-    for rate, label in ((0.5, "N^-1/2"), (1.0, "N^-1")):
+    for rate, label in ((0.5, "$N^{-1/2}$"), (1.0, "$N^{-1}$")):
         left.loglog(n, e0 * (n / n[1]) ** -rate * 3, color="0.6", lw=0.8)
         left.annotate(label, (n[0], e0 * (n[0] / n[1]) ** -rate * 3), fontsize=8, color="0.4")
     left.set_xlabel("ndof N")
@@ -43,22 +43,26 @@ def error_against_ndof(case, frame: pd.DataFrame, folder: Path) -> dict[str, Pat
 
 
 def adaptive_mesh(case, points: np.ndarray, triangles: np.ndarray, folder: Path, method: str) -> dict[str, Path]:
-    """The finest adaptive mesh, whole and zoomed (x1000) on the singular point that attracted its
-    smallest element."""
+    """The finest adaptive mesh, whole and zoomed on its smallest triangle (by area): windows of
+    60 and of 6 times that triangle's size."""
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
     corners = points[triangles]
-    sizes = np.sqrt(((corners - np.roll(corners, 1, axis=1)) ** 2).sum(axis=2)).max(axis=1)
-    centre = corners[int(np.argmin(sizes))].mean(axis=0)
+    sides = corners - np.roll(corners, 1, axis=1)
+    areas = 0.5 * np.abs(sides[:, 0, 0] * sides[:, 1, 1] - sides[:, 0, 1] * sides[:, 1, 0])
+    smallest = int(np.argmin(areas))
+    centre = corners[smallest].mean(axis=0)
+    size = np.sqrt((sides[smallest] ** 2).sum(axis=1)).max()
     extent = np.ptp(points, axis=0).max()
-    for ax, zoom in zip(axes, (1.0, 1e-2, 1e-4)):
+    for ax, half in zip(axes, (None, 30 * size, 3 * size)):
         ax.triplot(points[:, 0], points[:, 1], triangles, lw=0.25, color="0.2")
-        if zoom < 1:
-            r = 0.5 * extent * zoom
-            ax.set_xlim(centre[0] - r, centre[0] + r)
-            ax.set_ylim(max(points[:, 1].min(), centre[1] - r) - 0.05 * r, centre[1] + r)
-            ax.set_title(f"zoom ×{1 / zoom:.0f} at ({centre[0]:.3g}, {centre[1]:.3g})", fontsize=9)
+        if half is not None:
+            ax.set_xlim(centre[0] - half, centre[0] + half)
+            low = max(centre[1] - half, points[:, 1].min())       # Gamma_C is the bottom: nothing below
+            ax.set_ylim(low - 0.02 * half, low + 2 * half)
+            ax.set_title(f"zoom ×{extent / (2 * half):.3g} at ({centre[0]:.3g}, {centre[1]:.3g})", fontsize=9)
+            ax.locator_params(nbins=3)
         else:
             ax.set_title(f"{case.name}, {method}: {len(triangles):,} triangles", fontsize=9)
         ax.set_aspect("equal")
-        ax.tick_params(labelsize=7)
+        ax.tick_params(labelsize=6)
     return save(fig, folder, f"{case.name}-adaptive-mesh")
