@@ -22,7 +22,7 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
     from ..fem.assembly import discretise
     from ..fem.cones import contact_qp
     from ..measure.estimator import ResidualEstimator
-    from ..mesh.strategies import MeshStrategy
+    from ..mesh.strategies import MeshStrategy, element_budget
     from ..methods import get_method
     from ..problem.case import load_case
     from ..solvers.active_set import solve_contact_qp
@@ -31,12 +31,11 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
 
     case, method = load_case(ADAPTIVE_CASE), get_method(method_name)
     sequence = MeshStrategy("adaptive").sequence(case, method.order)
-    budget = None
+    budget = element_budget(case, levels, method.extra_levels)
     multilevel, carry, ndofs, seconds = None, None, [], []
     for level in sequence.levels(60):
         mesh = level.mesh
-        budget = budget or mesh.ne * 4 ** (levels - 1 + method.extra_levels)
-        if mesh.ne > budget:
+        if level.index and mesh.ne > budget:
             break
         multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
         with ngs.TaskManager():

@@ -63,6 +63,12 @@ class MeshStrategy:
         return AdaptiveRefinement(case, self.theta)
 
 
+def element_budget(case, levels: int, extra_levels: int = 0) -> int:
+    """The triangles of the uniform level ``levels`` - 1 (+ ``extra_levels``, P1's): where a
+    graded or adaptive chain stops, so that it gets the uniform chain's budget of dofs."""
+    return coarse_mesh(case).ne * 4 ** (levels - 1 + extra_levels)
+
+
 def singular_points(case) -> np.ndarray:
     """The case's declared singular points, else every point of its geometry (as the error
     quadrature takes them, ``fem.element_quadrature.singular_vertices``)."""

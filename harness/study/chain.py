@@ -16,8 +16,8 @@ from ..fem.element_quadrature import ElementQuadrature
 from ..measure.errors import ExactErrors
 from ..measure.estimator import ResidualEstimator, estimate
 from ..measure.reference import ReferenceErrors
-from ..mesh.levels import LevelSequence, coarse_mesh
-from ..mesh.strategies import MeshStrategy
+from ..mesh.levels import LevelSequence
+from ..mesh.strategies import MeshStrategy, element_budget
 from ..methods import Method, methods_for
 from ..problem.case import Case
 from ..solvers.multigrid import Multilevel
@@ -237,7 +237,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                 # the uniform finest level's number of triangles (of the coarse mesh times 4 per
                 # level): graded and adaptive meshes get the same budget of dofs
                 if budget_elements is None:
-                    budget_elements = coarse_mesh(case).ne * 4 ** (levels - 1 + max(m.extra_levels for m in methods))
+                    budget_elements = element_budget(case, levels, max(m.extra_levels for m in methods))
                 if level and mesh.ne > budget_elements:
                     break
         with ngs.TaskManager():
