@@ -10,7 +10,7 @@ import pytest
 from harness.cli import main
 from harness.fem.assembly import discretise
 from harness.measure.errors import error_norms
-from harness.measure.estimator import ResidualEstimator, estimate
+from harness.measure.estimator import VOLUME_ORDER, ResidualEstimator, estimate
 from harness.measure.rates import fit_ndof_rate, rate_table
 from harness.mesh.bisection import GRADED_START, AdaptiveRefinement, GradedRefinement, dorfler, element_sizes, grading_exponent
 from harness.mesh.points import cells, coordinates
@@ -112,6 +112,42 @@ def test_the_estimator_sees_each_term_it_names(corner):
     on_contact = np.zeros(mesh.ne, bool)
     on_contact[problem.trace.volumes] = True
     assert total[on_contact].sum() >= contact.sum()
+
+
+def _volume_and_jumps_by_ngsolve(case, problem, u):
+    """The element residual and the flux jumps as NGSolve integrates them on each element's
+    boundary (``Other()``: the neighbour's trace), with NGSolve's mesh size as the weight."""
+    mesh, gfu = problem.mesh, problem.gridfunction(u)
+    h, n = ngs.specialcf.mesh_size, ngs.specialcf.normal(2)
+    interior = ngs.GridFunction(ngs.FacetFESpace(mesh, order=0))
+    interior.vec[:] = 1.0
+    for element in mesh.Elements(ngs.BND):
+        interior.vec[interior.space.GetDofNrs(element)[0]] = 0.0
+    f = 0 if case.f_vanishes else case.f
+    laplace = ngs.Trace(gfu.Operator("hesse")) if problem.order > 1 else 0
+    # the estimator's Gauss rule: then its split of this term (f's oscillation plus the mean's
+    # residual) is the same sum, to round-off
+    volume = ngs.Integrate(h * h * (f + laplace) ** 2, mesh, order=VOLUME_ORDER, element_wise=True).NumPy()
+    jump = ngs.grad(gfu) * n - ngs.grad(gfu).Other() * n
+    jumps = ngs.Integrate(0.5 * h * interior * jump**2 * ngs.dx(element_boundary=True), mesh, element_wise=True).NumPy()
+    return volume + jumps
+
+
+@pytest.mark.parametrize("name, strategy", [("corner-r12", "uniform"), ("smooth", "uniform"), ("wedge-r23", "graded")])
+@pytest.mark.parametrize("order", [1, 2])
+def test_the_estimators_volume_and_jump_terms_are_ngsolves_integrals(name, strategy, order):
+    """The element residual and the flux jumps, made from grad u_h at the triangles' vertices
+    (``MeshTerms``), agree with NGSolve's own integration of the same terms on each element,
+    for a function that is no solution (every jump nonzero), on uniform and graded meshes, with
+    and without a volume load."""
+    case = load_case(name)
+    for level in MeshStrategy(strategy).sequence(case, order).levels(3):
+        mesh = level.mesh
+    problem = discretise(case, mesh, order)
+    u = np.where(problem.free, np.random.default_rng(1).standard_normal(problem.ndof), problem.lift)
+    ours = ResidualEstimator(case, problem).terms.volume_and_jumps(problem.gridfunction(u), order)
+    theirs = _volume_and_jumps_by_ngsolve(case, problem, u)
+    assert np.abs(ours - theirs).max() <= 1e-10 * np.abs(theirs).max()
 
 
 def _quadrature(case, mesh):

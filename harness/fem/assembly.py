@@ -12,7 +12,7 @@ variables.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import ngsolve as ngs
 import numpy as np
@@ -49,6 +49,8 @@ class DiscreteProblem:
     physics: object                             # the case's (``problem.physics``)
     contact_rows: sp.csr_matrix | None = None   # A's rows of ``contact_dofs``, kept after A is taken
     basis: sp.csr_matrix | None = None          # Q: NGSolve's (Cartesian) coefficients = Q @ ours; None: Q = I
+    # what later stages make once per problem and share (the errors' discrete pressure), by kind
+    cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     def cartesian(self, vector: np.ndarray) -> np.ndarray:
         """The coefficients in NGSolve's own basis of a vector of this problem's variables."""

@@ -9,6 +9,8 @@ much more accurate reference integration, to 0.1%, on every case's finest defaul
 
 from __future__ import annotations
 
+import weakref
+
 import ngsolve as ngs
 import numpy as np
 from scipy.sparse.linalg import splu
@@ -66,8 +68,18 @@ class DiscretePressure:
     formula), so this is the same functional for every method -- the cones' multipliers,
     Nitsche's and the penalty's contact terms all end up in it."""
 
+    @classmethod
+    def of(cls, problem) -> "DiscretePressure":
+        """The pressure of ``problem``, made once (the errors on Gamma_C and the estimator
+        share it: ``DiscreteProblem.cache``)."""
+        if cls not in problem.cache:
+            problem.cache[cls] = cls(problem)
+        return problem.cache[cls]
+
     def __init__(self, problem):
-        self.problem = problem
+        # a weak reference: the problem's cache holds this, and a cycle would keep the level's
+        # matrices alive until the cyclic collector runs
+        self._problem = weakref.ref(problem)
         self.quadrature = contact_quadrature(problem, CONTACT_ERROR_POINTS)
         q = self.quadrature
         self.T = q.T[:, problem.contact_dofs].tocsc()
@@ -75,7 +87,7 @@ class DiscretePressure:
 
     def coefficients(self, u_h: np.ndarray) -> np.ndarray:
         """lambda_h's coefficients on the dofs ``problem.contact_dofs``."""
-        return self._mass.solve(self.problem.contact_residual(u_h))
+        return self._mass.solve(self._problem().contact_residual(u_h))
 
     def at_points(self, coefficients: np.ndarray) -> np.ndarray:
         return self.T @ coefficients
@@ -95,7 +107,7 @@ class ContactErrors:
     """
 
     def __init__(self, case, problem):
-        self.own = DiscretePressure(problem)
+        self.own = DiscretePressure.of(problem)
         q = self.own.quadrature
         self.weights, self.h = q.weights, q.h
         self.u = case.physics.contact_value(case, problem.mesh, q.points, q.normals)

@@ -30,33 +30,124 @@ effectivity eta / ||u - u_h||_a on the exact cases (``study.chain``).
 """
 from __future__ import annotations
 
+from collections import OrderedDict
+
 import ngsolve as ngs
 import numpy as np
 
 from ..fem.contact_quadrature import at_points, contact_quadrature
 from ..fem.element_quadrature import singular_vertices
+from ..mesh.points import mesh_key
+from ..mesh.sides import SIDE_ENDS, MeshSides
 from .errors import CONTACT_ERROR_POINTS, DiscretePressure
 
 # Gauss order of the volume moments: f^2 exactly for f of degree 4, as the error norms' rule
 VOLUME_ORDER = 8
 
 
-def facet_indicators(mesh: ngs.Mesh) -> tuple:
-    """(interior, neumann, along): piecewise constants on the facets, 1 on the interior ones,
-    resp. on those of Gamma_g; and the triangles with a side on Gamma_g (a BitArray)."""
+def neumann_sides(mesh: ngs.Mesh, sides: MeshSides) -> tuple:
+    """(neumann, along): a piecewise constant on the facets, 1 on those of Gamma_g; and the
+    triangles with a side on Gamma_g (a BitArray): the Neumann residual is integrated on those
+    triangles' boundaries only."""
     space = ngs.FacetFESpace(mesh, order=0)
-    interior, neumann = ngs.GridFunction(space), ngs.GridFunction(space)
-    interior.vec.FV().NumPy()[:] = 1.0
-    neumann.vec[:] = 0.0
+    neumann = ngs.GridFunction(space)
+    neumann.Set(1.0, ngs.BND, definedon=mesh.Boundaries("neumann"))
+    segments = mesh.ngmesh.Elements1D().NumPy()
+    names = mesh.GetBoundaries()
+    labelled = np.array([names[index - 1] == "neumann" for index in segments["index"]], dtype=bool)
+    ends = np.sort(segments["nodes"][labelled, :2].astype(np.int64) - 1, axis=1)
+    own = np.sort(sides.side_vertices(sides.boundary[:, 0], sides.boundary[:, 1]), axis=1)
+    hit = np.isin(own[:, 0] * mesh.nv + own[:, 1], ends[:, 0] * mesh.nv + ends[:, 1])
     along = ngs.BitArray(mesh.ne)
     along.Clear()
-    for element in mesh.Elements(ngs.BND):
-        facet = space.GetDofNrs(element)[0]
-        interior.vec[facet] = 0.0
-        if element.mat == "neumann":
-            neumann.vec[facet] = 1.0
-            along.Set(mesh[element.edges[0]].elements[0].nr)
-    return interior, neumann, along
+    for element in np.unique(sides.boundary[hit, 0]):
+        along.Set(int(element))
+    return neumann, along
+
+
+class MeshTerms:
+    """What the estimator needs of one mesh and the case's data, whatever the finite element
+    order: made once per mesh for the problems of both orders (the last few are kept).
+
+    The weights are NGSolve's ``specialcf.mesh_size`` (what an integral written with it in
+    NGSolve gives, and what the first version of this module integrated): h_T = |2T|^(1/2) in
+    the volume, and on a side E of T the height of T over E, h_{T,E} = 2|T|/|E| (NGSolve's
+    det J / |E|), so that the flux-jump term of T on E is |T|/3 (j_a^2 + j_a j_b + j_b^2) for
+    the jump j, linear along E with end values j_a, j_b (P2; constant for P1).
+
+    The volume and jump terms of a solution come from grad u_h at the three vertices of every
+    triangle (one evaluation per solution, at mesh points made here): grad u_h is linear on a
+    P2 triangle, so those values give the jumps at the ends of every side and the (constant)
+    Laplacian, sum_k grad u_h(x_k) . grad lambda_k. tests/test_meshes.py holds the result to
+    NGSolve's own element-boundary integration of the same terms."""
+
+    _made: OrderedDict = OrderedDict()
+    KEPT = 2
+
+    @classmethod
+    def of(cls, case, mesh: ngs.Mesh) -> "MeshTerms":
+        key = mesh_key(mesh) + (case.source, case.name)
+        hit = cls._made.get(key)
+        if hit is not None and hit[0] is mesh:
+            return hit[1]
+        made = cls(case, mesh)
+        cls._made[key] = (mesh, made)
+        while len(cls._made) > cls.KEPT:
+            cls._made.popitem(last=False)
+        return made
+
+    def __init__(self, case, mesh: ngs.Mesh):
+        sides = MeshSides.of(mesh)
+        self.neumann, self.along_neumann = neumann_sides(mesh, sides)
+        self.vertex_points = sides.vertex_points(mesh)
+        self.area = sides.area
+        self.h2 = 2.0 * self.area**2                     # h_T^2 |T|, h_T = |2T|^(1/2)
+        # grad lambda_k of the barycentric coordinates (rows of the inverse Jacobian, from the
+        # last vertex; lambda_2 = 1 - lambda_0 - lambda_1)
+        jacobian = np.stack([sides.corners[:, 0] - sides.corners[:, 2], sides.corners[:, 1] - sides.corners[:, 2]], axis=2)
+        rows = np.linalg.inv(jacobian)
+        self.grad_lambda = np.concatenate([rows, -rows.sum(axis=1, keepdims=True)], axis=1)     # (ne, 3, 2)
+        # each interior edge E = T1 | T2: the rows, in the (3 ne, 2) array of vertex gradients,
+        # of its two ends in T1 and in T2 (matched by vertex number), and T1's outward normal
+        (first, first_side), (second, second_side) = sides.interior[:, 0].T, sides.interior[:, 1].T
+        ends_first = sides.side_vertices(first, first_side)
+        ends_second = sides.side_vertices(second, second_side)
+        swapped = (ends_second[:, 0] != ends_first[:, 0]).astype(np.int64)
+        local_first, local_second = SIDE_ENDS[first_side], SIDE_ENDS[second_side]
+        self.ends = [(3 * first + local_first[:, end], 3 * second + local_second[np.arange(len(second)), end ^ swapped])
+                     for end in (0, 1)]
+        self.jump_normals = sides.normals[first, first_side]
+        self.jump_weights = [(elements, sides.area[elements] / 3.0) for elements in (first, second)]
+        # Laplace(u_h) is constant on each element (P2; zero for P1), so with f_T the mean of f
+        #   h_T^2 ||f + Laplace(u_h)||_T^2 = h_T^2 ||f - f_T||_T^2 + h_T^2 |T| (f_T + Laplace_T)^2,
+        # the first term (the data's oscillation) made here, the second per solution from one
+        # number per element, without cancellation
+        h = ngs.specialcf.mesh_size
+
+        def moment(cf):
+            return np.array(ngs.Integrate(cf, mesh, ngs.VOL, order=VOLUME_ORDER, element_wise=True).NumPy())
+        self.mean_f = np.zeros(mesh.ne) if case.f_vanishes else moment(case.f) / self.area
+        self.oscillation = np.zeros(mesh.ne)
+        if not case.f_vanishes:
+            mean = ngs.GridFunction(ngs.L2(mesh, order=0))
+            mean.vec.FV().NumPy()[:] = self.mean_f
+            self.oscillation = moment(h * h * (case.f - mean) ** 2)
+
+    def volume_and_jumps(self, gfu: ngs.GridFunction, order: int) -> np.ndarray:
+        """h_T^2 ||f + Laplace(u_h)||_T^2 + the flux jumps of T's interior sides, per element."""
+        ne = len(self.area)
+        gradients = np.asarray(ngs.grad(gfu)(self.vertex_points)).reshape(ne, 3, 2)
+        laplace = np.einsum("ekd,ekd->e", gradients, self.grad_lambda) if order > 1 else 0.0
+        eta2 = self.oscillation + self.h2 * (self.mean_f + laplace) ** 2
+        # the jump of the normal derivative at both ends of every interior edge: T1's outward
+        # flux plus T2's, T2's normal being -T1's
+        flat = gradients.reshape(-1, 2)
+        jump_a, jump_b = (np.einsum("kd,kd->k", flat[in_first] - flat[in_second], self.jump_normals)
+                          for in_first, in_second in self.ends)
+        squares = jump_a**2 + jump_a * jump_b + jump_b**2
+        for elements, weights in self.jump_weights:
+            eta2 += np.bincount(elements, weights=weights * squares, minlength=ne)
+        return eta2
 
 
 class ResidualEstimator:
@@ -66,50 +157,26 @@ class ResidualEstimator:
         if case.dimension != 2 or case.physics.elastic:
             raise ValueError("the residual estimator is for 2D scalar problems")
         self.case, self.problem, mesh = case, problem, problem.mesh
-        self.interior, self.neumann, self.along_neumann = facet_indicators(mesh)
-        self.pressure = DiscretePressure(problem)
+        self.terms = MeshTerms.of(case, mesh)
+        self.pressure = DiscretePressure.of(problem)
         q = contact_quadrature(problem, CONTACT_ERROR_POINTS, graded_at=singular_vertices(case, mesh))
         self.q = q
         self.T_contact = q.T[:, problem.contact_dofs].tocsr()
         self.obstacle = at_points(case.gap, mesh, q)
         self.load = at_points(case.contact_load, mesh, q)
         self.element_of_edge = problem.trace.volumes
-        # Laplace(u_h) is constant on each element (P2; zero for P1), so with f_T the mean of f
-        #   h_T^2 ||f + Laplace(u_h)||_T^2 = h_T^2 ||f - f_T||_T^2 + h_T^2 |T| (f_T + Laplace_T)^2,
-        # the first term (the data's oscillation) made once per mesh for all methods, the second
-        # per solution from one number per element, without cancellation
-        h = ngs.specialcf.mesh_size
-
-        def moment(cf, order=VOLUME_ORDER):
-            return np.array(ngs.Integrate(cf, mesh, ngs.VOL, order=order, element_wise=True).NumPy())
-        self.area = moment(ngs.CF(1.0), 0)
-        self.h2 = moment(h * h, 0)
-        self.mean_f = np.zeros(mesh.ne) if case.f_vanishes else moment(case.f) / self.area
-        self.oscillation = np.zeros(mesh.ne)
-        if not case.f_vanishes:
-            mean = ngs.GridFunction(ngs.L2(mesh, order=0))
-            mean.vec.FV().NumPy()[:] = self.mean_f
-            self.oscillation = moment(h * h * (case.f - mean) ** 2)
 
     def indicators(self, u: np.ndarray) -> np.ndarray:
         """eta_T^2 for every element of the mesh."""
-        mesh, case = self.problem.mesh, self.case
+        mesh, case, terms = self.problem.mesh, self.case, self.terms
         gfu = self.problem.gridfunction(u)
-        h = ngs.specialcf.mesh_size
-        n = ngs.specialcf.normal(mesh.dim)
-        laplace = 0.0
-        if self.problem.order > 1:
-            hesse = gfu.Operator("hesse")
-            laplace = ngs.Integrate((hesse[0] + hesse[3]) * ngs.dx(bonus_intorder=-3), mesh, element_wise=True).NumPy() / self.area
-        eta2 = self.oscillation + self.h2 * (self.mean_f + laplace) ** 2
-        flux = ngs.grad(gfu) * n
-        jump = flux - ngs.grad(gfu).Other() * n
-        jumps = (0.5 * h * self.interior * jump**2).Compile() * ngs.dx(element_boundary=True)
-        eta2 += ngs.Integrate(jumps, mesh, element_wise=True).NumPy()
+        eta2 = terms.volume_and_jumps(gfu, self.problem.order)
         # on the triangles along Gamma_g only (on a boundary element NGSolve's grad is the
         # tangential one: the normal derivative needs the triangle's side)
-        neumann = h * self.neumann * (case.neumann_data(n) - flux) ** 2 * \
-            ngs.dx(element_boundary=True, bonus_intorder=2, definedonelements=self.along_neumann)
+        h = ngs.specialcf.mesh_size
+        n = ngs.specialcf.normal(mesh.dim)
+        neumann = h * terms.neumann * (case.neumann_data(n) - ngs.grad(gfu) * n) ** 2 * \
+            ngs.dx(element_boundary=True, bonus_intorder=2, definedonelements=terms.along_neumann)
         eta2 += ngs.Integrate(neumann, mesh, element_wise=True).NumPy()
         np.add.at(eta2, self.element_of_edge, self.contact_terms(u))
         return np.maximum(eta2, 0.0)

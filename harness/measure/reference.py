@@ -179,7 +179,7 @@ class ReferenceErrors:
 
     def _begin(self, level: int, mesh: ngs.Mesh, problems: dict) -> None:
         self._number(level, mesh)
-        self.pressure = {order: DiscretePressure(problem) for order, problem in problems.items()}
+        self.pressure = {order: DiscretePressure.of(problem) for order, problem in problems.items()}
         self.norms = {}
         for order, problem in problems.items():
             if (level, order) in self.reference_orders:

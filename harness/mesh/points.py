@@ -70,11 +70,17 @@ _LOCATED: "OrderedDict[tuple, tuple]" = OrderedDict()
 _LOCATED_KEPT = 8
 
 
+def mesh_key(mesh: ngs.Mesh) -> tuple:
+    """What identifies a mesh in a cache. A mesh refined in place keeps its id, and under local
+    refinement (``mesh.bisection``) a point set can stay the same while the elements holding the
+    points change: the key holds the refinement count and the element count too. (A cache
+    keeps the mesh itself beside what it made, so that an id is not reused.)"""
+    return (id(mesh), mesh.levels, mesh.ne)
+
+
 def _key(mesh: ngs.Mesh, flat: np.ndarray) -> tuple:
-    """The cache key of a point set in a mesh. A mesh refined in place keeps its id, and under
-    local refinement (``mesh.bisection``) a point set can stay the same while the elements
-    holding the points change: the key holds the refinement count and the element count too."""
-    return (id(mesh), mesh.levels, mesh.ne, flat.shape, hashlib.blake2b(flat.tobytes(), digest_size=16).digest())
+    """The cache key of a point set in a mesh (``mesh_key``)."""
+    return mesh_key(mesh) + (flat.shape, hashlib.blake2b(flat.tobytes(), digest_size=16).digest())
 
 
 def located(mesh: ngs.Mesh, points: np.ndarray) -> np.ndarray:

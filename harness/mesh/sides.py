@@ -1,0 +1,89 @@
+"""The sides of a 2D mesh as arrays: for every triangle its three sides (vertices, outward
+normal, length), and every interior edge as the pair of (triangle, side) that share it. What a
+residual estimator's flux jumps need, made from the vertex and cell tables in numpy, without a
+loop over NGSolve's element objects."""
+from __future__ import annotations
+
+from collections import OrderedDict
+from dataclasses import dataclass
+
+import ngsolve as ngs
+import numpy as np
+
+from .points import cells, coordinates, mesh_key
+
+# side s of a triangle joins its local vertices s and s + 1 (mod 3)
+SIDE_ENDS = np.array([[0, 1], [1, 2], [2, 0]])
+_MADE: OrderedDict = OrderedDict()
+_KEPT = 2
+
+
+@dataclass(frozen=True)
+class MeshSides:
+    """Sides of the triangles of one 2D mesh."""
+
+    cells: np.ndarray          # (ne, 3) vertex numbers, NGSolve's order
+    corners: np.ndarray        # (ne, 3, 2) vertex coordinates
+    area: np.ndarray           # (ne,)
+    normals: np.ndarray        # (ne, 3, 2) outward unit normal of each side
+    lengths: np.ndarray        # (ne, 3)
+    interior: np.ndarray       # (k, 2, 2) the two (element, side) of each interior edge
+    boundary: np.ndarray       # (b, 2) the (element, side) of each boundary edge
+
+    @classmethod
+    def of(cls, mesh: ngs.Mesh) -> "MeshSides":
+        """The sides of ``mesh`` (made once for the problems of both orders on one mesh: the
+        last few are kept, keyed as ``points`` keys its point sets)."""
+        key = mesh_key(mesh)
+        hit = _MADE.get(key)
+        if hit is not None and hit[0] is mesh:
+            return hit[1]
+        made = cls._make(mesh)
+        _MADE[key] = (mesh, made)
+        while len(_MADE) > _KEPT:
+            _MADE.popitem(last=False)
+        return made
+
+    @classmethod
+    def _make(cls, mesh: ngs.Mesh) -> "MeshSides":
+        if mesh.dim != 2:
+            raise ValueError("MeshSides is for 2D meshes")
+        table, xy = cells(mesh), coordinates(mesh)
+        corners = xy[table]
+        ends = table[:, SIDE_ENDS]                                            # (ne, 3, 2)
+        tangent = corners[:, [1, 2, 0]] - corners                             # side s: x_{s+1} - x_s
+        lengths = np.linalg.norm(tangent, axis=2)
+        normals = np.stack([tangent[..., 1], -tangent[..., 0]], axis=2) / lengths[..., None]
+        # outward: away from the vertex opposite the side (local vertex s + 2)
+        inward = np.einsum("esd,esd->es", normals, corners[:, [2, 0, 1]] - corners) > 0
+        normals[inward] *= -1
+        edge_ab = corners[:, 1] - corners[:, 0]
+        edge_ac = corners[:, 2] - corners[:, 0]
+        area = 0.5 * np.abs(edge_ab[:, 0] * edge_ac[:, 1] - edge_ab[:, 1] * edge_ac[:, 0])
+        key = (ends.min(axis=2) * mesh.nv + ends.max(axis=2)).ravel()
+        order = np.argsort(key, kind="stable")
+        sorted_key = key[order]
+        paired = np.flatnonzero(sorted_key[1:] == sorted_key[:-1])
+        single = np.ones(len(key), bool)
+        single[paired] = single[paired + 1] = False
+        pairs = np.stack([order[paired], order[paired + 1]], axis=1)          # flat (element * 3 + side)
+        lone = order[single]
+        return cls(table, corners, area, normals, lengths,
+                   np.stack([pairs // 3, pairs % 3], axis=2), np.stack([lone // 3, lone % 3], axis=1))
+
+    def side_vertices(self, elements: np.ndarray, sides: np.ndarray) -> np.ndarray:
+        """(..., 2) vertex numbers at the two ends of side ``sides`` of ``elements``."""
+        return self.cells[elements[..., None], SIDE_ENDS[sides]]
+
+    def vertex_points(self, mesh: ngs.Mesh) -> np.ndarray:
+        """NGSolve mesh points at the three vertices of every triangle (element e's vertex k at
+        index 3e + k; local coordinates (1, 0), (0, 1), (0, 0) in NGSolve's reference triangle),
+        for evaluating volume functions -- gradients included -- there without a search."""
+        ne = len(self.cells)
+        template = mesh(np.array([self.corners[0, 0, 0]]), np.array([self.corners[0, 0, 1]]))
+        points = np.zeros(3 * ne, dtype=template.dtype)
+        points["x"] = np.tile([1.0, 0.0, 0.0], ne)
+        points["y"] = np.tile([0.0, 1.0, 0.0], ne)
+        points["meshptr"], points["VorB"], points["facetnr"] = template["meshptr"][0], 0, -1
+        points["nr"] = np.repeat(np.arange(ne), 3)
+        return points
