@@ -21,11 +21,15 @@ test-full: $(STAMP)
 lint: $(STAMP)
 	$(VENV)/bin/ruff check harness cases tests
 
+# the report's jobs on one process per core (one NGSolve thread each); on one core, in this process
+WORKERS ?= $(shell nproc 2>/dev/null || echo 1)
+ENGINE  := $(if $(filter 1,$(WORKERS)),,--workers $(WORKERS))
+
 report: $(STAMP)
-	$(PY) -m harness report --profile default
+	$(PY) -m harness report --profile default $(ENGINE)
 
 report-fine: $(STAMP)
-	$(PY) -m harness report --profile fine
+	$(PY) -m harness report --profile fine $(ENGINE)
 
 bench: $(STAMP)
 	$(PY) -m harness bench

@@ -61,10 +61,13 @@ def selected_methods(args) -> list:
 
 
 def engine_of(args):
-    """Where the jobs run: --workers N (a LocalCluster), --scheduler ADDRESS, or this process."""
-    from .study import DaskEngine, InProcess
-    if args.workers or args.scheduler:
-        return DaskEngine(workers=args.workers, scheduler=args.scheduler, threads=args.threads)
+    """Where the jobs run: --workers N (N local processes), --scheduler ADDRESS (Dask), or this
+    process."""
+    from .study import DaskEngine, InProcess, LocalProcesses
+    if args.scheduler:
+        return DaskEngine(scheduler=args.scheduler, threads=args.threads)
+    if args.workers:
+        return LocalProcesses(args.workers, threads=args.threads)
     return InProcess(threads=args.threads)
 
 
@@ -274,7 +277,8 @@ def add_method_options(p) -> None:
 def add_engine_options(p) -> None:
     group = p.add_mutually_exclusive_group()
     group.add_argument("--workers", type=_positive_int, metavar="N",
-                       help="run the jobs (one per case and method) on a local Dask cluster of N worker processes")
+                       help="run the jobs (one per case, the largest split by order) on N local worker processes "
+                            "(until 0.3 a Dask LocalCluster: harness.study.DaskEngine(workers=N) in Python)")
     group.add_argument("--scheduler", metavar="ADDRESS",
                        help="run the jobs on an existing Dask cluster, e.g. tcp://10.0.0.1:8786 (see README)")
     p.add_argument("--threads", type=_positive_int, metavar="T",
@@ -352,7 +356,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "adaptive rows, or "
                         "only the report's profile (not part of the default run: a whole `make report` per variant)")
     p.add_argument("--workers", type=_non_negative_int, action="append", metavar="N",
-                   help="with --only report: the variants, 0 = in this process, N = N local Dask workers "
+                   help="with --only report: the variants, 0 = in this process, N = N local worker processes "
                         "(repeatable; default 0; ratios against the first)")
     p.add_argument("--out", default="results/bench.csv", metavar="CSV",
                    help="the solver table; the study row goes beside it, as <name>_study.csv")
@@ -364,8 +368,9 @@ def main(argv=None) -> int:
     """Every failure ends as one line on stderr and a non-zero exit: 2 for bad input (before
     anything on disk is touched), 1 for a run that failed; ``--debug`` (anywhere on the line)
     lets the exception through with its traceback."""
-    from .study.engines import SchedulerUnreachable
+    from .study.dask_engine import SchedulerUnreachable
     from .study.files import OutputError
+    from .study.processes import WorkerDied
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     argv = [arg for arg in argv if arg != "--debug"]
@@ -377,7 +382,7 @@ def main(argv=None) -> int:
             raise
         print(f"harness: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except SchedulerUnreachable as exc:
+    except (SchedulerUnreachable, WorkerDied) as exc:
         if debug:
             raise
         print(f"harness: error: {exc}", file=sys.stderr)

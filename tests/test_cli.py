@@ -172,8 +172,8 @@ def test_a_case_file_that_exits_or_raises_at_import_is_one_line_naming_file_and_
 
 def test_an_unreachable_scheduler_is_one_line_within_its_timeout(tmp_path, capsys, monkeypatch):
     from harness import cli
-    from harness.study import engines
-    monkeypatch.setattr(engines, "SCHEDULER_TIMEOUT", 1)
+    from harness.study import dask_engine
+    monkeypatch.setattr(dask_engine, "SCHEDULER_TIMEOUT", 1)
     code = cli.main(["run", "--case", "transition-r32", "--method", "nodal", "--levels", "1", "--out", str(tmp_path),
                      "--scheduler", "tcp://127.0.0.1:1", "--quiet"])
     assert code == 1

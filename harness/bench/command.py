@@ -1,6 +1,7 @@
 """The `bench` command: runs the benchmark tables, writes each as CSV and prints the goals."""
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pandas as pd
@@ -47,7 +48,7 @@ def run_bench_command(args) -> int:
               "where the report's time goes (first variant; study: work of each case's jobs):")
         _show(phases.reset_index(), write_bench(phases.reset_index(), out.with_name(out.stem + "_report_phases.csv")),
               "the study's seconds by case and phase:")
-        lines += report_goals(frame)
+        lines += report_goals(frame, os.cpu_count())
     for goal, met, figure in lines:
         print(f"[{'met' if met else 'MISSED'}] {goal}: {figure}")
     return 0

@@ -19,9 +19,9 @@ REPORT_BENCH_COLUMNS = ["engine", "workers", "wall_seconds", "peak_rss_mb", "spe
 
 def _measure_report(workers: int, profile: str, cases, levels, connection) -> None:
     from ..report.build import make_report
-    from ..study import DaskEngine, InProcess
+    from ..study import InProcess, LocalProcesses
 
-    engine = DaskEngine(workers=workers) if workers else InProcess()
+    engine = LocalProcesses(workers) if workers else InProcess()
     with tempfile.TemporaryDirectory(prefix="harness-bench-report-") as folder:
         start = time.perf_counter()
         try:
@@ -40,12 +40,12 @@ def _measure_report(workers: int, profile: str, cases, levels, connection) -> No
 def run_report_bench(workers=(0,), profile: str = "default", progress=print, cases=None,
                      levels: int | None = None) -> tuple[pd.DataFrame, pd.DataFrame]:
     """(one row per variant: wall seconds, peak RSS, speedup over the first; the first
-    variant's profile rows). ``workers``: 0 for this process, N for N local Dask workers;
+    variant's profile rows). ``workers``: 0 for this process, N for N local worker processes;
     ``cases``, ``levels``: a smaller report than the profile's (tests)."""
     from .solvers import in_fresh_process
     rows, profile_rows = [], None
     for count in workers:
-        progress(f"report ({'in process' if not count else f'{count} Dask workers'}) ...")
+        progress(f"report ({'in process' if not count else f'{count} local processes'}) ...")
         out = in_fresh_process(_measure_report, (count, profile, cases, levels), f"the {profile} report")
         profile_rows = profile_rows if profile_rows is not None else pd.DataFrame(out.pop("profile"))
         out.pop("profile", None)
@@ -63,15 +63,17 @@ def profile_tables(profile_rows: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFra
     return sections, by_phase(profile_rows)
 
 
-def report_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
-    """Issue 28's goals: the default report within 5 minutes and 3 GB on 2 cores; 2 Dask workers
-    at least 1.2x faster than this process."""
+def report_goals(frame: pd.DataFrame, make_workers: int | None = None) -> list[tuple[str, bool, str]]:
+    """Issue 28's goals: ``make report`` (the variant with ``make_workers`` workers, the
+    Makefile's one per core; else the first) within 5 minutes and 3 GB per process on 2 cores;
+    2 local processes at least 1.2x faster than this process."""
     out = []
-    first = frame.iloc[0]
-    out.append(("make report <= 5 min", first.wall_seconds <= 300, f"{first.wall_seconds:.0f} s ({first.engine})"))
-    out.append(("make report peak RSS <= 3 GB", first.peak_rss_mb <= 3 * 1024, f"{first.peak_rss_mb:.0f} MB"))
+    chosen = frame[frame.workers == make_workers] if make_workers is not None else frame.iloc[:0]
+    made = (chosen if len(chosen) else frame).iloc[0]
+    out.append(("make report <= 5 min", made.wall_seconds <= 300, f"{made.wall_seconds:.0f} s ({made.engine})"))
+    out.append(("make report peak RSS <= 3 GB (largest process)", made.peak_rss_mb <= 3 * 1024, f"{made.peak_rss_mb:.0f} MB"))
     for row in frame.iloc[1:].itertuples():
-        goal = f"report on {row.workers} Dask workers against in process"
+        goal = f"report on {row.workers} local processes against the first variant"
         out.append((goal + (" >= 1.2x" if row.workers == 2 else " (shown)"), row.speedup >= 1.2 or row.workers != 2,
                     f"{row.wall_seconds:.0f} s, {row.speedup:.2f}x"))
     return out

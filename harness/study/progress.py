@@ -133,3 +133,26 @@ def relay(progress: StudyProgress):
         _timestamp, (name, *args) = event
         calls[name](*args)
     return handler
+
+
+class QueueProgress:
+    """What a study running in a local worker process (``processes.LocalProcesses``) says to the
+    client's ``StudyProgress``: each call goes on a queue the client drains."""
+
+    def __init__(self, queue, scope: str = ""):
+        self.queue, self.scope = queue, scope
+
+    def solving(self, case, *args) -> None:
+        self.queue.put(("solving", self.scope + case, *args))
+
+    def solved(self, case, *args) -> None:
+        self.queue.put(("solved", self.scope + case, *args))
+
+    def restored(self, case, *args) -> None:
+        self.queue.put(("restored", self.scope + case, *args))
+
+
+def replay(progress: StudyProgress, message: tuple) -> None:
+    """One ``QueueProgress`` message on ``progress``."""
+    name, *args = message
+    getattr(progress, name)(*args)
