@@ -1,5 +1,5 @@
-"""Running studies (issue 17): Dask workers give the serial results bit for bit, a study killed
-at any moment (the process with SIGKILL, a Dask worker mid-job) continues from its last finished
+"""Running studies (issue 17): local worker processes and Dask workers give the serial results
+bit for bit, a study killed at any moment (the process with SIGKILL, a worker mid-job) continues from its last finished
 level with the same results, a study that cannot fit is refused at once, and one progress bar
 counts every level once."""
 from __future__ import annotations
@@ -21,10 +21,11 @@ from harness.fem.assembly import discretise
 from harness.mesh.levels import mesh_hierarchy
 from harness.methods import methods_named
 from harness.problem.case import load_case, registered_cases
-from harness.study import DaskEngine, InProcess, budget, run_study
+from harness.study import DaskEngine, InProcess, LocalProcesses, budget, run_study
 from harness.study.budget import BudgetError, LevelSizes, estimate
 from harness.study.checkpoint import CheckpointStore
-from harness.study.engines import chains
+from harness.study.engines import chains, study_weights
+from harness.study.files import write_csv
 from harness.study.progress import StudyProgress
 
 REPOSITORY = Path(__file__).resolve().parents[1]
@@ -217,13 +218,18 @@ def test_run_killed_after_its_second_level_resumes_to_the_same_csv(tmp_path):
     assert not (out / ".checkpoints").exists()      # forgotten once the results are written
 
 
-def test_two_dask_workers_give_the_serial_results_bit_for_bit():
-    """A real LocalCluster: jobs on two worker processes (transition-r32 whole, smooth-obstacle,
-    the larger, split by order), against one process running every method of a case on shared
-    levels -- an exact case and a case measured against references, every method."""
+ENGINES = {"local processes": lambda: LocalProcesses(2), "Dask LocalCluster": lambda: DaskEngine(workers=2)}
+
+
+@pytest.mark.parametrize("engine_name", list(ENGINES))
+def test_two_workers_give_the_serial_results_bit_for_bit(engine_name):
+    """Two worker processes, local or a real Dask LocalCluster (transition-r32 whole,
+    smooth-obstacle, the larger, split by order), against one process running every method of
+    a case on shared levels -- an exact case and a case measured against references, every
+    method."""
     cases, methods = [load_case("transition-r32"), load_case("smooth-obstacle")], methods_named(["all"])
     serial = run_study(cases, methods, 3, show_progress=False, engine=InProcess(threads=1))
-    engine = DaskEngine(workers=2)
+    engine = ENGINES[engine_name]()
     jobs = engine.split(chains(cases, methods, 3))
     assert [(job.case.name, {m.order for m in job.methods}) for job in jobs] == \
         [("transition-r32", {1, 2}), ("smooth-obstacle", {2}), ("smooth-obstacle", {1})]
@@ -232,6 +238,41 @@ def test_two_dask_workers_give_the_serial_results_bit_for_bit():
     finally:
         engine.close()
     assert_same_results(serial, distributed)
+
+
+def test_local_processes_report_every_solve_to_the_one_bar():
+    """Workers' solves reach the client's bar over the queue: every level counted, once."""
+    cases, methods = [load_case("transition-r32"), load_case("wedge-r23")], methods_named(["nodal", "p1"])
+    progress = StudyProgress(study_weights(cases, methods, 3), show=False)
+    run_study(cases, methods, 3, progress=progress, engine=LocalProcesses(2))
+    assert progress.count == progress.total and len(progress.done) == 2 * (3 + 4)
+
+
+def test_a_killed_local_worker_is_one_line_and_the_same_command_resumes(tmp_path):
+    """SIGKILL of a worker process of `run --workers 2` mid-study: the run stops with one line
+    naming the job and exit 1, writes no results file, and the same command resumes from the
+    checkpoints with the serial study's rows."""
+    import psutil
+    args = ["run", "--case", "transition-r32", "--method", "nodal", "--method", "p1", "--levels", "6", "--workers", "2"]
+    out = tmp_path / "killed"
+    process = subprocess.Popen(harness_command(*args, "--out", str(out), "--quiet"), cwd=REPOSITORY,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 120
+    while not any(level >= 3 for level in saved_levels(out).values()):
+        assert process.poll() is None and time.time() < deadline, "the run ended before its third level was saved"
+        time.sleep(0.01)
+    workers = [child for child in psutil.Process(process.pid).children(recursive=True) if "spawn_main" in " ".join(child.cmdline())]
+    os.kill(workers[-1].pid, signal.SIGKILL)
+    _, err = process.communicate(timeout=120)
+    assert process.returncode == 1 and len(err.strip().splitlines()) == 1, err
+    assert "a worker process died during transition-r32" in err and not (out / "results.csv").exists()
+    again = subprocess.run(harness_command(*args, "--out", str(out)), cwd=REPOSITORY, capture_output=True, text=True, timeout=300)
+    assert again.returncode == 0, again.stderr[-2000:]
+    assert "resumed after level" in again.stdout
+    serial = run_study([load_case("transition-r32")], methods_named(["nodal", "p1"]), 6, show_progress=False,
+                       engine=InProcess(threads=1))
+    write_csv(serial, tmp_path / "serial.csv")          # written as results.csv is (10 digits; empty text: NaN)
+    assert_same_results(pd.read_csv(tmp_path / "serial.csv"), pd.read_csv(out / "results.csv"))
 
 
 def test_a_killed_dask_worker_is_replaced_and_the_study_completes(tmp_path):

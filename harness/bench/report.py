@@ -14,7 +14,9 @@ import pandas as pd
 
 from ..study.timing import by_phase, by_section
 
-REPORT_BENCH_COLUMNS = ["engine", "workers", "wall_seconds", "peak_rss_mb", "speedup"]
+# job_seconds: the work of every job, summed over processes; jobs_wall: the wall time of the
+# jobs (their ratio: how busy the workers kept the cores); figures_wall: the figures' wall time
+REPORT_BENCH_COLUMNS = ["engine", "workers", "wall_seconds", "peak_rss_mb", "job_seconds", "jobs_wall", "figures_wall", "speedup"]
 
 
 def _measure_report(workers: int, profile: str, cases, levels, connection) -> None:
@@ -47,8 +49,11 @@ def run_report_bench(workers=(0,), profile: str = "default", progress=print, cas
     for count in workers:
         progress(f"report ({'in process' if not count else f'{count} local processes'}) ...")
         out = in_fresh_process(_measure_report, (count, profile, cases, levels), f"the {profile} report")
-        profile_rows = profile_rows if profile_rows is not None else pd.DataFrame(out.pop("profile"))
-        out.pop("profile", None)
+        own = pd.DataFrame(out.pop("profile"))
+        profile_rows = profile_rows if profile_rows is not None else own
+        jobs = own[own.phase.fillna("") != ""]
+        out |= {"job_seconds": jobs.seconds.sum(), "jobs_wall": own[own.section == "jobs (wall)"].seconds.sum(),
+                "figures_wall": own[own.section == "figures"].seconds.sum()}
         rows.append(out)
     frame = pd.DataFrame(rows, columns=REPORT_BENCH_COLUMNS[:-1])
     frame["speedup"] = frame.wall_seconds.iloc[0] / frame.wall_seconds

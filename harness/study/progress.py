@@ -104,55 +104,60 @@ def scoped(weights: dict, scope: str) -> dict:
     return {(scope + case, method, level): w for (case, method, level), w in weights.items()}
 
 
-class EventProgress:
-    """What a study running on a Dask worker says to the client's ``StudyProgress``: each call
-    becomes an event on ``topic`` (``relay`` replays it on the client)."""
+class RelayedProgress:
+    """What a study running in another process says to the client's ``StudyProgress``: each
+    call, its case under the job's ``scope``, goes to ``_send`` (one per kind of worker)."""
+
+    def __init__(self, scope: str = ""):
+        self.scope = scope
+
+    def _send(self, message: tuple) -> None:
+        raise NotImplementedError
+
+    def solving(self, case, *args) -> None:
+        self._send(("solving", self.scope + case, *args))
+
+    def solved(self, case, *args) -> None:
+        self._send(("solved", self.scope + case, *args))
+
+    def restored(self, case, *args) -> None:
+        self._send(("restored", self.scope + case, *args))
+
+
+class EventProgress(RelayedProgress):
+    """On a Dask worker: each call becomes an event on ``topic`` (``relay`` replays it on the
+    client)."""
 
     def __init__(self, topic: str, scope: str = ""):
-        self.topic, self.scope = topic, scope
+        super().__init__(scope)
+        self.topic = topic
 
-    def _send(self, name, case, *args) -> None:
+    def _send(self, message: tuple) -> None:
         from distributed import get_worker
-        get_worker().log_event(self.topic, (name, self.scope + case, *args))
-
-    def solving(self, *args) -> None:
-        self._send("solving", *args)
-
-    def solved(self, *args) -> None:
-        self._send("solved", *args)
-
-    def restored(self, *args) -> None:
-        self._send("restored", *args)
+        get_worker().log_event(self.topic, message)
 
 
 def relay(progress: StudyProgress):
     """A ``Client.subscribe_topic`` handler replaying ``EventProgress`` events on ``progress``."""
-    calls = {"solving": progress.solving, "solved": progress.solved, "restored": progress.restored}
-
     def handler(event) -> None:
-        _timestamp, (name, *args) = event
-        calls[name](*args)
+        _timestamp, message = event
+        replay(progress, message)
     return handler
 
 
-class QueueProgress:
-    """What a study running in a local worker process (``processes.LocalProcesses``) says to the
-    client's ``StudyProgress``: each call goes on a queue the client drains."""
+class QueueProgress(RelayedProgress):
+    """In a local worker process (``processes.LocalProcesses``): each call goes on a queue the
+    client drains (``replay``)."""
 
     def __init__(self, queue, scope: str = ""):
-        self.queue, self.scope = queue, scope
+        super().__init__(scope)
+        self.queue = queue
 
-    def solving(self, case, *args) -> None:
-        self.queue.put(("solving", self.scope + case, *args))
-
-    def solved(self, case, *args) -> None:
-        self.queue.put(("solved", self.scope + case, *args))
-
-    def restored(self, case, *args) -> None:
-        self.queue.put(("restored", self.scope + case, *args))
+    def _send(self, message: tuple) -> None:
+        self.queue.put(message)
 
 
 def replay(progress: StudyProgress, message: tuple) -> None:
-    """One ``QueueProgress`` message on ``progress``."""
+    """One ``RelayedProgress`` message on ``progress``."""
     name, *args = message
     getattr(progress, name)(*args)
