@@ -115,6 +115,13 @@ def in_elements(mesh: ngs.Mesh, points: np.ndarray, elements: np.ndarray) -> Non
     corners = coordinates(mesh)[cells(mesh)[owners]]                  # (n, dim + 1, dim)
     edges = corners[:, :-1] - corners[:, -1:]                         # from the last vertex
     local = np.linalg.solve(np.swapaxes(edges, 1, 2), (flat - corners[:, -1])[..., None])[..., 0]
+    # inside the closed element, in floating point: a point on a side (a Gamma_C Gauss point)
+    # must map back onto it, not 1e-17 outside -- NGSolve maps with the last coordinate
+    # 1 - sum(local), and a case's u may have a branch cut on Gamma_C (atan2(y, x) at y = -0.0
+    # is -pi, at y = 0 pi: transition-r32's u changed sign there)
+    np.maximum(local, 0.0, out=local)
+    for k in range(1, mesh.dim):
+        local[:, k] = np.minimum(local[:, k], 1.0 - local[:, :k].sum(axis=1))
     template = mesh(*flat[:1].T)                  # one search: the record layout and the mesh pointer
     found = np.zeros(len(flat), dtype=template.dtype)
     for k, name in enumerate("xyz"[:mesh.dim]):
