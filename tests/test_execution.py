@@ -195,7 +195,7 @@ def test_an_interrupted_study_resumes_from_its_checkpoints_with_the_same_rows(tm
 def test_run_killed_after_its_second_level_resumes_to_the_same_csv(tmp_path):
     """SIGKILL of `run` as soon as its second level is durable; the same command again continues
     from there and writes the CSV of an uninterrupted run."""
-    args = ["run", "--case", "transition-r32", "--method", "nodal", "--levels", "7", "--threads", "1"]
+    args = ["run", "--case", "transition-r32", "--method", "nodal", "--levels", "6", "--threads", "1"]
     subprocess.run(harness_command(*args, "--out", str(tmp_path / "whole"), "--quiet"), check=True, cwd=REPOSITORY,
                    capture_output=True, timeout=300)
     out = tmp_path / "killed"
@@ -209,7 +209,7 @@ def test_run_killed_after_its_second_level_resumes_to_the_same_csv(tmp_path):
     process.wait(timeout=30)
     assert not (out / "results.csv").exists()
     (killed_at,) = saved_levels(out).values()
-    assert 2 <= killed_at < 7
+    assert 2 <= killed_at < 6
     again = subprocess.run(harness_command(*args, "--out", str(out)), cwd=REPOSITORY, capture_output=True, text=True,
                            timeout=300)
     assert again.returncode == 0, again.stderr[-2000:]
@@ -248,6 +248,7 @@ def test_local_processes_report_every_solve_to_the_one_bar():
     assert progress.count == progress.total and len(progress.done) == 2 * (3 + 4)
 
 
+@pytest.mark.slow          # 25 s; make test resumes a killed run (test_run_killed_after_its_second_level...)
 def test_a_killed_local_worker_is_one_line_and_the_same_command_resumes(tmp_path):
     """SIGKILL of a worker process of `run --workers 2` mid-study: the run stops with one line
     naming the job and exit 1, writes no results file, and the same command resumes from the
@@ -275,6 +276,7 @@ def test_a_killed_local_worker_is_one_line_and_the_same_command_resumes(tmp_path
     assert_same_results(pd.read_csv(tmp_path / "serial.csv"), pd.read_csv(out / "results.csv"))
 
 
+@pytest.mark.slow          # 19 s; as above
 def test_a_killed_dask_worker_is_replaced_and_the_study_completes(tmp_path):
     """SIGKILL of the worker running p1's chain while it solves its finest level: Dask reruns
     the job, which resumes from its checkpoint; nothing is missing and every row is the serial

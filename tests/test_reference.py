@@ -45,10 +45,10 @@ def test_prolongation_reproduces_the_coarse_function_exactly(order, rng):
 
 @pytest.fixture(scope="module")
 def exact_and_reference():
-    """transition-r32, 4 levels, every method: errors against u, and against k = 2."""
+    """transition-r32, 3 levels (P1: 4), every method: errors against u, and against k = 2."""
     case = registered_cases()["transition-r32"]
-    exact = run(case, methods="all", levels=4, show_progress=False)
-    reference = run(case.with_reference(2), methods="all", levels=4, show_progress=False)
+    exact = run(case, methods="all", levels=3, show_progress=False)
+    reference = run(case.with_reference(2), methods="all", levels=3, show_progress=False)
     return exact, reference
 
 
