@@ -18,8 +18,8 @@ def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_le
         models=None, engine=None, checkpoints=None, meshes="uniform") -> pd.DataFrame:
     """Run a convergence study; ``cases`` are names, paths or Case objects (or one of them);
     ``methods`` names, groups ('paper' = mean + nodal) or 'all' (``models`` is the old name:
-    'all' there means the paper's two models). ``engine``: ``harness.study.DaskEngine(workers=2)``
-    or ``DaskEngine(scheduler="tcp://...")`` to run on Dask (default: this process);
+    'all' there means the paper's two models). ``engine``: ``harness.study.LocalProcesses(2)`` (local
+    processes), ``DaskEngine(scheduler="tcp://...")`` to run on Dask (default: this process);
     ``checkpoints``: a folder that makes every finished level durable (run again to resume).
     ``meshes``: a mesh strategy or a list of them -- "uniform" (the default), "graded",
     "adaptive" (or "adaptive:theta=0.3"), "all" (``harness.mesh.strategies``); each case runs on

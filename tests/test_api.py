@@ -8,7 +8,7 @@ import pytest
 import harness
 from harness.measure.rates import rate_table
 from harness.methods.base import LevelSolve
-from harness.study import DaskEngine, InProcess
+from harness.study import DaskEngine, InProcess, LocalProcesses
 
 E = inspect.Parameter.empty
 # parameter names and defaults, in order (annotations are strings under `from __future__ import annotations`)
@@ -33,6 +33,7 @@ def test_the_api_readme_shows_exists_with_its_signatures():
             assert [(p.name, p.default) for p in parameters] == expected, function.__name__
     assert {"workers", "scheduler", "threads"} <= set(inspect.signature(DaskEngine).parameters)
     assert "threads" in inspect.signature(InProcess).parameters
+    assert {"workers", "threads"} <= set(inspect.signature(LocalProcesses).parameters)
     assert set(harness.__all__) >= {"run", "cases", "case_table", "method_table", "load_case", "registered_cases",
                                     "Case", "CaseError", "METHODS", "methods_named"}
 
