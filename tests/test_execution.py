@@ -221,7 +221,8 @@ def test_run_killed_after_its_second_level_resumes_to_the_same_csv(tmp_path):
 ENGINES = {"local processes": lambda: LocalProcesses(2), "Dask LocalCluster": lambda: DaskEngine(workers=2)}
 
 
-@pytest.mark.parametrize("engine_name", list(ENGINES))
+# the Dask LocalCluster (7 s) in the slow tier: make report and --workers run on local processes
+@pytest.mark.parametrize("engine_name", ["local processes", pytest.param("Dask LocalCluster", marks=pytest.mark.slow)])
 def test_two_workers_give_the_serial_results_bit_for_bit(engine_name):
     """Two worker processes, local or a real Dask LocalCluster (transition-r32 whole,
     smooth-obstacle, the larger, split by order), against one process running every method of
