@@ -120,8 +120,8 @@ class InProcess:
     """The study in this process: one job per case, its methods sharing each level. NGSolve's
     task manager runs assembly, integration and sparse factorisations on every core; the
     multigrid's Gauss-Seidel smoothing and the Python of the solvers and the errors run on one
-    (measured: a 2D case's chain is 1.27x faster on 2 threads than on 1, where two chains on
-    two 1-thread processes finish 1.9x sooner than one after the other)."""
+    (measured: a 2D case's chain is 1.27x faster on 2 threads than on 1; the default report on
+    two 1-thread local processes, ``processes.LocalProcesses``, 1.25x faster than here)."""
 
     def __init__(self, threads: int | None = None):
         self.threads = threads
