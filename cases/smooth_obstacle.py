@@ -17,7 +17,7 @@ At a transition point of a straight Gamma_C with smooth data the leading singula
 r^{3/2} sin(3 theta/2) (Remark 2.2): u in H^{5/2 - eps}, nu = 5/2, and Theorems 4.1 ii / 5.1 ii
 give h^{3/2} for P2 with no assumption on the transitions.
 
-Errors: against each method's own solution two levels finer (``reference_levels``).
+Errors: against the nodal P2 solution two levels finer (``reference_levels``).
 """
 from ngsolve import cos, pi, sin, x
 

@@ -9,7 +9,7 @@ from conftest import CONE_NAMES, WEAK_NAMES
 
 from harness import run
 from harness.measure.rates import rate_table
-from harness.measure.reference import LevelNumbering, norm_matrices, prolongation
+from harness.measure.reference import LevelNumbering, norm_matrices, prolongation, red_parents
 from harness.mesh.levels import coarse_mesh, mesh_hierarchy
 from harness.mesh.points import evaluate
 from harness.problem.case import CaseError, load_case, registered_cases
@@ -43,6 +43,20 @@ def test_prolongation_reproduces_the_coarse_function_exactly(order, rng):
     assert np.allclose(fine_norms, coarse_norms, rtol=1e-12)
 
 
+@pytest.mark.parametrize("case_name", ["transition-r32", "transition-circle-3d"])
+def test_parents_from_the_cells_are_netgens(case_name):
+    """A red refinement's parents of its new vertices read from the cell table (2D, and 3D's
+    tetrahedra; curved boundaries included) are those netgen gives one vertex at a time (netgen
+    keeps older levels' parents for the coarse vertices; the prolongation reads new ones only)."""
+    case, coarse_nv = load_case(case_name), 0
+    for _, mesh in mesh_hierarchy(case, 3):
+        netgen = np.sort(np.array([mesh.GetParentVertices(v) for v in range(mesh.nv)]).reshape(-1, 2), axis=1)
+        parents = red_parents(mesh, coarse_nv)
+        assert np.array_equal(np.sort(parents[coarse_nv:], axis=1), netgen[coarse_nv:])
+        assert (parents[:coarse_nv] == -1).all() and (coarse_nv or (netgen == -1).all())
+        coarse_nv = mesh.nv
+
+
 @pytest.fixture(scope="module")
 def exact_and_reference():
     """transition-r32, 3 levels (P1: 4), every method: errors against u, and against k = 2."""
@@ -52,20 +66,37 @@ def exact_and_reference():
     return exact, reference
 
 
-ERRORS = ["err_h1", "err_h1_semi", "err_l2", "err_trace_l2", "err_pressure_l2", "err_pressure_h12"]
+VOLUME_AND_TRACE = ["err_h1", "err_h1_semi", "err_l2", "err_trace_l2"]
+PRESSURE = ["err_pressure_l2", "err_pressure_h12"]
 
 
 @pytest.mark.parametrize("method", CONE_NAMES + WEAK_NAMES)
-def test_errors_against_a_reference_two_levels_finer_agree_with_exact_errors(exact_and_reference, method):
-    """Issue 16's acceptance: within 15% on every level before the last (measured: 0.2% in H^1)."""
+def test_errors_against_the_nodal_reference_agree_with_exact_errors_on_every_level(exact_and_reference, method):
+    """One reference for every method, nodal P2 two levels finer: the H^1, L^2 and trace errors
+    within 1% of the exact ones on every level, the last included (Galerkin orthogonality: at
+    most the factor sqrt(1 - 4^-3) = 0.992 of a h^{3/2} method; measured 0.8% for nodal, 0.0%
+    for P1, whose errors are larger at the same dofs); the pressure, which orthogonality does
+    not cover, within 10% (measured 7.4%, Nitsche's finest level). Each method's own solution
+    as the reference (harness 0.3.0) was off by up to 25% on penalty's finest level."""
     exact, reference = (frame[frame.method == method].sort_values("level") for frame in exact_and_reference)
     assert (reference.errors_against == "reference").all() and (exact.errors_against == "exact").all()
-    ratio = reference[ERRORS].values[:-1] / exact[ERRORS].values[:-1]
-    assert np.all(np.abs(ratio - 1) <= 0.15), ratio
-    # the reference solves are converged too, and a level's own columns do not depend on it
+    assert (reference.reference_method == "nodal").all()
+    assert np.all(np.abs(reference[VOLUME_AND_TRACE].values / exact[VOLUME_AND_TRACE].values - 1) <= 0.01)
+    assert np.all(np.abs(reference[PRESSURE].values / exact[PRESSURE].values - 1) <= 0.10)
+    # the reference solve is converged too, and a level's own columns do not depend on it
     assert (reference.reference_kkt_residual <= 1e-10).all() and (reference.reference_status == "converged").all()
     for column in ("active_constraints", "solver_iterations"):
         assert np.array_equal(reference[column].values, exact[column].values)
+
+
+@pytest.mark.parametrize("method", CONE_NAMES + WEAK_NAMES)
+def test_rates_against_the_nodal_reference_are_the_exact_rates(exact_and_reference, method):
+    """The fitted H^1 rate against the reference within 0.01 of the one against u (on the
+    default report's 6 levels, measured within 0.006 for every method; against their own
+    solutions penalty's was 0.16 too high and mean's and P1's 0.02-0.03: an inconsistent or
+    different method's own reference shares part of its error)."""
+    exact, reference = (rate_table(frame[frame.method == method]).fitted_rate.iloc[0] for frame in exact_and_reference)
+    assert reference == pytest.approx(exact, abs=0.01)
 
 
 def test_h1_error_against_a_reference_misses_only_the_reference_error(exact_and_reference):
@@ -75,12 +106,21 @@ def test_h1_error_against_a_reference_misses_only_the_reference_error(exact_and_
     assert reference.err_h1_semi.values[-1] / exact.err_h1_semi.values[-1] == pytest.approx(np.sqrt(1 - 4.0**-3), abs=0.01)
 
 
+def test_a_reference_case_run_without_nodal_solves_nodal_for_its_reference_alone():
+    """p1 alone on smooth-obstacle: the nodal chain runs to the reference level, and only p1's
+    rows come out, measured against it."""
+    frame = run("smooth-obstacle", methods="p1", levels=2, show_progress=False)
+    assert list(frame.method.unique()) == ["p1"] and len(frame) == 3
+    assert (frame.reference_method == "nodal").all() and (frame.reference_level == 1 + 2).all()
+    assert frame.err_h1.notna().all() and (frame.reference_kkt_residual <= 1e-10).all()
+
+
 @pytest.mark.parametrize("case_name", REFERENCE_CASES)
 def test_reference_case_rows_are_measured_against_a_converged_reference(case_name):
     frame = run(case_name, methods="paper", levels=4, show_progress=False)
     case = registered_cases()[case_name]
     assert (frame.errors_against == "reference").all()
-    assert (frame.reference_level == 3 + case.reference_levels).all()
+    assert (frame.reference_level == 3 + case.reference_levels).all() and (frame.reference_method == "nodal").all()
     assert (frame.kkt_residual <= 1e-10).all() and (frame.reference_kkt_residual <= 1e-10).all()
     assert frame.err_best_h1.isna().all()
     rates = rate_table(frame)

@@ -20,12 +20,15 @@ def _measure_study(methods: str, connection):
 
     frame = run_study(list(registered_cases(dimension=2).values()), methods_named(methods), PROFILES["default"]["levels"],
                       show_progress=False)
-    wall, solves = frame.attrs["wall_seconds"], float(frame.solve_seconds.sum())
+    # every contact solve the study makes: its rows', and the reference chains' (smooth-obstacle's
+    # reference solve alone is the largest of the study, and no row holds it)
+    wall, reference = frame.attrs["wall_seconds"], frame.attrs["reference_solve_seconds"]
+    solves = float(frame.solve_seconds.sum()) + reference
     phases = frame.attrs["phase_seconds"]
     connection.send({
         "methods": methods, "levels": PROFILES["default"]["levels"], "rows": len(frame),
         "finest_ndof": int(frame.ndof.max()),
-        "wall_seconds": wall, "solve_seconds": solves, "ratio": wall / solves,
+        "wall_seconds": wall, "solve_seconds": solves, "reference_solve_seconds": reference, "ratio": wall / solves,
         **{f"share_{phase}": seconds / wall for phase, seconds in phases.items()},
         "max_kkt_residual": float(frame.kkt_residual.max()),
         "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
@@ -35,7 +38,9 @@ def _measure_study(methods: str, connection):
 
 def measure_study() -> pd.DataFrame:
     """The `study` rows: the default profile with the paper's two methods (the measure of the
-    study-pipeline issue) and with every method (`make report`), each in a fresh process."""
+    study-pipeline issue) and with every method (`make report`), each in a fresh process. The
+    contact solves are all of them, the reference chains' included (``reference_solve_seconds``;
+    until harness 0.3.0 they counted as overhead)."""
     return pd.DataFrame([in_fresh_process(_measure_study, (methods,), f"the default study ({methods})")
                          for methods in ("paper", "all")])
 
@@ -48,9 +53,10 @@ def study_goals(study: pd.DataFrame) -> list[tuple[str, bool, str]]:
     out = []
     for row in study.to_dict("records"):
         shares = ", ".join(f"{k[len('share_'):]} {v:.0%}" for k, v in row.items() if k.startswith("share_"))
-        figure = f"{row['wall_seconds']:.1f} s / {row['solve_seconds']:.1f} s = {row['ratio']:.2f}x ({shares})"
+        figure = (f"{row['wall_seconds']:.1f} s / {row['solve_seconds']:.1f} s = {row['ratio']:.2f}x "
+                  f"(of the solves {row.get('reference_solve_seconds', 0.0):.1f} s in reference chains; {shares})")
         if row["methods"] == "paper":
-            out.append(("default study, paper methods: wall <= 3x the sum of its contact solves", row["ratio"] <= 3.0, figure))
+            out.append(("default study, paper methods: wall <= 2.5x the sum of its contact solves", row["ratio"] <= 2.5, figure))
         else:
             out.append((f"default study, methods {row['methods']}: wall / contact solves (shown)", True, figure))
         out.append((f"KKT residual <= 1e-10 in every row of the study ({row['methods']})", row["max_kkt_residual"] <= 1e-10,

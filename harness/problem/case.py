@@ -57,8 +57,8 @@ A *reference case* has no closed-form solution. It leaves out u and declares the
     f                      the volume load (required)
     dirichlet              u_D on Gamma_u, a CoefficientFunction (required)
     neumann                g = du/dn on Gamma_g, a CoefficientFunction (required)
-    reference_levels       k: every method's errors are measured against its own solution on
-                           the mesh k levels finer than the finest studied one (default 2)
+    reference_levels       k: every method's errors are measured against the nodal P2 solution
+                           on the mesh k levels finer than P2's finest studied one (default 2)
 
 gap and contact_load as above. ``python -m harness run --reference-levels K`` chooses k, and
 for an exact case measures against a reference instead of u (which checks the reference).

@@ -9,7 +9,7 @@ import os
 from dataclasses import dataclass
 
 from ..mesh.levels import coarse_mesh
-from .chain import chain_levels
+from .chain import chain_levels, chain_methods
 
 MB = 2.0**20
 
@@ -121,6 +121,7 @@ def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, p
     level, not by the count of solves). ``per_dof``: the solve's seconds per dof, if not the
     figure of the method's family (``SOLVE_SECONDS_PER_DOF``)."""
     from ..methods import WeakContact
+    methods = chain_methods(case, methods)
     chains = {m.name: chain_levels(case, m, levels) for m in methods}
     sizes = sizes or LevelSizes.of(case, max(chains.values()))
     physics, dim, components = case.physics.name, case.dimension, case.physics.components
@@ -138,6 +139,7 @@ def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, p
 
 def estimate(case, methods, levels: int, sizes: LevelSizes | None = None, per_dof: float | None = None) -> JobEstimate:
     """Peak memory and time of one job: ``methods`` on ``case`` (one process, shared levels)."""
+    methods = chain_methods(case, methods)
     chains = {m.name: chain_levels(case, m, levels) for m in methods}
     last = max(chains.values())
     sizes = sizes or LevelSizes.of(case, last)

@@ -15,10 +15,10 @@ from ..fem.assembly import discretise
 from ..fem.element_quadrature import ElementQuadrature
 from ..measure.errors import ExactErrors
 from ..measure.estimator import ResidualEstimator, estimate
-from ..measure.reference import ReferenceErrors
+from ..measure.reference import REFERENCE_METHOD, ReferenceErrors
 from ..mesh.levels import LevelSequence
 from ..mesh.strategies import MeshStrategy, element_budget
-from ..methods import Method, methods_for
+from ..methods import Method, get_method, methods_for
 from ..problem.case import Case
 from ..solvers.multigrid import Multilevel
 
@@ -33,6 +33,7 @@ COLUMNS = [
     # what the errors are measured against: "exact" (u), or "reference" (the method's solution
     # on level reference_level, with its KKT residual and status)
     "errors_against", "reference_level", "reference_ndof", "reference_kkt_residual", "reference_status",
+    "reference_method",
     # what `rates` needs to fit a results file on its own: the case and the method's theories
     "nu", "expected_rate", "expected_log_exponent", "reference",
     "sharper_rate", "sharper_log_exponent", "sharper_reference", "case_source",
@@ -79,10 +80,26 @@ def study_levels(method: Method, levels: int) -> int:
     return levels + method.extra_levels
 
 
+def is_reference(case: Case, method: Method) -> bool:
+    """Whether ``method`` solves ``case``'s reference (a case without u: ``REFERENCE_METHOD``)."""
+    return not case.exact and method.name == REFERENCE_METHOD
+
+
+def chain_methods(case: Case, methods: list[Method]) -> list[Method]:
+    """The methods a chain of ``case`` solves: those of ``methods`` that discretise it, and for
+    a case measured against a reference, the reference method (``measure.reference``) even if
+    it was not asked for: it then solves its levels for the reference alone, without rows."""
+    own = methods_for(case, methods)
+    if case.exact or any(m.name == REFERENCE_METHOD for m in own):
+        return own
+    return own + [get_method(REFERENCE_METHOD)]
+
+
 def chain_levels(case: Case, method: Method, levels: int) -> int:
-    """Levels a method solves for a case: its studied levels, then, for a case measured against
-    a reference, k more (nested iteration all the way; the last is the reference)."""
-    return study_levels(method, levels) + (0 if case.exact else case.reference_levels)
+    """Levels a method solves for a case: its studied levels, and for the method that solves a
+    case's reference, k more (nested iteration all the way; the last is the reference, with
+    4^k times the dofs of every method's finest studied level)."""
+    return study_levels(method, levels) + (case.reference_levels if is_reference(case, method) else 0)
 
 
 @dataclass
@@ -101,12 +118,14 @@ class ChainState:
 class ChainOutput:
     """What a chain of one case and some methods produced: its rows (level by level, methods in
     the order given), what ``on_level`` returned by (method name, level), the wall time of each
-    phase, and the level each method resumed from (0: it started afresh)."""
+    phase, the level each method resumed from (0: it started afresh), and the contact solve
+    seconds of the solves without a row (a reference chain's levels past the studied ones)."""
 
     rows: list[dict]
     kept: dict
     phases: dict
     resumed: dict
+    reference_solve_seconds: float = 0.0
 
 
 class _LevelHook_0_1:
@@ -177,24 +196,30 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
 
     Per level: one mesh, one discrete problem per finite element order shared by the methods
     of that order (the last of them takes its stiffness matrix), one error measurement for all:
-    ``errors.ExactErrors`` against u, or ``reference.ReferenceErrors`` against each method's
-    solution k levels finer (the rows of a method get their errors when it gets there).
+    ``errors.ExactErrors`` against u, or ``reference.ReferenceErrors`` against one reference
+    solution, k levels finer (``chain_methods``: the rows get their errors when it is solved).
     ``total_seconds`` of a row: what the level costs a user of that method alone -- the
     refinement, its order's assembly, its own set-up and solve; not the error measurement.
     """
     phases = phases or Phases()
-    methods = methods_for(case, methods)       # the weak methods are scalar and 2D only
+    requested = {m.name for m in methods_for(case, methods)}      # the weak methods are scalar and 2D only
+    methods = chain_methods(case, methods)
     sequence = sequence or mesh.sequence(case, max(m.order for m in methods))
     if sequence.adaptive:
-        if len(methods) != 1:
-            raise ValueError("an adaptive mesh serves one method: run one chain per method")
         if not case.exact:
             raise ValueError(f"case {case.name}: adaptive meshes need an exact case (reference errors need uniform refinement)")
+        if len(methods) != 1:
+            raise ValueError("an adaptive mesh serves one method: run one chain per method")
         # its meshes come from its solves: a killed adaptive chain starts again (no checkpoints)
         checkpoints = None
-    studied = {m.name: study_levels(m, levels) for m in methods}
+    studied = {m.name: study_levels(m, levels) if m.name in requested else 0 for m in methods}
     chain = {m.name: chain_levels(case, m, levels) for m in methods}
-    measure = ExactErrors(case, phases) if case.exact else ReferenceErrors(studied, {m.name: m.order for m in methods}, case.reference_levels, phases)
+    if case.exact:
+        measure = ExactErrors(case, phases)
+    else:
+        measure = ReferenceErrors(studied, {m.name: m.order for m in methods}, REFERENCE_METHOD,
+                                  chain[REFERENCE_METHOD] - 1, phases)
+    reference_fields, reference_solve_seconds = None, 0.0
     saved = {m.name: checkpoints.load(case, m) if checkpoints is not None else None for m in methods}
     start = {name: state.next_level if state else 0 for name, state in saved.items()}
     carry = {name: state.carry if state else None for name, state in saved.items()}
@@ -290,8 +315,10 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                         "errors_against": "exact" if case.exact else "reference",
                     }
                     method_rows[method.name].append(row)
-                elif level == chain[method.name] - 1:
-                    _reference_fields(method_rows[method.name], level, problem.ndof, solve.fields)
+                else:
+                    reference_solve_seconds += solve.fields["solve_seconds"]
+                    if is_reference(case, method) and level == chain[method.name] - 1:
+                        reference_fields = (level, problem.ndof, solve.fields)
                 with phases("errors"):
                     columns = measure.solved(method, level, problem, solve.u, row)
                 if row is not None:
@@ -308,20 +335,28 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
             for row in (rows[-1] for rows in method_rows.values() if rows and rows[-1]["level"] == level):
                 if row["errors_against"] == "exact":
                     row["effectivity"] = row["estimator"] / row["err_energy"]
-            for method in active:
+            # the reference level completes every method's rows: all are saved again, the
+            # reference method last (a kill in between leaves its level to be solved again)
+            saved_now = active
+            if reference_fields is not None:
+                for rows in method_rows.values():
+                    _reference_fields(rows, *reference_fields)
+                saved_now = sorted(methods, key=lambda m: is_reference(case, m))
+            for method in saved_now:
                 if checkpoints is not None:
                     checkpoints.save(case, method, ChainState(
-                        level + 1, method_rows[method.name], carry[method.name], measure.state_of(method.name),
+                        min(level + 1, chain[method.name]), method_rows[method.name], carry[method.name],
+                        measure.state_of(method.name),
                         {lev: value for (name, lev), value in kept.items() if name == method.name}))
     order = {m.name: k for k, m in enumerate(methods)}
     rows = sorted((row for name in method_rows for row in method_rows[name]), key=lambda r: (r["level"], order[r["method"]]))
-    return ChainOutput(rows, kept, phases.as_dict(), {name: start[name] for name in start})
+    return ChainOutput(rows, kept, phases.as_dict(), {name: start[name] for name in start}, reference_solve_seconds)
 
 
 def _reference_fields(rows: list[dict], level: int, ndof: int, fields: dict) -> None:
-    """What the rows of a method say about the reference they were measured against."""
+    """What the rows of a case without u say about the reference they were measured against."""
     for row in rows:
-        row.update({"reference_level": level, "reference_ndof": ndof,
+        row.update({"reference_level": level, "reference_ndof": ndof, "reference_method": REFERENCE_METHOD,
                     "reference_kkt_residual": fields["kkt_residual"], "reference_status": fields["status"]})
 
 

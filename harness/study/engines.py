@@ -170,10 +170,13 @@ SPLIT_SHARE = 0.5
 def split_large(jobs: list[Job], workers: int) -> list[Job]:
     """Jobs at the grain that pays on ``workers`` workers: whole cases (their methods share
     each level), and a case split by order where it alone would be more than ``SPLIT_SHARE``
-    of one worker's share of the work."""
+    of one worker's share of the work -- an exact case only: the methods of a case measured
+    against a reference wait for one reference solve (``chain.chain_methods``), which each
+    part would repeat."""
     seconds = [job.seconds for job in jobs]
     share = SPLIT_SHARE * sum(seconds) / max(1, workers)
-    return [part for job, t in zip(jobs, seconds) for part in (by_order(job) if t > share else [job])]
+    return [part for job, t in zip(jobs, seconds)
+            for part in (by_order(job) if t > share and job.case.exact else [job])]
 
 
 def largest_first(jobs: list[Job]) -> list[Job]:
@@ -227,7 +230,8 @@ def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=
     durable; a study started again with the same folder continues where it stopped.
     ``progress``: a bar shared with a larger run (else one is made). The frame's attrs: wall
     seconds, seconds per phase (summed over jobs), and the level each (case, method) chain
-    resumed from (0: it started afresh). ``meshes``: the mesh strategies
+    resumed from (0: it started afresh), the contact solve seconds of the reference chains'
+    solves (no row holds them). ``meshes``: the mesh strategies
     (``mesh.strategies``), each case on each that applies to it."""
     start = time.perf_counter()
     on_level = level_hook(on_level)
@@ -242,6 +246,7 @@ def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=
     frame = tidy(outputs, cases, methods, meshes)
     frame.attrs["wall_seconds"] = time.perf_counter() - start
     frame.attrs["phase_seconds"] = {phase: sum(o.phases.get(phase, 0.0) for o in outputs) for phase in Phases().as_dict()}
+    frame.attrs["reference_solve_seconds"] = sum(o.reference_solve_seconds for o in outputs)
     frame.attrs["resumed"] = {(job.case.name, name): level for job, output in done for name, level in output.resumed.items()}
     return frame
 
