@@ -9,7 +9,7 @@ from conftest import CONE_NAMES, WEAK_NAMES
 
 from harness import run
 from harness.measure.rates import rate_table
-from harness.measure.reference import LevelNumbering, norm_matrices, prolongation, red_parents
+from harness.measure.reference import LevelNumbering, edge_dofs_of_sides, norm_matrices, prolongation, red_parents
 from harness.mesh.levels import coarse_mesh, mesh_hierarchy
 from harness.mesh.points import evaluate
 from harness.problem.case import CaseError, load_case, registered_cases
@@ -55,6 +55,21 @@ def test_parents_from_the_cells_are_netgens(case_name):
         assert np.array_equal(np.sort(parents[coarse_nv:], axis=1), netgen[coarse_nv:])
         assert (parents[:coarse_nv] == -1).all() and (coarse_nv or (netgen == -1).all())
         coarse_nv = mesh.nv
+
+
+def test_edge_dofs_read_at_midpoints_are_ngsolves_element_dofs():
+    """Every triangle side's P2 edge dof, read from a numbered P2 function at the midpoints, is
+    the one NGSolve lists for that element and edge (on a mesh refined twice)."""
+    *_, (_, mesh) = mesh_hierarchy(load_case("transition-r32"), 3)
+    fes = ngs.H1(mesh, order=2)
+    pairs, edge_dofs = edge_dofs_of_sides(mesh, fes)
+    listed = {}
+    for element in fes.Elements(ngs.VOL):
+        vertices, edges = element.dofs[:3], element.dofs[3:]
+        for (a, b), dof in zip(((0, 2), (1, 2), (0, 1)), edges):
+            listed[tuple(sorted((vertices[a], vertices[b])))] = dof
+    assert len(pairs) == 3 * mesh.ne
+    assert all(listed[tuple(sorted(pair))] == dof for pair, dof in zip(pairs.tolist(), edge_dofs.tolist()))
 
 
 @pytest.fixture(scope="module")

@@ -73,10 +73,7 @@ class LevelNumbering:
         if not quadratic:
             return cls(nv, parents, np.zeros(0, np.int64), np.zeros(0, np.int64), 0)
         fes = ngs.H1(mesh, order=2)
-        dofs = np.array([el.dofs for el in fes.Elements(ngs.VOL)], dtype=np.int64)
-        triangles = dofs[:, :3]                        # vertex dofs are the vertex numbers
-        pairs = np.concatenate([triangles[:, list(e)] for e in TRIANGLE_EDGES])
-        edge_dofs = dofs[:, 3:].T.ravel()
+        pairs, edge_dofs = edge_dofs_of_sides(mesh, fes)
         pairs.sort(axis=1)
         keys, first = np.unique(pairs[:, 0] * nv + pairs[:, 1], return_index=True)
         return cls(nv, parents, keys, edge_dofs[first], fes.ndof)
@@ -91,6 +88,37 @@ class LevelNumbering:
         if not np.array_equal(self.edge_keys[np.minimum(where, len(self.edge_keys) - 1)], keys):
             raise RuntimeError("a vertex pair is no edge of the coarser mesh: the meshes are not nested")
         return self.edge_dofs[where]
+
+
+def edge_dofs_of_sides(mesh: ngs.Mesh, fes: ngs.H1) -> tuple[np.ndarray, np.ndarray]:
+    """((3 ne, 2) the end vertices of every side of every triangle, (3 ne,) the P2 edge dof of
+    each), without a loop over NGSolve's elements: a P2 function with zero vertex values and
+    edge coefficients 1, 2, 3, ... is c_e phi_e at the midpoint of edge e, where every edge's
+    bubble phi_e has the same value (a multiple of lambda_a lambda_b = 1/4); read there, at
+    mesh points made directly, it gives c_e. Vertex dofs are the vertex numbers, so the P2
+    dofs past nv are the edges' (checked: a mesh that breaks this raises)."""
+    nv, ndof = mesh.nv, fes.ndof
+    table = cells(mesh)
+    ne = len(table)
+    # NGSolve's reference triangle: local vertices at (1, 0), (0, 1), (0, 0)
+    local = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
+    midpoints = np.array([(local[a] + local[b]) / 2 for a, b in TRIANGLE_EDGES])
+    template = mesh(np.array([0.0]), np.array([0.0]))
+    points = np.zeros(3 * ne, dtype=template.dtype)
+    points["x"], points["y"] = np.tile(midpoints[:, 0], ne), np.tile(midpoints[:, 1], ne)
+    points["meshptr"], points["VorB"], points["facetnr"] = template["meshptr"][0], 0, -1
+    points["nr"] = np.repeat(np.arange(ne), 3)
+    numbered = ngs.GridFunction(fes)
+    values = numbered.vec.FV().NumPy()
+    values[:nv], values[nv:] = 0.0, np.arange(1, ndof - nv + 1)
+    label = np.asarray(numbered(points), dtype=float).ravel()
+    values[nv:] = 1.0
+    bubble = np.asarray(numbered(points), dtype=float).ravel()
+    edge = np.rint(label / bubble).astype(np.int64)
+    if np.abs(label / bubble - edge).max() > 1e-6 or edge.min() < 1 or edge.max() > ndof - nv:
+        raise RuntimeError("the P2 space's dofs past the vertices are not one per edge")
+    pairs = np.concatenate([table[:, list(e)] for e in TRIANGLE_EDGES], axis=1).reshape(-1, 2)
+    return pairs, nv + edge - 1
 
 
 def red_parents(mesh: ngs.Mesh, coarse_nv: int) -> np.ndarray | None:
