@@ -233,9 +233,15 @@ def cmd_rates(args) -> int:
     table = rate_table(frame, levels=args.fit_levels)
     ensure_writable(path.parent)
     out = write_csv(table, path.parent / "rates.csv")
-    with pd.option_context("display.width", 200, "display.max_colwidth", 60):
-        print(table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
-    print(f"wrote {out}")
+    if args.latex:
+        from .report import latex
+        print(latex.summary_table(table))
+        for case in frame.case.unique():
+            print(latex.convergence_table(frame, case))
+    else:
+        with pd.option_context("display.width", 200, "display.max_colwidth", 60):
+            print(table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
+    print(f"wrote {out}", file=sys.stderr if args.latex else sys.stdout)
     return 0
 
 
@@ -340,6 +346,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--fit-levels", type=_positive_int, default=3, help="levels in the asymptotic fit (>= 3)")
     p.add_argument("--case", action="append", metavar="PATH",
                    help="case file, for results of harness 0.1 (a `model` column) of unregistered cases")
+    p.add_argument("--latex", action="store_true",
+                   help="print booktabs LaTeX tables (the rates, then each case's levels) instead of text")
     p.set_defaults(func=cmd_rates)
 
     p = sub.add_parser("report", help="run the study (reusing unchanged results) and render the report")

@@ -136,6 +136,9 @@ def test_report_states_reference_and_remark_43_findings(tmp_path):
     assert "with 16 times the dofs of every method" in text
     assert "Remark 4.3" in text and "question. The data " in text and "the authors believe (no theorem)" in text
     assert (tmp_path / "report" / "figures" / "smooth-obstacle_contact.png").stat().st_size > 1000
+    # the LaTeX tables beside the figures (issue 32): one per case, the summary, the efficiency, a document
+    tables = {p.name for p in (tmp_path / "report" / "tables").glob("*.tex")}
+    assert tables == {"oscillating-r34.tex", "smooth-obstacle.tex", "summary.tex", "efficiency.tex", "all.tex"}
 
 
 def test_report_goals_are_judged_on_the_engine_make_report_uses():

@@ -18,6 +18,7 @@ from .document import Document
 from ..measure.efficiency import efficiency_table, verdicts
 from ..study import InProcess
 from .figure_jobs import FIGURE_WORKERS, FigurePool
+from .latex import write_tables
 from .mesh_section import add_mesh_section, mesh_rows
 from ..methods import methods_named
 from ..measure.rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
@@ -195,6 +196,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     with timings("document"):
         doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps, meshes)
     with timings("writing", "report"):
+        write_tables(results, rates, efficiency, Path(report_dir) / "tables")
         write_atomic(Path(report_dir) / "report.md", doc.markdown(Path(report_dir)))
         html_path = write_atomic(Path(report_dir) / "report.html", doc.html())
     timings.add("total", "wall", "", time.perf_counter() - start)
