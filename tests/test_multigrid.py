@@ -64,7 +64,8 @@ def test_truncated_vcycle_is_symmetric_positive_and_keeps_the_pins(model_name, r
     assert r.FV().NumPy() @ Br.FV().NumPy() > 0
 
 
-@pytest.mark.parametrize("model_name", CONE_NAMES)
+# mean (11 s, the same truncation as nodal's on the edge variables) in `make test-full`
+@pytest.mark.parametrize("model_name", [pytest.param(n, marks=pytest.mark.slow) if n == "mean" else n for n in CONE_NAMES])
 def test_multigrid_cg_iterations_do_not_grow_under_refinement(model_name):
     """Truncation makes the coarse spaces see the contact zone: with the exact active set pinned,
     CG iterations from zero stay bounded as h halves (an untruncated multigrid grows like
