@@ -30,8 +30,8 @@ COLUMNS = [
     "estimator", "effectivity",
     "max_penetration", "max_tension", "min_pressure", "active_constraints", "solver_iterations", "linear_iterations",
     "kkt_residual", "backward_error", "solve_seconds", "total_seconds", "status",
-    # what the errors are measured against: "exact" (u), or "reference" (the method's solution
-    # on level reference_level, with its KKT residual and status)
+    # what the errors are measured against: "exact" (u), or "reference" (the solution of
+    # reference_method, nodal, on level reference_level, with its KKT residual and status)
     "errors_against", "reference_level", "reference_ndof", "reference_kkt_residual", "reference_status",
     "reference_method",
     # what `rates` needs to fit a results file on its own: the case and the method's theories
