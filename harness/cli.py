@@ -73,6 +73,7 @@ def engine_of(args):
 
 def cmd_run(args) -> int:
     from .problem.case import load_case
+    from .report.vtk import VtkWriter
     from .study import run_study
     from .study.checkpoint import CheckpointStore
     from .study.engines import study_jobs
@@ -89,12 +90,15 @@ def cmd_run(args) -> int:
         study_jobs(cases, methods, args.levels, engine, check_memory=not args.skip_memory_check, meshes=args.mesh)
         out = ensure_writable(Path(args.out))
         checkpoints = out / ".checkpoints"
+        writer = VtkWriter(out / "vtk") if args.vtk else None
         frame = run_study(cases, methods, args.levels, show_progress=not args.quiet, engine=engine,
-                          checkpoints=checkpoints, check_memory=False, meshes=args.mesh)
+                          checkpoints=checkpoints, check_memory=False, meshes=args.mesh, on_level=writer)
     finally:
         engine.close()
     path = write_csv(frame, out / "results.csv")
     CheckpointStore(checkpoints, args.levels).forget()
+    if args.vtk:
+        _print_vtk(out / "vtk")
     if not args.quiet:
         for (case, method), level in frame.attrs["resumed"].items():
             if level:
@@ -251,11 +255,21 @@ def cmd_report(args) -> int:
     try:
         path = make_report(args.profile, Path(args.results), Path(args.report), args.case,
                            show_progress=not args.quiet, levels=args.levels, methods=selected_methods(args),
-                           engine=engine, check_memory=not args.skip_memory_check)
+                           engine=engine, check_memory=not args.skip_memory_check, vtk=args.vtk)
     finally:
         engine.close()
+    if args.vtk:
+        _print_vtk(Path(args.results) / "vtk")
     print(f"wrote {path}")
     return report_failures(pd.read_csv(Path(args.results) / "results.csv"))
+
+
+def _print_vtk(folder: Path) -> None:
+    """Where the ParaView files are, and how much they weigh."""
+    files = list(folder.rglob("*.vtu"))
+    size = sum(f.stat().st_size for f in files) / 1e6
+    print(f"wrote {len(files)} VTK files ({size:.3g} MB) under {folder}: open CASE/METHOD/omega.pvd "
+          "and gamma_c.pvd in ParaView (the time slider steps through the levels)")
 
 
 def cmd_bench(args) -> int:
@@ -324,6 +338,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_mesh_option(p)
     p.add_argument("--out", default="results", metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bar or table")
+    p.add_argument("--vtk", action="store_true",
+                   help="also write every level's u_h (Omega) and contact fields (Gamma_C) for ParaView under DIR/vtk")
     add_engine_options(p)
     p.set_defaults(func=cmd_run)
 
@@ -358,6 +374,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--results", default="results", metavar="DIR")
     p.add_argument("--report", default="report", metavar="DIR")
     p.add_argument("--quiet", action="store_true")
+    p.add_argument("--vtk", action="store_true",
+                   help="also write every level's solutions for ParaView under RESULTS/vtk (reruns stored cases without them)")
     add_engine_options(p)
     p.set_defaults(func=cmd_report)
 

@@ -169,3 +169,21 @@ def test_bench_report_profiles_the_report_and_compares_engines():
     goals = report_goals(frame, make_workers=2)
     assert [goal for goal, _, _ in goals][:2] == ["make report <= 5 min", "make report peak RSS <= 3 GB (largest process)"]
     assert "2 local processes" in goals[0][2]          # the goal is judged on the engine make report uses
+
+
+@pytest.mark.slow       # three reports (about 20 s); `run --vtk` and the writer's check are in make test
+def test_report_vtk_reruns_a_stored_case_without_its_files_once(tmp_path, capsys):
+    """`report --vtk` over a stored study: the case is run again to write its ParaView files,
+    then reused while they are there; the rows are the same."""
+    run = dict(show_progress=False, levels=2, methods=("nodal",))
+    make_report("default", tmp_path / "results", tmp_path / "report", ["transition-r32"], **run)
+    first = pd.read_csv(tmp_path / "results" / "results.csv")
+    capsys.readouterr()
+    make_report("default", tmp_path / "results", tmp_path / "report", ["transition-r32"], vtk=True, **run)
+    assert "transition-r32: reusing results" not in capsys.readouterr().out
+    assert (tmp_path / "results" / "vtk" / "transition-r32" / "nodal" / "omega_level1.vtu").is_file()
+    again = pd.read_csv(tmp_path / "results" / "results.csv")
+    columns = ["level", "ndof", "err_h1", "err_l2", "kkt_residual"]
+    pd.testing.assert_frame_equal(first[columns], again[columns])
+    make_report("default", tmp_path / "results", tmp_path / "report", ["transition-r32"], vtk=True, **run)
+    assert "transition-r32: reusing results" in capsys.readouterr().out

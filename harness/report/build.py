@@ -29,6 +29,7 @@ from ..study.mesh_study import PICTURE_METHOD
 from ..study.timing import Timings
 from .prose import (EFFICIENCY_NOTE, ELASTICITY_NOTE, GAMMA_C_NOTE, INTRO, RATES_NOTE, REGULARITY_NOTE, SWEEP_NOTE,
                     THREE_D_NOTE, belief_finding, reference_sentence, which_bound)
+from .vtk import VtkWriter
 from .tables import (efficiency_view, elasticity_view, gamma_c_view, level_table, normalised_view, regularity_view,
                      summary_table, sweep_view, three_d_view)
 
@@ -146,10 +147,12 @@ def study_sentence(meta: dict) -> str:
 
 def make_report(profile: str = "default", results_dir: Path = Path("results"), report_dir: Path = Path("report"),
                 case_names=None, show_progress: bool = True, levels: int | None = None, methods=("all",),
-                engine=None, check_memory: bool = True) -> Path:
+                engine=None, check_memory: bool = True, vtk: bool = False) -> Path:
     """Run (or reuse) the study of a profile, its sweeps, rates and figures, and write the report;
     ``engine``: where the jobs run (``execution``; default this process). Where the time went is
-    written to ``results_dir/report_profile.csv`` (``timing``)."""
+    written to ``results_dir/report_profile.csv`` (``timing``). ``vtk``: also write every level's
+    solutions of the studies as ParaView files under ``results_dir/vtk`` (``vtk``; a stored case
+    without them is run again)."""
     if profile not in PROFILES:
         raise ValueError(f"unknown profile {profile!r}; expected one of: {', '.join(PROFILES)}")
     known = registered_cases()
@@ -165,7 +168,9 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     start = time.perf_counter()
     run_started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
     sweep_cases = cases if _has_weak(settings["methods"]) else []
-    results, sweeps, meshes = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory, timings)
+    writer = VtkWriter(results_dir / "vtk") if vtk else None
+    results, sweeps, meshes = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory, timings,
+                                      writer)
     with timings("rates"):
         rates = rate_table(results)
         efficiency = efficiency_table(results)

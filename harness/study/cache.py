@@ -24,7 +24,7 @@ from ..methods import methods_named
 from ..problem.case import Case
 from ..problem.validate import validate_case
 from .budget import SWEEP_SECONDS_PER_DOF, solve_weights
-from .chain import PHASES
+from .chain import PHASES, BothHooks
 from .checkpoint import CheckpointStore, code_digest
 from .engines import InProcess, Job, chains, check_methods, mesh_scope, plan, study_weights, tidy
 from .files import ensure_writable, write_atomic, write_csv
@@ -106,28 +106,35 @@ def study_groups(cases: list[Case], settings: dict) -> list[tuple[list[Case], di
 
 
 def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: list[Case], show_progress: bool = True,
-            engine=None, check_memory: bool = True, timings: Timings | None = None) -> tuple[pd.DataFrame, dict, pd.DataFrame]:
+            engine=None, check_memory: bool = True, timings: Timings | None = None,
+            writer=None) -> tuple[pd.DataFrame, dict, pd.DataFrame]:
     """(the rows of every case, the sweep of every case in ``sweep_cases`` the report sweeps,
     the rows of the mesh study, ``mesh_study``):
     reused where stored and unchanged, the rest run as one set of jobs on ``engine`` (default
     this process) under one progress bar, its ETA for all of it. Every finished level is
-    checkpointed under ``cases/.checkpoints``: a report killed at any moment continues there."""
+    checkpointed under ``cases/.checkpoints``: a report killed at any moment continues there.
+
+    ``writer``: an ``on_level`` hook that writes files of the studies' solutions (``report
+    --vtk``: ``report.vtk.VtkWriter``); a stored case is then reused only where
+    ``writer.written(case, methods, levels)``, else it is run again to write them."""
     results_dir = Path(results_dir)
     case_store, sweep_store = ensure_writable(results_dir / "cases"), ensure_writable(results_dir / "sweeps")
     checkpoints = case_store / ".checkpoints"
     config = sweep_config(settings["levels"])
     jobs, weights, pending = [], {}, {}
     for group, group_settings in study_groups(cases, settings):
-        todo = stale_cases(group, group_settings, results_dir)
+        methods, levels = methods_named(group_settings["methods"]), group_settings["levels"]
+        stale = stale_cases(group, group_settings, results_dir)
+        todo = [c for c in group if c in stale or (writer is not None and not writer.written(c, methods, levels))]
         for case in group:
             if case not in todo:
                 print(f"{case.name}: reusing results computed with the same code and settings")
-        methods, levels = methods_named(group_settings["methods"]), group_settings["levels"]
         for case in todo:
             validate_case(case)
             check_methods(case, methods)
             pending[case.name] = (case, group_settings, methods, [])
-        jobs += chains(todo, methods, levels, SnapshotHook(levels, methods), checkpoints)
+        hook = SnapshotHook(levels, methods) if writer is None else BothHooks(SnapshotHook(levels, methods), writer)
+        jobs += chains(todo, methods, levels, hook, checkpoints)
         weights |= study_weights(todo, methods, levels)
     sweeps = {}
     for case in [c for c in sweep_cases if c.name in config["cases"]]:

@@ -160,6 +160,19 @@ def level_hook(on_level):
     return on_level
 
 
+class BothHooks:
+    """Two ``on_level`` hooks as one: both see every solve, the study keeps what ``first``
+    returns (the report's snapshots beside ``report --vtk``'s writer)."""
+
+    def __init__(self, first, second):
+        self.first, self.second = first, second
+
+    def __call__(self, case, method, level, problem, solve):
+        kept = self.first(case, method, level, problem, solve)
+        self.second(case, method, level, problem, solve)
+        return kept
+
+
 UNIFORM = MeshStrategy("uniform")
 # an adaptive chain stops when its mesh has more elements than the uniform level it replaces
 # (the same budget of dofs as the uniform chain), or after this many levels
