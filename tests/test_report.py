@@ -37,7 +37,7 @@ def test_results_rates_and_provenance_are_written(report):
 def test_every_figure_exists_as_png_and_pdf(report):
     root, _ = report
     figures = root / "report" / "figures"
-    stems = ["summary_rates"] + [f"{c}_{kind}" for c in CASES for kind in ("convergence", "contact", "solution", "efficiency")] \
+    stems = ["summary_rates", "verdict_matrix"] + [f"{c}_{kind}" for c in CASES for kind in ("convergence", "contact", "solution", "efficiency")] \
         + [f"sweep_{c}" for c in CASES]
     for stem in stems:
         for ext in ("png", "pdf"):
@@ -47,7 +47,7 @@ def test_every_figure_exists_as_png_and_pdf(report):
 def test_report_sets_measured_rates_against_theorems(report):
     root, html = report
     text = html.read_text()
-    assert "Theorem 4.1 ii, 5.1 ii" in text and "verdict" in text and "data:image/png;base64" in text
+    assert "Theorem 4.1 ii, 5.1 ii" in text and "verdict" in text and "data:image/webp;base64" in text
     markdown = (root / "report" / "report.md").read_text()
     assert "| case | method | theory | expected |" in markdown and "figures/transition-r32_convergence.png" in markdown
 
@@ -187,3 +187,29 @@ def test_report_vtk_reruns_a_stored_case_without_its_files_once(tmp_path, capsys
     pd.testing.assert_frame_equal(first[columns], again[columns])
     make_report("default", tmp_path / "results", tmp_path / "report", ["transition-r32"], vtk=True, **run)
     assert "transition-r32: reusing results" in capsys.readouterr().out
+
+
+def test_report_is_navigable_contents_link_to_anchors_and_cases_collapse(report):
+    """A table of contents whose every link has its target, the verdict matrix at the top, each
+    case collapsible, no heading "Theorem Remark"."""
+    root, html = report
+    text = html.read_text()
+    assert "<nav class='contents'>" in text and "<table class='matrix'>" in text
+    assert text.index("<table class='matrix'>") < text.index("id='problem-and-methods'")
+    links = set(re.findall(r"href='#([^']+)'", text))
+    ids = set(re.findall(r"id='([^']+)'", text))
+    assert links and links <= ids, links - ids
+    for case in CASES:
+        assert f"<details id='{case}'>" in text
+    assert "Theorem Remark" not in text and "Theorem Section" not in text
+    markdown = (root / "report" / "report.md").read_text()
+    assert "**Contents**" in markdown and "](#at-a-glance-every-case-method)" in markdown
+
+
+def test_report_embeds_compact_images_and_keeps_full_pngs(report):
+    root, html = report
+    text = html.read_text()
+    assert "data:image/webp;base64" in text and "data:image/png;base64" not in text
+    embedded = sum(len(m) for m in re.findall(r"data:image/webp;base64,([A-Za-z0-9+/=]+)", text)) * 3 / 4
+    pngs = sum(p.stat().st_size for p in (root / "report" / "figures").glob("*.png"))
+    assert embedded < 0.5 * pngs

@@ -14,12 +14,13 @@ import numpy as np
 import pandas as pd
 
 from ..problem.case import Case, bound_text, fraction, registered_cases
-from .document import Document
+from .document import Document, anchor
 from ..measure.efficiency import efficiency_table, verdicts
 from ..study import InProcess
 from .figure_jobs import FIGURE_WORKERS, FigurePool
 from .latex import write_tables
 from .mesh_section import add_mesh_section, mesh_rows
+from .plots import theorem_label, verdict_cells
 from ..methods import methods_named
 from ..measure.rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from ..study.cache import compute, provenance
@@ -27,7 +28,7 @@ from ..study.files import ensure_writable, write_atomic, write_csv
 from ..study.chain import PROFILES
 from ..study.mesh_study import PICTURE_METHOD
 from ..study.timing import Timings
-from .prose import (EFFICIENCY_NOTE, ELASTICITY_NOTE, GAMMA_C_NOTE, INTRO, RATES_NOTE, REGULARITY_NOTE, SWEEP_NOTE,
+from .prose import (EFFICIENCY_NOTE, ELASTICITY_NOTE, GAMMA_C_NOTE, INTRO, MATRIX_NOTE, RATES_NOTE, REGULARITY_NOTE, SWEEP_NOTE,
                     THREE_D_NOTE, belief_finding, reference_sentence, which_bound)
 from .vtk import VtkWriter
 from .tables import (efficiency_view, elasticity_view, gamma_c_view, level_table, normalised_view, regularity_view,
@@ -44,15 +45,25 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         f"{meta['machine']['node']} ({meta['machine']['cpus']} cpus); profile {settings['profile']}, "
         f"{settings['levels']} P2 levels; methods {', '.join(settings['methods'])}; "
         + study_sentence(meta), css="meta")
+    doc.contents()
+    doc.heading("At a glance: every case × method")
+    cells = verdict_cells(rates)
+    doc.paragraph(MATRIX_NOTE + " " + verdict_counts(rates) + ".")
+    doc.matrix(cells, cells.attrs["verdicts"])
+    with doc.details("The same as a figure (report/figures/verdict_matrix.pdf, for a paper)", "verdict-matrix-figure"):
+        doc.figures([(figs["summary"]["matrix"]["png"], "Fitted / expected H¹ rate, coloured by verdict.")], wide=True)
     doc.heading("Problem and methods")
     doc.paragraph(INTRO)
     doc.table(pd.DataFrame([{"method": m.name, "order": m.order, "contact condition": m.contact,
                              "parameters": m.parameter_text, "reference": m.reference}
                             for m in methods_named(settings["methods"])]))
-    doc.heading("Summary: every case x method")
+    doc.heading("Summary: fitted against expected rates")
     doc.paragraph(RATES_NOTE)
-    doc.table(summary_table(rates), verdict_column="verdict")
-    doc.figures([(figs["summary"]["png"], "Fitted against theory rates; grey band: ±0.1.")])
+    doc.figures([(figs["summary"]["rates"]["png"], "Fitted against theory rates; grey band: ±0.1; the points outside it named.")],
+                wide=True)
+    with doc.details(f"Every case × method: both theories, fitted rate ± standard error, pairwise rates, L² rate "
+                     f"({len(rates)} rows)", "summary-table"):
+        doc.table(summary_table(rates), verdict_column="verdict")
     if "fitted_rate_best" in rates and rates.fitted_rate_best.notna().any():
         doc.heading("Regularity check: best approximation")
         doc.paragraph(REGULARITY_NOTE)
@@ -84,44 +95,59 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         doc.heading("Three dimensions (Section 6)")
         doc.paragraph(THREE_D_NOTE + f" Levels: {settings.get('levels_3d', settings['levels'])} per 3D case.")
         doc.table(three_d_view(cases, rates, results), verdict_column="verdict")
+    doc.heading("Cases")
+    doc.paragraph("Each case in full (click to open): its regime and bound, every method's fitted rates against "
+                  "both theories, the errors on Γ_C, the figures, and every level of every method.")
     for case in cases:
-        doc.heading(f"{case.name}: P2 " + (case.theorem if case.conjectured else f"Theorem {case.theorem}"))
-        if case.physics.elastic:
-            doc.paragraph(f"Physics: {case.physics.describe()}.")
-        doc.paragraph(f"{case.description}. Regime {case.regime or '-'}, "
-                      + (f"ν = {fraction(case.nu)}; " if np.isfinite(case.nu) else "ν not declared; ")
-                      + (f"the authors believe (no theorem) the P2 H¹ error behaves like {case.expected_bound}."
-                         if case.conjectured else f"the paper bounds the P2 H¹ error by C {case.expected_bound}."))
-        against = reference_sentence(case, results)
-        if against:
-            doc.paragraph(against)
-        doc.table(summary_table(rates[rates.case == case.name]), verdict_column="verdict")
-        if case.conjectured:
-            doc.paragraph(belief_finding(case, rates))
-        sentences = "" if case.conjectured else which_bound(case, rates, results)   # no bound to follow
-        if sentences:
-            doc.paragraph(sentences)
-        if case.expected_log_exponent:
-            view = normalised_view(case, results)
-            if view is not None:
-                doc.table(view)
-        if "err_trace_l2" in results:
-            doc.paragraph("On Γ_C, finest level (the paper's Section 5 remark; the measures are defined "
-                          "under 'Errors on Γ_C' above):")
-            doc.table(gamma_c_view(rates, results, case.name))
-        f = figs[case.name]
-        doc.figures([(f["convergence"]["png"], "H¹ error against h; dashed: each theory's bound through the coarsest point."),
-                     (f["contact"]["png"], "Finest level along Γ_C: u_h - α and the discrete contact pressure; shaded: exact contact zone."
-                      if case.dimension == 2 else "Γ_C from below, finest level: u_h - α and the discrete pressure per triangle.")])
-        doc.figures([(f["efficiency"]["png"], "H¹ error against ndof and against seconds summed over the levels; dotted: the target.")],
-                    wide=True)
-        if f["solution"] is not None:
-            doc.figures([(f["solution"]["png"], "Deformed shape: the mesh moved by u_h (magnified), coloured by |u_h|; grey: the body at rest."
-                          if case.physics.elastic else "u_h on Ω.")])
-        for method, group in results[results.case == case.name].groupby("method", sort=False):
-            doc.heading(f"method {method}", level=3)
-            doc.table(level_table(group, energy=case.physics.elastic))
+        with doc.details(f"{case.name}: P2 {theorem_label(case.theorem)}", anchor(case.name),
+                         verdict_counts(rates[rates.case == case.name]), listed=True):
+            _case_section(doc, case, results, rates, figs)
     return doc
+
+
+def verdict_counts(rates: pd.DataFrame) -> str:
+    """"5 meet, 1 above, 1 no theory": the verdicts of some rate rows."""
+    counts = rates.verdict.value_counts()
+    return ", ".join(f"{n} {'meet' if v == 'meets' and n > 1 else v}" for v, n in counts.items())
+
+
+def _case_section(doc: Document, case: Case, results: pd.DataFrame, rates: pd.DataFrame, figs: dict) -> None:
+    """One case's part of the report."""
+    if case.physics.elastic:
+        doc.paragraph(f"Physics: {case.physics.describe()}.")
+    doc.paragraph(f"{case.description}. Regime {case.regime or '-'}, "
+                  + (f"ν = {fraction(case.nu)}; " if np.isfinite(case.nu) else "ν not declared; ")
+                  + (f"the authors believe (no theorem) the P2 H¹ error behaves like {case.expected_bound}."
+                     if case.conjectured else f"the paper bounds the P2 H¹ error by C {case.expected_bound}."))
+    against = reference_sentence(case, results)
+    if against:
+        doc.paragraph(against)
+    doc.table(summary_table(rates[rates.case == case.name]), verdict_column="verdict")
+    if case.conjectured:
+        doc.paragraph(belief_finding(case, rates))
+    sentences = "" if case.conjectured else which_bound(case, rates, results)   # no bound to follow
+    if sentences:
+        doc.paragraph(sentences)
+    if case.expected_log_exponent:
+        view = normalised_view(case, results)
+        if view is not None:
+            doc.table(view)
+    if "err_trace_l2" in results:
+        doc.paragraph("On Γ_C, finest level (the paper's Section 5 remark; the measures are defined "
+                      "under 'Errors on Γ_C' above):")
+        doc.table(gamma_c_view(rates, results, case.name))
+    f = figs[case.name]
+    doc.figures([(f["convergence"]["png"], "H¹ error against h; dashed: each theory's bound through the coarsest point."),
+                 (f["contact"]["png"], "Finest level along Γ_C: u_h - α and the discrete contact pressure; shaded: exact contact zone."
+                  if case.dimension == 2 else "Γ_C from below, finest level: u_h - α and the discrete pressure per triangle.")])
+    doc.figures([(f["efficiency"]["png"], "H¹ error against ndof and against seconds summed over the levels; dotted: the target.")],
+                wide=True)
+    if f["solution"] is not None:
+        doc.figures([(f["solution"]["png"], "Deformed shape: the mesh moved by u_h (magnified), coloured by |u_h|; grey: the body at rest."
+                      if case.physics.elastic else "u_h on Ω.")])
+    for method, group in results[results.case == case.name].groupby("method", sort=False):
+        doc.heading(f"{case.name}: method {method}", level=3, key=f"{anchor(case.name)}-{method}")
+        doc.table(level_table(group, energy=case.physics.elastic))
 
 
 def computed_since(cases, store: Path, since: datetime.datetime) -> list[str]:

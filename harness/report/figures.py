@@ -11,17 +11,9 @@ import matplotlib.tri as mtri  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ..problem.case import fraction
+from . import plots
+from .plots import OTHER_COLORS, style
 
-METHOD_STYLE = {"mean": dict(color="tab:blue", marker="o"), "nodal": dict(color="tab:orange", marker="s"),
-                "p1": dict(color="tab:green", marker="^")}
-_OTHER_COLORS = ["tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
-
-
-def style(method: str) -> dict:
-    """A fixed colour and marker per method (methods added later get the next free colour)."""
-    if method not in METHOD_STYLE:
-        METHOD_STYLE[method] = dict(color=_OTHER_COLORS[(len(METHOD_STYLE) - 3) % len(_OTHER_COLORS)], marker="D")
-    return METHOD_STYLE[method]
 def register_methods(methods) -> None:
     """Give ``methods`` their styles in this order, so that every process that draws a figure
     of the same study draws each method in the same colour."""
@@ -41,45 +33,9 @@ def save(fig, folder: Path, stem: str) -> dict[str, Path]:
     return paths
 
 
-def _bound_tex(p: float, q: float) -> str:
-    bound = rf"$C\,h^{{{fraction(p)}}}"
-    if q:
-        bound += rf"\,|\log h|^{{{fraction(q)}}}"
-    return bound + "$"
-
-
-def _slope_marker(ax, h, e, rate, label):
-    """A slope triangle of the theorem's rate below the data, in the middle of the range."""
-    h0, h1 = h[len(h) // 2], h[len(h) // 2 + 1] if len(h) > 2 else h[-1]
-    e0 = e[len(e) // 2] * 0.45
-    e1 = e0 * (h1 / h0) ** rate
-    ax.plot([h0, h1, h0, h0], [e0, e1, e1, e0], color="0.3", lw=0.8)
-    ax.annotate(label, (h0, np.sqrt(e0 * e1)), textcoords="offset points", xytext=(4, 0), fontsize=8, color="0.3")
-
-
 def convergence(case, results, folder: Path) -> dict[str, Path]:
-    """log-log H^1 error against h, every method, each with its theory's bound (dashed, in its
-    colour) through its finest point."""
-    fig, ax = plt.subplots(figsize=(5.2, 4.0))
-    for method, g in results.groupby("method", sort=False):
-        g = g.sort_values("h")
-        ax.loglog(g.h, g.err_h1, label=method, lw=1.2, ms=5, **style(method))
-    theories = results.groupby(["expected_rate", "expected_log_exponent"], sort=False).method.unique()
-    for (p, q), methods in theories.items():
-        g = results[results.method == methods[0]].sort_values("h")
-        h = np.geomspace(g.h.min(), g.h.max(), 50)
-        anchor = g.err_h1.iloc[0] / (g.h.iloc[0] ** p * abs(np.log(g.h.iloc[0])) ** q)
-        ax.loglog(h, anchor * h**p * np.abs(np.log(h)) ** q, "--", color=style(methods[0])["color"], lw=0.8,
-                  label=f"theory ({', '.join(methods)}): {_bound_tex(p, q)}")
-    g = results[results.order == results.order.max()]
-    hs = np.sort(g.h.unique())[::-1]
-    es = g.groupby("h").err_h1.max().reindex(hs).to_numpy()
-    _slope_marker(ax, hs, es, case.expected_rate, fraction(case.expected_rate))
-    ax.set_xlabel("h (largest element diameter)")
-    ax.set_ylabel(r"$\|u-u_h\|_{H^1(\Omega)}$")
-    ax.set_title(f"{case.name}: P2 Theorem {case.theorem}", fontsize=10)
-    ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=8)
+    """``plots.convergence`` of one case, titled with its theorem."""
+    fig = plots.convergence(results, case.name, title=f"{case.name}: P2 {plots.theorem_label(case.theorem)}")
     return save(fig, folder, f"{case.name}_convergence")
 
 
@@ -189,26 +145,9 @@ def deformed(case, snapshot: dict, folder: Path) -> dict[str, Path]:
 
 
 def summary(rates, folder: Path) -> dict[str, Path]:
-    """Fitted against expected rates, every case x method, with the +-0.1 verdict band."""
-    fig, ax = plt.subplots(figsize=(5.0, 4.4))
-    lo, hi = 0.3, 2.3
-    ax.plot([lo, hi], [lo, hi], "k-", lw=0.8)
-    ax.fill_between([lo, hi], [lo - 0.1, hi - 0.1], [lo + 0.1, hi + 0.1], color="0.9")
-    methods = list(dict.fromkeys(rates.method))
-    for k, (method, g) in enumerate(rates.groupby("method", sort=False)):
-        offset = 0.03 * (k - (len(methods) - 1) / 2)
-        ax.errorbar(g.expected_rate + offset, g.fitted_rate, yerr=g.fitted_rate_se.fillna(0), ls="none",
-                    label=method, ms=6, **style(method))
-    for _, row in rates.drop_duplicates("case").iterrows():
-        ax.annotate(row.case, (row.expected_rate, row.fitted_rate), textcoords="offset points",
-                    xytext=(8, -10), fontsize=7)
-    ax.set_xlim(lo, hi), ax.set_ylim(lo, hi)
-    ax.set_xlabel("rate p of the method's theory")
-    ax.set_ylabel("fitted rate (last levels)")
-    ax.set_title("Fitted H¹ rates against the theorems", fontsize=10)
-    ax.grid(True, alpha=0.25)
-    ax.legend(fontsize=8, loc="upper left")
-    return save(fig, folder, "summary_rates")
+    """``plots.rate_summary`` and ``plots.verdict_matrix`` of every case x method."""
+    return {"rates": save(plots.rate_summary(rates), folder, "summary_rates"),
+            "matrix": save(plots.verdict_matrix(rates), folder, "verdict_matrix")}
 
 
 def efficiency(case, results, target: float, folder: Path) -> dict[str, Path]:
@@ -242,7 +181,7 @@ def sweep(case, frame, folder: Path) -> dict[str, Path]:
     swept = frame[frame.sweep_parameter.fillna("") != ""]
     for k, (label, g) in enumerate(swept.groupby("sweep_method", sort=False)):
         g = g.sort_values("sweep_value")
-        color = _OTHER_COLORS[k % len(_OTHER_COLORS)]
+        color = OTHER_COLORS[k % len(OTHER_COLORS)]
         ok = g.status == "converged"
         for ax, column in ((left, "err_h1"), (right, "max_penetration")):
             ax.loglog(g.sweep_value, g[column].clip(lower=1e-16), color=color, lw=1.2, label=label)

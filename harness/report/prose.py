@@ -180,6 +180,14 @@ INTRO = (
 )
 
 
+MATRIX_NOTE = (
+    "Each cell: the fitted H¹ rate over the last three levels / the rate of the method's own theory "
+    "(for mean and nodal the paper's theorem, for P1 and the weak methods theirs; – no theory), coloured "
+    "by the verdict: green meets it within ±0.1, blue above (the theorems are upper bounds: consistent), "
+    "red below, grey no theory. The cases' sections below (Cases) say why each is what it is."
+)
+
+
 RATES_NOTE = (
     "Fitted rate: least squares of log e = log C + p log h + q log|log h| over the last three "
     "levels, q fixed to the log exponent of the method's theory, with its standard error. Verdict: "

@@ -1,0 +1,63 @@
+"""The report's figures as functions of DataFrames (``harness.report.plots``), as a notebook
+calls them: from `harness.run`'s rows and their rate table, nothing else."""
+import matplotlib
+
+matplotlib.use("Agg")
+import itertools  # noqa: E402
+
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+import pytest  # noqa: E402
+
+from harness.measure.rates import rate_table  # noqa: E402
+from harness.report import plots  # noqa: E402
+
+DATA = __import__("pathlib").Path(__file__).parent / "data"
+
+
+@pytest.fixture(scope="module")
+def rows():
+    import harness
+    return harness.run(["transition-r32", "corner-r12"], methods=["mean", "nodal", "p1", "nitsche"], levels=3,
+                       show_progress=False)
+
+
+def test_convergence_draws_every_method_and_each_theory(rows):
+    fig = plots.convergence(rows, "transition-r32")
+    labels = [line.get_label() for line in fig.axes[0].get_lines()]
+    assert {"mean", "nodal", "p1", "nitsche"} <= set(labels)
+    assert sum(label.startswith("theory") for label in labels) == 2          # h^{3/2} (P2) and h (P1)
+    with pytest.raises(ValueError, match="2 cases"):
+        plots.convergence(rows)
+
+
+def test_verdict_matrix_has_one_coloured_cell_per_case_and_method(rows):
+    rates = rate_table(rows)
+    cells = plots.verdict_cells(rates)
+    assert cells.shape == (2, 4)
+    verdicts = cells.attrs["verdicts"]
+    assert verdicts.loc["corner-r12", "nitsche"] == "no theory" and cells.loc["corner-r12", "nitsche"].endswith("/ –")
+    fig = plots.verdict_matrix(rates)
+    assert len(fig.axes[0].patches) == 8
+    colours = {tuple(np.round(p.get_facecolor()[:3], 3)) for p in fig.axes[0].patches}
+    assert len(colours) >= 2
+
+
+def test_rate_summary_names_the_points_outside_the_band_without_overlap():
+    """Made-up rates: many points outside the band at nearly the same fitted rate, whose names
+    must not overlap."""
+    rates = pd.DataFrame({"case": [f"case-{k}" for k in range(12)], "method": "nodal",
+                          "expected_rate": 1.5, "fitted_rate": 0.9 + 0.001 * np.arange(12), "fitted_rate_se": 0.01,
+                          "verdict": "below"})
+    fig = plots.rate_summary(rates)
+    fig.canvas.draw()
+    names = [t for t in fig.axes[0].texts if t.get_text().startswith("case-")]
+    assert len(names) == 12
+    # the text's own box (an annotation's box includes its connector line)
+    boxes = [matplotlib.text.Text.get_window_extent(t) for t in names]
+    assert not any(a.overlaps(b) for a, b in itertools.combinations(boxes, 2))
+
+
+def test_theorem_label_does_not_call_a_remark_a_theorem():
+    assert plots.theorem_label("4.1 ii, 5.1 ii") == "Theorem 4.1 ii, 5.1 ii"
+    assert plots.theorem_label("Remark 4.9") == "Remark 4.9"
