@@ -8,6 +8,8 @@ import pytest
 import harness
 from harness.measure.rates import rate_table
 from harness.methods.base import LevelSolve
+from harness.report import plots
+from harness.report.vtk import VtkWriter
 from harness.study import DaskEngine, InProcess, LocalProcesses
 
 E = inspect.Parameter.empty
@@ -21,11 +23,16 @@ SIGNATURES = {
     harness.registered_cases: [("dimension", None)],
     rate_table: None,
     harness.methods_named: None,
+    # the report's figures from DataFrames, and the ParaView writer as an on_level hook (0.3.2)
+    plots.convergence: [("results", E), ("case", None), ("ax", None), ("title", None)],
+    plots.verdict_matrix: [("rates", E), ("ax", None)],
+    plots.rate_summary: [("rates", E), ("ax", None), ("band", 0.1)],
+    VtkWriter: [("directory", E), ("finest", None)],
 }
 
 
 def test_the_api_readme_shows_exists_with_its_signatures():
-    assert harness.__version__ == "0.3.1"
+    assert harness.__version__ == "0.3.2"
     assert harness.cases is harness.case_table
     for function, expected in SIGNATURES.items():
         parameters = inspect.signature(function).parameters.values()
