@@ -135,6 +135,9 @@ def test_the_progress_line_fits_a_100_column_terminal_and_counts_methods_done():
     progress.solved("transition-r32", "nodal", 2)
     progress.solving("transition-r32", "mean", 2, 36225)
     assert "transition-r32 L2 36,225 dofs 1/7 methods" in progress.bar.desc
+    # an adaptive chain's level past the budget's: no "0/0 methods"
+    progress.solving("adaptive transition-r32", "nodal", 13, 6878)
+    assert "L13 6,878 dofs" in progress.bar.desc and "methods" not in progress.bar.desc
     progress.solving("sweep elastic-transition-incompressible", "nitsche:gamma0=0.0001,theta=-1", 12, 123456789, "reference chain")
     line = tqdm.format_meter(n=progress.count, total=progress.total, elapsed=3600.0, ncols=100, prefix=progress.bar.desc,
                              bar_format=BAR_FORMAT)

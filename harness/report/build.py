@@ -100,7 +100,7 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
                   "both theories, the errors on Γ_C, the figures, and every level of every method.")
     for case in cases:
         with doc.details(f"{case.name}: P2 {theorem_label(case.theorem)}", anchor(case.name),
-                         verdict_counts(rates[rates.case == case.name]), listed=True):
+                         verdict_counts(rates[rates.case == case.name]), listed=case.name):
             _case_section(doc, case, results, rates, figs)
     return doc
 

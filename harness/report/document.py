@@ -52,7 +52,8 @@ details > summary { cursor: pointer; font-family: 'Helvetica Neue', Arial, sans-
 details[open] > summary { border-bottom: 1px solid #eef; margin-bottom: .4em; }
 summary .counts { font-weight: normal; color: #555; font-size: .9em; margin-left: .6em; }
 .scroll { overflow-x: auto; }
-table.matrix td { text-align: center; white-space: nowrap; }
+table.matrix { font-size: .78em; }
+table.matrix td { text-align: center; white-space: nowrap; padding: .2em .4em; }
 table.matrix td:first-child { text-align: left; }
 """ + "".join(f"table.matrix td.{name.replace(' ', '-')} {{ background: {colour}; }}\n"
               for name, colour in VERDICT_COLORS.items())
@@ -98,10 +99,10 @@ class Document:
         self.blocks.append(("contents",))
 
     @contextmanager
-    def details(self, summary: str, key: str, counts: str = "", open_: bool = False, listed: bool = False):
+    def details(self, summary: str, key: str, counts: str = "", open_: bool = False, listed: str | None = None):
         """The blocks added inside, collapsed under one line (``summary``, then ``counts`` in
-        grey), with the anchor ``key``; ``listed``: linked from the contents, under the heading
-        before it."""
+        grey), with the anchor ``key``; ``listed``: its link text in the contents, under the
+        heading before it (None: not listed)."""
         self.blocks.append(("details", summary, key, counts, open_, listed))
         yield self
         self.blocks.append(("end details",))
@@ -128,7 +129,7 @@ class Document:
             if block[0] == "heading" and block[1] == 2:
                 out.append((block[2], block[3], []))
             elif block[0] == "details" and block[5] and out:
-                out[-1][2].append((block[1], block[2]))
+                out[-1][2].append((block[5], block[2]))
         return out
 
     def markdown(self, relative_to: Path) -> str:

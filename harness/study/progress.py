@@ -52,7 +52,9 @@ class StudyProgress:
         of_level = [key for key in self.weights if key[0] == case and key[2] == level]
         done = sum(key in self.done for key in of_level)
         others = len({c for c, _ in self.running} - {case})
-        text = f"{case} L{level}{' ref' if stage else ''} {ndof:,} dofs {done}/{len(of_level)} methods"
+        text = f"{case} L{level}{' ref' if stage else ''} {ndof:,} dofs"
+        if of_level:        # an adaptive chain's levels are not known in advance: no count there
+            text += f" {done}/{len(of_level)} methods"
         if others:
             text += f" +{others} jobs"
         if len(text) > DESCRIPTION_WIDTH - 1:
