@@ -4,7 +4,7 @@ colours its rows; ``matrix`` colours each cell), figures, and collapsible parts 
 
 The HTML page embeds every figure, so that it opens offline; to keep it light the PNGs are
 embedded as 256-colour lossless WebP (the figures are line plots and colour maps: measured
-3.6x smaller than the PNGs, which stay in report/figures at full colour for the Markdown)."""
+5x smaller than the PNGs, which stay in report/figures at full colour for the Markdown)."""
 from __future__ import annotations
 
 import base64
@@ -79,8 +79,10 @@ def compact_image(path: Path) -> tuple[str, bytes]:
     """(MIME type, bytes) of a figure as the HTML page embeds it: 256-colour lossless WebP."""
     with Image.open(path) as image:
         buffer = io.BytesIO()
-        image.convert("RGB").quantize(colors=256, dither=Image.Dither.NONE).convert("RGB").save(
-            buffer, "WEBP", lossless=True, method=4)
+        # the fast octree palette: half the time of median cut and smaller files (64 figures:
+        # 3.2 s and 1.3 MB against 5.7 s and 1.9 MB); the colour maps show a few bands
+        image.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE).convert(
+            "RGB").save(buffer, "WEBP", lossless=True, method=2)
     return "image/webp", buffer.getvalue()
 
 
