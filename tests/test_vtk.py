@@ -149,3 +149,12 @@ def test_run_vtk_writes_the_files_from_the_command_line(tmp_path, capsys):
     assert "omega.pvd" in capsys.readouterr().out
     assert sorted(p.name for p in (tmp_path / "vtk" / "transition-r32" / "nodal").glob("*.pvd")) == ["gamma_c.pvd", "omega.pvd"]
     ngs.ngsglobals.msg_level = 0
+
+
+def test_the_writer_can_keep_to_the_levels_it_is_given(tmp_path):
+    """``finest``: {method: level} writes only those levels (the rest of the chain unwritten)."""
+    api.run(["transition-r32"], ["nodal"], levels=3, show_progress=False, on_level=VtkWriter(tmp_path, finest={"nodal": 2}))
+    folder = tmp_path / "transition-r32" / "nodal"
+    assert sorted(p.name for p in folder.glob("*.vtu")) == ["gamma_c_level2.vtu", "omega_level2.vtu"]
+    entries = ET.parse(folder / "omega.pvd").getroot().find("Collection").findall("DataSet")
+    assert [e.get("file") for e in entries] == ["omega_level2.vtu"]
