@@ -40,6 +40,7 @@ BAD = {
     "gap": ["float('inf')", "'alpha'"],
     "expected_log_exponent": ["'1/4'", "float('nan')"],
     "reference_levels": ["0", "-1", "1.5"],
+    "asymptotic_levels": ["2", "0", "6.0", "True", "'6'"],
     "physics": ["'plasticity'", "3"],
 }
 mutations = st.one_of(

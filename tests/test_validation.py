@@ -47,3 +47,19 @@ def test_singular_point_off_the_mesh_vertices_is_refused():
     case = dataclasses.replace(registered_cases()["transition-r32"], singular_points=((0.3, 0.0),))
     with pytest.raises(CaseError, match=r"\(0.3, 0\) is not a vertex of the mesh"):
         validate_case(case)
+
+
+def test_a_case_asymptotic_by_six_levels_runs_six_in_the_default_report_and_what_it_is_told_otherwise():
+    from harness.study.cache import case_settings, study_groups
+    from harness.study.chain import PROFILES
+    known = registered_cases()
+    default, fine = {"profile": "default", **PROFILES["default"]}, {"profile": "fine", **PROFILES["fine"]}
+    assert known["corner-r12"].asymptotic_levels == 6
+    assert case_settings(known["corner-r12"], default)["levels"] == 6
+    assert case_settings(known["oscillating-r34"], default)["levels"] == 7      # not asymptotic by six
+    assert case_settings(known["corner-r12"], fine)["levels"] == 8               # the fine profile runs all
+    told = default | {"levels": 5, "stop_when_asymptotic": False}                # report --levels 5
+    assert {case_settings(case, told)["levels"] for case in known.values() if case.dimension == 2} == {5}
+    groups = study_groups([known[n] for n in ("transition-line-3d", "corner-r12", "smooth")], default)
+    assert [([c.name for c in group], own["levels"]) for group, own in groups] == \
+        [(["corner-r12"], 6), (["smooth"], 7), (["transition-line-3d"], 3)]

@@ -150,3 +150,17 @@ def test_newton_below_the_round_off_floor_ends_converged_at_round_off(method_nam
     solution = solve_semismooth_newton(system, multilevel=multilevel, tol=1e-15)
     assert solution.status == "converged" and solution.residual > 1e-15
     assert solution.backward <= ROUNDOFF_BACKWARD_ERROR and solution.iterations < 20
+
+
+def test_nitsche_without_a_solution_stops_as_stalled_where_sixty_steps_would_not_converge(monkeypatch):
+    """theta = 1, gamma0 = 3 (far past the coercivity bound): max |F| stops falling; Newton stops
+    STALL_STEPS after its best residual, and running on to 60 steps would not have converged."""
+    import harness.solvers.newton as newton
+    case = load_case("corner-r12")
+    problem, multilevel = problem_with_hierarchy("corner-r12", 2, 2)
+    stalled = solve_semismooth_newton(weak_contact_system(case, problem, 3.0, 1.0, 1.0), multilevel=multilevel)
+    assert stalled.status.startswith("stalled: max |F| not below its best") and stalled.iterations < 30
+    assert stalled.residual > 1e-10
+    monkeypatch.setattr(newton, "STALL_STEPS", 1000)
+    wandering = solve_semismooth_newton(weak_contact_system(case, problem, 3.0, 1.0, 1.0), multilevel=multilevel)
+    assert wandering.status == "not converged in 60 iterations"

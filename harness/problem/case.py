@@ -33,6 +33,11 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     transition_curve       optional (3D), the exact contact/separation curves on Gamma_C: a
                            list of polylines, each a list of points (x, y) of the plane of
                            Gamma_C, which the report draws on its pictures of Gamma_C
+    asymptotic_levels      optional int >= 3: the number of P2 levels by which the case's fits are
+                           asymptotic (measured: one level more moved no fitted rate by more
+                           than 0.01); the default report stops there instead of at its
+                           profile's levels (``study.cache.case_settings``), ``--levels`` and
+                           the fine profile do not
 
 An *elastic case* (``physics = "elasticity"``, ``harness.physics.Elasticity``) declares besides
 
@@ -115,6 +120,7 @@ class Case:
     conjectured: bool = False                          # expected_rate is a belief, not a theorem
     physics: object = SCALAR                           # ``physics.Scalar`` or ``physics.Elasticity``
     transition_curve: tuple = ()                       # 3D: polylines on Gamma_C for the pictures
+    asymptotic_levels: int | None = None               # the default report's levels for this case
 
     @property
     def exact(self) -> bool:
@@ -241,6 +247,9 @@ def _check_declared(module, source: str) -> None:
     if hasattr(module, "name") and not module.name.strip():
         raise CaseError(f"case {source}: name must not be empty")
     number("maxh", 0.0)
+    levels = getattr(module, "asymptotic_levels", None)
+    if levels is not None and (isinstance(levels, bool) or not isinstance(levels, int) or levels < 3):
+        raise CaseError(f"case {source}: asymptotic_levels must be an integer >= 3 (a fit needs three levels), got {levels!r}")
     if hasattr(module, "reference_levels"):
         _reference_levels(module, source)
     reference = not hasattr(module, "u")
@@ -336,7 +345,7 @@ def _reference_levels(module, source: str) -> int:
 def _optional_fields(module) -> dict:
     fields = {}
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
-                "transition_curve"):
+                "transition_curve", "asymptotic_levels"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):

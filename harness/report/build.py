@@ -23,7 +23,7 @@ from .mesh_section import add_mesh_section, mesh_rows
 from .plots import theorem_label, verdict_cells
 from ..methods import methods_named
 from ..measure.rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
-from ..study.cache import compute, provenance
+from ..study.cache import case_settings, compute, provenance
 from ..study.files import ensure_writable, write_atomic, write_csv
 from ..study.chain import PROFILES
 from ..study.mesh_study import PICTURE_METHOD
@@ -43,7 +43,7 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         f"Belhachmi and Ben Belgacem, Math. Comp. 72 (2003). Harness {meta['harness_version']} "
         f"(commit {meta['git_commit'][:12]}), NGSolve {meta['ngsolve_version']}, {meta['date']}, "
         f"{meta['machine']['node']} ({meta['machine']['cpus']} cpus); profile {settings['profile']}, "
-        f"{settings['levels']} P2 levels; methods {', '.join(settings['methods'])}; "
+        f"{levels_text(cases, settings)}; methods {', '.join(settings['methods'])}; "
         + study_sentence(meta), css="meta")
     doc.contents()
     doc.heading("At a glance: every case × method")
@@ -103,6 +103,21 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
                          verdict_counts(rates[rates.case == case.name]), listed=case.name):
             _case_section(doc, case, results, rates, figs)
     return doc
+
+
+def levels_text(cases: list[Case], settings: dict) -> str:
+    """How many P2 levels the 2D cases ran: the profile's, and fewer for the cases whose fits are
+    asymptotic earlier (``Case.asymptotic_levels``, ``study.cache.case_settings``)."""
+    fewer: dict[int, list[str]] = {}
+    for case in cases:
+        levels = case_settings(case, settings)["levels"]
+        if case.dimension == 2 and levels < settings["levels"]:
+            fewer.setdefault(levels, []).append(case.name)
+    text = f"{settings['levels']} P2 levels"
+    if fewer:
+        text += " (" + "; ".join(f"{n} for {', '.join(names)}" for n, names in sorted(fewer.items())) + \
+            ": their fitted H¹ rates are asymptotic by then, one level more moved none by more than 0.01)"
+    return text
 
 
 def verdict_counts(rates: pd.DataFrame) -> str:
@@ -186,7 +201,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     methods = [m if isinstance(m, str) else m.name for m in methods]
     settings = {"profile": profile, "methods": [m.name for m in methods_named(methods)], **PROFILES[profile]}
     if levels is not None:
-        settings["levels"] = levels
+        settings["levels"], settings["stop_when_asymptotic"] = levels, False
         settings["mesh_levels"] = min(settings["mesh_levels"], levels)
     results_dir = Path(results_dir)
     ensure_writable(report_dir / "figures")

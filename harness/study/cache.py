@@ -97,12 +97,24 @@ def stale_sweeps(cases: list[Case], config: dict, results_dir: Path) -> list[Cas
             not _stored(store / f"{case.name}.json", [store / f"{case.name}.csv"], cache_key(case, {"sweep": config}))]
 
 
+def case_settings(case: Case, settings: dict) -> dict:
+    """The settings ``case``'s study runs with: a 3D case its own (smaller) number of levels (a
+    3D level has 8 times the dofs); a case that declares ``asymptotic_levels`` stops there when
+    the profile says so (``stop_when_asymptotic``: the default profile, not ``--levels``)."""
+    levels = settings["levels_3d"] if case.dimension == 3 else settings["levels"]
+    if settings.get("stop_when_asymptotic") and case.asymptotic_levels:
+        levels = min(levels, case.asymptotic_levels)
+    return settings | {"levels": levels}
+
+
 def study_groups(cases: list[Case], settings: dict) -> list[tuple[list[Case], dict]]:
-    """The report's studies: the 2D cases, and the 3D cases with their own (smaller) number of
-    levels (a 3D level has 8 times the dofs)."""
-    groups = [([c for c in cases if c.dimension == 2], settings),
-              ([c for c in cases if c.dimension == 3], settings | {"levels": settings["levels_3d"]})]
-    return [(group, group_settings) for group, group_settings in groups if group]
+    """The report's studies: the cases grouped by the settings they run with (``case_settings``),
+    2D before 3D, in the order given."""
+    groups: dict[str, tuple[list[Case], dict]] = {}
+    for case in sorted(cases, key=lambda c: c.dimension):
+        own = case_settings(case, settings)
+        groups.setdefault(json.dumps(own, sort_keys=True), ([], own))[0].append(case)
+    return list(groups.values())
 
 
 def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: list[Case], show_progress: bool = True,
@@ -190,8 +202,8 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
         progress.close()
     if timings is not None:
         timings.add("jobs (wall)", engine.describe(), "", time.perf_counter() - clock)
-    results = pd.concat([pd.read_csv(case_store / f"{case.name}.csv") for group, _ in study_groups(cases, settings)
-                         for case in group], ignore_index=True)
+    results = pd.concat([pd.read_csv(case_store / f"{case.name}.csv") for case in sorted(cases, key=lambda c: c.dimension)],
+                        ignore_index=True)
     return (results, {name: sweeps[name] for name in config["cases"] if name in sweeps},
             read_mesh_results(mesh_store, cases, mconfig))
 
