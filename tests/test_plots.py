@@ -61,3 +61,45 @@ def test_rate_summary_names_the_points_outside_the_band_without_overlap():
 def test_theorem_label_does_not_call_a_remark_a_theorem():
     assert plots.theorem_label("4.1 ii, 5.1 ii") == "Theorem 4.1 ii, 5.1 ii"
     assert plots.theorem_label("Remark 4.9") == "Remark 4.9"
+
+
+class _RecordingExecutor:
+    """Stands in for the figure processes: records what is handed to them, draws nothing."""
+
+    def __init__(self):
+        self.drawn = []
+
+    def submit(self, timed, draw, methods, *args):
+        from concurrent.futures import Future
+        self.drawn.append(draw.__name__)
+        done = Future()
+        done.set_result(({"png": f"{draw.__name__}.png"}, 0.0))
+        return done
+
+    def shutdown(self, **_):
+        pass
+
+
+def test_figures_wait_for_the_cores_the_study_leaves_free_and_all_are_drawn_at_collect(tmp_path):
+    import time
+
+    from harness.problem.case import load_case
+    from harness.report.figure_jobs import FigurePool
+    with FigurePool(["nodal"], tmp_path, workers=2, store=tmp_path) as pool:
+        pool.pool = executor = _RecordingExecutor()
+        pool.case_stored(load_case("corner-r12"))         # the study still uses every core
+        pool.case_stored(load_case("transition-r32"))
+        time.sleep(0.2)
+        assert executor.drawn == []
+        pool.cores_free(1)                                # its tail: one core idle
+        deadline = time.monotonic() + 5
+        while len(executor.drawn) < 2 and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert executor.drawn == ["_case_figures", "_case_figures"]
+        pool.cores_free(0)
+        pool.summary(pd.DataFrame())
+        time.sleep(0.2)
+        assert len(executor.drawn) == 2
+        figs, seconds = pool.collect()                    # the study is done: every worker draws
+    assert executor.drawn[-1] == "_summary"
+    assert set(figs) == {"corner-r12", "transition-r32", "summary", "sweeps", "meshes"} and set(seconds) == set(figs)

@@ -210,33 +210,32 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     run_started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
     sweep_cases = cases if _has_weak(settings["methods"]) else []
     writer = VtkWriter(results_dir / "vtk") if vtk else None
-    results, sweeps, meshes = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory, timings,
-                                      writer)
-    with timings("rates"):
-        rates = rate_table(results)
-        efficiency = efficiency_table(results)
-    with timings("writing", "results"):
-        write_csv(results, results_dir / "results.csv")
-        if not meshes.empty:
-            write_csv(meshes, results_dir / "meshes.csv")
-        write_csv(rates, results_dir / "rates.csv")
-        write_csv(efficiency, results_dir / "efficiency.csv")
-    meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
-                                   "engine": (engine or InProcess()).describe(),
-                                   "computed": computed_since(cases, results_dir / "cases", run_started)}
-    write_atomic(results_dir / "provenance.json", json.dumps(meta, indent=2))
-    drawing = timings("figures", f"drawn in {FIGURE_WORKERS} processes")
-    with drawing, FigurePool(settings["methods"], Path(report_dir) / "figures") as pool:
-        for case in cases:
-            pool.case(case, results_dir / "cases")
-        pool.summary(rates)
-        for name, frame in sweeps.items():
-            pool.sweep(known[name], frame)
-        both = mesh_rows(results, meshes)
-        for name in dict.fromkeys(meshes.case) if not meshes.empty else []:
-            adaptive = next((p for p in sorted((results_dir / "meshes").glob(f"{name}-adaptive*.npz"))), None)
-            pool.meshes_of(known[name], both[both.case == name], adaptive or Path("-"), PICTURE_METHOD)
-        figs, seconds = pool.collect()
+    # the figures are drawn as the cases are stored, on the cores the study leaves free
+    with FigurePool(settings["methods"], Path(report_dir) / "figures", store=results_dir / "cases") as pool:
+        results, sweeps, meshes = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory,
+                                          timings, writer, listener=pool)
+        with timings("rates"):
+            rates = rate_table(results)
+            efficiency = efficiency_table(results)
+        with timings("writing", "results"):
+            write_csv(results, results_dir / "results.csv")
+            if not meshes.empty:
+                write_csv(meshes, results_dir / "meshes.csv")
+            write_csv(rates, results_dir / "rates.csv")
+            write_csv(efficiency, results_dir / "efficiency.csv")
+        meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
+                                       "engine": (engine or InProcess()).describe(),
+                                       "computed": computed_since(cases, results_dir / "cases", run_started)}
+        write_atomic(results_dir / "provenance.json", json.dumps(meta, indent=2))
+        with timings("figures", f"drawn in {FIGURE_WORKERS} processes (after the study)"):
+            pool.summary(rates)
+            for name, frame in sweeps.items():
+                pool.sweep(known[name], frame)
+            both = mesh_rows(results, meshes)
+            for name in dict.fromkeys(meshes.case) if not meshes.empty else []:
+                adaptive = next((p for p in sorted((results_dir / "meshes").glob(f"{name}-adaptive*.npz"))), None)
+                pool.meshes_of(known[name], both[both.case == name], adaptive or Path("-"), PICTURE_METHOD)
+            figs, seconds = pool.collect()
     for name, spent in seconds.items():
         timings.add("figures (in workers)", name, "", spent)
     with timings("document"):

@@ -1,17 +1,21 @@
-"""The report's figures, drawn in worker processes once the study is computed.
+"""The report's figures, drawn in worker processes on the cores the study leaves free.
 
-matplotlib draws on one core, and the report has about forty figures (each in PNG and PDF:
-40 s of the default report on one core, measured 2026-11-25); each needs only its case's stored
-rows and snapshots, so two processes draw them side by side. Drawing them beside the running
-study instead (as each case was stored) slowed the study more than it saved, at normal and at
-the lowest priority alike (the study's NGSolve threads lose their cores: 375-384 s against
-about 360 s). Workers are spawned, not forked: the parent runs NGSolve's threads. Every figure
-is drawn with the same colour per method in every process (``figures.register_methods``).
+matplotlib draws on one core, and the report has about sixty figures (each in PNG and PDF:
+about 90 s of work, measured 2026-11-25); each needs only its case's stored rows and snapshots,
+so two processes draw them side by side. A case's figures are queued as soon as the case is
+stored (``study.cache.compute``'s listener), but drawn only on cores the study leaves idle
+(``cores_free``: the study's tail, when fewer jobs are left than worker processes; on one
+process, once the study is done). Drawing them beside the running study, on cores it used,
+slowed the study more than it saved, at normal and at the lowest priority alike (375-384 s
+against about 360 s). Workers are spawned, not forked: the parent runs NGSolve's threads. Every
+figure is drawn with the same colour per method in every process (``figures.register_methods``).
 """
 from __future__ import annotations
 
 import multiprocessing
+import threading
 import time
+from collections import deque
 from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 
@@ -67,24 +71,75 @@ def _sweep(source: str, frame: pd.DataFrame, folder: str) -> dict:
 
 
 class FigurePool:
-    """Figures drawn in ``workers`` processes; ``collect`` gives them by name (a case's name,
-    "summary", "sweeps") with the seconds each took in its worker."""
+    """Figures drawn in ``workers`` processes, at most ``cores_free(n)`` at once (none until told:
+    the study may still use every core); ``collect`` lets all workers draw, waits, and gives them
+    by name (a case's name, "summary", "sweeps") with the seconds each took in its worker. It is
+    the listener of ``study.cache.compute``: a stored case's figures are queued at once."""
 
-    def __init__(self, methods, folder: Path, workers: int = FIGURE_WORKERS):
-        self.methods, self.folder = list(methods), str(folder)
+    def __init__(self, methods, folder: Path, workers: int = FIGURE_WORKERS, store: Path | None = None):
+        self.methods, self.folder, self.workers, self.store = list(methods), str(folder), workers, store
         self.pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
         self.futures: dict[str, Future] = {}
         self.sweeps: dict[str, Future] = {}
         self.meshes: dict[str, Future] = {}
+        # the queue of figures not yet handed to the pool; a dispatcher thread hands them over
+        # while fewer than ``slots`` are drawing (a done-callback must not submit: it runs in the
+        # pool's own management thread)
+        self._queue: deque = deque()
+        self._slots, self._drawing, self._closed = 0, 0, False
+        self._changed = threading.Condition()
+        self._dispatcher = threading.Thread(target=self._dispatch, name="figure dispatcher", daemon=True)
+        self._dispatcher.start()
 
     def __enter__(self) -> "FigurePool":
         return self
 
     def __exit__(self, *exc) -> None:
+        with self._changed:
+            self._closed, self._slots = True, self.workers
+            if exc[0] is not None:
+                self._queue.clear()
+            self._changed.notify_all()
+        self._dispatcher.join()
         self.pool.shutdown(wait=exc[0] is None, cancel_futures=exc[0] is not None)
 
+    def cores_free(self, cores: int) -> None:
+        """Draw at most ``cores`` figures at once from now on (up to ``workers``)."""
+        with self._changed:
+            self._slots = max(0, min(int(cores), self.workers))
+            self._changed.notify_all()
+
+    def case_stored(self, case) -> None:
+        """``study.cache.compute``'s listener: the case is in ``store``, its figures can be drawn."""
+        self.case(case, self.store)
+
+    def _dispatch(self) -> None:
+        while True:
+            with self._changed:
+                self._changed.wait_for(lambda: (self._queue and self._drawing < self._slots) or
+                                       (self._closed and not self._queue))
+                if not self._queue:
+                    return
+                outer, args = self._queue.popleft()
+                self._drawing += 1
+            inner = self.pool.submit(_timed, *args)
+            inner.add_done_callback(lambda done, outer=outer: self._finished(done, outer))
+
+    def _finished(self, done: Future, outer: Future) -> None:
+        with self._changed:
+            self._drawing -= 1
+            self._changed.notify_all()
+        if done.exception() is not None:
+            outer.set_exception(done.exception())
+        else:
+            outer.set_result(done.result())
+
     def _submit(self, draw, *args) -> Future:
-        return self.pool.submit(_timed, draw, self.methods, *args, self.folder)
+        outer: Future = Future()
+        with self._changed:
+            self._queue.append((outer, (draw, self.methods, *args, self.folder)))
+            self._changed.notify_all()
+        return outer
 
     def case(self, case, store: Path) -> None:
         self.futures[case.name] = self._submit(_case_figures, str(case.source), str(store))
@@ -99,7 +154,9 @@ class FigurePool:
         self.meshes[case.name] = self._submit(_mesh_figures, str(case.source), frame, str(mesh_file), method)
 
     def collect(self) -> tuple[dict, dict]:
-        """(figures by name, the sweeps' under "sweeps"; worker seconds by name)."""
+        """(figures by name, the sweeps' under "sweeps"; worker seconds by name), every worker
+        drawing from now on."""
+        self.cores_free(self.workers)
         figs, seconds = {}, {}
         for name, future in self.futures.items():
             figs[name], seconds[name] = future.result()

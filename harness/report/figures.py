@@ -25,10 +25,15 @@ FORMATS = ("png", "pdf")
 
 
 def save(fig, folder: Path, stem: str) -> dict[str, Path]:
+    """``fig`` as ``stem``.png and .pdf, cropped to its drawn content. The crop (matplotlib's
+    "tight" box, padded 0.1 in) is computed once for both formats: "tight" per format lays the
+    figure out once more each time, a third of the report's figure time (measured 2026-11-26)."""
+    fig.draw_without_rendering()
+    box = fig.get_tightbbox(fig.canvas.get_renderer()).padded(0.1)
     paths = {}
     for fmt in FORMATS:
         paths[fmt] = folder / f"{stem}.{fmt}"
-        fig.savefig(paths[fmt], dpi=130, bbox_inches="tight")
+        fig.savefig(paths[fmt], dpi=130, bbox_inches=box)
     plt.close(fig)
     return paths
 

@@ -119,7 +119,7 @@ def study_groups(cases: list[Case], settings: dict) -> list[tuple[list[Case], di
 
 def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: list[Case], show_progress: bool = True,
             engine=None, check_memory: bool = True, timings: Timings | None = None,
-            writer=None) -> tuple[pd.DataFrame, dict, pd.DataFrame]:
+            writer=None, listener=None) -> tuple[pd.DataFrame, dict, pd.DataFrame]:
     """(the rows of every case, the sweep of every case in ``sweep_cases`` the report sweeps,
     the rows of the mesh study, ``mesh_study``):
     reused where stored and unchanged, the rest run as one set of jobs on ``engine`` (default
@@ -128,7 +128,12 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
 
     ``writer``: an ``on_level`` hook that writes files of the studies' solutions (``report
     --vtk``: ``report.vtk.VtkWriter``); a stored case is then reused only where
-    ``writer.written(case, methods, levels)``, else it is run again to write them."""
+    ``writer.written(case, methods, levels)``, else it is run again to write them.
+
+    ``listener``: told ``case_stored(case)`` as soon as a case's rows and snapshots are in the
+    store (a reused case at once), and ``cores_free(n)`` whenever the number of this machine's
+    cores the study leaves idle changes (``engine.busy_cores``; the report draws its figures
+    there, ``report.figure_jobs``)."""
     results_dir = Path(results_dir)
     case_store, sweep_store = ensure_writable(results_dir / "cases"), ensure_writable(results_dir / "sweeps")
     checkpoints = case_store / ".checkpoints"
@@ -141,6 +146,8 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
         for case in group:
             if case not in todo:
                 print(f"{case.name}: reusing results computed with the same code and settings")
+                if listener is not None:
+                    listener.case_stored(case)
         for case in todo:
             validate_case(case)
             check_methods(case, methods)
@@ -176,8 +183,13 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
     remaining = {name: sum(1 for job in jobs if job.scope + job.case.name == name) for name in pending}
     progress = StudyProgress(weights, show_progress and bool(jobs))
     clock = time.perf_counter()
+    cores = os.cpu_count() or 1
+    if listener is not None:
+        listener.cores_free(max(0, cores - engine.busy_cores(len(jobs))))
     try:
-        for job, output in engine.run(jobs, progress):
+        for finished, (job, output) in enumerate(engine.run(jobs, progress), start=1):
+            if listener is not None:
+                listener.cores_free(max(0, cores - engine.busy_cores(len(jobs) - finished)))
             name = job.scope + job.case.name
             pending[name][-1].append(output)
             remaining[name] -= 1
@@ -198,6 +210,8 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
                 case, group_settings, methods, _ = pending[name]
                 _store_case(case_store, case, outputs, methods, group_settings)
                 CheckpointStore(checkpoints, group_settings["levels"]).forget(case)
+                if listener is not None:
+                    listener.case_stored(case)
     finally:
         progress.close()
     if timings is not None:

@@ -69,6 +69,11 @@ class DaskEngine:
         where = f"{self.workers} local Dask workers" if self.workers else f"the Dask cluster at {self.scheduler}"
         return f"on {where} ({self.threads} thread{'s' if self.threads > 1 else ''} per job)"
 
+    def busy_cores(self, remaining: int) -> int:
+        """The cores of this machine the study keeps busy while ``remaining`` jobs are left: a
+        LocalCluster's workers' (one per job, at most ``workers``); none on a remote cluster."""
+        return min(remaining, self.workers) * self.threads if self.workers else 0
+
     def memory(self) -> tuple[float, str]:
         """The memory of one worker (the largest, for an existing cluster)."""
         if self.workers:

@@ -19,6 +19,7 @@ under it) are not done in a fixed order, and two runs agree only to about 1e-14 
 """
 from __future__ import annotations
 
+import os
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -134,6 +135,11 @@ class InProcess:
 
     def memory(self) -> tuple[float, str]:
         return budget.machine_memory(), "this machine"
+
+    def busy_cores(self, remaining: int) -> int:
+        """The cores of this machine the study keeps busy while ``remaining`` jobs are left:
+        all of them (NGSolve's threads) until the last job ends."""
+        return (os.cpu_count() or 1) if remaining else 0
 
     def run(self, jobs: list[Job], progress=None):
         """(job, ``study.ChainOutput``) for each job, as they finish."""

@@ -66,6 +66,12 @@ class LocalProcesses:
     def memory(self) -> tuple[float, str]:
         return budget.machine_memory() / self.workers, f"one of {self.workers} local processes"
 
+    def busy_cores(self, remaining: int) -> int:
+        """The cores the study keeps busy while ``remaining`` jobs are left: one process of
+        ``threads`` threads per job, at most ``workers`` at once (the study's tail leaves cores
+        free, which the report fills with its figures: ``report.figure_jobs``)."""
+        return min(remaining, self.workers) * self.threads
+
     def run(self, jobs: list[Job], progress=None):
         """(job, ``study.ChainOutput``) for each job, as they finish."""
         context = multiprocessing.get_context("spawn")

@@ -36,8 +36,9 @@ def by_section(profile: pd.DataFrame, wall: float) -> pd.DataFrame:
     """Seconds and share of the wall time per section and item (phases summed); the items of
     the study and the sweeps are cases, whose phases are the work of their jobs (summed over
     workers: on several workers their sum exceeds "jobs (wall)"); the figures are drawn in two
-    processes once the jobs are done: their wall time is the "figures" row, the seconds each
-    took in its process the "figures (in workers)" rows."""
+    processes, a case's as soon as it is stored on the cores the study leaves idle: the wall time
+    spent waiting for them after the jobs is the "figures" row, the seconds each took in its
+    process the "figures (in workers)" rows."""
     table = profile.fillna({"item": "", "phase": ""}).groupby(["section", "item"], sort=False).seconds.sum().reset_index()
     table["share"] = table.seconds / wall
     return table
