@@ -21,7 +21,7 @@ from ..fem.assembly import DiscreteProblem
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
 from ..fem.element_quadrature import singular_vertices
 from ..solvers.active_set import Cholesky, MultigridSystem
-from ..solvers.multigrid import HIERARCHICAL
+from ..solvers.multigrid import HIERARCHICAL, nested_start
 
 # relative to the load, as deep as the contact solves' linear systems
 TOLERANCE = 1e-11
@@ -39,14 +39,26 @@ def contact_flux_load(case, problem: DiscreteProblem) -> np.ndarray:
     return quadrature.T.T @ (quadrature.weights * exact_pressure(case, problem, quadrature))
 
 
-def ritz_projection(case, problem: DiscreteProblem, multilevel=None) -> np.ndarray:
+def ritz_projection(case, problem: DiscreteProblem, multilevel=None, start: np.ndarray | None = None) -> np.ndarray:
     """R_h u (all dofs), by the multigrid CG of the contact solver when the hierarchy is given,
-    else by sparse Cholesky. Call it before a method takes the stiffness matrix."""
+    else by sparse Cholesky. Call it before a method takes the stiffness matrix. ``start``: the
+    CG's first iterate (nested iteration: the coarser level's R_h u interpolated,
+    ``nested_ritz_start``); it changes the result only below the tolerance."""
     b = problem.b + contact_flux_load(case, problem)
     pinned = ~problem.free
     scale = max(np.abs((b - problem.A @ problem.lift)[problem.free]).max(initial=0.0), np.finfo(float).tiny)
     if multilevel is not None:
         system = MultigridSystem(problem.A_ngs, b, multilevel, HIERARCHICAL)
-        return system.solve(pinned, problem.lift, tol=TOLERANCE * scale)
+        return system.solve(pinned, problem.lift, start=start, tol=TOLERANCE * scale)
     rhs = np.where(problem.free, b - problem.A @ problem.lift, 0.0)
     return np.where(problem.free, Cholesky(problem.A_ngs, problem.free).solve(rhs), problem.lift)
+
+
+def nested_ritz_start(multilevel, problem: DiscreteProblem, coarse_vertex_values: np.ndarray | None) -> np.ndarray | None:
+    """The coarser level's R_h u at its vertices, interpolated onto ``problem``'s space (bubbles
+    zero): the CG then starts within the coarse level's discretisation error of R_h u instead of
+    at zero, as the contact solves' nested iteration does. None without a hierarchy or a coarser
+    level."""
+    if multilevel is None or coarse_vertex_values is None:
+        return None
+    return nested_start(multilevel, coarse_vertex_values, problem, HIERARCHICAL)

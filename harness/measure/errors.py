@@ -17,7 +17,7 @@ from scipy.sparse.linalg import splu
 
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
 from ..fem.element_quadrature import ElementQuadrature
-from .best_approximation import ritz_projection
+from .best_approximation import nested_ritz_start, ritz_projection
 
 
 def error_order(fe_order: int) -> int:
@@ -130,17 +130,24 @@ class ContactErrors:
 class ExactErrors:
     """The error columns of a study of a case with an exact u, level by level: the contact
     errors after each solve, the volume norms of every solution and of the best approximation
-    R_h u (``best``) in one integration at the end of the level."""
+    R_h u (``best``) in one integration at the end of the level. R_h u of each order starts its
+    CG from the coarser level's (nested iteration: what a chain carries, ``state_of``, so that
+    a resumed chain computes the same numbers)."""
 
-    def __init__(self, case, phases):
-        self.case, self.phases = case, phases
+    def __init__(self, case, phases, orders: dict[str, int] | None = None):
+        self.case, self.phases, self.orders = case, phases, orders or {}
+        self.vertex_values: dict[tuple[int, int], np.ndarray] = {}     # (order, level): R_h u at the vertices
 
     def begin_level(self, level: int, mesh, problems: dict, quadrature: ElementQuadrature, multilevel) -> None:
         self.quadrature, self.pending = quadrature, []
         self.best, self.contact = {}, {}
         with self.phases("best"):
             for order, problem in problems.items():
-                self.best[order] = problem.gridfunction(ritz_projection(self.case, problem, multilevel))
+                start = nested_ritz_start(multilevel, problem, self.vertex_values.get((order, level - 1)))
+                best = ritz_projection(self.case, problem, multilevel, start)
+                self.vertex_values = {key: v for key, v in self.vertex_values.items() if key[1] >= level - 1}
+                self.vertex_values[(order, level)] = best[:mesh.nv].copy()
+                self.best[order] = problem.gridfunction(best)
                 self.contact[order] = ContactErrors(self.case, problem)
 
     def solved(self, method, level: int, problem, u: np.ndarray, row: dict | None) -> dict:
@@ -160,12 +167,16 @@ class ExactErrors:
                               "err_best_energy": best["err_energy"],
                               "err_h1_over_best": own["err_h1"] / best["err_h1"]}
 
-    # Nothing is carried from level to level (``study.ChainState``): each level is measured on its own.
     def skip_level(self, level: int, mesh) -> None:
         pass
 
     def state_of(self, method_name: str) -> list:
-        return []
+        """What a method's chain carries to its next level (``study.ChainState``): its order's
+        R_h u at the vertices of its last level, the next level's CG start."""
+        mine = sorted(key for key in self.vertex_values if key[0] == self.orders.get(method_name))
+        return [(key, self.vertex_values[key]) for key in mine[-1:]]
 
     def restore(self, method_name: str, state: list, rows: list[dict]) -> None:
-        pass
+        """A resumed chain: the R_h u it carried (``state_of``)."""
+        for key, values in state:
+            self.vertex_values[tuple(key)] = values

@@ -75,15 +75,39 @@ def anchor(text: str) -> str:
     return re.sub(r"[^\w]+", "-", text.lower()).strip("-")
 
 
-def compact_image(path: Path) -> tuple[str, bytes]:
-    """(MIME type, bytes) of a figure as the HTML page embeds it: 256-colour lossless WebP."""
+EMBEDDED = ".embedded"        # beside the figures: their page versions, made as they are drawn
+
+
+def embedded_path(path: Path) -> Path:
+    """Where the page version of the figure ``path`` is kept (``save_compact``)."""
+    return Path(path).parent / EMBEDDED / f"{Path(path).stem}.webp"
+
+
+def _webp(path: Path) -> bytes:
     with Image.open(path) as image:
         buffer = io.BytesIO()
         # the fast octree palette: half the time of median cut and smaller files (64 figures:
         # 3.2 s and 1.3 MB against 5.7 s and 1.9 MB); the colour maps show a few bands
         image.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE).convert(
             "RGB").save(buffer, "WEBP", lossless=True, method=2)
-    return "image/webp", buffer.getvalue()
+    return buffer.getvalue()
+
+
+def save_compact(path: Path) -> None:
+    """The page version of the PNG ``path``, made where the figure is drawn (the figure
+    processes: the page then only reads it, 3 s less of the report's wall time)."""
+    target = embedded_path(path)
+    target.parent.mkdir(exist_ok=True)
+    target.write_bytes(_webp(path))
+
+
+def compact_image(path: Path) -> tuple[str, bytes]:
+    """(MIME type, bytes) of a figure as the HTML page embeds it: 256-colour lossless WebP, the
+    one ``save_compact`` made if it is not older than the PNG."""
+    kept = embedded_path(path)
+    if kept.is_file() and kept.stat().st_mtime >= Path(path).stat().st_mtime:
+        return "image/webp", kept.read_bytes()
+    return "image/webp", _webp(path)
 
 
 @dataclass

@@ -12,6 +12,7 @@ import numpy as np  # noqa: E402
 
 from ..problem.case import fraction
 from . import plots
+from .document import save_compact
 from .plots import OTHER_COLORS, style
 
 def register_methods(methods) -> None:
@@ -35,6 +36,7 @@ def save(fig, folder: Path, stem: str) -> dict[str, Path]:
         paths[fmt] = folder / f"{stem}.{fmt}"
         fig.savefig(paths[fmt], dpi=130, bbox_inches=box)
     plt.close(fig)
+    save_compact(paths["png"])
     return paths
 
 

@@ -230,7 +230,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     studied = {m.name: study_levels(m, levels) if m.name in requested else 0 for m in methods}
     chain = {m.name: chain_levels(case, m, levels) for m in methods}
     if case.exact:
-        measure = ExactErrors(case, phases)
+        measure = ExactErrors(case, phases, {m.name: m.order for m in methods})
     else:
         measure = ReferenceErrors(studied, {m.name: m.order for m in methods}, REFERENCE_METHOD,
                                   chain[REFERENCE_METHOD] - 1, phases)
