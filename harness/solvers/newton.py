@@ -132,11 +132,6 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
         if residual <= tol:
             status = "converged"
             break
-        if residual < best:
-            best, best_iteration = residual, iteration
-        elif iteration - best_iteration >= STALL_STEPS:
-            status = f"stalled: max |F| not below its best ({best:.1e}) in {STALL_STEPS} steps"
-            break
         if step_set is not None and np.array_equal(active, step_set):
             # u solved the affine system of its own set: what is left of F is the linear solve's,
             # at the round-off floor when its backward error is (``active_set.KKT.converged``)
@@ -145,6 +140,12 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
                 break
         if not np.isfinite(residual):
             status = "diverged: the residual is not finite"
+            break
+        # after the round-off and divergence tests: a stall is what is left
+        if residual < best:
+            best, best_iteration = residual, iteration
+        elif iteration - best_iteration >= STALL_STEPS:
+            status = f"stalled: max |F| not below its best ({best:.1e}) in {STALL_STEPS} steps"
             break
         if iteration == max_iterations:
             break
