@@ -172,3 +172,24 @@ def test_row_norm_is_the_infinity_norm_of_the_chosen_rows(chunk, rng):
     rows = rng.random(K.shape[0]) < 0.6
     expected = np.asarray(abs(K).sum(axis=1)).ravel()[rows].max()
     assert row_norm(K, rows, chunk) == pytest.approx(expected, rel=1e-13)
+
+
+@pytest.mark.parametrize("method_name", CONE_NAMES)
+def test_loose_solves_of_new_active_sets_reach_the_same_kkt_point_with_fewer_cg_iterations(method_name, monkeypatch):
+    """Inexact active-set steps (``loose_depth``): from a poor prediction (every constraint
+    active) the sets that are to change are solved to 1e-3 of the residual only; the answer is
+    the KKT point of the all-full-depth run, to the tolerance, in fewer CG iterations."""
+    import harness.solvers.active_set as active_set
+    case = load_case("transition-r32")
+    method = METHODS[method_name]
+    problem, multilevel = problem_with_hierarchy("transition-r32", 3, method.order)
+    qp = contact_qp(case, problem, method.cone)
+    everything = np.ones(len(qp.C), bool)
+    loose = solve_contact_qp(qp, initial_active=everything, multilevel=multilevel)
+    monkeypatch.setattr(active_set, "FORCING", 0.0)        # every solve to the full depth
+    full = solve_contact_qp(qp, initial_active=everything, multilevel=multilevel)
+    assert loose.status == full.status == "converged"
+    assert loose.kkt.residual <= 1e-10
+    assert (loose.active == full.active).all()
+    assert np.abs(loose.z - full.z).max() <= 1e-10 * np.abs(full.z).max()
+    assert loose.work["cg_iterations"] < full.work["cg_iterations"]

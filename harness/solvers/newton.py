@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .active_set import ROUNDOFF_BACKWARD_ERROR, MultigridSystem, row_norm
+from .active_set import ROUNDOFF_BACKWARD_ERROR, MultigridSystem, loose_depth, row_norm
 from .multigrid import HIERARCHICAL
 
 DEFAULT_TOLERANCE = 1e-10
@@ -123,7 +123,7 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
     direct = multilevel is None or not system.symmetric
     factored = None             # the factorisation of J, updated step by step once direct
     status = f"not converged in {max_iterations} iterations"
-    residual, step_set = np.inf, None
+    residual, step_set, previous_set, linear = np.inf, None, None, None
     best, best_iteration = np.inf, 0
     for iteration in range(max_iterations + 1):
         F = system.residual(u)
@@ -152,19 +152,32 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
         step_set = predicted if iteration == 0 and predicted is not None else active
         key = step_set.tobytes()
         damped = damped or key in seen
-        seen.add(key)
-        system.set_jacobian(step_set)
-        # The Newton step as the affine system of this set, J u_new = r (= J u - F(u) for the
-        # set of u); the linear solver starts from u, a tenth of the tolerance deep.
-        rhs = system.affine_rhs(step_set)
+        # A set that differs from the last step's is solved to ``FORCING`` times the residual
+        # when that is much shallower (``active_set.loose_depth``; inexact semismooth Newton:
+        # such a step decides the next set); a set a step leaves unchanged is solved a tenth of
+        # the tolerance deep, which decides convergence, keeping J, r and the V-cycle.
+        new_set = previous_set is None or not np.array_equal(step_set, previous_set)
+        depth = loose_depth(residual, 0.1 * tol) if new_set and not (direct or damped) else 0.1 * tol
+        if depth <= 0.1 * tol:
+            seen.add(key)           # sets of full-depth steps only: a loose one is solved again
+        previous_set = step_set
+        if new_set:
+            system.set_jacobian(step_set)
+            # The Newton step as the affine system of this set, J u_new = r (= J u - F(u) for
+            # the set of u); the linear solver starts from u.
+            rhs = system.affine_rhs(step_set)
+            linear = None
+        depth *= scale
         if not direct:
-            linear = MultigridSystem(system.J_ngs, rhs, multilevel, HIERARCHICAL,
-                                     stiff_vertices=system.stiff_vertices(step_set, multilevel.nvertices))
-            candidate = linear.solve(pinned, problem.lift, start=u, tol=0.1 * tol * scale)
-            linear_iterations += linear.cg_iterations
+            # the same set again: the same J, r and V-cycle; CG goes on from u
+            linear = linear or MultigridSystem(system.J_ngs, rhs, multilevel, HIERARCHICAL,
+                                               stiff_vertices=system.stiff_vertices(step_set, multilevel.nvertices))
+            before = linear.cg_iterations
+            candidate = linear.solve(pinned, problem.lift, start=u, tol=depth)
+            linear_iterations += linear.cg_iterations - before
             # CG did not converge: J is not positive definite (Nitsche theta = 1 with gamma0 past
             # its coercivity bound); a factorisation solves what CG cannot, from now on
-            direct = not _linear_residual(system, candidate, rhs) <= tol * scale
+            direct = not _linear_residual(system, candidate, rhs) <= 10 * depth
         if direct:
             factored = (factored or _DirectSystem(system.J_ngs, rhs, system.symmetric)).for_step(rhs)
             before = factored.factorizations
