@@ -2,6 +2,7 @@
 import dataclasses
 from pathlib import Path
 
+import ngsolve as ngs
 import pytest
 
 from harness.problem.case import CaseError, load_case, registered_cases
@@ -41,6 +42,18 @@ def test_declared_f_that_is_not_minus_laplacian_is_refused(case_name, wrong_f):
     case = dataclasses.replace(registered_cases()[case_name], declared_f=wrong_f)
     with pytest.raises(CaseError, match=r"declared f is not -Laplace\(u\) at \("):
         validate_case(case)
+
+
+@pytest.mark.parametrize("wrong", ["swapped", "scaled", "scalar"])
+def test_declared_grad_u_that_is_not_the_gradient_of_u_is_refused(wrong):
+    """oscillating-r34 declares grad u in closed form (it passes validation: the registered
+    cases' test); a swapped, slightly scaled or scalar one is refused."""
+    case = registered_cases()["oscillating-r34"]
+    declared = case.declared_grad_u
+    assert declared is not None
+    bad = {"swapped": ngs.CF((declared[1], declared[0])), "scaled": (1 + 1e-6) * declared, "scalar": declared[0]}[wrong]
+    with pytest.raises(CaseError, match=r"grad_u (is not the gradient of u at \(|has 1 components)"):
+        validate_case(dataclasses.replace(case, declared_grad_u=bad))
 
 
 def test_singular_point_off_the_mesh_vertices_is_refused():

@@ -26,6 +26,10 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     contact_load           optional CoefficientFunction g_C: du/dn - g_C >= 0 on Gamma_C
     f                      optional volume load, -Laplace(u) in closed form (0 for a harmonic
                            u): cheaper to evaluate than the derived one, and checked against it
+    grad_u                 optional grad u in closed form (a dim-vector; in elasticity the
+                           Jacobian, row i = grad u_i): the error norms evaluate it at every
+                           quadrature point, where the derived one of a deep u (logs, powers,
+                           oscillations) costs twice as much; checked against the derived one
     singular_points        optional list of points (x, y) where u is singular, each a polygon
                            corner; the error and load quadratures are graded there. Default:
                            every point of the geometry. [] for a solution singular nowhere.
@@ -112,6 +116,7 @@ class Case:
     gap: ngs.CoefficientFunction | None = None
     contact_load: ngs.CoefficientFunction | None = None
     declared_f: object = None                  # the module's f: a number or a CoefficientFunction
+    declared_grad_u: ngs.CoefficientFunction | None = None     # the module's grad_u
     singular_points: tuple | None = None
     source: str = ""
     dirichlet: ngs.CoefficientFunction | None = None   # reference cases: u_D on Gamma_u
@@ -150,8 +155,14 @@ class Case:
 
     @cached_property
     def grad_u(self) -> ngs.CoefficientFunction:
+        """grad u, as declared by the case or derived from u."""
         if self.u is None:
             raise AttributeError(f"case {self.name!r} has no exact solution (a reference case)")
+        return self.derived_grad_u if self.declared_grad_u is None else self.declared_grad_u
+
+    @cached_property
+    def derived_grad_u(self) -> ngs.CoefficientFunction:
+        """grad u by NGSolve's symbolic differentiation of u."""
         return gradient(self.u, self.dimension)
 
     @cached_property
@@ -357,6 +368,8 @@ def _optional_fields(module) -> dict:
     for key in ("gap", "contact_load"):
         if fields.get(key) is not None:
             fields[key] = ngs.CF(fields[key])
+    if getattr(module, "grad_u", None) is not None:
+        fields["declared_grad_u"] = ngs.CF(module.grad_u)
     return fields
 
 

@@ -89,6 +89,24 @@ def check_declared_f(case, mesh) -> None:
                         f"{declared[k]} against {derived[k]}")
 
 
+def check_declared_grad_u(case, mesh) -> None:
+    """A declared grad_u is the derivative of u, to RELATIVE_TOLERANCE of its size."""
+    if case.declared_grad_u is None:
+        return
+    if case.declared_grad_u.dim != case.derived_grad_u.dim:
+        raise CaseError(f"case {case.name!r}: grad_u has {case.declared_grad_u.dim} components, "
+                        f"grad u has {case.derived_grad_u.dim}")
+    points = interior_samples(mesh)
+    derived = evaluate(case.derived_grad_u, mesh, points).reshape(len(points), -1)
+    declared = evaluate(case.declared_grad_u, mesh, points).reshape(len(points), -1)
+    scale = max(np.abs(derived).max(), 1e-300)
+    wrong = ~(np.abs(declared - derived) <= RELATIVE_TOLERANCE * scale).all(axis=1)
+    if wrong.any():
+        k = int(np.argmax(wrong))
+        raise CaseError(f"case {case.name!r}: declared grad_u is not the gradient of u at {format_point(points[k])}: "
+                        f"{declared[k]} against {derived[k]}")
+
+
 def boundary_samples(mesh, label: str) -> np.ndarray:
     """Points strictly inside the coarse boundary edges labelled ``label``."""
     t = (np.arange(SAMPLES_PER_EDGE) + 0.5) / SAMPLES_PER_EDGE
@@ -127,6 +145,7 @@ def validate_case(case) -> None:
         check_reference_data(case, mesh)
         return
     check_declared_f(case, mesh)
+    check_declared_grad_u(case, mesh)
     points, excess, flux, normals = contact_samples(case, mesh)
     if not (np.all(np.isfinite(excess)) and np.all(np.isfinite(flux))):
         bad = points[~(np.isfinite(excess) & np.isfinite(flux))][0]
