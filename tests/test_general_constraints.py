@@ -1,0 +1,146 @@
+"""The general-constraint QP solver (``solvers.general_constraints``, the machinery of the 3D
+face-mean cone and of mortar conditions) returns the exact minimiser: against Clarabel on
+random problems, with linearly dependent active rows, and against the bound solver where the
+constraints are bounds."""
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from conftest import problem_at
+from qpsolvers import solve_qp
+
+from harness.fem.cones import contact_qp
+from harness.methods import METHODS
+from harness.problem.case import load_case
+from harness.solvers.active_set import solve_contact_qp
+from harness.solvers.general_constraints import GeneralConstraintSolver
+
+
+def _clarabel(K, b, B, g):
+    """Clarabel's minimiser of 1/2 z'Kz - b'z subject to B z >= g (an interior point method: its
+    z is as accurate as its gap tolerance lets it be, about 1e-6 relative on the 3D problem)."""
+    return solve_qp(sp.csc_matrix(K), -b, G=sp.csc_matrix(-B), h=-g,
+                    solver="clarabel", tol_gap_abs=1e-11, tol_gap_rel=1e-11, tol_feas=1e-11)
+
+
+def _random_problem(seed: int, n: int = 40, m: int = 25):
+    rng = np.random.default_rng(seed)
+    M = rng.standard_normal((n, n))
+    K = M @ M.T + 0.5 * np.eye(n)
+    b = rng.standard_normal(n) * 3
+    B = rng.standard_normal((m, n)) * (rng.random((m, n)) < 0.2)
+    g = rng.standard_normal(m) * 0.3
+    return K, b, B, g
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_random_general_constraints_match_clarabel(seed):
+    K, b, B, g = _random_problem(seed)
+    solution = GeneralConstraintSolver(K, b, np.ones(len(b), bool), B, g).solve()
+    reference = _clarabel(K, b, B, g)
+    assert solution.status == "converged" and solution.residual <= 1e-10
+    assert np.abs(solution.z - reference).max() <= 1e-7 * max(1.0, np.abs(reference).max())
+    assert (solution.multipliers >= -1e-10 * solution.multipliers.max(initial=1.0)).all()
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_linearly_dependent_active_rows_give_the_unique_minimiser(seed):
+    """Rows repeated and a row that is the sum of two others (active together at the solution:
+    the multipliers are not unique there, the minimiser is), pinned dofs beside them."""
+    K, b, B, g = _random_problem(seed, n=30, m=10)
+    free = np.ones(len(b), bool)
+    free[:4] = False
+    lift = np.linspace(-0.2, 0.3, len(b))
+    unconstrained = lift.copy()
+    unconstrained[free] = np.linalg.solve(K[free][:, free], (b - K @ np.where(free, 0.0, lift))[free])
+    B[:5] = np.random.default_rng(seed + 100).standard_normal((5, len(b)))
+    g[:5] = B[:5] @ unconstrained + 1.0          # the unconstrained minimiser violates rows 0-4
+    B = np.vstack([B, B[:3], B[3] + B[4]])
+    g = np.concatenate([g, g[:3], [g[3] + g[4]]])
+    solution = GeneralConstraintSolver(K, b, free, B, g, lift=lift).solve(initial_active=np.ones(len(g), bool))
+    pinned = np.where(free, 0.0, lift)
+    reference = _clarabel(K[free][:, free], (b - K @ pinned)[free], B[:, free], g - B @ pinned)
+    assert solution.status == "converged" and solution.residual <= 1e-10
+    assert np.abs(solution.z[~free] - lift[~free]).max() == 0.0
+    slack = B @ solution.z - g
+    assert (np.abs(slack[[0, 1, 2, 3, 4]]) <= 1e-10).any()       # a row that is repeated or summed binds
+    assert np.abs(solution.z[free] - reference).max() <= 1e-7 * max(1.0, np.abs(reference).max())
+
+
+@pytest.mark.parametrize("method_name", ["nodal", "p1"])
+def test_bounds_as_general_rows_equal_the_bound_solver(method_name):
+    """The cones of 2D are bounds z_C >= alpha: as rows of B (a selection) the general solver
+    finds the bound solver's solution."""
+    case, method = load_case("transition-r32"), METHODS[method_name]
+    qp = contact_qp(case, problem_at("transition-r32", 2, method.order), method.cone)
+    bounds = solve_contact_qp(qp)
+    B = sp.csr_matrix((np.ones(len(qp.C)), (np.arange(len(qp.C)), qp.C)), shape=(len(qp.C), len(qp.b)))
+    general = GeneralConstraintSolver(qp.K, qp.b, qp.free, B, qp.alpha, lift=qp.lift).solve()
+    assert bounds.status == general.status == "converged"
+    assert general.residual <= 1e-10
+    assert (general.active == bounds.active).all()
+    assert np.abs(general.z - bounds.z).max() <= 1e-9 * np.abs(bounds.z).max()
+
+
+def _contact_triangles(mesh, elements):
+    import ngsolve as ngs
+    corners = []
+    for e in elements:
+        element = mesh[ngs.ElementId(ngs.BND, int(e))]
+        corners.append([mesh[v].point for v in element.vertices])
+    return np.array(corners, dtype=float)
+
+
+def test_a_p2_face_mean_is_the_average_of_its_three_midside_values():
+    """docs/mathematics.md: on a triangle the P2 mean is the average of the three edge-midpoint
+    values (the Lagrange vertex functions integrate to 0). Checked on every contact triangle of
+    transition-line-3d for a quadratic that P2 represents exactly."""
+    import ngsolve as ngs
+
+    from harness.fem.face_means import face_mean_rows
+    problem = problem_at("transition-line-3d", 1, 2)
+    quadratic = lambda x, y, z: 1 + x - 2 * y + 3 * x * x - x * y + 2 * y * y + 0.5 * z   # noqa: E731
+    gfu = ngs.GridFunction(problem.fes)
+    gfu.Set(quadratic(ngs.x, ngs.y, ngs.z))
+    B, g, elements = face_mean_rows(problem, ngs.CF(2.0))
+    corners = _contact_triangles(problem.mesh, elements)
+    midpoints = (corners + np.roll(corners, -1, axis=1)) / 2
+    average = quadratic(*np.moveaxis(midpoints, -1, 0)).mean(axis=1)
+    assert len(elements) > 0 and np.abs(B @ gfu.vec.FV().NumPy() - average).max() <= 1e-12 * np.abs(average).max()
+    assert np.abs(g - 2.0).max() <= 1e-13
+    vertex_average = quadratic(*np.moveaxis(corners, -1, 0)).mean(axis=1)
+    assert np.abs(average - vertex_average).max() > 1e-3      # not the vertex average: the test can fail
+
+
+def test_the_3d_face_mean_cone_is_solved_exactly_against_clarabel():
+    """The 3D counterpart of K_h (vertex values >= alpha, face means >= the mean of alpha) on
+    transition-line-3d's coarse mesh: the general-constraint solver and Clarabel agree, every
+    KKT residual <= 1e-10."""
+    from harness.fem.face_means import face_mean_rows
+    case = load_case("transition-line-3d")
+    problem = problem_at("transition-line-3d", 0, 2)
+    B_faces, g_faces, _ = face_mean_rows(problem, case.obstacle)
+    from harness.mesh.points import evaluate
+    vertices = problem.vertex_dofs
+    coordinates = np.array([problem.mesh[ngs_vertex].point for ngs_vertex in _vertex_ids(problem)])
+    g_vertices = np.zeros(len(vertices)) if case.obstacle is None else evaluate(case.obstacle, problem.mesh, coordinates).ravel()
+    B = sp.vstack([sp.csr_matrix((np.ones(len(vertices)), (np.arange(len(vertices)), vertices)),
+                                 shape=(len(vertices), problem.ndof)), B_faces]).tocsr()
+    g = np.concatenate([g_vertices, g_faces])
+    A = problem.A
+    solution = GeneralConstraintSolver(A, problem.b, problem.free, B, g, lift=problem.lift).solve()
+    free = problem.free
+    reduced = _clarabel(A[free][:, free].toarray(), (problem.b - A @ problem.lift)[free],
+                        B[:, free].toarray(), g - B @ problem.lift)
+    assert solution.status == "converged" and solution.residual <= 1e-10
+    assert solution.active[len(vertices):].any()                 # some face constraint binds
+    # the exact solver's objective is not above the interior point's, and the two minimisers
+    # agree to the interior point's accuracy
+    K_free, b_free = A[free][:, free], (problem.b - A @ problem.lift)[free]
+    objective = lambda z: 0.5 * z @ (K_free @ z) - b_free @ z          # noqa: E731
+    assert objective(solution.z[free]) <= objective(reduced) + 1e-12 * abs(objective(reduced))
+    assert np.abs(solution.z[free] - reduced).max() <= 1e-5 * np.abs(reduced).max()
+
+
+def _vertex_ids(problem):
+    import ngsolve as ngs
+    return [ngs.NodeId(ngs.VERTEX, int(v)) for v in problem.trace.vertices]
