@@ -46,7 +46,7 @@ from .multigrid import ContactEdges, TruncatedVCycle, pcg
 DEFAULT_TOLERANCE = 1e-10
 # a stationarity residual this small relative to ||K|| ||z|| + ||b|| is round-off (``KKT.converged``)
 ROUNDOFF_BACKWARD_ERROR = 1e-13
-DEFAULT_REFACTOR_ABOVE = 24
+DEFAULT_REFACTOR_ABOVE = 24  # ~ the cost of a factorisation in solves, at 1e5-1e6 dofs
 # the forcing term: a set that is new is solved to this fraction of the current residual
 # (``ActiveSetSolver.solve``; Newton's steps alike), when that is at least LOOSE_GAIN times
 # shallower than the full depth (about 7 CG iterations saved, more than an extra step costs)
@@ -322,8 +322,8 @@ class ActiveSetSolver:
         pivoting = False
         iterative = getattr(self.system, "iterative", False)
         full = 0.1 * self.tol
-        first = self.lift if start is None else start
-        depth = loose_depth(self.kkt(first, active)[0].residual, full) if iterative else full
+        initial = self.lift if start is None else start
+        depth = loose_depth(self.kkt(initial, active)[0].residual, full) if iterative else full
         status = f"not converged in {self.max_iterations} iterations"
         z = start                   # each solve starts from the previous iterate
         for iteration in range(1, self.max_iterations + 1):

@@ -49,7 +49,7 @@ class GeneralQPSolution:
     primal: float               # max (g - B z)^+ / max(|B z|, |g|)
     dual: float                 # max (-lambda)^+ / load scale
     complementarity: float      # max |lambda_i (B z - g)_i| / (load scale * max(|B z|, |g|))
-    stationarity: float        # max |K z - b - B^T lambda| on the free dofs / load scale
+    stationarity: float         # max |K z - b - B^T lambda| on the free dofs / load scale
     iterations: int
     seconds: float
     status: str
@@ -90,9 +90,13 @@ class GeneralConstraintSolver:
         lam[rows] = -solution[len(self.F):]
         return z, lam
 
+    def slack(self, z: np.ndarray) -> tuple[np.ndarray, float]:
+        """B z - g, and the scale of the constraint values, max(|B z|, |g|)."""
+        Bz = self.B @ z
+        return Bz - self.g, max(np.abs(Bz).max(initial=0.0), np.abs(self.g).max(initial=0.0), np.finfo(float).tiny)
+
     def residuals(self, z: np.ndarray, lam: np.ndarray) -> dict:
-        slack = self.B @ z - self.g
-        scale_z = max(np.abs(self.B @ z).max(initial=0.0), np.abs(self.g).max(initial=0.0), np.finfo(float).tiny)
+        slack, scale_z = self.slack(z)
         force = (self.K @ z - self.b - self.B.T @ lam)[self.F]
         return {
             "primal": float(max(0.0, -slack.min(initial=0.0)) / scale_z),
@@ -115,8 +119,7 @@ class GeneralConstraintSolver:
                 break
             seen.add(active.tobytes())
             # decisions a tenth of the tolerance deep, so that round-off never flips a row
-            slack = self.B @ z - self.g
-            scale_z = max(np.abs(self.B @ z).max(initial=0.0), np.abs(self.g).max(initial=0.0), np.finfo(float).tiny)
+            slack, scale_z = self.slack(z)
             leave = active & (lam < -0.1 * self.tol * self.load_scale)
             enter = ~active & (slack < -0.1 * self.tol * scale_z)
             if not (leave.any() or enter.any()):
