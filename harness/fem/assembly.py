@@ -284,9 +284,11 @@ class ContactTraceFunction:
     face_values: np.ndarray | None = None   # 3D: (f, 3) values at the corners
     face_bubbles: np.ndarray | None = None  # 3D: (f, 3) bubble coefficients of the sides
     volumes: np.ndarray | None = None       # 2D: (m,) the triangles on the edges (``mesh.in_elements``)
+    face_active: np.ndarray | None = None   # 3D, face-mean cone: (f,) the triangle's mean constraint was active
 
     @classmethod
-    def of(cls, problem: DiscreteProblem, u: np.ndarray, end_active=None, edge_active=None) -> "ContactTraceFunction":
+    def of(cls, problem: DiscreteProblem, u: np.ndarray, end_active=None, edge_active=None,
+           face_active=None) -> "ContactTraceFunction":
         ends = u[problem.end_dofs]
         trace = problem.trace
         m = len(trace.edges)
@@ -299,7 +301,7 @@ class ContactTraceFunction:
             faces = {"face_points": trace.faces.corners(trace), "face_values": u[problem.vertex_dofs][corners],
                      "face_bubbles": bubbles[trace.faces.edges]}
         return cls(trace.a, trace.b, ends[:, 0], ends[:, 1], bubbles, end_active, edge_active, **faces,
-                   volumes=trace.volumes)
+                   volumes=trace.volumes, face_active=face_active)
 
     def value(self, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Value on edge[k] at parameter t[k] (broadcasting)."""
@@ -338,6 +340,28 @@ class ContactTraceFunction:
         status = np.concatenate([self.end_active[:, 0], self.end_active[:, 1], self.edge_active])
         index, near = self._nearest(anchors, points, 0.25 * np.tile(length, 3))
         return status[index] & near
+
+    def face_status(self, corners: np.ndarray) -> np.ndarray:
+        """3D: active status of the mean constraint of each fine triangle (corners (f, 3, 3)):
+        that of the coarse triangle holding its centroid (the candidates: the coarse triangles
+        with the nearest centroids; the one whose smallest barycentric coordinate of the point
+        is largest holds it)."""
+        coarse = self.face_points
+        points = corners.mean(axis=1)
+        k = min(6, len(coarse))
+        _, candidates = cKDTree(coarse.mean(axis=1)).query(points, k=k)
+        candidates = candidates.reshape(len(points), k)
+        origin = coarse[candidates, 0]                                            # (n, k, 3)
+        e1, e2 = coarse[candidates, 1] - origin, coarse[candidates, 2] - origin
+        d = points[:, None] - origin
+        # the point's coordinates (s, t) in the triangle's plane: the 2 x 2 normal equations
+        a11, a12, a22 = (e1 * e1).sum(-1), (e1 * e2).sum(-1), (e2 * e2).sum(-1)
+        r1, r2 = (e1 * d).sum(-1), (e2 * d).sum(-1)
+        det = a11 * a22 - a12 * a12
+        s, t = (a22 * r1 - a12 * r2) / det, (a11 * r2 - a12 * r1) / det
+        smallest = np.minimum(np.minimum(s, t), 1.0 - s - t)
+        holder = candidates[np.arange(len(points)), smallest.argmax(axis=1)]
+        return self.face_active[holder]
 
     def edge_status(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """Active status of the edge constraint of each fine edge [a, b]: that of the coarse edge

@@ -13,9 +13,15 @@ means only, which do not control the trace inside the triangles: its H^1 rate st
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
+
+from ..mesh.points import evaluate
+from .assembly import ContactTraceFunction, DiscreteProblem
+from .cones import contact_pressure
 
 CONTACT = "contact"
 
@@ -44,3 +50,78 @@ def face_mean_rows(problem, obstacle: ngs.CoefficientFunction | None = None,
     B = sp.csr_matrix((np.asarray(values), (np.asarray(rows), np.asarray(columns))), shape=(faces.ndof, problem.fes.ndof))
     areas, integrals = area.vec.FV().NumPy()[dofs], load.vec.FV().NumPy()[dofs]
     return (sp.diags(1.0 / areas) @ B[dofs]).tocsr(), integrals / areas, elements
+
+
+def _in_trace_order(problem, elements: np.ndarray) -> np.ndarray:
+    """The position of each triangle of ``problem.trace.faces`` among the surface ``elements``."""
+    mesh = problem.mesh
+    keys = {tuple(sorted(v.nr for v in mesh[ngs.ElementId(ngs.BND, int(e))].vertices)): k for k, e in enumerate(elements)}
+    return np.array([keys[tuple(sorted(corners))] for corners in problem.trace.faces.vertices.tolist()], dtype=np.int64)
+
+
+@dataclass
+class FaceMeanQP:
+    """The 3D counterpart of K_h as min 1/2 u'Au - b'u over u = u_D on Gamma_u and B u >= g, in
+    NGSolve's hierarchical P2 variables: B's first rows are the vertex values on Gamma_C (in
+    the order of ``problem.vertex_dofs``), the next its triangles' means (in the order of
+    ``problem.trace.faces``), g the obstacle's values and means there (``face_mean_rows``)."""
+
+    problem: DiscreteProblem
+    K: sp.csr_matrix
+    K_ngs: object
+    b: np.ndarray
+    B: sp.csr_matrix
+    g: np.ndarray
+
+    @property
+    def free(self) -> np.ndarray:
+        return self.problem.free
+
+    @property
+    def lift(self) -> np.ndarray:
+        return self.problem.lift
+
+    @property
+    def n_vertices(self) -> int:
+        return len(self.problem.vertex_dofs)
+
+    def predicted_active(self, previous: ContactTraceFunction | None) -> np.ndarray | None:
+        """Nested iteration: a fine vertex inherits the status of the coarse vertex it is (or, at
+        a coarse edge midpoint, of both ends of that edge: ``trace_function``), a fine triangle
+        that of the coarse triangle it lies in."""
+        if previous is None:
+            return None
+        trace = self.problem.trace
+        return np.concatenate([previous.vertex_status(trace.vertex_points),
+                               previous.face_status(trace.faces.corners(trace))])
+
+    def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
+        problem, nv = self.problem, self.n_vertices
+        vertex_active = dict(zip(problem.trace.vertices.tolist(), active[:nv]))
+        end_active = np.vectorize(vertex_active.get, otypes=[bool])(problem.trace.edge_vertices)
+        # no edge constraint: an edge counts as in contact when both its ends are (what the
+        # fine vertex at its midpoint inherits)
+        return ContactTraceFunction.of(problem, u, end_active, end_active.all(axis=1), face_active=active[nv:])
+
+    def pressure(self, multipliers: np.ndarray) -> np.ndarray:
+        """The discrete pressure per triangle: a face row's force lambda_f B_f is the uniform
+        pressure lambda_f / |T| on its triangle; the vertex rows' as for the cones."""
+        problem, nv = self.problem, self.n_vertices
+        vertex_part = contact_pressure(problem, np.concatenate([multipliers[:nv], np.zeros(len(problem.edge_dofs))]))
+        return vertex_part + multipliers[nv:] / problem.trace.cell_sizes
+
+
+def face_mean_qp(case, problem: DiscreteProblem, take_stiffness: bool = False) -> FaceMeanQP:
+    """The face-mean QP of ``case`` on ``problem`` (P2 on tetrahedra); ``take_stiffness`` as
+    for the cones (``cones.contact_qp``): A itself is K, no change of variables."""
+    if problem.trace.faces is None or problem.order != 2:
+        raise ValueError("the face-mean cone is the 3D counterpart of K_h: P2 on a tetrahedral mesh")
+    B_faces, g_faces, elements = face_mean_rows(problem, case.obstacle)
+    order = _in_trace_order(problem, elements)
+    vertices = problem.vertex_dofs
+    bounds = sp.csr_matrix((np.ones(len(vertices)), (np.arange(len(vertices)), vertices)), shape=(len(vertices), problem.ndof))
+    g_vertices = (np.zeros(len(vertices)) if case.obstacle is None
+                  else np.ravel(evaluate(case.obstacle, problem.mesh, problem.trace.vertex_points)))
+    K, K_ngs = problem.take_stiffness() if take_stiffness else (problem.A, problem.A_ngs)
+    return FaceMeanQP(problem, K, K_ngs, problem.b, sp.vstack([bounds, B_faces[order]]).tocsr(),
+                      np.concatenate([g_vertices, g_faces[order]]))

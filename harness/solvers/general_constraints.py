@@ -21,10 +21,13 @@ A = {i : lambda_i + c (g - B z)_i > 0}. It stops on the KKT residual (relative, 
 solver's ``active_set.KKT``), never on a repeated set alone; a set that repeats switches to
 flipping the first violated row only (Murty's least-index rule, as in ``active_set``).
 
-Linear algebra: scipy's SuperLU of the saddle matrix, once per active set. This is the reference
-solver -- exact, and cross-checked against Clarabel in tests/test_general_constraints.py -- for
-the sizes where a factorisation is affordable; the study's 3D levels at 1e6 dofs need the
-multigrid path (not built yet: issue 33).
+Linear algebra, one of two systems for the equality-constrained problem of a set:
+* ``SaddleSystem``: scipy's SuperLU of the saddle matrix, once per active set. The reference --
+  exact, and cross-checked against Clarabel in tests/test_general_constraints.py -- for the
+  sizes where a factorisation is affordable;
+* ``ProjectedMultigridSystem`` (``projected``): active rows with a single entry (a bound on one
+  variable: the vertex conditions) become pins, the others are kept by projected CG whose
+  V-cycle is truncated at their vertices; about a multigrid solve per set, the study's path.
 """
 from __future__ import annotations
 
@@ -35,7 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .active_set import DEFAULT_TOLERANCE
+from .active_set import DEFAULT_TOLERANCE, KKT, row_norm
 
 REGULARISATION = 1e-14
 
@@ -45,21 +48,26 @@ class GeneralQPSolution:
     z: np.ndarray
     multipliers: np.ndarray     # lambda, one per row of B (0 off the active set)
     active: np.ndarray          # bool per row of B
-    residual: float             # the largest of the four relative KKT residuals below
-    primal: float               # max (g - B z)^+ / max(|B z|, |g|)
-    dual: float                 # max (-lambda)^+ / load scale
-    complementarity: float      # max |lambda_i (B z - g)_i| / (load scale * max(|B z|, |g|))
-    stationarity: float         # max |K z - b - B^T lambda| on the free dofs / load scale
+    kkt: KKT                    # relative residuals: primal max (g - B z)^+ / max(|B z|, |g|);
+                                # dual max (-lambda)^+, complementarity max |lambda (B z - g)|
+                                # / max(|B z|, |g|), stationarity max |K z - b - B^T lambda| on
+                                # the free dofs, each over the load scale; backward error
     iterations: int
+    work: dict                  # the system's linear algebra
     seconds: float
     status: str
+
+    @property
+    def residual(self) -> float:
+        return self.kkt.residual
 
 
 class GeneralConstraintSolver:
     """The QP above: ``K`` (n x n, symmetric positive definite on the free dofs), ``b``, ``free``
     (bool, n), ``lift`` (the values of the pinned dofs), ``B`` (m x n), ``g`` (m)."""
 
-    def __init__(self, K, b, free, B, g, lift=None, tol: float = DEFAULT_TOLERANCE, max_iterations: int = 200):
+    def __init__(self, K, b, free, B, g, lift=None, tol: float = DEFAULT_TOLERANCE, max_iterations: int = 200,
+                 system=None):
         self.K, self.B = sp.csr_matrix(K), sp.csr_matrix(B)
         self.b, self.g = np.asarray(b, float), np.asarray(g, float)
         self.free = np.asarray(free, bool)
@@ -77,44 +85,48 @@ class GeneralConstraintSolver:
         self.load_scale = max(np.abs(self.rhs_F).max(initial=0.0),
                               np.abs(self.K_FF).max() * np.abs(self.g_F).max(initial=0.0), np.finfo(float).tiny)
         self._diagonal = float(np.abs(self.K_FF.diagonal()).max(initial=1.0))
+        # ||K||_inf and ||b||_inf over the free rows: the scale of the normwise backward error
+        self.K_norm = row_norm(self.K, self.free)
+        self.b_norm = float(np.abs(self.b[self.F]).max(initial=0.0))
+        self.system = SaddleSystem() if system is None else system
 
-    def _solve_active(self, active: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        rows = np.flatnonzero(active)
-        B_A = self.B_F[rows]
-        d = REGULARISATION * self._diagonal
-        saddle = sp.bmat([[self.K_FF, B_A.T], [B_A, -d * sp.identity(len(rows))]], format="csc")
-        solution = splu(saddle).solve(np.concatenate([self.rhs_F, self.g_F[rows]]))
-        z = self.lift.copy()
-        z[self.F] = solution[: len(self.F)]
-        lam = np.zeros(len(self.g))
-        lam[rows] = -solution[len(self.F):]
-        return z, lam
+    def _solve_active(self, active: np.ndarray, start: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        return self.system.solve(self, np.flatnonzero(active), start, 0.1 * self.tol * self.load_scale)
 
     def slack(self, z: np.ndarray) -> tuple[np.ndarray, float]:
         """B z - g, and the scale of the constraint values, max(|B z|, |g|)."""
         Bz = self.B @ z
         return Bz - self.g, max(np.abs(Bz).max(initial=0.0), np.abs(self.g).max(initial=0.0), np.finfo(float).tiny)
 
-    def residuals(self, z: np.ndarray, lam: np.ndarray) -> dict:
+    def kkt(self, z: np.ndarray, lam: np.ndarray) -> KKT:
         slack, scale_z = self.slack(z)
         force = (self.K @ z - self.b - self.B.T @ lam)[self.F]
-        return {
-            "primal": float(max(0.0, -slack.min(initial=0.0)) / scale_z),
-            "dual": float(max(0.0, -lam.min(initial=0.0)) / self.load_scale),
-            "complementarity": float(np.abs(lam * slack).max(initial=0.0) / (self.load_scale * scale_z)),
-            "stationarity": float(np.abs(force).max(initial=0.0) / self.load_scale),
-        }
+        negative = max(0.0, -lam.min(initial=0.0))
+        stationarity = np.abs(force).max(initial=0.0)
+        complementarity = np.abs(lam * slack).max(initial=0.0) / scale_z
+        return KKT(
+            primal=float(max(0.0, -slack.min(initial=0.0)) / scale_z),
+            dual=float(negative / self.load_scale),
+            complementarity=float(complementarity / self.load_scale),
+            stationarity=float(stationarity / self.load_scale),
+            backward=float(max(stationarity, negative, complementarity)
+                           / max(self.K_norm * np.abs(z).max(initial=0.0) + self.b_norm, np.finfo(float).tiny)),
+        )
 
-    def solve(self, initial_active: np.ndarray | None = None) -> GeneralQPSolution:
+    def solve(self, initial_active: np.ndarray | None = None, start: np.ndarray | None = None) -> GeneralQPSolution:
+        """From a predicted active set and, for iterative systems, a start vector (nested
+        iteration). It stops on the KKT residual (``KKT.converged``: <= tol, or feasible with
+        the force parts at round-off), never on a repeated set alone."""
         clock = time.perf_counter()
         active = np.zeros(len(self.g), bool) if initial_active is None else np.asarray(initial_active, bool).copy()
         seen: set[bytes] = set()
         pivoting = False
         status = f"not converged in {self.max_iterations} iterations"
+        z = start
         for iteration in range(1, self.max_iterations + 1):
-            z, lam = self._solve_active(active)
-            parts = self.residuals(z, lam)
-            if max(parts.values()) <= self.tol:
+            z, lam = self._solve_active(active, z)
+            kkt = self.kkt(z, lam)
+            if kkt.converged(self.tol):
                 status = "converged"
                 break
             seen.add(active.tobytes())
@@ -123,7 +135,7 @@ class GeneralConstraintSolver:
             leave = active & (lam < -0.1 * self.tol * self.load_scale)
             enter = ~active & (slack < -0.1 * self.tol * scale_z)
             if not (leave.any() or enter.any()):
-                status = f"stalled: KKT residual {max(parts.values()):.2e} with a consistent active set"
+                status = f"stalled: KKT residual {kkt.residual:.2e} with a consistent active set"
                 break
             candidate = (active & ~leave) | enter
             if pivoting or candidate.tobytes() in seen:
@@ -132,5 +144,27 @@ class GeneralConstraintSolver:
                 candidate = active.copy()
                 candidate[first] = not active[first]
             active = candidate
-        return GeneralQPSolution(z=z, multipliers=lam, active=active, residual=max(parts.values()), **parts,
-                                 iterations=iteration, seconds=time.perf_counter() - clock, status=status)
+        return GeneralQPSolution(z=z, multipliers=lam, active=active, kkt=kkt, iterations=iteration,
+                                 work=self.system.work(), seconds=time.perf_counter() - clock, status=status)
+
+
+class SaddleSystem:
+    """The equality-constrained problem of a set by SuperLU of its saddle matrix (above)."""
+
+    def __init__(self):
+        self.factorizations = 0
+
+    def solve(self, qp: GeneralConstraintSolver, rows: np.ndarray, start, tol: float) -> tuple[np.ndarray, np.ndarray]:
+        B_A = qp.B_F[rows]
+        d = REGULARISATION * qp._diagonal
+        saddle = sp.bmat([[qp.K_FF, B_A.T], [B_A, -d * sp.identity(len(rows))]], format="csc")
+        solution = splu(saddle).solve(np.concatenate([qp.rhs_F, qp.g_F[rows]]))
+        self.factorizations += 1
+        z = qp.lift.copy()
+        z[qp.F] = solution[: len(qp.F)]
+        lam = np.zeros(len(qp.g))
+        lam[rows] = -solution[len(qp.F):]
+        return z, lam
+
+    def work(self) -> dict:
+        return {"factorizations": self.factorizations}

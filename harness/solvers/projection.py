@@ -1,0 +1,64 @@
+"""The orthogonal projection onto the kernel of a few general constraint rows, for CG on an
+affine space (``multigrid.pcg``) and for their least-squares multipliers.
+
+With B the active rows restricted to the free dofs (m x n, m << n: the rows of Gamma_C's
+triangles), P = I - B^T (B B^T)^{-1} B. B touches only the dofs of Gamma_C, so P is applied
+on those (``columns``) with one sparse factorisation of the small matrix B B^T (a 2D surface
+operator: about 3 400 rows at 1e6 dofs on transition-line-3d).
+
+B B^T may be singular: the face means of a patch of triangles whose vertices are all pinned
+and whose outer edges are Dirichlet are dependent when the patch's triangles can be coloured
+alternately (structured meshes; docs/mathematics.md). Then B x is orthogonal to the kernel of
+B B^T for every x, and the factorisation of B B^T + d I (d at 1e-10 of its diagonal) followed
+by two steps of iterative refinement gives the minimum-norm solution to round-off: d perturbs
+the other eigen-directions by d / lambda, which each refinement step squares away.
+"""
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
+
+SHIFT = 1e-10
+REFINEMENTS = 2
+
+
+class RowProjection:
+    """P = I - B^T (B B^T)^{-1} B for ``rows`` (m x n CSR, zero on the pinned columns)."""
+
+    def __init__(self, rows: sp.csr_matrix):
+        rows = sp.csr_matrix(rows)
+        self.columns = np.unique(rows.indices)
+        self.B = rows[:, self.columns].tocsr()
+        self.BT = self.B.T.tocsr()
+        gram = (self.B @ self.BT).tocsc()
+        self.gram = gram
+        shift = SHIFT * float(np.abs(gram.diagonal()).max(initial=1.0))
+        self._factor = splu((gram + shift * sp.identity(gram.shape[0], format="csc")).tocsc()) if gram.shape[0] else None
+
+    def _gram_solve(self, rhs: np.ndarray) -> np.ndarray:
+        """(B B^T)^+ rhs for rhs in the range of B B^T."""
+        if self._factor is None:
+            return np.zeros(0)
+        y = self._factor.solve(rhs)
+        for _ in range(REFINEMENTS):
+            y += self._factor.solve(rhs - self.gram @ y)
+        return y
+
+    def multipliers(self, x: np.ndarray) -> np.ndarray:
+        """y = (B B^T)^{-1} B x: the least-squares multipliers of a force x (x = B^T y + P x)."""
+        return self._gram_solve(self.B @ x[self.columns])
+
+    def apply(self, x: np.ndarray) -> np.ndarray:
+        """P x (a new array)."""
+        out = x.copy()
+        if len(self.columns):
+            out[self.columns] -= self.BT @ self.multipliers(x)
+        return out
+
+    def onto(self, z: np.ndarray, target: np.ndarray) -> np.ndarray:
+        """The point of {B z = target} nearest to z (a new array)."""
+        out = z.copy()
+        if len(self.columns):
+            out[self.columns] += self.BT @ self._gram_solve(target - self.B @ z[self.columns])
+        return out
