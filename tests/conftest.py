@@ -9,7 +9,9 @@ from harness.solvers.multigrid import Multilevel
 
 # The paper's P2 cones by method name (the cone-level tests), the methods that solve a cone
 # exactly (active set), the weak ones (penalty, Nitsche: semismooth Newton), and all.
-CONE_NAMES = [name for name, m in METHODS.items() if isinstance(m, BoundConstrained)]
+# the cones of the 2D tests (`mean-edges`, 3D only, is test_three_d's)
+CONE_NAMES = [name for name, m in METHODS.items() if isinstance(m, BoundConstrained) and 2 in m.dimensions]
+CONE_NAMES_3D = [name for name, m in METHODS.items() if isinstance(m, BoundConstrained) and 3 in m.dimensions]
 MODELS = {name: METHODS[name].cone for name in CONE_NAMES if METHODS[name].order == 2}
 MODEL_NAMES = list(MODELS)
 WEAK_NAMES = [name for name, m in METHODS.items() if isinstance(m, WeakContact)]

@@ -17,11 +17,14 @@ import numpy as np
 
 from ..fem.assembly import ContactTraceFunction
 from ..fem.cones import ContactModel, contact_pressure, contact_qp
+from ..fem.face_means import face_mean_qp
 from ..fem.penetration import max_penetration
 from ..fem.weak_contact import predicted_active, weak_contact_system
 from ..solvers.active_set import solve_contact_qp
+from ..solvers.general_constraints import GeneralConstraintSolver
 from ..solvers.multigrid import HIERARCHICAL, nested_start
 from ..solvers.newton import solve_semismooth_newton
+from ..solvers.projected import ProjectedMultigridSystem
 
 # P1 on level l+1 has about the dofs of P2 on level l (the vertices of level l+1 are those of
 # level l plus one per edge): a study gives order-1 methods one more level, so that every
@@ -118,19 +121,51 @@ class BoundConstrained(Method):
             solution = solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)
         u = qp.to_u(solution.z)
         trace_u = qp.trace_function(u, solution.active)
-        pressure = contact_pressure(problem, solution.multipliers)
-        fields = {
-            "n_contact_constraints": len(qp.C),
-            "max_penetration": max_penetration(case, problem.mesh, trace_u),
-            "min_pressure": float(pressure.min()),
-            "active_constraints": int(solution.active.sum()),
-            "solver_iterations": solution.iterations,
-            "linear_iterations": solution.work.get("cg_iterations", solution.work.get("factorizations")),
-            "kkt_residual": solution.kkt.residual, "backward_error": solution.kkt.backward,
-            "solve_seconds": solution.seconds,
-            "status": solution.status,
-        }
-        return LevelSolve(fields, u, trace_u, pressure, (trace_u, u[:problem.mesh.nv].copy()))
+        return _exact_level(case, problem, u, trace_u, contact_pressure(problem, solution.multipliers), solution)
+
+
+def _exact_level(case, problem, u, trace_u, pressure, solution) -> LevelSolve:
+    """The row of a level solved exactly (a bound or general-constraint QP's ``solution``)."""
+    fields = {
+        "n_contact_constraints": len(solution.active),
+        "max_penetration": max_penetration(case, problem.mesh, trace_u),
+        "min_pressure": float(pressure.min()),
+        "active_constraints": int(solution.active.sum()),
+        "solver_iterations": solution.iterations,
+        "linear_iterations": solution.work.get("cg_iterations", solution.work.get("factorizations")),
+        "kkt_residual": solution.kkt.residual, "backward_error": solution.kkt.backward,
+        "solve_seconds": solution.seconds,
+        "status": solution.status,
+    }
+    return LevelSolve(fields, u, trace_u, pressure, (trace_u, u[:problem.mesh.nv].copy()))
+
+
+@dataclass(frozen=True)
+class CellMean(BoundConstrained):
+    """The paper's K_h on the cells of Gamma_C: v_h >= alpha at its vertices and the mean of
+    v_h - alpha >= 0 over each cell. In 2D a cell is an edge and the cone is bounds after a
+    local change of variables (``cones``, the ``BoundConstrained`` path); in 3D a cell is a
+    triangle, whose P2 mean is the average of its three edge-midpoint values, and the rows
+    stay general (``face_means``): solved by the general-constraint active set method with the
+    constrained multigrid (``solvers.projected``), or by SuperLU without a hierarchy."""
+
+    def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
+        if problem.trace.faces is None:
+            return super().solve(case, problem, carry, multilevel, take_stiffness, phases)
+        timed = phases or (lambda phase: nullcontext())
+        previous, coarse_vertex_values = carry or (None, None)
+        with timed("setup"):
+            qp = face_mean_qp(case, problem, take_stiffness=take_stiffness)
+            start = None
+            if multilevel is not None and coarse_vertex_values is not None:
+                start = nested_start(multilevel, coarse_vertex_values, problem, HIERARCHICAL)
+            predicted = qp.predicted_active(previous)
+        with timed("solve"):
+            system = None if multilevel is None else ProjectedMultigridSystem(qp.K_ngs, multilevel)
+            solution = GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift,
+                                               system=system).solve(predicted, start)
+        trace_u = qp.trace_function(solution.z, solution.active)
+        return _exact_level(case, problem, solution.z, trace_u, qp.pressure(solution.multipliers), solution)
 
 
 # theta: the three members of the family of Chouly, Hild & Renard, Math. Comp. 84 (2015), eq. (10)
