@@ -21,7 +21,7 @@ import pandas as pd
 from ..problem.case import fraction
 
 METHOD_STYLE = {"mean": dict(color="tab:blue", marker="o"), "nodal": dict(color="tab:orange", marker="s"),
-                "p1": dict(color="tab:green", marker="^")}
+                "p1": dict(color="tab:green", marker="^"), "mean-edges": dict(color="tab:cyan", marker="v")}
 OTHER_COLORS = ["tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
 # the verdicts' colours: the HTML table's and the figure's
 VERDICT_COLORS = {"meets": "#cdeccf", "above": "#cfe0f5", "below": "#f6cdcd", "no theory": "#ececec"}
@@ -30,7 +30,7 @@ VERDICT_COLORS = {"meets": "#cdeccf", "above": "#cfe0f5", "below": "#f6cdcd", "n
 def style(method: str) -> dict:
     """A fixed colour and marker per method (methods added later get the next free colour)."""
     if method not in METHOD_STYLE:
-        METHOD_STYLE[method] = dict(color=OTHER_COLORS[(len(METHOD_STYLE) - 3) % len(OTHER_COLORS)], marker="D")
+        METHOD_STYLE[method] = dict(color=OTHER_COLORS[(len(METHOD_STYLE) - 4) % len(OTHER_COLORS)], marker="D")
     return METHOD_STYLE[method]
 
 

@@ -63,17 +63,21 @@ ELASTICITY_NOTE = (
 
 THREE_D_NOTE = (
     "The paper's Section 6 names 3D as open. Here Ω = (−1, 1)² × (0, 1) in tetrahedra (netgen, red "
-    "refinement: every edge halves, 8 children per tetrahedron), Γ_C its bottom face. Both cones are "
-    "imposed edge by edge on the triangles of Γ_C: on each edge the P2 trace is a 1D quadratic, and the "
-    "same local change of variables as in 2D makes `nodal` (vertex and edge-midpoint values ≥ α: the P2 "
-    "Lagrange cone of the 3D analyses, Drouet & Hild 2015) and `mean` (vertex values and edge means ≥ α: "
-    "our extension of K_h, for which no theorem exists) bounds on single variables; P1 bounds its vertex "
-    "values. Solved exactly by the same active set method with the truncated P1 multigrid of the "
-    "tetrahedral hierarchy. In 3D an edge-wise cone does not control the trace inside the triangles: with "
-    "all vertex values v > 0 and all edge means 0, the P2 trace of a triangle is −v at its centroid and its "
-    "mean is −v/2, yet every constraint of `mean` holds. The table shows what the discrete solutions do with "
-    "that freedom (the smallest value of u_h − α over Γ_C: penetration is negative). The pictures show Γ_C "
-    "from below: red where u_h dips below the obstacle."
+    "refinement: every edge halves, 8 children per tetrahedron), Γ_C its bottom face. `mean` is K_h on "
+    "the cells of Γ_C, which are triangles in 3D: vertex values ≥ α and the mean of u_h − α ≥ 0 over each "
+    "triangle. A P2 triangle mean is the average of its three edge-midpoint values, and each midpoint "
+    "belongs to two triangles, so these are general linear constraints: solved exactly by a primal-dual "
+    "active set method on them, each set by projected CG with a V-cycle that keeps the active triangle "
+    "means (an exact constrained block on Γ_C's dofs, the P1 coarse spaces truncated at the active "
+    "triangles' vertices). No theorem covers it; the 2D rate is its expectation. `nodal` (vertex and "
+    "edge-midpoint values ≥ α: the P2 Lagrange cone of the 3D analyses, Drouet & Hild 2015) and P1 are "
+    "bounds on single variables, solved as in 2D with the truncated multigrid of the tetrahedral "
+    "hierarchy. `mean-edges`, K_h applied edge by edge (vertex values and edge means ≥ α), is the "
+    "counterexample: an edge-wise cone does not control the trace inside the triangles (with all vertex "
+    "values v > 0 and all edge means 0, the P2 trace of a triangle is −v at its centroid and its mean "
+    "is −v/2, yet every constraint holds), and its rate stalls near 1/2. The table shows what the discrete "
+    "solutions do with that freedom (the smallest value of u_h − α over Γ_C: penetration is negative). "
+    "The pictures show Γ_C from below: red where u_h dips below the obstacle."
 )
 
 
