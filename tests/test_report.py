@@ -27,7 +27,7 @@ def test_results_rates_and_provenance_are_written(report):
     root, _ = report
     results = pd.read_csv(root / "results" / "results.csv")
     # the P2 methods on 3 levels, the P1 methods on 4
-    per_case = sum(3 + m.extra_levels for m in METHODS.values())
+    per_case = sum(3 + m.extra_levels for m in METHODS.values() if 2 in m.dimensions)
     assert set(results.case) == set(ALL) and len(results) == len(ALL) * per_case
     rates = pd.read_csv(root / "results" / "rates.csv")
     assert {"fitted_rate", "fitted_rate_se", "pairwise_rates", "verdict"} <= set(rates.columns)
@@ -60,7 +60,7 @@ def test_report_answers_whether_p2_is_worth_it(report):
     text = html.read_text()
     assert "Is P2 worth it?" in text and "transition-r32: The claim" in text
     efficiency = pd.read_csv(root / "results" / "efficiency.csv")
-    assert set(efficiency.method) == set(METHODS)
+    assert set(efficiency.method) == {name for name, m in METHODS.items() if 2 in m.dimensions}
     assert (efficiency.ndof > 0).all() and (efficiency.total_seconds > 0).all()
 
 

@@ -10,7 +10,7 @@ from conftest import CONE_NAMES_3D
 from qpsolvers import solve_qp
 from test_solver import hierarchical_qp
 
-from harness.fem.assembly import ContactTraceFunction, discretise
+from harness.fem.assembly import discretise
 from harness.fem.cones import contact_qp
 from harness.fem.contact_quadrature import contact_quadrature
 from harness.fem.element_quadrature import ElementQuadrature

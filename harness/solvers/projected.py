@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-
 from scipy.sparse.linalg import splu
 
 from .general_constraints import REGULARISATION
