@@ -226,3 +226,20 @@ def _pins(qp, general_solver, bounds):
     pinned = ~qp.free.copy()
     pinned[general_solver.B.indices[general_solver.B.indptr[bounds]]] = True
     return pinned
+
+
+def test_inexact_face_mean_steps_reach_the_exact_steps_solution(monkeypatch):
+    """The general-constraint active set method with loose solves of new sets (FORCING) and
+    with every set solved to the full depth (FORCING = 0) find the same KKT point on
+    transition-line-3d's level 1, the loose one with no more CG iterations."""
+    import harness.solvers.active_set as active_set
+    found = {}
+    for name, forcing in (("loose", active_set.FORCING), ("exact", 0.0)):
+        monkeypatch.setattr(active_set, "FORCING", forcing)
+        qp, solver, system = _face_mean_solvers("transition-line-3d", 1)
+        found[name] = solver(system).solve()
+    loose, exact = found["loose"], found["exact"]
+    assert loose.status == exact.status == "converged" and max(loose.residual, exact.residual) <= 1e-10
+    assert (loose.active == exact.active).all()
+    assert np.abs(loose.z - exact.z).max() <= 1e-8 * np.abs(exact.z).max()
+    assert loose.work["cg_iterations"] <= exact.work["cg_iterations"], (loose.work, exact.work)

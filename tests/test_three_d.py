@@ -172,3 +172,13 @@ def test_done_when_four_levels_reach_a_million_dofs_with_exact_solves():
         assert mine[-1]["ndof"] >= 1e6
         rate[name] = pairwise_rates(np.array([r["h"] for r in mine]), np.array([r["err_h1"] for r in mine]))[-1]
     assert rate["nodal"] >= 1.4 and rate["mean"] >= 1.4 and rate["mean-edges"] < 1.0, rate
+
+
+def test_bench_3d_times_the_face_mean_solve_against_a_linear_solve():
+    """`bench --only 3d`'s row of the 3D `mean` (the face-mean QP by the constrained multigrid),
+    at level 0 in a fresh process: exact, and a contact / linear ratio measured."""
+    from harness.bench.three_d import run_3d_bench
+    frame = run_3d_bench(levels=(0,), models=("mean",), progress=lambda *_: None)
+    (row,) = frame.to_dict("records")
+    assert row["kkt_residual"] <= 1e-10 and row["ndof"] == 2520
+    assert row["t_contact"] > 0 and row["t_linear"] > 0 and row["cg_iterations"] >= row["linear_cg_iterations"]

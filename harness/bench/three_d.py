@@ -23,10 +23,15 @@ def linear_multigrid_seconds(qp, multilevel) -> tuple[float, object]:
     """(seconds, the MultigridSystem) of one unconstrained solve of ``qp``'s matrix by the
     contact solver's multigrid CG, from zero, as deep as its linear solves go (fastest of
     repeats)."""
-    from ..solvers.active_set import DEFAULT_TOLERANCE, ActiveSetSolver, MultigridSystem
+    from ..solvers.active_set import ActiveSetSolver, MultigridSystem
     from ..solvers.multigrid import ContactEdges
     system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
     load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
+    return _linear_seconds(system, qp, load_scale)
+
+
+def _linear_seconds(system, qp, load_scale: float) -> tuple[float, object]:
+    from ..solvers.active_set import DEFAULT_TOLERANCE
 
     def linear():
         system.cg_iterations = 0
@@ -34,18 +39,60 @@ def linear_multigrid_seconds(qp, multilevel) -> tuple[float, object]:
     return fastest(linear)[0], system
 
 
+def face_mean_problem(level: int, case_name: str = THREE_D_CASE):
+    """The 3D `mean`'s face-mean QP of ``level`` on the study's hierarchy, with what nested
+    iteration brings from ``level - 1`` (solved by the method itself): predicted set, start."""
+    from ..fem.assembly import discretise
+    from ..fem.face_means import face_mean_qp
+    from ..mesh.levels import UniformRefinement
+    from ..methods import get_method
+    from ..problem.case import load_case
+    from ..solvers.multigrid import HIERARCHICAL, Multilevel, nested_start
+
+    case, method = load_case(case_name), get_method("mean")
+    multilevel, carry = None, None
+    for lev, mesh in ((step.index, step.mesh) for step in UniformRefinement(case).levels(level + 1)):
+        multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+        if lev == level - 1:
+            carry = method.solve(case, discretise(case, mesh, 2), None, multilevel).carry
+    qp = face_mean_qp(case, discretise(case, mesh, 2), take_stiffness=True)
+    previous, coarse_values = carry or (None, None)
+    start = None if carry is None else nested_start(multilevel, coarse_values, qp.problem, HIERARCHICAL)
+    return qp, qp.predicted_active(previous), multilevel, start
+
+
+def _solve_3d(model_name: str, level: int):
+    """(qp, contact seconds, solution, linear seconds, linear system) of one 3D row: `mean` is
+    the face-mean QP (general rows, ``solvers.projected``), the others cones of bounds."""
+    from ..solvers.active_set import solve_contact_qp
+    if model_name != "mean":
+        qp, predicted, multilevel, start = cone_problem(model_name, level, None, THREE_D_CASE)
+        t_linear, system = linear_multigrid_seconds(qp, multilevel)
+        t_contact, solution = fastest(lambda: own_seconds(solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)))
+        return qp, t_contact, solution, t_linear, system
+    from ..solvers.active_set import MultigridSystem
+    from ..solvers.general_constraints import GeneralConstraintSolver
+    from ..solvers.multigrid import HIERARCHICAL
+    from ..solvers.projected import ProjectedMultigridSystem
+    qp, predicted, multilevel, start = face_mean_problem(level)
+
+    def contact():
+        return GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift,
+                                       system=ProjectedMultigridSystem(qp.K_ngs, multilevel))
+    load_scale = contact().load_scale
+    t_linear, system = _linear_seconds(MultigridSystem(qp.K_ngs, qp.b, multilevel, HIERARCHICAL), qp, load_scale)
+    t_contact, solution = fastest(lambda: own_seconds(contact().solve(predicted, start)))
+    return qp, t_contact, solution, t_linear, system
+
+
 def _measure_3d(model_name: str, level: int, connection):
     """Issue 19: a 3D contact solve (truncated multigrid, nested iteration) against one
     unconstrained solve of the same matrix by the same multigrid CG, from zero, as deep."""
     import ngsolve as ngs
 
-    from ..solvers.active_set import solve_contact_qp
-
     ngs.ngsglobals.msg_level = 0
     with ngs.TaskManager():
-        qp, predicted, multilevel, start = cone_problem(model_name, level, None, THREE_D_CASE)
-        t_linear, system = linear_multigrid_seconds(qp, multilevel)
-        t_contact, solution = fastest(lambda: own_seconds(solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)))
+        qp, t_contact, solution, t_linear, system = _solve_3d(model_name, level)
     connection.send({
         "case": THREE_D_CASE, "method": model_name, "ndof": qp.problem.ndof, "t_contact": t_contact, "t_linear": t_linear,
         "ratio_linear": t_contact / t_linear, "iterations": solution.iterations,
@@ -55,7 +102,7 @@ def _measure_3d(model_name: str, level: int, connection):
     connection.close()
 
 
-def run_3d_bench(levels=THREE_D_LEVELS, models=("mean", "nodal", "p1"), progress=print) -> pd.DataFrame:
+def run_3d_bench(levels=THREE_D_LEVELS, models=("mean", "mean-edges", "nodal", "p1"), progress=print) -> pd.DataFrame:
     """Each (model, level) in its own fresh process, like ``run_bench``."""
     return fresh_rows(_measure_3d, "3D", "multigrid CG", levels, models, progress, THREE_D_COLUMNS)
 

@@ -38,7 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .active_set import DEFAULT_TOLERANCE, KKT, row_norm
+from .active_set import DEFAULT_TOLERANCE, KKT, loose_depth, row_norm
 
 REGULARISATION = 1e-14
 
@@ -90,9 +90,6 @@ class GeneralConstraintSolver:
         self.b_norm = float(np.abs(self.b[self.F]).max(initial=0.0))
         self.system = SaddleSystem() if system is None else system
 
-    def _solve_active(self, active: np.ndarray, start: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
-        return self.system.solve(self, np.flatnonzero(active), start, 0.1 * self.tol * self.load_scale)
-
     def slack(self, z: np.ndarray) -> tuple[np.ndarray, float]:
         """B z - g, and the scale of the constraint values, max(|B z|, |g|)."""
         Bz = self.B @ z
@@ -116,27 +113,39 @@ class GeneralConstraintSolver:
     def solve(self, initial_active: np.ndarray | None = None, start: np.ndarray | None = None) -> GeneralQPSolution:
         """From a predicted active set and, for iterative systems, a start vector (nested
         iteration). It stops on the KKT residual (``KKT.converged``: <= tol, or feasible with
-        the force parts at round-off), never on a repeated set alone."""
+        the force parts at round-off), never on a repeated set alone. With an iterative system
+        the steps are inexact as in ``active_set.ActiveSetSolver.solve``: a new set is solved to
+        ``FORCING`` times the current residual (the first to that of the start's stationarity),
+        the set such a solve leaves unchanged again to the full depth, and only sets judged on
+        full-depth solves count as seen (Murty's rule)."""
         clock = time.perf_counter()
         active = np.zeros(len(self.g), bool) if initial_active is None else np.asarray(initial_active, bool).copy()
         seen: set[bytes] = set()
         pivoting = False
         status = f"not converged in {self.max_iterations} iterations"
+        iterative = getattr(self.system, "iterative", False)
+        full = 0.1 * self.tol
+        depth = loose_depth(self._stationarity(self.lift if start is None else start), full) if iterative else full
         z = start
         for iteration in range(1, self.max_iterations + 1):
-            z, lam = self._solve_active(active, z)
+            z, lam = self.system.solve(self, np.flatnonzero(active), z, depth * self.load_scale)
             kkt = self.kkt(z, lam)
             if kkt.converged(self.tol):
                 status = "converged"
                 break
-            seen.add(active.tobytes())
-            # decisions a tenth of the tolerance deep, so that round-off never flips a row
+            # decisions at a fraction of the solve's depth, so that neither round-off nor a
+            # loose solve's residual flips a row
             slack, scale_z = self.slack(z)
-            leave = active & (lam < -0.1 * self.tol * self.load_scale)
-            enter = ~active & (slack < -0.1 * self.tol * scale_z)
+            leave = active & (lam < -depth * self.load_scale)
+            enter = ~active & (slack < -depth * scale_z)
             if not (leave.any() or enter.any()):
+                if depth > full:
+                    depth = full        # the set of a loose solve: solve it to the full depth
+                    continue
                 status = f"stalled: KKT residual {kkt.residual:.2e} with a consistent active set"
                 break
+            if depth <= full:
+                seen.add(active.tobytes())
             candidate = (active & ~leave) | enter
             if pivoting or candidate.tobytes() in seen:
                 pivoting = True
@@ -144,8 +153,13 @@ class GeneralConstraintSolver:
                 candidate = active.copy()
                 candidate[first] = not active[first]
             active = candidate
+            depth = loose_depth(kkt.residual, full) if iterative and not pivoting else full
         return GeneralQPSolution(z=z, multipliers=lam, active=active, kkt=kkt, iterations=iteration,
                                  work=self.system.work(), seconds=time.perf_counter() - clock, status=status)
+
+    def _stationarity(self, z: np.ndarray) -> float:
+        """max |K z - b| on the free dofs over the load scale: how far a start is."""
+        return float(np.abs((self.K @ z - self.b)[self.F]).max(initial=0.0) / self.load_scale)
 
 
 class SaddleSystem:

@@ -258,12 +258,19 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
     iterations = 0
 
     def converged(bound: float) -> bool:
-        return _max_abs(r_np if projection is None else projection.apply(r_np)) <= bound
+        if projection is None:
+            return _max_abs(r_np) <= bound
+        # max |P r|: P changes r on the constraints' columns only
+        kept = r_np[projection.columns]
+        projection.apply_in_place(r_np)
+        largest = _max_abs(r_np)
+        r_np[projection.columns] = kept
+        return largest <= bound
 
     def precondition() -> None:
         preconditioner.apply(r, s)
         if projection is not None:
-            s_np[:] = projection.apply(s_np)
+            projection.apply_in_place(s_np)
 
     for _restart in range(3):
         r.data = K_ngs * x

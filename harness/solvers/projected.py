@@ -60,20 +60,23 @@ class ConstrainedVCycle(TruncatedVCycle):
         self.smoother = K_ngs.CreateSmoother(_bits(off_surface))
         self.K_surface = K[self.surface].tocsr()                 # K's rows (= columns) there
         block = self.K_surface[:, self.surface]
+        # the rows of K that a change on Gamma_C's block reaches, and that part of K's columns
+        self._reached = np.unique(self.K_surface.indices)
+        self._reached_free = self.free[self._reached]
+        self._K_reached = K[self._reached][:, self.surface].tocsr()
         B_S = rows[:, self.surface]
         d = REGULARISATION * float(np.abs(block.diagonal()).max(initial=1.0))
         saddle = sp.bmat([[block, B_S.T], [B_S, -d * sp.identity(B_S.shape[0])]], format="csc")
         self._block = splu(saddle)
+        self._rhs = np.zeros(saddle.shape[0])
         self._n = len(self.surface)
 
-    def _block_step(self, x_np: np.ndarray, d_np: np.ndarray) -> None:
-        """x += the constrained correction on Gamma_C's block; d -= K of it."""
-        rhs = np.zeros(self._block.shape[0])
-        rhs[: self._n] = d_np[self.surface]
-        delta = self._block.solve(rhs)[: self._n]
+    def _block_step(self, x_np: np.ndarray, residual_on_block: np.ndarray) -> np.ndarray:
+        """x += the constrained correction on Gamma_C's block for the residual there; the correction."""
+        self._rhs[: self._n] = residual_on_block
+        delta = self._block.solve(self._rhs)[: self._n]
         x_np[self.surface] += delta
-        d_np -= self.K_surface.T @ delta
-        d_np *= self.free
+        return delta
 
     def apply(self, r, out) -> None:
         (x, x_np), (d, d_np) = self._x, self._d
@@ -82,12 +85,13 @@ class ConstrainedVCycle(TruncatedVCycle):
         self.smoother.Smooth(x, r)
         d.data = r - self.K * x
         d_np *= self.free
-        self._block_step(x_np, d_np)
+        delta = self._block_step(x_np, d_np[self.surface])
+        # the residual after the block, for the coarse level: changed only where K reaches
+        d_np[self._reached] -= (self._K_reached @ delta) * self._reached_free
         correction = self._p1_cycle(top, self.edges.restrict(d_np, self.nv) * self.keep[top])
         self.edges.prolongate(correction, x_np)
-        d.data = r - self.K * x
-        d_np *= self.free
-        self._block_step(x_np, d_np)
+        # the second block needs the residual on its own rows only: K's rows there
+        self._block_step(x_np, r.FV().NumPy()[self.surface] - self.K_surface @ x_np)
         self.smoother.SmoothBack(x, r)
         out.data = x
         out.FV().NumPy()[:] *= self.free

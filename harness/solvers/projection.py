@@ -52,9 +52,13 @@ class RowProjection:
     def apply(self, x: np.ndarray) -> np.ndarray:
         """P x (a new array)."""
         out = x.copy()
-        if len(self.columns):
-            out[self.columns] -= self.BT @ self.multipliers(x)
+        self.apply_in_place(out)
         return out
+
+    def apply_in_place(self, x: np.ndarray) -> None:
+        """x <- P x, touching only ``columns`` (no pass over all of x)."""
+        if len(self.columns):
+            x[self.columns] -= self.BT @ self.multipliers(x)
 
     def onto(self, z: np.ndarray, target: np.ndarray) -> np.ndarray:
         """The point of {B z = target} nearest to z (a new array)."""
