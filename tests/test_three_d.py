@@ -109,7 +109,8 @@ def test_3d_level_sizes_follow_the_red_refinement_recurrence():
     assert discretise(case, level_mesh(case, 1), 2).ndof == sizes.ndof(1, 2)
 
 
-@pytest.mark.parametrize("case_name", THREE_D)
+# smooth-3d's variant (4.5 s) in the slow tier: the singular and the curved case stay in `make test`
+@pytest.mark.parametrize("case_name", [pytest.param(n, marks=pytest.mark.slow) if n == "smooth-3d" else n for n in THREE_D])
 def test_3d_errors_agree_with_twice_the_gauss_order(case_name):
     """In 3D every element gets the Gauss rule (quadrature.py): order 6 against order 12 on
     level 1, nodal's u_h, to 1e-3 relative in every norm."""
@@ -174,11 +175,14 @@ def test_done_when_four_levels_reach_a_million_dofs_with_exact_solves():
     assert rate["nodal"] >= 1.4 and rate["mean"] >= 1.4 and rate["mean-edges"] < 1.0, rate
 
 
-def test_bench_3d_times_the_face_mean_solve_against_a_linear_solve():
-    """`bench --only 3d`'s row of the 3D `mean` (the face-mean QP by the constrained multigrid),
-    at level 0 in a fresh process: exact, and a contact / linear ratio measured."""
-    from harness.bench.three_d import run_3d_bench
-    frame = run_3d_bench(levels=(0,), models=("mean",), progress=lambda *_: None)
-    (row,) = frame.to_dict("records")
-    assert row["kkt_residual"] <= 1e-10 and row["ndof"] == 2520
-    assert row["t_contact"] > 0 and row["t_linear"] > 0 and row["cg_iterations"] >= row["linear_cg_iterations"]
+def test_bench_3d_times_the_face_mean_solve_against_a_linear_solve(monkeypatch):
+    """`bench --only 3d`'s row of the 3D `mean` (the face-mean QP by the constrained multigrid,
+    nested from level 0) on level 1, timed once: exact, at least the linear solve's CG
+    iterations, both timed."""
+    import harness.bench.common as common
+    from harness.bench.three_d import _solve_3d
+    monkeypatch.setattr(common, "REPEATS", 1)
+    with ngs.TaskManager():
+        qp, t_contact, solution, t_linear, system = _solve_3d("mean", 1)
+    assert solution.status == "converged" and solution.kkt.residual <= 1e-10 and qp.problem.ndof == 17655
+    assert t_contact > 0 and t_linear > 0 and solution.work["cg_iterations"] >= system.cg_iterations > 0

@@ -158,3 +158,23 @@ def test_the_writer_can_keep_to_the_levels_it_is_given(tmp_path):
     assert sorted(p.name for p in folder.glob("*.vtu")) == ["gamma_c_level2.vtu", "omega_level2.vtu"]
     entries = ET.parse(folder / "omega.pvd").getroot().find("Collection").findall("DataSet")
     assert [e.get("file") for e in entries] == ["omega_level2.vtu"]
+
+
+def test_the_3d_mean_writes_its_triangle_conditions_as_cell_data():
+    """The 3D `mean` constrains triangle means, not midpoints: Gamma_C's file marks the
+    triangles whose condition was active (cell data ``active``; on them the mean of u_h - alpha
+    vanishes, the discrete complementarity) and no midpoint (transition-line-3d, level 0)."""
+    from conftest import problem_at
+
+    from harness.methods import METHODS
+    from harness.report.vtk import contact_fields
+    case = registered_cases()["transition-line-3d"]
+    problem = problem_at("transition-line-3d", 0, 2)
+    solve = METHODS["mean"].solve(case, problem, None, None)
+    points, _, point_data, cell_data = contact_fields(case, problem, solve)
+    nv = len(problem.trace.vertices)
+    active = cell_data["active"].astype(bool)
+    assert active.any() and not point_data["active"][nv:].any()
+    # a P2 triangle's mean is the average of its three midside values (MATH.md, Section 8)
+    midside = point_data["gap_h"][nv + problem.trace.faces.edges]
+    assert np.abs(midside[active].mean(axis=1)).max() <= 1e-9

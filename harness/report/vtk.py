@@ -12,7 +12,8 @@ over the levels of each, whose "time" is the level.
   vertex conditions, and for P2 the edge condition of ``mean`` or the midpoint condition of
   ``nodal``, shown at the edge's midpoint; none for Nitsche and penalty, which have no
   constraints), cell data ``pressure`` (the discrete contact pressure, ``LevelSolve.pressure``)
-  and ``in_contact`` = pressure > 0, and for an exact case ``gap`` and ``exact_pressure``.
+  and ``in_contact`` = pressure > 0, for the 3D ``mean`` also ``active`` (its triangle-mean
+  condition; its midpoints have none), and for an exact case ``gap`` and ``exact_pressure``.
 
 Written with meshio (binary, zlib-compressed XML that ParaView, VisIt and VTK's own readers
 open); ``VtkWriter`` is an ``on_level`` hook of the study (``run --vtk``, ``report --vtk``).
@@ -92,7 +93,9 @@ def contact_fields(case, problem, solve) -> tuple[np.ndarray, list, dict, dict]:
     if problem.order == 2:
         points = np.concatenate([points, trace.midpoints])
         values = np.concatenate([values, trace_u.at(np.array([0.5]))[:, 0]])
-        active = np.concatenate([active, np.asarray(trace_u.edge_active, bool)])
+        # the 3D `mean` has no condition at a midpoint: its triangles' are cell data below
+        midpoint_active = np.zeros(len(trace.edges), bool) if trace_u.face_active is not None else trace_u.edge_active
+        active = np.concatenate([active, np.asarray(midpoint_active, bool)])
     if trace.faces is None:
         table = ends if problem.order == 1 else np.concatenate([ends, nv + np.arange(len(ends))[:, None]], axis=1)
         centres, normals = trace.midpoints, trace.normals
@@ -104,6 +107,8 @@ def contact_fields(case, problem, solve) -> tuple[np.ndarray, list, dict, dict]:
     point_data = {"gap_h": values - obstacle, "active": active.astype(np.uint8)}
     pressure = np.asarray(solve.pressure, float)
     cell_data = {"pressure": pressure, "in_contact": (pressure > 0).astype(np.uint8)}
+    if trace_u.face_active is not None:
+        cell_data["active"] = np.asarray(trace_u.face_active, np.uint8)
     if case.u is not None:
         point_normals = _point_normals(trace, table, normals, len(points))
         point_data["gap"] = case.physics.contact_value(case, mesh, points, point_normals) - obstacle
