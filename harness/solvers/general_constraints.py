@@ -75,16 +75,13 @@ class GeneralConstraintSolver:
         self.lift = np.zeros(n) if lift is None else np.where(self.free, 0.0, np.asarray(lift, float))
         self.tol, self.max_iterations = tol, max_iterations
         self.F = np.flatnonzero(self.free)
-        self.K_FF = self.K[self.F][:, self.F].tocsc()
-        self.B_F = self.B[:, self.F].tocsr()
         # what the pinned dofs contribute to the free rows and to the constraints
         self.rhs_F = (self.b - self.K @ self.lift)[self.F]
         self.g_F = self.g - self.B @ self.lift
         # the scale of the forces: the loads, or, in a problem driven by its constraints alone,
         # the force of the unconstrained minimiser against them (K applied to the size of g)
         self.load_scale = max(np.abs(self.rhs_F).max(initial=0.0),
-                              np.abs(self.K_FF).max() * np.abs(self.g_F).max(initial=0.0), np.finfo(float).tiny)
-        self._diagonal = float(np.abs(self.K_FF.diagonal()).max(initial=1.0))
+                              np.abs(self.K.data).max(initial=0.0) * np.abs(self.g_F).max(initial=0.0), np.finfo(float).tiny)
         # ||K||_inf and ||b||_inf over the free rows: the scale of the normwise backward error
         self.K_norm = row_norm(self.K, self.free)
         self.b_norm = float(np.abs(self.b[self.F]).max(initial=0.0))
@@ -167,11 +164,15 @@ class SaddleSystem:
 
     def __init__(self):
         self.factorizations = 0
+        self._blocks = None         # K[F, F], B[:, F] and the regularisation, made at the first solve
 
     def solve(self, qp: GeneralConstraintSolver, rows: np.ndarray, start, tol: float) -> tuple[np.ndarray, np.ndarray]:
-        B_A = qp.B_F[rows]
-        d = REGULARISATION * qp._diagonal
-        saddle = sp.bmat([[qp.K_FF, B_A.T], [B_A, -d * sp.identity(len(rows))]], format="csc")
+        if self._blocks is None:
+            K_FF = qp.K[qp.F][:, qp.F].tocsc()
+            self._blocks = K_FF, qp.B[:, qp.F].tocsr(), REGULARISATION * float(np.abs(K_FF.diagonal()).max(initial=1.0))
+        K_FF, B_F, d = self._blocks
+        B_A = B_F[rows]
+        saddle = sp.bmat([[K_FF, B_A.T], [B_A, -d * sp.identity(len(rows))]], format="csc")
         solution = splu(saddle).solve(np.concatenate([qp.rhs_F, qp.g_F[rows]]))
         self.factorizations += 1
         z = qp.lift.copy()

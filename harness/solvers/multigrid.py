@@ -162,7 +162,7 @@ class TruncatedVCycle:
     """
 
     def __init__(self, multilevel: Multilevel, K_ngs, free: np.ndarray, edges: ContactEdges,
-                 stiff_vertices: np.ndarray | None = None):
+                 stiff_vertices: np.ndarray | None = None, smoothed: np.ndarray | None = None):
         nv = multilevel.nvertices
         pinned_vertices = ~free[:nv]
         ends = edges.end_dofs[~free[edges.edge_dofs]]
@@ -175,7 +175,8 @@ class TruncatedVCycle:
         if self.fine_is_p1:
             self.pins[-1] = pinned_vertices     # the finest level smooths the stiff vertices too
         self.keep = [(~p).astype(float) for p in self.pins]
-        self.smoother = None if self.fine_is_p1 else K_ngs.CreateSmoother(_bits(free))
+        # ``smoothed``: the dofs the finest Gauss-Seidel relaxes (default: every free one)
+        self.smoother = None if self.fine_is_p1 else K_ngs.CreateSmoother(_bits(free if smoothed is None else smoothed))
         # a P1 problem's own matrix is the top P1 level (the same as A for the cone methods,
         # A plus its Gamma_C terms for penalty and Nitsche)
         self.matrices = [*multilevel.matrices[:-1], K_ngs if self.fine_is_p1 else multilevel.matrices[-1]]

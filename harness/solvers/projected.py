@@ -29,7 +29,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from .general_constraints import REGULARISATION
-from .multigrid import HIERARCHICAL, ContactEdges, TruncatedVCycle, _bits, pcg
+from .multigrid import HIERARCHICAL, ContactEdges, TruncatedVCycle, pcg
 from .projection import RowProjection
 
 
@@ -47,23 +47,24 @@ class ConstrainedVCycle(TruncatedVCycle):
     is the trace layer, a 2D-sized saddle system factorised once per active set by SuperLU
     (regularised as in ``general_constraints.SaddleSystem``: the rows may be dependent)."""
 
-    def __init__(self, multilevel, K_ngs, K: sp.csr_matrix, free: np.ndarray, surface: np.ndarray,
+    def __init__(self, multilevel, K_ngs, K_rows: sp.csr_matrix, free: np.ndarray, surface: np.ndarray,
                  rows: sp.csr_matrix, edges: ContactEdges = HIERARCHICAL):
+        """``K_rows``: K's rows at ``surface`` (Gamma_C's dofs, pinned or not; made once per QP)."""
         nv = multilevel.nvertices
         touched = np.unique(rows.indices)
         stiff = np.zeros(nv, bool)
         stiff[touched[touched < nv]] = True
-        super().__init__(multilevel, K_ngs, free, edges, stiff_vertices=stiff)
-        self.surface = surface[free[surface]]
+        block = surface[free[surface]]
         off_surface = free.copy()
-        off_surface[self.surface] = False
-        self.smoother = K_ngs.CreateSmoother(_bits(off_surface))
-        self.K_surface = K[self.surface].tocsr()                 # K's rows (= columns) there
+        off_surface[block] = False
+        super().__init__(multilevel, K_ngs, free, edges, stiff_vertices=stiff, smoothed=off_surface)
+        self.surface = block
+        self.K_surface = K_rows[free[surface]]                   # K's rows (= columns) there
         block = self.K_surface[:, self.surface]
         # the rows of K that a change on Gamma_C's block reaches, and that part of K's columns
         self._reached = np.unique(self.K_surface.indices)
         self._reached_free = self.free[self._reached]
-        self._K_reached = K[self._reached][:, self.surface].tocsr()
+        self._K_reached = self.K_surface[:, self._reached].T.tocsr()
         B_S = rows[:, self.surface]
         d = REGULARISATION * float(np.abs(block.diagonal()).max(initial=1.0))
         saddle = sp.bmat([[block, B_S.T], [B_S, -d * sp.identity(B_S.shape[0])]], format="csc")
@@ -108,6 +109,7 @@ class ProjectedMultigridSystem:
         self.cg_iterations = 0
         self.preconditioners = 0
         self._last = None           # (key, V-cycle, projection) of the last set
+        self._surface = None        # (Gamma_C's dofs, K's rows there), once per QP
 
     @staticmethod
     def split(B: sp.csr_matrix, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -119,9 +121,12 @@ class ProjectedMultigridSystem:
         key = free.tobytes() + general.tobytes()
         if self._last is None or self._last[0] != key:
             rows = (qp.B[general] @ sp.diags(free.astype(float))).tocsr()
-            surface = np.unique(qp.B.indices)                    # every dof a row of B sees: Gamma_C's
+            if self._surface is None:
+                surface = np.unique(qp.B.indices)                # every dof a row of B sees: Gamma_C's
+                self._surface = surface, qp.K[surface].tocsr()
+            surface, K_rows = self._surface
             if len(general):
-                vcycle = ConstrainedVCycle(self.multilevel, self.K_ngs, qp.K, free, surface, rows, self.edges)
+                vcycle = ConstrainedVCycle(self.multilevel, self.K_ngs, K_rows, free, surface, rows, self.edges)
             else:
                 vcycle = TruncatedVCycle(self.multilevel, self.K_ngs, free, self.edges)
             self._last = key, vcycle, RowProjection(rows) if len(general) else None
