@@ -108,5 +108,6 @@ def run_3d_bench(levels=THREE_D_LEVELS, models=("mean", "mean-edges", "nodal", "
 
 
 def three_d_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
-    """Issue 19: the 3D contact solve is exact and within 2x one linear solve at the largest size."""
-    return contact_goals(frame, "3D", 2)
+    """Issues 19 and 33: the 3D contact solve is exact and within 1.5x one linear solve at the
+    largest size (issue 19 asked 2x)."""
+    return contact_goals(frame, "3D", 1.5)
