@@ -12,18 +12,20 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet -e '.[test]'
 	touch $(STAMP)
 
+# the report's jobs and the tests on one process per core (one NGSolve thread each); on one core, in this process
+WORKERS ?= $(shell nproc 2>/dev/null || echo 1)
+ENGINE  := $(if $(filter 1,$(WORKERS)),,--workers $(WORKERS))
+# pytest-xdist, a test file per worker (a module's fixtures are made once)
+XDIST   := $(if $(filter 1,$(WORKERS)),,-n $(WORKERS) --dist loadfile)
+
 test: $(STAMP)
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q $(XDIST)
 
 test-full: $(STAMP)
 	$(PY) -m pytest -q -m ''
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check harness cases tests
-
-# the report's jobs on one process per core (one NGSolve thread each); on one core, in this process
-WORKERS ?= $(shell nproc 2>/dev/null || echo 1)
-ENGINE  := $(if $(filter 1,$(WORKERS)),,--workers $(WORKERS))
 
 report: $(STAMP)
 	$(PY) -m harness report --profile default $(ENGINE)

@@ -1,3 +1,5 @@
+import os
+
 import numpy as np
 import pytest
 
@@ -6,6 +8,15 @@ from harness.mesh.levels import mesh_hierarchy
 from harness.methods import METHODS, BoundConstrained, WeakContact
 from harness.problem.case import load_case
 from harness.solvers.multigrid import Multilevel
+
+if os.environ.get("PYTEST_XDIST_WORKER"):
+    # `make test` runs one pytest-xdist worker per core: one NGSolve and BLAS thread each, as the
+    # report's jobs (two task managers of two threads each on two cores spin against each other:
+    # a 5-minute suite ran for 15 minutes and more)
+    import ngsolve as ngs
+    from threadpoolctl import threadpool_limits
+    ngs.SetNumThreads(1)
+    _BLAS_THREADS = threadpool_limits(1)
 
 # The paper's P2 cones by method name (the cone-level tests), the methods that solve a cone
 # exactly (active set), the weak ones (penalty, Nitsche: semismooth Newton), and all.
