@@ -119,8 +119,27 @@ class ContactModel:
         return np.concatenate([at_vertices, on_edges])
 
 
+class ProblemQP:
+    """What a QP posed on a ``DiscreteProblem`` (its attribute ``problem``) takes from it."""
+
+    @property
+    def free(self) -> np.ndarray:
+        return self.problem.free
+
+    @property
+    def lift(self) -> np.ndarray:
+        return self.problem.lift
+
+
+def end_status(problem: DiscreteProblem, vertex_active: np.ndarray) -> np.ndarray:
+    """(m, 2) the status of the vertex constraints at both ends of each contact edge, from one
+    per vertex of Gamma_C (in the order of ``problem.vertex_dofs``)."""
+    status = dict(zip(problem.trace.vertices.tolist(), vertex_active))
+    return np.vectorize(status.get, otypes=[bool])(problem.trace.edge_vertices)
+
+
 @dataclass
-class ContactQP:
+class ContactQP(ProblemQP):
     """The discrete inequality (3.6) or (5.1) as min 1/2 z'Kz - b'z over z = u_D on Gamma_u and
     z[C] >= alpha, in the model's variables z (u = S z). All dofs are kept (Dirichlet ones are
     pinned by the solver), so that z, u and NGSolve vectors share one numbering."""
@@ -133,14 +152,6 @@ class ContactQP:
     b: np.ndarray               # S^T (load vector)
     C: np.ndarray               # constrained variables: Gamma_C vertex dofs, then edge dofs
     alpha: np.ndarray           # their lower bounds
-
-    @property
-    def free(self) -> np.ndarray:
-        return self.problem.free
-
-    @property
-    def lift(self) -> np.ndarray:
-        return self.problem.lift
 
     def to_u(self, z: np.ndarray) -> np.ndarray:
         return self.S @ z
@@ -164,8 +175,7 @@ class ContactQP:
     def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
         problem = self.problem
         nv = len(problem.vertex_dofs)
-        vertex_active = dict(zip(problem.trace.vertices.tolist(), active[:nv]))
-        end_active = np.vectorize(vertex_active.get, otypes=[bool])(problem.trace.edge_vertices)
+        end_active = end_status(problem, active[:nv])
         # Without edge constraints (P1) an edge is in contact when both its ends are: the linear
         # trace then vanishes on all of it, and the fine vertex at its midpoint inherits that.
         edge_active = active[nv:] if len(problem.edge_dofs) else end_active.all(axis=1)

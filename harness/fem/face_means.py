@@ -21,7 +21,7 @@ import scipy.sparse as sp
 
 from ..mesh.points import evaluate
 from .assembly import ContactTraceFunction, DiscreteProblem
-from .cones import contact_pressure
+from .cones import ProblemQP, contact_pressure, end_status
 
 CONTACT = "contact"
 
@@ -60,7 +60,7 @@ def _in_trace_order(problem, elements: np.ndarray) -> np.ndarray:
 
 
 @dataclass
-class FaceMeanQP:
+class FaceMeanQP(ProblemQP):
     """The 3D counterpart of K_h as min 1/2 u'Au - b'u over u = u_D on Gamma_u and B u >= g, in
     NGSolve's hierarchical P2 variables: B's first rows are the vertex values on Gamma_C (in
     the order of ``problem.vertex_dofs``), the next its triangles' means (in the order of
@@ -72,14 +72,6 @@ class FaceMeanQP:
     b: np.ndarray
     B: sp.csr_matrix
     g: np.ndarray
-
-    @property
-    def free(self) -> np.ndarray:
-        return self.problem.free
-
-    @property
-    def lift(self) -> np.ndarray:
-        return self.problem.lift
 
     @property
     def n_vertices(self) -> int:
@@ -97,8 +89,7 @@ class FaceMeanQP:
 
     def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
         problem, nv = self.problem, self.n_vertices
-        vertex_active = dict(zip(problem.trace.vertices.tolist(), active[:nv]))
-        end_active = np.vectorize(vertex_active.get, otypes=[bool])(problem.trace.edge_vertices)
+        end_active = end_status(problem, active[:nv])
         # no edge constraint: an edge counts as in contact when both its ends are (what the
         # fine vertex at its midpoint inherits)
         return ContactTraceFunction.of(problem, u, end_active, end_active.all(axis=1), face_active=active[nv:])
