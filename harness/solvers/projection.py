@@ -4,11 +4,14 @@ affine space (``multigrid.pcg``) and for their least-squares multipliers.
 With B the active rows restricted to the free dofs (m x n, m << n: the rows of Gamma_C's
 triangles), P = I - B^T (B B^T)^{-1} B. B touches only the dofs of Gamma_C, so P is applied
 on those (``columns``) with one sparse factorisation of the small matrix B B^T (a 2D surface
-operator: about 3 400 rows at 1e6 dofs on transition-line-3d).
+operator: at most 8,704 rows, one per triangle of Gamma_C, at 1e6 dofs on transition-line-3d).
 
-B B^T may be singular: the face means of a patch of triangles whose vertices are all pinned
-and whose outer edges are Dirichlet are dependent when the patch's triangles can be coloured
-alternately (structured meshes; docs/mathematics.md). Then B x is orthogonal to the kernel of
+B B^T may be singular: on a patch of triangles whose vertices are all pinned and whose outer
+edges are Dirichlet, a triangle's row sees only its three edge bubbles, each shared with one
+neighbour, so multipliers +1, -1 alternating between neighbours cancel on every bubble when the
+patch's triangles can be coloured that way (every inner vertex of even degree, as on structured
+meshes); nearly so otherwise (eigenvalues 1e-4 against 1.6 on transition-line-3d's level 1,
+``projected``). Then B x is orthogonal to the kernel of
 B B^T for every x, and the factorisation of B B^T + d I (d at 1e-10 of its diagonal) followed
 by two steps of iterative refinement gives the minimum-norm solution to round-off: d perturbs
 the other eigen-directions by d / lambda, which each refinement step squares away.
