@@ -8,8 +8,9 @@ beside v_h(x) >= alpha(x) at the vertices of Gamma_C. In 2D the edge mean of the
 triangle the P2 mean is the average of the three edge-midpoint values (the vertex functions
 of the Lagrange basis integrate to 0 over T; docs/mathematics.md), and each midpoint belongs
 to two triangles, so these rows couple variables and stay general rows of a matrix B, solved by
-``solvers.general_constraints``. (The edge-wise cone of the 3D ``mean`` so far constrains edge
-means only, which do not control the trace inside the triangles: its H^1 rate stalls near 1/2.)
+``solvers.general_constraints`` (and ``solvers.projected``): the 3D ``mean`` since 0.3.5. (The
+edge-wise cone, ``mean-edges``, constrains edge means only, which do not control the trace
+inside the triangles: its H^1 rate stalls near 1/2.)
 """
 from __future__ import annotations
 
