@@ -6,7 +6,7 @@ Gamma_C, the mean of v_h - alpha is non-negative,
 beside v_h(x) >= alpha(x) at the vertices of Gamma_C. In 2D the edge mean of the paper's K_h
 (Section 3) is a bound on one variable after a local change of variables (``cones``); on a
 triangle the P2 mean is the average of the three edge-midpoint values (the vertex functions
-of the Lagrange basis integrate to 0 over T; docs/mathematics.md), and each midpoint belongs
+of the Lagrange basis integrate to 0 over T; docs/mathematics.md §6), and each midpoint belongs
 to two triangles, so these rows couple variables and stay general rows of a matrix B, solved by
 ``solvers.general_constraints`` (and ``solvers.projected``): the 3D ``mean`` since 0.3.5. (The
 edge-wise cone, ``mean-edges``, constrains edge means only, which do not control the trace
