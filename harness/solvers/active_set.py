@@ -346,25 +346,28 @@ class ActiveSetSolver:
                 break
             if depth <= full:
                 seen.add(active.tobytes())      # sets judged on a full-depth solve only
-            if pivoting:
-                # Murty's least-index rule: flip only the first violated row.
-                first = int(np.flatnonzero(leave | enter)[0])
-                candidate = active.copy()
-                candidate[first] = not active[first]
-            else:
-                candidate = (active & ~leave) | enter
-                if candidate.tobytes() in seen:
-                    pivoting = True
-                    first = int(np.flatnonzero(leave | enter)[0])
-                    candidate = active.copy()
-                    candidate[first] = not active[first]
-            active = candidate
+            active, pivoting = next_active_set(active, leave, enter, seen, pivoting)
             depth = loose_depth(kkt.residual, full) if iterative and not pivoting else full
         return QPSolution(
             z=z, multipliers=lam, active=active, kkt=kkt, iterations=iteration,
             work=self.system.work(),
             seconds=time.perf_counter() - clock, status=status,
         )
+
+
+def next_active_set(active: np.ndarray, leave: np.ndarray, enter: np.ndarray, seen: set,
+                    pivoting: bool) -> tuple[np.ndarray, bool]:
+    """(the next active set, whether pivoting): the primal-dual update (the rows that ``leave``
+    out, those that ``enter`` in), or, once a set would repeat (or already when ``pivoting``),
+    Murty's least-index rule: flip only the first violated row. Shared by the bound solver and
+    ``general_constraints``."""
+    candidate = (active & ~leave) | enter
+    if pivoting or candidate.tobytes() in seen:
+        first = int(np.flatnonzero(leave | enter)[0])
+        candidate = active.copy()
+        candidate[first] = not active[first]
+        return candidate, True
+    return candidate, False
 
 
 def row_norm(K: sp.csr_matrix, rows: np.ndarray, chunk: int = 1 << 22) -> float:

@@ -38,7 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .active_set import DEFAULT_TOLERANCE, KKT, loose_depth, row_norm
+from .active_set import DEFAULT_TOLERANCE, KKT, loose_depth, next_active_set, row_norm
 
 REGULARISATION = 1e-14
 
@@ -143,13 +143,7 @@ class GeneralConstraintSolver:
                 break
             if depth <= full:
                 seen.add(active.tobytes())
-            candidate = (active & ~leave) | enter
-            if pivoting or candidate.tobytes() in seen:
-                pivoting = True
-                first = int(np.flatnonzero(leave | enter)[0])
-                candidate = active.copy()
-                candidate[first] = not active[first]
-            active = candidate
+            active, pivoting = next_active_set(active, leave, enter, seen, pivoting)
             depth = loose_depth(kkt.residual, full) if iterative and not pivoting else full
         return GeneralQPSolution(z=z, multipliers=lam, active=active, kkt=kkt, iterations=iteration,
                                  work=self.system.work(), seconds=time.perf_counter() - clock, status=status)
