@@ -36,11 +36,12 @@ def problem_at(case_name: str, level: int, order: int = 2):
 
 
 def problem_with_hierarchy(case_name: str, level: int, order: int = 2):
-    """The problem of ``level`` and the multigrid's P1 hierarchy of levels 0..level."""
+    """The problem of ``level`` and the multigrid's P1 hierarchy of levels 0..level (vector P1 in
+    the rotated frame for an elastic case)."""
     case = load_case(case_name)
     multilevel = None
     for lev, mesh in mesh_hierarchy(case, level + 1):
-        multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
     return discretise(case, mesh, order), multilevel
 
 

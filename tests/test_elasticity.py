@@ -186,6 +186,22 @@ def test_errors_do_not_depend_on_how_the_body_is_turned():
             assert b[column] == pytest.approx(a[column], rel=1e-6), column
 
 
+@pytest.mark.parametrize("poisson, multigrid", [(0.0, True), (0.3, True), (0.45, True), (0.49, False)])
+def test_elastic_solves_use_multigrid_unless_nearly_incompressible(poisson, multigrid):
+    """The vector V-cycle serves lambda/mu <= 20 (``Elasticity.multigrid``: its pointwise
+    smoother is not robust in lambda); a study of such a case solves by CG, the stiffer ones by
+    sparse Cholesky (linear_iterations counts factorisations there, CG iterations here)."""
+    assert Elasticity(poisson=poisson).multigrid == multigrid
+
+
+def test_an_elastic_study_solves_by_multigrid_and_the_incompressible_one_by_cholesky():
+    for name, cg in (("elastic-transition-r32", True), ("elastic-transition-incompressible", False)):
+        rows = run_chain(load_case(name), [METHODS["nodal"]], 3).rows
+        assert all(row["kkt_residual"] <= 1e-10 for row in rows)
+        # a factorised level needs one or two factorisations, a CG level tens of iterations
+        assert (rows[-1]["linear_iterations"] > 5) == cg, (name, rows[-1]["linear_iterations"])
+
+
 def test_kink_in_an_elastic_contact_boundary_is_refused():
     kinked = polygon([(-1, 0.2), (0, 0), (1, 0), (1, 1), (-1, 1)], ["contact", "contact", "neumann", "dirichlet", "neumann"])
     case = dataclasses.replace(load_case("elastic-transition-r32"), geometry=kinked)

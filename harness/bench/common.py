@@ -43,6 +43,26 @@ def own_seconds(solution) -> tuple[float, object]:
     return solution.seconds, solution
 
 
+def linear_multigrid_seconds(qp, multilevel) -> tuple[float, object]:
+    """(seconds, the MultigridSystem) of one unconstrained solve of ``qp``'s matrix by the
+    contact solver's multigrid CG, from zero, as deep as its linear solves go (fastest of
+    repeats)."""
+    from ..solvers.active_set import ActiveSetSolver, MultigridSystem
+    from ..solvers.multigrid import ContactEdges
+    system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
+    load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
+    return linear_seconds(system, qp, load_scale)
+
+
+def linear_seconds(system, qp, load_scale: float) -> tuple[float, object]:
+    from ..solvers.active_set import DEFAULT_TOLERANCE
+
+    def linear():
+        system.cg_iterations = 0
+        return timed(system.solve, ~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * load_scale)
+    return fastest(linear)[0], system
+
+
 def in_fresh_process(target, args: tuple, what: str) -> dict:
     ctx = mp.get_context("spawn")
     receiver, sender = ctx.Pipe(duplex=False)

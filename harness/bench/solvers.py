@@ -50,14 +50,14 @@ def cone_problem(model_name: str, level: int, coarse_maxh: float | None, case_na
     from ..methods import get_method
     from ..problem.case import load_case
     from ..solvers.active_set import solve_contact_qp
-    from ..solvers.multigrid import Multilevel, nested_start
+    from ..solvers.multigrid import Multilevel, nested_start, p1_values
 
     case = load_case(case_name)
     case = dataclasses.replace(case, maxh=coarse_maxh or case.maxh)
     method = get_method(model_name)
     multilevel, previous, start = None, None, None
     for lev, mesh in ((step.index, step.mesh) for step in UniformRefinement(case).levels(level + 1)):
-        multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
         if lev < level - 1:
             continue
         problem = discretise(case, mesh, method.order)
@@ -66,7 +66,7 @@ def cone_problem(model_name: str, level: int, coarse_maxh: float | None, case_na
             coarse = solve_contact_qp(qp, multilevel=multilevel)
             u = qp.to_u(coarse.z)
             previous = qp.trace_function(u, coarse.active)
-            vertex_values = u[: multilevel.nvertices].copy()
+            vertex_values = p1_values(problem, u)
         elif level > 0:
             start = nested_start(multilevel, vertex_values, problem)
     return qp, qp.predicted_active(previous), multilevel, start

@@ -6,7 +6,7 @@ import resource
 
 import pandas as pd
 
-from .common import contact_goals, fastest, fresh_rows, own_seconds, timed
+from .common import contact_goals, fastest, fresh_rows, linear_multigrid_seconds, linear_seconds, own_seconds
 from .solvers import cone_problem
 
 THREE_D_CASE = "transition-line-3d"
@@ -17,26 +17,6 @@ THREE_D_LEVELS = (1, 2, 3)         # 1.8e4, 1.3e5, 1.0e6 P2 dofs
 
 THREE_D_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_linear", "iterations", "cg_iterations",
                    "linear_cg_iterations", "kkt_residual", "peak_rss_mb"]
-
-
-def linear_multigrid_seconds(qp, multilevel) -> tuple[float, object]:
-    """(seconds, the MultigridSystem) of one unconstrained solve of ``qp``'s matrix by the
-    contact solver's multigrid CG, from zero, as deep as its linear solves go (fastest of
-    repeats)."""
-    from ..solvers.active_set import ActiveSetSolver, MultigridSystem
-    from ..solvers.multigrid import ContactEdges
-    system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
-    load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
-    return _linear_seconds(system, qp, load_scale)
-
-
-def _linear_seconds(system, qp, load_scale: float) -> tuple[float, object]:
-    from ..solvers.active_set import DEFAULT_TOLERANCE
-
-    def linear():
-        system.cg_iterations = 0
-        return timed(system.solve, ~qp.free, qp.lift, tol=0.1 * DEFAULT_TOLERANCE * load_scale)
-    return fastest(linear)[0], system
 
 
 def face_mean_problem(level: int, case_name: str = THREE_D_CASE):
@@ -80,7 +60,7 @@ def _solve_3d(model_name: str, level: int):
         return GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift,
                                        system=ProjectedMultigridSystem(qp.K_ngs, multilevel))
     load_scale = contact().load_scale
-    t_linear, system = _linear_seconds(MultigridSystem(qp.K_ngs, qp.b, multilevel, HIERARCHICAL), qp, load_scale)
+    t_linear, system = linear_seconds(MultigridSystem(qp.K_ngs, qp.b, multilevel, HIERARCHICAL), qp, load_scale)
     t_contact, solution = fastest(lambda: own_seconds(contact().solve(predicted, start)))
     return qp, t_contact, solution, t_linear, system
 

@@ -21,7 +21,7 @@ from ..fem.assembly import DiscreteProblem
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
 from ..fem.element_quadrature import singular_vertices
 from ..solvers.active_set import Cholesky, MultigridSystem
-from ..solvers.multigrid import HIERARCHICAL, nested_start
+from ..solvers.multigrid import ContactEdges, nested_start
 
 # relative to the load, as deep as the contact solves' linear systems
 TOLERANCE = 1e-11
@@ -48,7 +48,7 @@ def ritz_projection(case, problem: DiscreteProblem, multilevel=None, start: np.n
     pinned = ~problem.free
     scale = max(np.abs((b - problem.A @ problem.lift)[problem.free]).max(initial=0.0), np.finfo(float).tiny)
     if multilevel is not None:
-        system = MultigridSystem(problem.A_ngs, b, multilevel, HIERARCHICAL)
+        system = MultigridSystem(problem.A_ngs, b, multilevel, ContactEdges.of(problem, model=False))
         return system.solve(pinned, problem.lift, start=start, tol=TOLERANCE * scale)
     rhs = np.where(problem.free, b - problem.A @ problem.lift, 0.0)
     return np.where(problem.free, Cholesky(problem.A_ngs, problem.free).solve(rhs), problem.lift)
@@ -61,4 +61,4 @@ def nested_ritz_start(multilevel, problem: DiscreteProblem, coarse_vertex_values
     level."""
     if multilevel is None or coarse_vertex_values is None:
         return None
-    return nested_start(multilevel, coarse_vertex_values, problem, HIERARCHICAL)
+    return nested_start(multilevel, coarse_vertex_values, problem, ContactEdges.of(problem, model=False))

@@ -17,6 +17,7 @@ from scipy.sparse.linalg import splu
 
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
 from ..fem.element_quadrature import ElementQuadrature
+from ..solvers.multigrid import p1_values
 from .best_approximation import nested_ritz_start, ritz_projection
 
 
@@ -146,7 +147,7 @@ class ExactErrors:
                 start = nested_ritz_start(multilevel, problem, self.vertex_values.get((order, level - 1)))
                 best = ritz_projection(self.case, problem, multilevel, start)
                 self.vertex_values = {key: v for key, v in self.vertex_values.items() if key[1] >= level - 1}
-                self.vertex_values[(order, level)] = best[:mesh.nv].copy()
+                self.vertex_values[(order, level)] = p1_values(problem, best)
                 self.best[order] = problem.gridfunction(best)
                 self.contact[order] = ContactErrors(self.case, problem)
 

@@ -22,7 +22,7 @@ from ..fem.penetration import max_penetration
 from ..fem.weak_contact import predicted_active, weak_contact_system
 from ..solvers.active_set import solve_contact_qp
 from ..solvers.general_constraints import GeneralConstraintSolver
-from ..solvers.multigrid import HIERARCHICAL, nested_start
+from ..solvers.multigrid import HIERARCHICAL, nested_start, p1_values
 from ..solvers.newton import solve_semismooth_newton
 from ..solvers.projected import ProjectedMultigridSystem
 
@@ -137,7 +137,7 @@ def _exact_level(case, problem, u, trace_u, pressure, solution) -> LevelSolve:
         "solve_seconds": solution.seconds,
         "status": solution.status,
     }
-    return LevelSolve(fields, u, trace_u, pressure, (trace_u, u[:problem.mesh.nv].copy()))
+    return LevelSolve(fields, u, trace_u, pressure, (trace_u, p1_values(problem, u)))
 
 
 @dataclass(frozen=True)

@@ -398,7 +398,7 @@ def solve_contact_qp(qp, initial_active=None, textbook: bool = False, tol: float
     if textbook:
         system = FactorisedSystem(qp.K, qp.K_ngs, qp.b, refactor_above=0)
     elif multilevel is not None:
-        if multilevel.nvertices != qp.problem.mesh.nv:
+        if multilevel.ndof != qp.problem.mesh.nv * qp.problem.physics.components:
             raise ValueError("the multilevel hierarchy does not end at this problem's mesh (refined() missed?)")
         system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
     else:

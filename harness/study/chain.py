@@ -256,8 +256,8 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
         # budget (or MAX_ADAPTIVE_LEVELS)
         studied = chain = {m.name: MAX_ADAPTIVE_LEVELS for m in methods}
         last_level = MAX_ADAPTIVE_LEVELS
-    # the P1 hierarchy of the truncated multigrid (scalar only: ``physics``; nested meshes
-    # only: its prolongations are the refinement's); else the solves factorise
+    # the P1 hierarchy of the truncated multigrid (where the physics has one: ``physics``;
+    # nested meshes only: its prolongations are the refinement's); else the solves factorise
     hierarchical = case.physics.multigrid and sequence.nested
     estimating = has_estimator(case)
     # The meshes are made outside NGSolve's task manager, each level's work under it: a study
@@ -272,7 +272,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                 break
             mesh, h = step.mesh, step.h
             if hierarchical:
-                multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+                multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
             if sequence.name != "uniform":
                 # the uniform finest level's number of triangles (of the coarse mesh times 4 per
                 # level): graded and adaptive meshes get the same budget of dofs
