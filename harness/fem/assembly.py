@@ -154,49 +154,68 @@ def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
 
 @dataclass(frozen=True)
 class RotatedFrame:
-    """At each node of Gamma_C of a vector space: the variables (t, c) = (u . tau, -u . n) in
-    place of (u_x, u_y), tau = (-n_y, n_x), so that u = t tau - c n (an orthogonal change of
-    basis Q: NGSolve's coefficients = Q @ ours; Q = I where n = -e_y). The contact variable c
-    then sits in the second component's dof, where ``_contact_dof`` finds it.
+    """At each node of Gamma_C of a vector space: the variables (t, c) = (u . tau, -u . n) in 2D,
+    (t1, t2, c) = (u . tau1, u . tau2, -u . n) in 3D, in place of the Cartesian components, so
+    that u = sum t_i tau_i - c n (an orthogonal change of basis Q: NGSolve's coefficients =
+    Q @ ours; Q = I where n = -e_y, resp. -e_z). The contact variable c then sits in the last
+    component's dof, where ``_contact_dof`` finds it. Tangents (``tangents``): tau = (-n_y, n_x)
+    in 2D; in 3D tau1 the unit projection of e_x (or e_y when n is near e_x) on the tangent
+    plane and tau2 = -n x tau1, so that (tau1, tau2, -n) is a right-handed orthonormal basis.
 
-    A vertex of Gamma_C needs one normal: Gamma_C must be straight through each of its vertices
-    (the discrete contact conditions on the normal displacement of a kink would need the two
-    normals of its edges, and the cones would no longer be bounds)."""
+    A vertex of Gamma_C needs one normal: Gamma_C must be flat through each of its vertices
+    (the discrete contact conditions on the normal displacement of a kink would need the
+    normals of its cells, and the cones would no longer be bounds)."""
 
-    pairs: np.ndarray       # (k, 2) the two dofs (x, y components) of each node of Gamma_C
-    normals: np.ndarray     # (k, 2) the outward unit normal there
+    pairs: np.ndarray       # (k, dim) the dofs (one per component) of each node of Gamma_C
+    normals: np.ndarray     # (k, dim) the outward unit normal there
 
     @classmethod
     def of(cls, fes, trace: ContactTrace) -> "RotatedFrame":
+        dim = fes.mesh.dim
         normal_of = {}
         for edge, (va, vb), normal in zip(trace.edges, trace.edge_vertices, trace.normals):
             for kind, number in ((ngs.EDGE, edge), (ngs.VERTEX, va), (ngs.VERTEX, vb)):
                 pair = tuple(fes.GetDofNrs(ngs.NodeId(kind, int(number))))
-                if len(pair) != 2:          # an edge of P1: no dofs
+                if len(pair) != dim:          # an edge of P1: no dofs
                     continue
                 if pair in normal_of and not np.allclose(normal_of[pair], normal, atol=1e-12):
-                    point = fes.mesh[ngs.NodeId(kind, int(number))].point
-                    raise ValueError(f"Gamma_C has a kink at ({point[0]:.4g}, {point[1]:.4g}): elastic contact needs it "
-                                     f"straight through each of its vertices")
+                    point = ", ".join(f"{c:.4g}" for c in fes.mesh[ngs.NodeId(kind, int(number))].point)
+                    raise ValueError(f"Gamma_C has a kink at ({point}): elastic contact needs it "
+                                     f"flat through each of its vertices")
                 normal_of[pair] = normal
-        return cls(np.array(list(normal_of), dtype=np.int64).reshape(-1, 2),
-                   np.array(list(normal_of.values()), dtype=float).reshape(-1, 2))
+        return cls(np.array(list(normal_of), dtype=np.int64).reshape(-1, dim),
+                   np.array(list(normal_of.values()), dtype=float).reshape(-1, dim))
 
     @property
     def identity(self) -> bool:
-        return bool(np.allclose(self.normals, [0.0, -1.0], atol=1e-14))
+        outward = np.zeros(self.normals.shape[1])
+        outward[-1] = -1.0
+        return bool(np.allclose(self.normals, outward, atol=1e-14))
+
+    def tangents(self) -> np.ndarray:
+        """(k, dim - 1, dim): the tangent vectors of each node."""
+        n = self.normals
+        if n.shape[1] == 2:
+            return np.stack([-n[:, 1], n[:, 0]], axis=1)[:, None, :]
+        seed = np.where((np.abs(n[:, 0]) < 0.9)[:, None], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
+        first = seed - (seed * n).sum(axis=1, keepdims=True) * n
+        first /= np.linalg.norm(first, axis=1, keepdims=True)
+        return np.stack([first, np.cross(-n, first)], axis=1)
+
+    def blocks(self) -> np.ndarray:
+        """(k, dim, dim): Q at each node, column j the Cartesian components of ours j."""
+        return np.concatenate([self.tangents(), -self.normals[:, None, :]], axis=1).transpose(0, 2, 1)
 
     def matrix(self, ndof: int) -> sp.csr_matrix:
-        """Q: identity off Gamma_C; at a node, u_x = tau_x t - n_x c, u_y = tau_y t - n_y c."""
-        x, y = self.pairs[:, 0], self.pairs[:, 1]
-        nx, ny = self.normals[:, 0], self.normals[:, 1]
+        """Q: identity off Gamma_C, ``blocks`` at its nodes."""
+        dim = self.pairs.shape[1]
         off = np.ones(ndof, bool)
         off[self.pairs.ravel()] = False
         rest = np.flatnonzero(off)
-        rows = np.concatenate([rest, x, x, y, y])
-        cols = np.concatenate([rest, x, y, x, y])
-        vals = np.concatenate([np.ones(len(rest)), -ny, -nx, nx, -ny])
-        return sp.csr_matrix((vals, (rows, cols)), shape=(ndof, ndof))
+        rows = np.repeat(self.pairs, dim, axis=1).ravel()           # (k, i, j) -> pairs[k, i]
+        cols = np.tile(self.pairs, (1, dim)).ravel()                # (k, i, j) -> pairs[k, j]
+        return sp.csr_matrix((np.concatenate([np.ones(len(rest)), self.blocks().ravel()]),
+                              (np.concatenate([rest, rows]), np.concatenate([rest, cols]))), shape=(ndof, ndof))
 
 
 def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadrature | None = None) -> DiscreteProblem:

@@ -30,15 +30,17 @@ CONTACT = "contact"
 def face_mean_rows(problem, obstacle: ngs.CoefficientFunction | None = None,
                    order: int = 8) -> tuple[sp.csr_matrix, np.ndarray, np.ndarray]:
     """(B, g, elements): one row per triangle of Gamma_C (``elements``: its surface element
-    number), B u = the mean over the triangle of the function with coefficients u (NGSolve's
-    basis of ``problem.fes``) and g = the mean of ``obstacle`` (alpha; 0 if None) there,
-    integrated with ``order`` more than the integrands' degree."""
+    number), B u = the mean over the triangle of the contact variable (u, or -u . n in
+    elasticity: ``physics.contact_variable``) of the function with coefficients u (the
+    problem's variables: NGSolve's basis, rotated at Gamma_C in elasticity) and g = the mean of
+    ``obstacle`` (alpha; 0 if None) there, integrated with ``order`` more than the integrands'
+    degree."""
     mesh = problem.mesh
     faces = ngs.SurfaceL2(mesh, order=0, definedon=mesh.Boundaries(CONTACT))
     u, q = problem.fes.TrialFunction(), faces.TestFunction()
     ds = ngs.ds(definedon=mesh.Boundaries(CONTACT), bonus_intorder=order)
     coupling = ngs.BilinearForm(problem.fes, faces)
-    coupling += u * q * ds
+    coupling += problem.physics.contact_variable(u) * q * ds
     coupling.Assemble()
     area, load = ngs.LinearForm(faces), ngs.LinearForm(faces)
     area += q * ds
@@ -49,8 +51,14 @@ def face_mean_rows(problem, obstacle: ngs.CoefficientFunction | None = None,
     dofs = np.array([faces.GetDofNrs(ngs.ElementId(ngs.BND, int(e)))[0] for e in elements], dtype=np.int64)
     rows, columns, values = coupling.mat.COO()
     B = sp.csr_matrix((np.asarray(values), (np.asarray(rows), np.asarray(columns))), shape=(faces.ndof, problem.fes.ndof))
+    if problem.basis is not None:
+        B = B @ problem.basis                   # NGSolve's coefficients = Q @ ours
     areas, integrals = area.vec.FV().NumPy()[dofs], load.vec.FV().NumPy()[dofs]
-    return (sp.diags(1.0 / areas) @ B[dofs]).tocsr(), integrals / areas, elements
+    # entries below round-off of the rows' scale: a Cartesian component orthogonal to n
+    B = (sp.diags(1.0 / areas) @ B[dofs]).tocsr()
+    B.data[np.abs(B.data) < 1e-14 * np.abs(B.data).max(initial=0.0)] = 0.0
+    B.eliminate_zeros()
+    return B, integrals / areas, elements
 
 
 def _in_trace_order(problem, elements: np.ndarray) -> np.ndarray:

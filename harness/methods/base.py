@@ -22,7 +22,7 @@ from ..fem.penetration import max_penetration
 from ..fem.weak_contact import predicted_active, weak_contact_system
 from ..solvers.active_set import solve_contact_qp
 from ..solvers.general_constraints import GeneralConstraintSolver
-from ..solvers.multigrid import HIERARCHICAL, nested_start, p1_values
+from ..solvers.multigrid import HIERARCHICAL, ContactEdges, nested_start, p1_values
 from ..solvers.newton import solve_semismooth_newton
 from ..solvers.projected import ProjectedMultigridSystem
 
@@ -158,10 +158,11 @@ class CellMean(BoundConstrained):
             qp = face_mean_qp(case, problem, take_stiffness=take_stiffness)
             start = None
             if multilevel is not None and coarse_vertex_values is not None:
-                start = nested_start(multilevel, coarse_vertex_values, problem, HIERARCHICAL)
+                start = nested_start(multilevel, coarse_vertex_values, problem, ContactEdges.of(problem, model=False))
             predicted = qp.predicted_active(previous)
         with timed("solve"):
-            system = None if multilevel is None else ProjectedMultigridSystem(qp.K_ngs, multilevel)
+            system = None if multilevel is None else ProjectedMultigridSystem(qp.K_ngs, multilevel,
+                                                                               ContactEdges.of(problem, model=False))
             solution = GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift,
                                                system=system).solve(predicted, start)
         trace_u = qp.trace_function(solution.z, solution.active)

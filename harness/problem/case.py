@@ -296,8 +296,8 @@ def case_from_module(module, source: str) -> Case:
     else:
         return _reference_case(module, source)
     if physics is not SCALAR:
-        if case.dimension != 2:
-            raise CaseError(f"case {source}: elasticity is plane strain (2D); a 3D geometry needs physics = 'scalar'")
+        # plane strain on a 2D geometry, the body itself on a 3D one
+        physics = dataclasses.replace(physics, dim=case.dimension)
         if not physics.is_field(case.u):
             raise CaseError(f"case {source}: u must be a {physics.components}-vector for {physics.name}, got dimension {case.u.dim}")
         case = dataclasses.replace(case, physics=physics)

@@ -35,7 +35,7 @@ def transition(x0: float = 0.0, binding_side: str = "right", coordinates="xy"):
 
 
 def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, mirrored: bool = False,
-                     angle: float = 0.0):
+                     angle: float = 0.0, coordinates: str = "xy"):
     """The plane-strain displacement r^l Phi(theta) (l = ``exponent``) on the wedge
     0 <= theta <= omega about (x0, 0) with the frictionless-contact ("roller") conditions
     u_y = 0, sigma_xy = 0 on theta = 0 and a traction-free face theta = omega: the elastic
@@ -56,6 +56,10 @@ def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, m
     makes sigma_n = sigma_tt(theta = 0) = -l r^{l-1}: the contact pressure on theta = 0 is
     l r^{l-1} > 0. ``mirrored``: theta from the negative x-direction (the wedge to the left).
     ``angle``: the whole picture rotated by that angle about (x0, 0) (a tilted Gamma_C).
+    ``coordinates``: "xy", or "xz" for the 3D field (u_x, 0, u_z) of the same plane-strain
+    displacement in the (x, z) plane, Gamma_C = {z = 0}: plane strain is the 3D body with
+    u_y = 0 and nothing depending on y (eps_yy = 0, and sigma_yy = lambda div u depends on x, z
+    only, so div sigma keeps no y-component): an exact 3D elastic field.
     """
     import math
 
@@ -74,6 +78,10 @@ def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, m
     b = a * b_unit
     ca, sa = math.cos(angle), math.sin(angle)
     # the local frame's coordinates (x0 + R(angle) local = global)
+    if coordinates not in ("xy", "xz") or (angle and coordinates != "xy"):
+        raise ValueError(f"coordinates must be 'xy' (any angle) or 'xz' (angle 0), got {coordinates!r}, angle {angle}")
+    if coordinates == "xz":
+        Y = z
     local = (x0 + ca * (X - x0) + sa * Y, -sa * (X - x0) + ca * Y) if angle else (X, Y)
     r, theta = polar(x0, mirrored, *local)
     kappa, two_mu = material.kappa, 2 * material.mu
@@ -81,4 +89,6 @@ def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, m
     uy = r**l * ((kappa * a + b) * sin(l * theta) - a * l * sin((2 - l) * theta)) / two_mu
     # mirrored (x -> x0 - x): the x-component changes sign
     ux = -ux if mirrored else ux
+    if coordinates == "xz":
+        return CF((ux, 0.0, uy))
     return CF((ca * ux - sa * uy, sa * ux + ca * uy)) if angle else CF((ux, uy))

@@ -3,7 +3,8 @@ condition constrains.
 
 * ``Scalar`` -- the paper's problem (2.1)-(2.4): -Laplace(u) = f, u - alpha >= 0 on Gamma_C.
 * ``Elasticity`` -- Remark 2.3: frictionless unilateral contact of a linear elastic body (plane
-  strain) on a rigid foundation, -div sigma(u) = f, sigma(u) = 2 mu eps(u) + lambda tr eps(u) I.
+  strain in 2D, the body itself in 3D) on a rigid foundation, -div sigma(u) = f,
+  sigma(u) = 2 mu eps(u) + lambda tr eps(u) I.
 
 Both are written with one *contact variable* c(v) on Gamma_C and its obstacle, so that each
 discrete cone, its solver and the errors on Gamma_C are the same code for both:
@@ -15,13 +16,15 @@ with sigma_n = n . sigma(u) n. The elastic conditions on Gamma_C (sign conventio
 outward unit normal, alpha the initial gap, compression negative),
 
     u . n - alpha <= 0,   sigma_n(u) - g_n <= 0,   (u . n - alpha)(sigma_n(u) - g_n) = 0,
-    sigma_t(u) = g_t   (frictionless; g_t = 0 unless a tangential load is manufactured),
+    sigma_t(u) = g_t   (frictionless; g_t = 0 unless a tangential load is manufactured;
+                        sigma_t = sigma n - sigma_n n, a vector in 3D),
 
 read c(u) - obstacle >= 0, p >= 0, (c(u) - obstacle) p = 0: the scalar conditions (2.4) of the
-contact variable. In the rotated frame (c, tangential component) at each Gamma_C node
-(``discrete``), the P2 trace of c on a straight contact edge is a 1D quadratic, so both P2
-models (vertex values and edge means or midpoints of c >= obstacle) are again bounds after the
-same local change of variables as in the scalar case (``models``).
+contact variable. In the rotated frame (tangential components, c) at each Gamma_C node
+(``fem.assembly.RotatedFrame``), the P2 trace of c on a flat piece of Gamma_C is the scalar
+problem's trace, so every cone (vertex values and edge means or midpoints of c >= obstacle; in
+3D the triangle means) is the scalar one on the contact variable (``fem.cones``,
+``fem.face_means``).
 """
 from __future__ import annotations
 
@@ -99,6 +102,10 @@ class Scalar:
     def obstacle(self, gap):
         return gap
 
+    def contact_variable(self, u):
+        """The contact variable of a trial function on Gamma_C: u itself."""
+        return u
+
     def displacement_at_vertices(self, problem, u: np.ndarray) -> np.ndarray:
         return u[: problem.mesh.nv].copy()
 
@@ -109,13 +116,15 @@ MULTIGRID_MAX_LAMBDA_OVER_MU = 20.0
 
 @dataclass(frozen=True)
 class Elasticity:
-    """Plane-strain linear elasticity with Young's modulus ``young`` and Poisson's ratio
-    ``poisson`` (0 <= poisson < 1/2; nearly incompressible as poisson -> 1/2)."""
+    """Linear elasticity with Young's modulus ``young`` and Poisson's ratio ``poisson``
+    (0 <= poisson < 1/2; nearly incompressible as poisson -> 1/2): plane strain for ``dim`` 2,
+    the 3D body for ``dim`` 3 (a plane-strain field with u_z = 0 is a 3D field of the same
+    material)."""
 
     young: float = 1.0
     poisson: float = 0.3
+    dim: int = 2
     name = "elasticity"
-    components = 2
     elastic = True          # the report: energy-norm errors, the deformed shape, the Poisson ratio
     rotated_frame = True    # u . n is constrained: Gamma_C's dofs in the normal-tangential frame
     traction_load = True    # g_C is a traction, integrated into the load vector
@@ -125,6 +134,13 @@ class Elasticity:
     def __post_init__(self):
         if not (self.young > 0 and 0 <= self.poisson < 0.5):
             raise ValueError(f"elasticity needs young > 0 and 0 <= poisson < 1/2, got E = {self.young}, nu = {self.poisson}")
+        if self.dim not in (2, 3):
+            raise ValueError(f"elasticity is 2D (plane strain) or 3D, got dimension {self.dim}")
+
+    @property
+    def components(self) -> int:
+        """The displacement's components: one per space dimension."""
+        return self.dim
 
     @property
     def multigrid(self) -> bool:
@@ -165,14 +181,15 @@ class Elasticity:
         return 3 - 4 * self.poisson
 
     def describe(self) -> str:
-        return f"linear elasticity, plane strain, E = {self.young:g}, Poisson ratio {self.poisson:g} (λ/μ = {self.lam / self.mu:.3g})"
+        kind = "plane strain" if self.dim == 2 else "3D"
+        return f"linear elasticity, {kind}, E = {self.young:g}, Poisson ratio {self.poisson:g} (λ/μ = {self.lam / self.mu:.3g})"
 
     def strain(self, grad):
         return 0.5 * (grad + grad.trans)
 
     def stress(self, grad):
         eps = self.strain(grad)
-        return 2 * self.mu * eps + self.lam * ngs.Trace(eps) * ngs.Id(2)
+        return 2 * self.mu * eps + self.lam * ngs.Trace(eps) * ngs.Id(self.dim)
 
     def space(self, mesh, order: int):
         return ngs.VectorH1(mesh, order=order, dirichlet="dirichlet")
@@ -185,18 +202,21 @@ class Elasticity:
         return ngs.InnerProduct(self.stress(grad_e), self.strain(grad_e))
 
     def load(self, u: ngs.CoefficientFunction, dim: int = 2) -> ngs.CoefficientFunction:
-        """f = -div sigma(u) (plane strain: dim is 2)."""
-        s = self.stress(gradient(u))
-        return -ngs.CF(tuple(s[i, 0].Diff(ngs.x) + s[i, 1].Diff(ngs.y) for i in range(2)))
+        """f = -div sigma(u) (``dim`` is the material's own)."""
+        s = self.stress(gradient(u, self.dim))
+        axes = COORDINATES[:self.dim]
+        return -ngs.CF(tuple(sum((s[i, j].Diff(axes[j]) for j in range(1, self.dim)), s[i, 0].Diff(axes[0]))
+                             for i in range(self.dim)))
 
     def flux(self, grad_u, normal):
         """sigma(u) n: the traction on Gamma_g."""
         return self.stress(grad_u) * normal
 
     def traction(self, case, mesh, points, normals) -> np.ndarray:
-        """sigma(u) n - g_C at ``points``: shape (..., 2)."""
-        sigma = evaluate(self.stress(case.grad_u), mesh, points).reshape(points.shape[:-1] + (2, 2))
-        return np.einsum("...ij,...j->...i", sigma, normals) - _contact_load(case, mesh, points, 2)
+        """sigma(u) n - g_C at ``points``: shape (..., dim)."""
+        d = self.dim
+        sigma = evaluate(self.stress(case.grad_u), mesh, points).reshape(points.shape[:-1] + (d, d))
+        return np.einsum("...ij,...j->...i", sigma, normals) - _contact_load(case, mesh, points, d)
 
     def contact_value(self, case, mesh, points, normals) -> np.ndarray:
         """c(u) = -u . n."""
@@ -207,18 +227,26 @@ class Elasticity:
         return -(self.traction(case, mesh, points, normals) * normals).sum(axis=-1)
 
     def tangential(self, case, mesh, points, normals) -> np.ndarray:
-        """sigma_t(u) - g_t (zero for a frictionless contact)."""
-        tangents = np.stack([-normals[..., 1], normals[..., 0]], axis=-1)
-        return (self.traction(case, mesh, points, normals) * tangents).sum(axis=-1)
+        """sigma_t(u) - g_t (zero for a frictionless contact): its component along the tangent
+        (-n_y, n_x) in 2D, its length in 3D."""
+        traction = self.traction(case, mesh, points, normals)
+        if self.dim == 2:
+            return (traction * np.stack([-normals[..., 1], normals[..., 0]], axis=-1)).sum(axis=-1)
+        along = traction - (traction * normals).sum(axis=-1, keepdims=True) * normals
+        return np.linalg.norm(along, axis=-1)
 
     def obstacle(self, gap):
         return None if gap is None else -gap
 
+    def contact_variable(self, u):
+        """c(u) = -u . n of a trial function (a boundary integrand: n the outward normal)."""
+        return -u * ngs.specialcf.normal(self.dim)
+
     def displacement_at_vertices(self, problem, u: np.ndarray) -> np.ndarray:
-        """(nv, 2) Cartesian displacement at the vertices (vertex dofs are nodal values)."""
+        """(nv, dim) Cartesian displacement at the vertices (vertex dofs are nodal values)."""
         cartesian = problem.cartesian(u)
-        nv, half = problem.mesh.nv, problem.ndof // 2
-        return np.stack([cartesian[:nv], cartesian[half: half + nv]], axis=1)
+        nv, block = problem.mesh.nv, problem.ndof // self.dim
+        return np.stack([cartesian[k * block: k * block + nv] for k in range(self.dim)], axis=1)
 
 
 def _contact_load(case, mesh, points, components: int = 1) -> np.ndarray:

@@ -67,7 +67,7 @@ class Multilevel:
         self._rotated = physics.rotated_frame
         self.matrices: list = []
         self.free: list[np.ndarray] = []
-        self.frames: list = []                # per level: (pairs (k, 2), Q (k, 2, 2)) at Gamma_C, or None
+        self.frames: list = []                # per level: (pairs (k, dim), Q (k, dim, dim)) at Gamma_C, or None
         self.mesh_levels: list[int] = []      # NGSolve's refinement count at each of our levels
         self._add_level()
 
@@ -78,17 +78,14 @@ class Multilevel:
             rotated = RotatedFrame.of(self.fes, contact_trace(self.mesh))
             if not rotated.identity:
                 rotate_in_place(csr_view(self._form.mat), rotated.matrix(self.fes.ndof))
-                n = rotated.normals
-                # Q of ``RotatedFrame.matrix``: (u_x, u_y) = Q (t, c)
-                frame = rotated.pairs, np.stack([np.stack([-n[:, 1], -n[:, 0]], axis=1),
-                                                 np.stack([n[:, 0], -n[:, 1]], axis=1)], axis=1)
+                frame = rotated.pairs, rotated.blocks()
         self.matrices.append(self._form.mat)
         self.frames.append(frame)
         self.free.append(np.array(self.fes.FreeDofs(), dtype=bool))
         self.mesh_levels.append(self.mesh.levels - 1)
 
     def _rotate(self, level: int, values: np.ndarray, to_cartesian: bool) -> None:
-        """In place at level's Gamma_C vertices: (t, c) -> (u_x, u_y) = Q (t, c), or back by Q^T."""
+        """In place at level's Gamma_C vertices: ours -> Cartesian = Q ours, or back by Q^T."""
         if self.frames[level] is None:
             return
         pairs, Q = self.frames[level]

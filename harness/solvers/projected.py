@@ -50,10 +50,9 @@ class ConstrainedVCycle(TruncatedVCycle):
     def __init__(self, multilevel, K_ngs, K_rows: sp.csr_matrix, free: np.ndarray, surface: np.ndarray,
                  rows: sp.csr_matrix, edges: ContactEdges = HIERARCHICAL):
         """``K_rows``: K's rows at ``surface`` (Gamma_C's dofs, pinned or not; made once per QP)."""
-        nv = multilevel.nvertices
-        touched = np.unique(rows.indices)
-        stiff = np.zeros(nv, bool)
-        stiff[touched[touched < nv]] = True
+        seen = np.zeros(len(free), bool)
+        seen[rows.indices] = True
+        stiff = edges.touched(seen, multilevel.ndof)       # the P1 dofs of the active rows' vertices
         block = surface[free[surface]]
         off_surface = free.copy()
         off_surface[block] = False
