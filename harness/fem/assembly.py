@@ -172,19 +172,21 @@ class RotatedFrame:
     @classmethod
     def of(cls, fes, trace: ContactTrace) -> "RotatedFrame":
         dim = fes.mesh.dim
-        normal_of = {}
-        for edge, (va, vb), normal in zip(trace.edges, trace.edge_vertices, trace.normals):
-            for kind, number in ((ngs.EDGE, edge), (ngs.VERTEX, va), (ngs.VERTEX, vb)):
-                pair = tuple(fes.GetDofNrs(ngs.NodeId(kind, int(number))))
-                if len(pair) != dim:          # an edge of P1: no dofs
-                    continue
-                if pair in normal_of and not np.allclose(normal_of[pair], normal, atol=1e-12):
-                    point = ", ".join(f"{c:.4g}" for c in fes.mesh[ngs.NodeId(kind, int(number))].point)
-                    raise ValueError(f"Gamma_C has a kink at ({point}): elastic contact needs it "
-                                     f"flat through each of its vertices")
-                normal_of[pair] = normal
-        return cls(np.array(list(normal_of), dtype=np.int64).reshape(-1, dim),
-                   np.array(list(normal_of.values()), dtype=float).reshape(-1, dim))
+        nodes = [(ngs.EDGE, int(e)) for e in trace.edges] + [(ngs.VERTEX, int(v)) for v in trace.edge_vertices.ravel()]
+        normals = np.concatenate([trace.normals, np.repeat(trace.normals, 2, axis=0)])
+        dofs = [fes.GetDofNrs(ngs.NodeId(kind, number)) for kind, number in nodes]
+        has = np.array([len(d) == dim for d in dofs])          # an edge of P1 has no dofs
+        pairs = np.array([d for d, keep in zip(dofs, has) if keep], dtype=np.int64).reshape(-1, dim)
+        normals = normals[has]
+        unique, first, which = np.unique(pairs[:, 0], return_index=True, return_inverse=True)
+        # every cell at a node must give it the same normal
+        kinked = np.abs(normals - normals[first][which]).max(axis=1) > 1e-12
+        if kinked.any():
+            kind, number = [node for node, keep in zip(nodes, has) if keep][int(np.argmax(kinked))]
+            point = ", ".join(f"{c:.4g}" for c in fes.mesh[ngs.NodeId(kind, number)].point)
+            raise ValueError(f"Gamma_C has a kink at ({point}): elastic contact needs it "
+                             f"flat through each of its vertices")
+        return cls(pairs[first], normals[first])
 
     @property
     def identity(self) -> bool:

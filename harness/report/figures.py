@@ -87,9 +87,10 @@ def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
 
 def contact_faces(case, snapshots: dict, folder: Path) -> dict[str, Path]:
     """3D: Gamma_C seen from below (x runs to the left), one column per method: u_h - alpha
-    (red: below the obstacle, i.e. penetration) and the discrete pressure per triangle, with
-    the exact transition curve in black."""
+    (in elasticity alpha - u_h . n; red: below the obstacle, i.e. penetration) and the discrete
+    pressure per triangle, with the exact transition curve in black."""
     methods = list(snapshots)
+    gap_uh = CONTACT_LABELS[case.physics.name][1]
     fig, axes = plt.subplots(2, len(methods), figsize=(3.3 * len(methods) + 0.6, 6.4), squeeze=False)
     gaps = [snap["u_h"] - snap["gap"] for snap in snapshots.values()]
     scale = max(np.abs(g).max() for g in gaps) or 1.0
@@ -103,7 +104,7 @@ def contact_faces(case, snapshots: dict, folder: Path) -> dict[str, Path]:
         pressure = np.tile(snap["pressure"], 4)          # the four sub-triangles of each triangle
         shown = bottom.tripcolor(tri, facecolors=pressure, cmap="viridis", rasterized=True)
         fig.colorbar(shown, ax=bottom, shrink=0.8)
-        top.set_title(f"{method}: $u_h - \\alpha$ (min {gaps[k].min():.2g})", fontsize=9)
+        top.set_title(f"{method}: {gap_uh} (min {gaps[k].min():.2g})", fontsize=9)
         bottom.set_title(f"{method}: discrete pressure", fontsize=9)
         for ax in (top, bottom):
             for line in case.transition_curve:

@@ -45,13 +45,17 @@ GAMMA_C_NOTE = (
 
 
 ELASTICITY_NOTE = (
-    "Frictionless unilateral contact of a plane-strain elastic body on a rigid foundation: "
+    "Frictionless unilateral contact of an elastic body (plane strain in 2D; in 3D the body itself) on a "
+    "rigid foundation: "
     "−div σ(u) = f, σ = 2μ ε(u) + λ tr ε(u) I; on Γ_C, with n the outward normal and σ_n = n·σ(u)n, "
     "u·n − α ≤ 0, σ_n − g_n ≤ 0, (u·n − α)(σ_n − g_n) = 0 and σ_t = g_t. Both P2 models constrain "
-    "the normal displacement: written in the variables (−u·n, u·t) at the nodes of Γ_C, the contact "
-    "variable c = −u·n has the scalar problem's trace, so `mean` (vertex values and edge means of "
-    "c ≥ −α) and `nodal` (vertex and midpoint values) are again bounds, solved exactly by the same "
-    "active-set solver (sparse Cholesky with bordered updates: the scalar V-cycle does not transfer). "
+    "the normal displacement: written in the variables (tangential components, −u·n) at the nodes of Γ_C, "
+    "the contact variable c = −u·n has the scalar problem's trace, so `mean` (vertex values and edge "
+    "means of c ≥ −α; in 3D triangle means) and `nodal` (vertex and midpoint values) are the scalar "
+    "cones, solved exactly by the same active-set solvers, each linear solve by CG with the truncated "
+    "V-cycle on vector spaces: vector P1 coarse spaces, each in the rotated frame at its own Γ_C, "
+    "truncated at the pinned normal variable only (sparse Cholesky for λ/μ > 20, where pointwise "
+    "smoothing is not robust: the Poisson ratio 0.49 case). "
     "The pressure p = −(σ_n − g_n) plays λ's part. Singular exponents: a roller (binding, frictionless) "
     "face next to a traction-free one at angle ω reflects to a traction-free wedge of angle 2ω, whose "
     "symmetric exponents solve sin(2lω) + l sin(2ω) = 0 — with no elastic constant in it: l = 3/2 at "
@@ -77,7 +81,9 @@ THREE_D_NOTE = (
     "values v > 0 and all edge means 0, the P2 trace of a triangle is −v at its centroid and its mean "
     "is −v/2, yet every constraint holds), and its rate stalls near 1/2. The table shows what the discrete "
     "solutions do with that freedom (the smallest value of u_h − α over Γ_C: penetration is negative). "
-    "The pictures show Γ_C from below: red where u_h dips below the obstacle."
+    "The pictures show Γ_C from below: red where u_h dips below the obstacle. The elastic case "
+    "(elastic-transition-3d: the plane-strain transition extruded, u_y = 0) constrains the normal "
+    "displacement with the same cones on c = −u·n, solved by the vector V-cycle."
 )
 
 
