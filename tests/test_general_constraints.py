@@ -166,14 +166,15 @@ def _face_mean_solvers(case_name: str, level: int):
     from conftest import problem_with_hierarchy
 
     from harness.fem.face_means import face_mean_qp
+    from harness.solvers.multigrid import ContactEdges
     from harness.solvers.projected import ProjectedMultigridSystem
     problem, multilevel = problem_with_hierarchy(case_name, level)
     qp = face_mean_qp(load_case(case_name), problem)
     solver = lambda system=None: GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift, system=system)  # noqa: E731
-    return qp, solver, ProjectedMultigridSystem(qp.K_ngs, multilevel)
+    return qp, solver, ProjectedMultigridSystem(qp.K_ngs, multilevel, ContactEdges.of(problem, model=False))
 
 
-@pytest.mark.parametrize("case_name", ["transition-line-3d", "transition-circle-3d"])
+@pytest.mark.parametrize("case_name", ["transition-line-3d", "transition-circle-3d", "elastic-transition-3d"])
 def test_constrained_multigrid_finds_the_saddle_systems_face_mean_solution(case_name):
     """The study's path for the 3D `mean` (projected CG, the constrained V-cycle) against the
     reference (SuperLU of each set's saddle matrix) on level 0: the same active set, u_h to

@@ -34,8 +34,8 @@ def level_mesh(case, level: int):
     return mesh
 
 
-def test_there_are_three_3d_cases_and_the_2d_cases_are_unchanged():
-    assert set(THREE_D) == {"transition-line-3d", "transition-circle-3d", "smooth-3d"}
+def test_the_3d_cases_are_registered_and_the_2d_cases_are_unchanged():
+    assert set(THREE_D) == {"transition-line-3d", "transition-circle-3d", "smooth-3d", "elastic-transition-3d"}
     assert all(case.dimension == 2 for case in registered_cases(dimension=2).values())
 
 
@@ -46,13 +46,16 @@ def test_only_the_cones_discretise_a_3d_case(case_name):
     assert [m.name for m in methods_for(registered_cases()[case_name], METHODS.values())] == ["mean", "mean-edges", "nodal", "p1"]
 
 
-def test_an_elastic_3d_case_is_refused_in_one_line(tmp_path):
+def test_an_elastic_3d_case_needs_a_3_vector_displacement(tmp_path):
+    """A 3D geometry makes an elastic case 3D elasticity (``Elasticity(dim=3)``): a plane
+    displacement is refused in one line."""
     path = tmp_path / "elastic3d.py"
     path.write_text("from ngsolve import CF\nfrom harness.problem.geometry import contact_box\nname = 'e3'\n"
-                    "description = 'x'\ngeometry = contact_box()\nmaxh = 0.5\nu = CF((0, 0, 0))\nnu = 3\n"
+                    "description = 'x'\ngeometry = contact_box()\nmaxh = 0.5\nu = CF((0, 0))\nnu = 3\n"
                     "expected_rate = 2\ntheorem = 'x'\nphysics = 'elasticity'\npoisson = 0.3\n")
-    with pytest.raises(CaseError, match="plane strain"):
+    with pytest.raises(CaseError, match="u must be a 3-vector"):
         load_case(str(path))
+    assert load_case("elastic-transition-3d").physics.components == 3
 
 
 @pytest.mark.parametrize("order", [1, 2])
@@ -109,8 +112,12 @@ def test_3d_level_sizes_follow_the_red_refinement_recurrence():
     assert discretise(case, level_mesh(case, 1), 2).ndof == sizes.ndof(1, 2)
 
 
-# smooth-3d's variant (4.5 s) in the slow tier: the singular and the curved case stay in `make test`
-@pytest.mark.parametrize("case_name", [pytest.param(n, marks=pytest.mark.slow) if n == "smooth-3d" else n for n in THREE_D])
+# smooth-3d's variant (4.5 s) in the slow tier: the singular and the curved case stay in `make test`.
+# The elastic case: see the next test.
+SCALAR_3D = [name for name in THREE_D if registered_cases()[name].physics.name == "scalar"]
+
+
+@pytest.mark.parametrize("case_name", [pytest.param(n, marks=pytest.mark.slow) if n == "smooth-3d" else n for n in SCALAR_3D])
 def test_3d_errors_agree_with_twice_the_gauss_order(case_name):
     """In 3D every element gets the Gauss rule (quadrature.py): order 6 against order 12 on
     level 1, nodal's u_h, to 1e-3 relative in every norm."""
@@ -123,6 +130,30 @@ def test_3d_errors_agree_with_twice_the_gauss_order(case_name):
     (ours,), (finer,) = error_norms(case, [gfu], quadrature), error_norms(case, [gfu], quadrature, order=12)
     for norm, value in ours.items():
         assert abs(value - finer[norm]) <= 1e-3 * finer[norm], (norm, value, finer[norm])
+
+
+def test_3d_elastic_quadrature_error_is_a_constant_factor_that_leaves_the_rate():
+    """3D has no graded rule (``element_quadrature``): on the elements along the singular line
+    the Gauss rule of order 6 misses a fixed share of the H^1 error. For the elastic transition
+    (coarse maxh 0.4) it is 0.33%, 0.28%, 0.26% on levels 0, 1, 2 against order 12 (the scalar
+    3D cases: 0.1%, the test above): the singular function is self-similar under red
+    refinement, so the share does not change with h, and the rate between two levels moves by
+    less than 1e-3. Measured here on levels 0-1, nodal."""
+    case = registered_cases()["elastic-transition-3d"]
+    errors = {6: [], 12: []}
+    h = []
+    for level, mesh in mesh_hierarchy(case, 2):
+        problem = discretise(case, mesh, 2)
+        qp = contact_qp(case, problem, METHODS["nodal"].cone)
+        gfu = problem.gridfunction(qp.to_u(solve_contact_qp(qp).z))
+        quadrature = ElementQuadrature.of(case, mesh)
+        for order in errors:
+            errors[order].append(error_norms(case, [gfu], quadrature, order=order)[0]["err_h1"])
+        h.append(0.5 ** level)
+    share = [1 - a / b for a, b in zip(errors[6], errors[12])]
+    assert all(0 < s_ < 5e-3 for s_ in share), share
+    rates = {order: pairwise_rates(np.array(h), np.array(e))[-1] for order, e in errors.items()}
+    assert abs(rates[6] - rates[12]) <= 1e-3, rates
 
 
 def test_edgewise_mean_lets_the_trace_dip_inside_the_triangles_and_face_means_do_not():
