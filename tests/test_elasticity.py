@@ -274,3 +274,21 @@ def test_kink_in_an_elastic_contact_boundary_is_refused():
     *_, (_, mesh) = mesh_hierarchy(case, 1)
     with pytest.raises(ValueError, match="kink"):
         discretise(case, mesh, 2)
+
+
+@pytest.mark.parametrize("size", [("elastic-transition-r32", None, 3), ("elastic-transition-3d", None, 1)])
+@pytest.mark.parametrize("model", ["mean", "nodal"])
+def test_bench_elastic_times_the_contact_solve_against_a_linear_multigrid_solve(monkeypatch, model, size):
+    """`bench --only elastic`'s row at a small size (plane strain and 3D, where `mean` is the
+    face-mean QP): exact, the vector multigrid's CG iterations counted, every time measured."""
+    import multiprocessing
+
+    import harness.bench.common as common
+    from harness.bench.elastic import _measure_elastic
+    monkeypatch.setattr(common, "REPEATS", 1)
+    receiver, sender = multiprocessing.Pipe(duplex=False)
+    _measure_elastic(model, size, sender)
+    row = receiver.recv()
+    assert row["case"] == size[0] and row["kkt_residual"] <= 1e-10
+    assert row["cg_iterations"] > 0 and row["linear_cg_iterations"] > 0
+    assert row["t_contact"] > 0 and row["t_linear"] > 0 and row["t_linear_cholesky"] > 0

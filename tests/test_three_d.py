@@ -211,9 +211,9 @@ def test_bench_3d_times_the_face_mean_solve_against_a_linear_solve(monkeypatch):
     nested from level 0) on level 1, timed once: exact, at least the linear solve's CG
     iterations, both timed."""
     import harness.bench.common as common
-    from harness.bench.three_d import _solve_3d
+    from harness.bench.three_d import solve_row
     monkeypatch.setattr(common, "REPEATS", 1)
     with ngs.TaskManager():
-        qp, t_contact, solution, t_linear, system = _solve_3d("mean", 1)
+        qp, t_contact, solution, t_linear, system = solve_row("mean", 1)
     assert solution.status == "converged" and solution.kkt.residual <= 1e-10 and qp.problem.ndof == 17655
     assert t_contact > 0 and t_linear > 0 and solution.work["cg_iterations"] >= system.cg_iterations > 0

@@ -9,16 +9,23 @@ import resource
 import numpy as np
 import pandas as pd
 
-from .common import contact_goals, fastest, fresh_rows, linear_multigrid_seconds, own_seconds, timed
-from .solvers import cone_problem
+from .common import contact_goals, fastest, fresh_rows, timed
+from .three_d import solve_row
 
-# Poisson ratio 0.3 (the multigrid path; ``physics.Elasticity.multigrid``)
+# Poisson ratio 0.3 (the multigrid path; ``physics.Elasticity.multigrid``), plane strain and 3D
 ELASTIC_CASE = "elastic-transition-r32"
+ELASTIC_CASE_3D = "elastic-transition-3d"
 
 
-# (coarse maxh, level): 5.8e4 and 2.3e5 dofs on the case's own hierarchy (maxh 0.5), then
-# 1.2e6 on a finer coarse mesh (maxh 0.25), where issue 33's goal is set
-ELASTIC_SIZES = ((None, 5), (None, 6), (0.25, 6))
+# (case, coarse maxh, level): 5.8e4 and 2.3e5 dofs on the plane-strain case's own hierarchy
+# (maxh 0.5), 1.2e6 on a finer coarse mesh (maxh 0.25), then 3D: 8.1e4 and 6.0e5 dofs; issue
+# 33's goals are set at the 2D 1.2e6 and the 3D 6.0e5
+ELASTIC_SIZES = ((ELASTIC_CASE, None, 5), (ELASTIC_CASE, None, 6), (ELASTIC_CASE, 0.25, 6),
+                 (ELASTIC_CASE_3D, None, 2), (ELASTIC_CASE_3D, None, 3))
+
+
+# a 3D factorisation's fill grows like n^(4/3): past this it is minutes and gigabytes, not a comparison
+CHOLESKY_MAX_NDOF_3D = 100_000
 
 
 ELASTIC_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_linear", "t_linear_cholesky", "iterations",
@@ -28,19 +35,18 @@ ELASTIC_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_lin
 def _measure_elastic(model_name: str, size: tuple, connection):
     import ngsolve as ngs
 
-    from ..solvers.active_set import Cholesky, solve_contact_qp
+    from ..solvers.active_set import Cholesky
 
     ngs.ngsglobals.msg_level = 0
-    coarse_maxh, level = size
+    case, coarse_maxh, level = size
     with ngs.TaskManager():
-        qp, predicted, multilevel, start = cone_problem(model_name, level, coarse_maxh, ELASTIC_CASE)
-        t_linear, system = linear_multigrid_seconds(qp, multilevel)
-        t_contact, solution = fastest(lambda: own_seconds(solve_contact_qp(qp, predicted, multilevel=multilevel,
-                                                                         start=start)))
+        qp, t_contact, solution, t_linear, system = solve_row(model_name, level, case, coarse_maxh)
         rhs = np.where(qp.free, qp.b - qp.K @ qp.lift, 0.0)
-        t_cholesky, _ = fastest(lambda: timed(lambda: Cholesky(qp.K_ngs, qp.free).solve(rhs)))
+        t_cholesky = np.nan
+        if qp.problem.mesh.dim == 2 or qp.problem.ndof <= CHOLESKY_MAX_NDOF_3D:
+            t_cholesky, _ = fastest(lambda: timed(lambda: Cholesky(qp.K_ngs, qp.free).solve(rhs)))
     connection.send({
-        "case": ELASTIC_CASE, "method": model_name, "ndof": qp.problem.ndof, "t_contact": t_contact, "t_linear": t_linear,
+        "case": case, "method": model_name, "ndof": qp.problem.ndof, "t_contact": t_contact, "t_linear": t_linear,
         "ratio_linear": t_contact / t_linear, "t_linear_cholesky": t_cholesky, "iterations": solution.iterations,
         "cg_iterations": solution.work["cg_iterations"], "linear_cg_iterations": system.cg_iterations,
         "kkt_residual": solution.kkt.residual, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
@@ -55,5 +61,10 @@ def run_elastic_bench(sizes=ELASTIC_SIZES, models=("mean", "nodal"), progress=pr
 
 def elastic_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
     """Issue 33: the elastic contact solve is exact and costs at most 1.5 linear multigrid
-    solves at the largest size (issue 18 asked 3 factorised ones)."""
-    return contact_goals(frame, "elastic", 1.5)
+    solves at the largest size of each dimension (issue 18 asked 3 factorised ones)."""
+    goals = []
+    for case, label in ((ELASTIC_CASE, "elastic 2D"), (ELASTIC_CASE_3D, "elastic 3D")):
+        mine = frame[frame.case == case]
+        if len(mine):
+            goals += contact_goals(mine, label, 1.5)
+    return goals

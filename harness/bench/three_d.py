@@ -27,40 +27,44 @@ def face_mean_problem(level: int, case_name: str = THREE_D_CASE):
     from ..mesh.levels import UniformRefinement
     from ..methods import get_method
     from ..problem.case import load_case
-    from ..solvers.multigrid import HIERARCHICAL, Multilevel, nested_start
+    from ..solvers.multigrid import ContactEdges, Multilevel, nested_start
 
     case, method = load_case(case_name), get_method("mean")
     multilevel, carry = None, None
     for lev, mesh in ((step.index, step.mesh) for step in UniformRefinement(case).levels(level + 1)):
-        multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
         if lev == level - 1:
             carry = method.solve(case, discretise(case, mesh, 2), None, multilevel).carry
     qp = face_mean_qp(case, discretise(case, mesh, 2), take_stiffness=True)
     previous, coarse_values = carry or (None, None)
-    start = None if carry is None else nested_start(multilevel, coarse_values, qp.problem, HIERARCHICAL)
+    start = None if carry is None else nested_start(multilevel, coarse_values, qp.problem, ContactEdges.of(qp.problem, model=False))
     return qp, qp.predicted_active(previous), multilevel, start
 
 
-def _solve_3d(model_name: str, level: int):
-    """(qp, contact seconds, solution, linear seconds, linear system) of one 3D row: `mean` is
-    the face-mean QP (general rows, ``solvers.projected``), the others cones of bounds."""
+def solve_row(model_name: str, level: int, case_name: str = THREE_D_CASE, coarse_maxh=None):
+    """(qp, contact seconds, solution, linear seconds, linear system) of one row: the contact
+    solve (nested iteration from ``level`` - 1) and one linear multigrid solve of its matrix.
+    The 3D `mean` is the face-mean QP (general rows, ``solvers.projected``), every other method
+    a cone of bounds."""
+    from ..problem.case import load_case
     from ..solvers.active_set import solve_contact_qp
-    if model_name != "mean":
-        qp, predicted, multilevel, start = cone_problem(model_name, level, None, THREE_D_CASE)
+    if model_name != "mean" or load_case(case_name).dimension != 3:
+        qp, predicted, multilevel, start = cone_problem(model_name, level, coarse_maxh, case_name)
         t_linear, system = linear_multigrid_seconds(qp, multilevel)
         t_contact, solution = fastest(lambda: own_seconds(solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)))
         return qp, t_contact, solution, t_linear, system
     from ..solvers.active_set import MultigridSystem
     from ..solvers.general_constraints import GeneralConstraintSolver
-    from ..solvers.multigrid import HIERARCHICAL
+    from ..solvers.multigrid import ContactEdges
     from ..solvers.projected import ProjectedMultigridSystem
-    qp, predicted, multilevel, start = face_mean_problem(level)
+    qp, predicted, multilevel, start = face_mean_problem(level, case_name)
+    embedding = ContactEdges.of(qp.problem, model=False)
 
     def contact():
         return GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift,
-                                       system=ProjectedMultigridSystem(qp.K_ngs, multilevel))
+                                       system=ProjectedMultigridSystem(qp.K_ngs, multilevel, embedding))
     load_scale = contact().load_scale
-    t_linear, system = linear_seconds(MultigridSystem(qp.K_ngs, qp.b, multilevel, HIERARCHICAL), qp, load_scale)
+    t_linear, system = linear_seconds(MultigridSystem(qp.K_ngs, qp.b, multilevel, embedding), qp, load_scale)
     t_contact, solution = fastest(lambda: own_seconds(contact().solve(predicted, start)))
     return qp, t_contact, solution, t_linear, system
 
@@ -72,7 +76,7 @@ def _measure_3d(model_name: str, level: int, connection):
 
     ngs.ngsglobals.msg_level = 0
     with ngs.TaskManager():
-        qp, t_contact, solution, t_linear, system = _solve_3d(model_name, level)
+        qp, t_contact, solution, t_linear, system = solve_row(model_name, level)
     connection.send({
         "case": THREE_D_CASE, "method": model_name, "ndof": qp.problem.ndof, "t_contact": t_contact, "t_linear": t_linear,
         "ratio_linear": t_contact / t_linear, "iterations": solution.iterations,
