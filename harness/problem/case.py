@@ -45,11 +45,13 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
 
 An *elastic case* (``physics = "elasticity"``, ``harness.physics.Elasticity``) declares besides
 
-    poisson                Poisson's ratio (plane strain), 0 <= poisson < 1/2
+    poisson                Poisson's ratio, 0 <= poisson < 1/2 (plane strain on a 2D geometry,
+                           the 3D body on a 3D one)
     young                  optional Young's modulus (default 1)
-    u                      the exact displacement, a 2-vector CoefficientFunction
+    u                      the exact displacement, a CoefficientFunction with one component
+                           per dimension
     gap                    optional initial gap alpha: the constraint is u . n - alpha <= 0
-    contact_load           optional traction g_C on Gamma_C, a 2-vector: sigma(u) n - g_C = -p n
+    contact_load           optional traction g_C on Gamma_C, a vector: sigma(u) n - g_C = -p n
                            with p >= 0 the contact pressure (frictionless: its tangential part is
                            sigma_t(u), which validation checks)
     f                      optional, -div sigma(u) in closed form (checked against the derived one)
