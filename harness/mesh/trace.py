@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .points import coordinates
+from .points import cells, coordinates
 
 CONTACT = "contact"
 
@@ -126,41 +126,58 @@ def contact_trace_2d(mesh: ngs.Mesh) -> ContactTrace:
 
 
 def contact_trace_3d(mesh: ngs.Mesh) -> ContactTrace:
-    """The triangles of Gamma_C and their edges, each edge once, normals outward (away from
-    the fourth vertex of the tetrahedron on each triangle)."""
-    region = mesh.Boundaries(CONTACT)
-    edge_index: dict[int, int] = {}
-    edge_vertices, edge_normals, face_vertices, face_edges, face_normals, face_volumes = [], [], [], [], [], []
-    for el in region.Elements():
-        corners = [v.nr for v in el.vertices]
-        points = np.array([mesh[v].point for v in el.vertices])
-        normal = np.cross(points[1] - points[0], points[2] - points[0])
-        normal /= np.linalg.norm(normal)
-        (face,) = el.faces
-        (volume,) = mesh[face].elements
-        (fourth,) = [v for v in mesh[volume].vertices if v.nr not in corners]
-        if normal @ (np.array(mesh[fourth].point) - points[0]) > 0:
-            normal = -normal
-        ends = {frozenset(v.nr for v in mesh[e].vertices): e.nr for e in el.edges}
-        sides = []
-        for k in range(3):
-            pair = (corners[k], corners[(k + 1) % 3])
-            number = ends[frozenset(pair)]
-            if number not in edge_index:
-                edge_index[number] = len(edge_vertices)
-                edge_vertices.append(pair)
-                edge_normals.append(normal)
-            sides.append(edge_index[number])
-        face_vertices.append(corners)
-        face_edges.append(sides)
-        face_normals.append(normal)
-        face_volumes.append(volume.nr)
-    if not edge_index:
+    """The triangles of Gamma_C and their edges, each edge once (in the order the triangles
+    first name them), normals outward (away from the fourth vertex of the tetrahedron on each
+    triangle). One pass of Python over the triangles reads their corners and edges; normals,
+    tetrahedra and edge numbering are array work (the loop that did it all per triangle was
+    3 s of a 3D study)."""
+    faces = [(el.vertices, el.edges) for el in mesh.Boundaries(CONTACT).Elements()]
+    if not faces:
         raise ValueError("the mesh has no boundary face labelled 'contact'")
-    verts = np.array(edge_vertices, dtype=np.int64)
+    corners = np.array([[v.nr for v in vertices] for vertices, _ in faces], dtype=np.int64)       # (f, 3)
+    # netgen's triangle numbers its edges (2, 0), (1, 2), (0, 1): side k = (corner k, corner k + 1)
+    # is edge 2, 1, 0 (``_check_triangle_edges`` holds it on the first triangle)
+    edge_numbers = np.array([[e.nr for e in edges] for _, edges in faces], dtype=np.int64)[:, [2, 1, 0]]
+    _check_triangle_edges(mesh, corners[0], edge_numbers[0])
     coords = coordinates(mesh)
-    faces = ContactFaces(np.array(face_vertices, dtype=np.int64), np.array(face_edges, dtype=np.int64),
-                         np.array(face_normals), np.array(face_volumes, dtype=np.int64))
-    return ContactTrace(np.array(list(edge_index), dtype=np.int64), verts, coords[verts[:, 0]], coords[verts[:, 1]],
-                        np.array(edge_normals), np.full(len(verts), -1, dtype=np.int64), faces)
+    points = coords[corners]
+    normals = np.cross(points[:, 1] - points[:, 0], points[:, 2] - points[:, 0])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    volumes, fourth = _tetrahedra_on(mesh, corners)
+    flip = np.einsum("fd,fd->f", normals, coords[fourth] - points[:, 0]) > 0
+    normals[flip] *= -1.0
+    # the trace's edges in the order the triangles first name them
+    flat = edge_numbers.ravel()
+    unique, first, inverse = np.unique(flat, return_index=True, return_inverse=True)
+    order = np.argsort(first, kind="stable")
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    sides = rank[inverse].reshape(-1, 3)
+    firsts = first[order]
+    face_of, side_of = firsts // 3, firsts % 3
+    verts = np.stack([corners[face_of, side_of], corners[face_of, (side_of + 1) % 3]], axis=1)
+    faces_table = ContactFaces(corners, sides, normals, volumes)
+    return ContactTrace(unique[order], verts, coords[verts[:, 0]], coords[verts[:, 1]], normals[face_of],
+                        np.full(len(verts), -1, dtype=np.int64), faces_table)
 
+
+def _check_triangle_edges(mesh: ngs.Mesh, corners: np.ndarray, edges: np.ndarray) -> None:
+    """Side k of a triangle joins its corners k and k + 1 (netgen's local edge order, read)."""
+    for k, edge in enumerate(edges):
+        ends = {v.nr for v in mesh[ngs.NodeId(ngs.EDGE, int(edge))].vertices}
+        if ends != {int(corners[k]), int(corners[(k + 1) % 3])}:
+            raise RuntimeError("netgen's triangle edge order is not the one contact_trace_3d reads")
+
+
+def _tetrahedra_on(mesh: ngs.Mesh, triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(the tetrahedron on each boundary triangle, its vertex off the triangle), by matching the
+    sorted vertex triples against the tetrahedra's faces."""
+    tets = cells(mesh)
+    nv = np.int64(mesh.nv)
+    faces = np.sort(np.stack([np.delete(tets, k, axis=1) for k in range(4)], axis=1), axis=2).reshape(-1, 3)
+    keys = (faces[:, 0] * nv + faces[:, 1]) * nv + faces[:, 2]          # nv < 2e6: below 2^63
+    order = np.argsort(keys)
+    wanted = np.sort(triangles, axis=1)
+    position = order[np.searchsorted(keys, (wanted[:, 0] * nv + wanted[:, 1]) * nv + wanted[:, 2], sorter=order)]
+    volumes, opposite = position // 4, position % 4
+    return volumes, tets[volumes, opposite]
