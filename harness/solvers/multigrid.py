@@ -41,8 +41,6 @@ from ..fem.assembly import RotatedFrame, csr_view, rotate_in_place
 from ..mesh.trace import contact_trace
 from ..problem.physics import SCALAR
 
-DIRICHLET = "dirichlet"
-
 
 class Multilevel:
     """The P1 spaces of a mesh hierarchy refined in place (``mesh.levels``): their stiffness
@@ -397,6 +395,7 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
     return x_np.copy(), iterations
 
 
-# No change of variables: penalty, Nitsche and the Ritz projection work in NGSolve's own
-# hierarchical variables, where a P1 function is its vertex values and zero bubbles.
+# No change of variables, scalar problems: penalty and Nitsche work in NGSolve's own hierarchical
+# variables, where a P1 function is its vertex values and zero bubbles (a vector problem's own:
+# ``ContactEdges.of(problem, model=False)``).
 HIERARCHICAL = ContactEdges(np.zeros(0, np.int64), np.zeros((0, 2), np.int64))
