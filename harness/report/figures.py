@@ -28,7 +28,9 @@ FORMATS = ("png", "pdf")
 def save(fig, folder: Path, stem: str) -> dict[str, Path]:
     """``fig`` as ``stem``.png and .pdf, cropped to its drawn content. The crop (matplotlib's
     "tight" box, padded 0.1 in) is computed once for both formats: "tight" per format lays the
-    figure out once more each time, a third of the report's figure time (measured 2026-11-26)."""
+    figure out once more each time, a third of the report's figure time (measured 2026-11-26).
+    Log-axis labels are written in Unicode (``plots.unicode_log_labels``)."""
+    plots.unicode_log_labels(fig)
     fig.draw_without_rendering()
     box = fig.get_tightbbox(fig.canvas.get_renderer()).padded(0.1)
     paths = {}
