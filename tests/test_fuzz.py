@@ -41,6 +41,7 @@ BAD = {
     "expected_log_exponent": ["'1/4'", "float('nan')"],
     "reference_levels": ["0", "-1", "1.5"],
     "asymptotic_levels": ["2", "0", "6.0", "True", "'6'"],
+    "asymptotic_levels_p1": ["2", "6.0", "False", "'7'"],
     "physics": ["'plasticity'", "3"],
 }
 mutations = st.one_of(

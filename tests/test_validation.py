@@ -5,6 +5,7 @@ from pathlib import Path
 import ngsolve as ngs
 import pytest
 
+from harness.methods import methods_named
 from harness.problem.case import CaseError, load_case, registered_cases
 from harness.problem.validate import validate_case
 
@@ -76,3 +77,31 @@ def test_a_case_asymptotic_by_six_levels_runs_six_in_the_default_report_and_what
     groups = study_groups([known[n] for n in ("transition-line-3d", "corner-r12", "smooth")], default)
     assert [([c.name for c in group], own["levels"]) for group, own in groups] == \
         [(["corner-r12"], 6), (["smooth"], 7), (["transition-line-3d"], 3)]
+
+
+def test_p1_stops_with_p2_in_the_default_report_where_the_case_says_its_fits_are_asymptotic():
+    from harness.study.cache import case_settings, study_methods
+    from harness.study.chain import PROFILES, study_levels
+    known = registered_cases()
+    default, fine = {"methods": ["all"], **PROFILES["default"]}, {"methods": ["all"], **PROFILES["fine"]}
+
+    def levels(case, settings):
+        own = case_settings(known[case], settings)
+        return {m.name: study_levels(m, own["levels"]) for m in study_methods(own) if m.name in ("nodal", "p1", "penalty-p1")}
+    assert levels("smooth", default) == {"nodal": 7, "p1": 7, "penalty-p1": 7}
+    assert levels("corner-r12", default) == {"nodal": 6, "p1": 6, "penalty-p1": 6}
+    assert levels("oscillating-r34", default) == {"nodal": 7, "p1": 8, "penalty-p1": 8}     # P1 not asymptotic a level early
+    assert levels("smooth", fine) == {"nodal": 8, "p1": 9, "penalty-p1": 9}                 # the fine profile runs all
+    # the method is the same method, only its levels differ
+    p1 = next(m for m in study_methods(case_settings(known["smooth"], default)) if m.name == "p1")
+    assert p1.extra_levels == 0 and p1.with_extra_levels(1) == methods_named(["p1"])[0].with_extra_levels(1)
+
+
+@pytest.mark.parametrize("p2, p1", [(6, 5), (6, 8)])
+def test_p1_levels_other_than_p2s_or_one_more_are_refused(tmp_path, p2, p1):
+    source = Path(registered_cases()["corner-r12"].source).read_text()
+    path = tmp_path / "case.py"
+    path.write_text(source.replace("asymptotic_levels_p1 = 6", f"asymptotic_levels_p1 = {p1}").replace(
+        "asymptotic_levels = 6", f"asymptotic_levels = {p2}"))
+    with pytest.raises(CaseError, match="asymptotic_levels_p1 must be asymptotic_levels"):
+        load_case(str(path))

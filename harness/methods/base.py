@@ -65,6 +65,8 @@ class Method:
     sharper_theory: Callable[[object], Expectation] | None = None
     physics: tuple = ("scalar",)                  # the physics it discretises (``harness.physics``)
     dimensions: tuple = (2,)                      # the space dimensions it discretises
+    # its levels past a study's P2 levels, if not ``EXTRA_LEVELS`` (``with_extra_levels``)
+    study_extra_levels: int | None = None
 
     def supports(self, case) -> bool:
         return case.physics.name in self.physics and case.dimension in self.dimensions
@@ -74,7 +76,15 @@ class Method:
 
     @property
     def extra_levels(self) -> int:
-        return EXTRA_LEVELS[self.order]
+        """The levels it runs past a study's P2 levels: ``EXTRA_LEVELS`` of its order, unless a
+        study said otherwise (``with_extra_levels``)."""
+        return EXTRA_LEVELS[self.order] if self.study_extra_levels is None else self.study_extra_levels
+
+    def with_extra_levels(self, extra: int) -> "Method":
+        """The same method run ``extra`` levels past a study's P2 levels (the default report's
+        P1 on a case whose P1 fits are asymptotic without P2's finest dofs:
+        ``Case.asymptotic_levels_p1``)."""
+        return replace(self, study_extra_levels=int(extra))
 
     @property
     def parameters(self) -> dict:

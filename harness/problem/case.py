@@ -42,6 +42,9 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            than 0.01); the default report stops there instead of at its
                            profile's levels (``study.cache.case_settings``), ``--levels`` and
                            the fine profile do not
+    asymptotic_levels_p1   optional int >= 3: the same for the P1 methods (order 1), which a
+                           study otherwise runs one level past P2, to P2's finest number of
+                           dofs (``methods.base.EXTRA_LEVELS``): P2's levels or one more
 
 An *elastic case* (``physics = "elasticity"``, ``harness.physics.Elasticity``) declares besides
 
@@ -128,6 +131,7 @@ class Case:
     physics: object = SCALAR                           # ``physics.Scalar`` or ``physics.Elasticity``
     transition_curve: tuple = ()                       # 3D: polylines on Gamma_C for the pictures
     asymptotic_levels: int | None = None               # the default report's levels for this case
+    asymptotic_levels_p1: int | None = None            # and for its P1 methods
 
     @property
     def exact(self) -> bool:
@@ -260,9 +264,13 @@ def _check_declared(module, source: str) -> None:
     if hasattr(module, "name") and not module.name.strip():
         raise CaseError(f"case {source}: name must not be empty")
     number("maxh", 0.0)
-    levels = getattr(module, "asymptotic_levels", None)
-    if levels is not None and (isinstance(levels, bool) or not isinstance(levels, int) or levels < 3):
-        raise CaseError(f"case {source}: asymptotic_levels must be an integer >= 3 (a fit needs three levels), got {levels!r}")
+    for key in ("asymptotic_levels", "asymptotic_levels_p1"):
+        levels = getattr(module, key, None)
+        if levels is not None and (isinstance(levels, bool) or not isinstance(levels, int) or levels < 3):
+            raise CaseError(f"case {source}: {key} must be an integer >= 3 (a fit needs three levels), got {levels!r}")
+    p1, p2 = getattr(module, "asymptotic_levels_p1", None), getattr(module, "asymptotic_levels", None)
+    if p1 is not None and p2 is not None and p1 not in (p2, p2 + 1):
+        raise CaseError(f"case {source}: asymptotic_levels_p1 must be asymptotic_levels ({p2}) or one more, got {p1}")
     if hasattr(module, "reference_levels"):
         _reference_levels(module, source)
     reference = not hasattr(module, "u")
@@ -358,7 +366,7 @@ def _reference_levels(module, source: str) -> int:
 def _optional_fields(module) -> dict:
     fields = {}
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
-                "transition_curve", "asymptotic_levels"):
+                "transition_curve", "asymptotic_levels", "asymptotic_levels_p1"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):

@@ -117,6 +117,11 @@ def levels_text(cases: list[Case], settings: dict) -> str:
     if fewer:
         text += " (" + "; ".join(f"{n} for {', '.join(names)}" for n, names in sorted(fewer.items())) + \
             ": their fitted H¹ rates are asymptotic by then, one level more moved none by more than 0.01)"
+    with_p2 = [case.name for case in cases if case_settings(case, settings).get("p1_extra_levels") == 0]
+    text += ", P1 one level more (to P2's finest number of dofs)"
+    if with_p2:
+        text += (f" except for {', '.join(with_p2)}, where P1 stops with P2: its fitted H¹ rates are asymptotic "
+                 "by then, the extra level moved none by more than 0.01")
     return text
 
 

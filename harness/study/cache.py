@@ -21,6 +21,7 @@ import pandas as pd
 
 from .. import __version__
 from ..methods import methods_named
+from ..methods.base import EXTRA_LEVELS
 from ..problem.case import Case
 from ..problem.validate import validate_case
 from .budget import SWEEP_SECONDS_PER_DOF, solve_weights
@@ -104,7 +105,20 @@ def case_settings(case: Case, settings: dict) -> dict:
     levels = settings["levels_3d"] if case.dimension == 3 else settings["levels"]
     if settings.get("stop_when_asymptotic") and case.asymptotic_levels:
         levels = min(levels, case.asymptotic_levels)
-    return settings | {"levels": levels}
+    own = settings | {"levels": levels}
+    if settings.get("stop_when_asymptotic") and case.asymptotic_levels_p1:
+        # P1 stops with P2 (its fits asymptotic) or one level past it (P2's finest dofs)
+        own["p1_extra_levels"] = min(max(case.asymptotic_levels_p1 - levels, 0), EXTRA_LEVELS[1])
+    return own
+
+
+def study_methods(settings: dict) -> list:
+    """The methods of a study with ``settings`` (``case_settings``): P1 run past P2 by the
+    case's own number of levels where it declares one."""
+    methods = methods_named(settings["methods"])
+    if "p1_extra_levels" not in settings:
+        return methods
+    return [m.with_extra_levels(settings["p1_extra_levels"]) if m.order == 1 else m for m in methods]
 
 
 def study_groups(cases: list[Case], settings: dict) -> list[tuple[list[Case], dict]]:
@@ -140,7 +154,7 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
     config = sweep_config(settings["levels"])
     jobs, weights, pending = [], {}, {}
     for group, group_settings in study_groups(cases, settings):
-        methods, levels = methods_named(group_settings["methods"]), group_settings["levels"]
+        methods, levels = study_methods(group_settings), group_settings["levels"]
         stale = stale_cases(group, group_settings, results_dir)
         todo = [c for c in group if c in stale or (writer is not None and not writer.written(c, methods, levels))]
         for case in group:
