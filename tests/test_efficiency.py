@@ -31,3 +31,14 @@ def test_p2_with_a_higher_rate_needs_fewer_dofs_and_the_ratios_are_relative_to_p
     # nodal reaches 2^-5 = h^2 at h = 2^-2.5: ndof 64 * 4^2.5 = 2048
     assert table.loc["nodal", "ndof"] == pytest.approx(2048.0, rel=1e-12)
     assert table.loc["nodal", "p1_over_ndof"] == pytest.approx(16 * 4.0 ** 5 / 2048.0)
+
+
+@pytest.mark.parametrize("p1_levels", [6, 5])
+def test_errors_at_equal_dofs_are_compared_where_both_orders_have_levels(p1_levels):
+    """With P1 one level past P2 the comparison is at P2's finest dofs; with P1 stopped with P2
+    (a case's ``asymptotic_levels_p1``) at P1's finest, P2's error interpolated there: the same
+    ratio when both orders share the rate."""
+    results = pd.concat([synthetic("nodal", 2, 1.0, 1.0, 5), synthetic("p1", 1, 3.0, 1.0, p1_levels)], ignore_index=True)
+    table = efficiency_table(results).set_index("method")
+    # equal rates in h, and P2 on level l has P1's dofs on level l + 1 (h / 2): 3 (h/2) / h = 1.5
+    assert table.loc["nodal", "err_ratio_at_equal_ndof"] == pytest.approx(1.5, rel=1e-12)

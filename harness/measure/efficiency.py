@@ -43,10 +43,19 @@ def error_at_ndof(group: pd.DataFrame, ndof: float) -> float:
     return float(np.exp(np.interp(np.log(ndof), np.log(g.ndof), np.log(g.err_h1))))
 
 
+def equal_ndof_ratio(baseline: pd.DataFrame, group: pd.DataFrame) -> float:
+    """``baseline``'s H^1 error over ``group``'s at the largest ndof both reach: ``group``'s
+    finest where the baseline runs to it (P1 one level past P2 has P2's finest dofs), else the
+    baseline's finest (P1 stopped with P2, ``Case.asymptotic_levels_p1``), where ``group``'s
+    error is interpolated between its levels."""
+    ndof = min(group.ndof.max(), baseline.ndof.max())
+    return error_at_ndof(baseline, ndof) / error_at_ndof(group, ndof)
+
+
 def efficiency_table(results: pd.DataFrame, baseline: str = "p1") -> pd.DataFrame:
     """One row per (case, method): the cost of reaching the case's target error; for the other
     methods, ``baseline``'s cost over theirs (> 1: they are cheaper) and ``baseline``'s error
-    over theirs at their finest ndof."""
+    over theirs at equal ndof (``equal_ndof_ratio``)."""
     tables = []
     for case, frame in results.groupby("case", sort=False):
         groups = {m: g.sort_values("level") for m, g in frame.groupby("method", sort=False)}
@@ -63,8 +72,7 @@ def efficiency_table(results: pd.DataFrame, baseline: str = "p1") -> pd.DataFram
             base = table.set_index("method").loc[baseline]
             table["p1_over_ndof"] = base.ndof / table.ndof
             table["p1_over_seconds"] = base.total_seconds / table.total_seconds
-            table["err_ratio_at_equal_ndof"] = [error_at_ndof(groups[baseline], g.ndof.iloc[-1]) / g.err_h1.iloc[-1]
-                                                for g in groups.values()]
+            table["err_ratio_at_equal_ndof"] = [equal_ndof_ratio(groups[baseline], g) for g in groups.values()]
         tables.append(table)
     return pd.concat(tables, ignore_index=True).reindex(columns=COLUMNS)
 
