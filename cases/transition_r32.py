@@ -10,6 +10,7 @@ H^{5/2}: nu = 5/2 (from below). Theorems 4.1 ii and 5.1 ii give ||u - u_h||_1 <=
 """
 from ngsolve import atan2, sin, sqrt, x, y
 
+from harness.problem.functions import transition_gradient
 from harness.problem.geometry import contact_strip
 
 name = "transition-r32"
@@ -26,6 +27,7 @@ maxh = 0.25
 
 r = sqrt(x * x + y * y)
 u = -(r ** 1.5) * sin(1.5 * atan2(y, x))
+grad_u = transition_gradient(0.0)   # in closed form: a third of the derived one's cost per point
 f = 0                         # u is harmonic
 singular_points = [(0.0, 0.0)]  # the transition point
 

@@ -105,3 +105,17 @@ def test_p1_levels_other_than_p2s_or_one_more_are_refused(tmp_path, p2, p1):
         "asymptotic_levels = 6", f"asymptotic_levels = {p2}"))
     with pytest.raises(CaseError, match="asymptotic_levels_p1 must be asymptotic_levels"):
         load_case(str(path))
+
+
+@pytest.mark.parametrize("side", ["right", "left"])
+def test_the_transitions_closed_form_gradient_is_its_derived_one(side):
+    """``transition_gradient`` against NGSolve's derivative of ``transition`` (an offset x0, both
+    binding sides), in the L^2 norm over a strip above Gamma_C."""
+    from harness.problem.functions import transition, transition_gradient
+    from harness.problem.geometry import contact_strip
+    mesh = ngs.Mesh(contact_strip(breaks=[0.2]).GenerateMesh(maxh=0.2))
+    g = transition(0.2, binding_side=side)
+    derived = ngs.CF((g.Diff(ngs.x), g.Diff(ngs.y)))
+    closed = ngs.CF(transition_gradient(0.2, binding_side=side))
+    error = ngs.Integrate(ngs.InnerProduct(closed - derived, closed - derived), mesh, order=8)
+    assert error <= 1e-24 * ngs.Integrate(ngs.InnerProduct(derived, derived), mesh, order=8)

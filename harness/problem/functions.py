@@ -6,7 +6,7 @@ elastic ones, Remark 2.3).
 """
 from __future__ import annotations
 
-from ngsolve import atan2, pi, sin, sqrt, x, y, z
+from ngsolve import atan2, cos, pi, sin, sqrt, x, y, z
 
 
 def polar(x0: float = 0.0, mirrored: bool = False, px=x, py=y):
@@ -28,9 +28,26 @@ def transition(x0: float = 0.0, binding_side: str = "right", coordinates="xy"):
     ``coordinates``: the plane it lives in, "xy", or "xz" (3D, Gamma_C = {z = 0}), or a pair of
     CoefficientFunctions (s, d): a coordinate along Gamma_C across the transition curve and the
     distance to Gamma_C (a curved transition line in 3D)."""
-    px, py = {"xy": (x, y), "xz": (x, z)}[coordinates] if isinstance(coordinates, str) else coordinates
-    r, theta = polar(x0, mirrored=(binding_side == "left"), px=px, py=py)
+    r, theta = polar(x0, mirrored=(binding_side == "left"), px=_plane(coordinates)[0], py=_plane(coordinates)[1])
     return -(r ** 1.5) * sin(1.5 * theta)
+
+
+def transition_gradient(x0: float = 0.0, binding_side: str = "right", coordinates="xy"):
+    """The partial derivatives (along, across) of ``transition`` with the same arguments, in its
+    plane's two coordinates (a case composes them into grad u, ``grad_u``: the derived gradient
+    of r^{3/2} sin(3 theta/2) costs three times u at each quadrature point). With
+    w = (s - x0) + i d and g = -Im w^{3/2}, Cauchy-Riemann gives
+    (g_s, g_d) = -(3/2) r^{1/2} (sin(theta/2), cos(theta/2)); mirrored (theta from the negative
+    s-direction, s - x0 -> x0 - s) g_s changes sign."""
+    mirrored = binding_side == "left"
+    r, theta = polar(x0, mirrored=mirrored, px=_plane(coordinates)[0], py=_plane(coordinates)[1])
+    along, across = -1.5 * sqrt(r) * sin(theta / 2), -1.5 * sqrt(r) * cos(theta / 2)
+    return (-along if mirrored else along), across
+
+
+def _plane(coordinates):
+    """(s, d): the coordinates of a transition's plane ("xy", "xz", or a pair of functions)."""
+    return {"xy": (x, y), "xz": (x, z)}[coordinates] if isinstance(coordinates, str) else coordinates
 
 
 
