@@ -214,7 +214,8 @@ EFFICIENCY_NOTE = (
     "read off its levels by log-log interpolation. Seconds are summed over the levels up to the "
     "target (nested iteration needs them): 'solve' the contact solves, 'total' all a user pays for "
     "u_h (mesh refinement, assembly, set-up, solve; not the error measurement). P1 / it > 1: the "
-    "method is cheaper than P1."
+    "method is cheaper than P1. Errors at equal ndof: at the largest ndof both reach (the method's "
+    "finest where P1 runs one level past P2, else P1's finest, the method's error interpolated there)."
 )
 
 

@@ -158,5 +158,5 @@ def efficiency_view(table: pd.DataFrame) -> pd.DataFrame:
         "solve s": [_fmt(v, ".3g") for v in table.solve_seconds], "total s": [_fmt(v, ".3g") for v in table.total_seconds],
         "P1 / it: dofs": [_fmt(v, ".3g") for v in table.p1_over_ndof],
         "P1 / it: seconds": [_fmt(v, ".3g") for v in table.p1_over_seconds],
-        "P1 err / its err at its finest ndof": [_fmt(v, ".3g") for v in table.err_ratio_at_equal_ndof],
+        "P1 err / its err at equal ndof": [_fmt(v, ".3g") for v in table.err_ratio_at_equal_ndof],
     })
