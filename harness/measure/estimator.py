@@ -43,10 +43,10 @@ from .errors import CONTACT_ERROR_POINTS, DiscretePressure
 
 # Gauss order of the volume moments f_T and ||f - f_T||_T^2 on the elements away from singular
 # points (``ElementQuadrature``: graded on the elements touching one, where f may be singular,
-# r^{-1} |log r|^{-beta} in borderline-h2): (f - f_T)^2 exactly for f quadratic on T. Order 8
-# everywhere (25 points per triangle, two passes: a third of the estimator's cost on P1's finest
-# level) gave the same eta to 5e-5 relative on borderline-h2 and smooth, levels 0-4, once the
-# near elements were graded; the near elements alone moved it by up to 9% (borderline-h2, P2).
+# r^{-1} |log r|^{-beta} in borderline-h2): (f - f_T)^2 exactly for f quadratic on T. Against
+# order 8 on those elements (25 points per triangle, once a third of the estimator's cost on P1's
+# finest level) eta moved by at most 5e-5 relative on borderline-h2 and smooth, levels 0-4; the
+# graded rule on the near elements moved it by up to 9% (borderline-h2, P2: Gauss was not converged).
 VOLUME_ORDER = 4
 
 

@@ -3,7 +3,7 @@
 Every method of such a case is measured against one reference: the solution u_R of
 ``REFERENCE_METHOD`` (nodal P2) on the mesh k levels finer than P2's finest studied level, so
 4^k times the dofs of every method's finest studied level (P1 studies one level more, on the
-same number of dofs). One reference for all: the methods' errors are distances to the same
+same number of dofs, unless the case's ``asymptotic_levels_p1`` stops it with P2). One reference for all: the methods' errors are distances to the same
 function (the cost at equal accuracy compares them), the most accurate one the study can make,
 and solved once (each method's own solution k levels finer cost seven such solves, and P1's,
 on a mesh four times larger than P2's for the same dofs, set the report's peak memory).
