@@ -39,5 +39,5 @@ transition_curve = [[(0.0, -1.0), (0.0, 1.0)]]
 # has 5.9e5 dofs
 maxh = 0.4
 
-u = roller_free_mode(1.5, pi, Elasticity(young, poisson, dim=3), coordinates="xz")
+u, grad_u = roller_free_mode(1.5, pi, Elasticity(young, poisson, dim=3), coordinates="xz", with_gradient=True)
 f = 0

@@ -24,6 +24,6 @@ expected_rate = 1.5
 geometry = contact_strip(breaks=[0.0])
 maxh = 0.5
 
-u = roller_free_mode(1.5, pi, Elasticity(young, poisson))
+u, grad_u = roller_free_mode(1.5, pi, Elasticity(young, poisson), with_gradient=True)
 f = 0
 singular_points = [(0.0, 0.0)]

@@ -44,7 +44,7 @@ geometry = contact_strip(breaks=[0.0])
 # two P2 unknowns per node: a coarser start than the scalar cases keeps the levels comparable in dofs
 maxh = 0.5
 
-u = roller_free_mode(1.5, pi, Elasticity(young, poisson))
+u, grad_u = roller_free_mode(1.5, pi, Elasticity(young, poisson), with_gradient=True)
 f = 0
 singular_points = [(0.0, 0.0)]
 

@@ -47,7 +47,7 @@ expected_rate = EXPONENT
 geometry = polygon([(0, 0), (1, 0), (1, 1), (-1, 1)], ["contact", "neumann", "dirichlet", "neumann"])
 maxh = 0.5
 
-u = roller_free_mode(EXPONENT, OMEGA, Elasticity(young, poisson))
+u, grad_u = roller_free_mode(EXPONENT, OMEGA, Elasticity(young, poisson), with_gradient=True)
 f = 0
 singular_points = [(0.0, 0.0)]
 

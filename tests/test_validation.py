@@ -1,5 +1,6 @@
 """The harness refuses a case whose exact solution breaks the Signorini conditions (2.4)."""
 import dataclasses
+import math
 from pathlib import Path
 
 import ngsolve as ngs
@@ -119,3 +120,37 @@ def test_the_transitions_closed_form_gradient_is_its_derived_one(side):
     closed = ngs.CF(transition_gradient(0.2, binding_side=side))
     error = ngs.Integrate(ngs.InnerProduct(closed - derived, closed - derived), mesh, order=8)
     assert error <= 1e-24 * ngs.Integrate(ngs.InnerProduct(derived, derived), mesh, order=8)
+
+
+@pytest.mark.parametrize("options", [dict(), dict(x0=0.2, mirrored=True), dict(x0=0.2, angle=0.3),
+                                     dict(x0=0.2, mirrored=True, angle=-0.4)])
+@pytest.mark.parametrize("exponent", [0.5, 1.5])
+def test_the_roller_modes_closed_form_gradient_is_its_derived_one(exponent, options):
+    """``roller_free_mode(..., with_gradient=True)`` (the derivatives of its ``PolarSeries``):
+    the Jacobian equals NGSolve's derivative of u for an offset, a mirrored and a turned mode,
+    to 1e-12 relative in L^2 over a strip above Gamma_C; its u is the mode's."""
+    from harness.problem.functions import roller_free_mode
+    from harness.problem.geometry import contact_strip
+    from harness.problem.physics import Elasticity, gradient
+    mesh = ngs.Mesh(contact_strip(breaks=[0.2]).GenerateMesh(maxh=0.2))
+    material = Elasticity(1.0, 0.3)
+    u, closed = roller_free_mode(exponent, math.pi, material, with_gradient=True, **options)
+    derived = gradient(roller_free_mode(exponent, math.pi, material, **options), 2)
+    size = ngs.Integrate(ngs.InnerProduct(derived, derived), mesh, order=8)
+    assert ngs.Integrate(ngs.InnerProduct(closed - derived, closed - derived), mesh, order=8) <= 1e-24 * size
+    plain = roller_free_mode(exponent, math.pi, material, **options)
+    assert ngs.Integrate(ngs.InnerProduct(u - plain, u - plain), mesh, order=8) == 0.0
+
+
+def test_the_3d_roller_modes_closed_form_gradient_is_its_derived_one():
+    """The same in the (x, z) plane of a 3D body (coordinates 'xz'): a 3 x 3 Jacobian with zero
+    y-row and y-column."""
+    from harness.problem.functions import roller_free_mode
+    from harness.problem.geometry import contact_box
+    from harness.problem.physics import Elasticity, gradient
+    mesh = ngs.Mesh(contact_box(split_at=0.2).GenerateMesh(maxh=0.5))
+    material = Elasticity(1.0, 0.3, dim=3)
+    _, closed = roller_free_mode(1.5, math.pi, material, x0=0.2, mirrored=True, coordinates="xz", with_gradient=True)
+    derived = gradient(roller_free_mode(1.5, math.pi, material, x0=0.2, mirrored=True, coordinates="xz"), 3)
+    size = ngs.Integrate(ngs.InnerProduct(derived, derived), mesh, order=6)
+    assert ngs.Integrate(ngs.InnerProduct(closed - derived, closed - derived), mesh, order=6) <= 1e-24 * size

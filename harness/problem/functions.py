@@ -6,6 +6,8 @@ elastic ones, Remark 2.3).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from ngsolve import atan2, cos, pi, sin, sqrt, x, y, z
 
 
@@ -52,7 +54,7 @@ def _plane(coordinates):
 
 
 def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, mirrored: bool = False,
-                     angle: float = 0.0, coordinates: str = "xy"):
+                     angle: float = 0.0, coordinates: str = "xy", with_gradient: bool = False):
     """The plane-strain displacement r^l Phi(theta) (l = ``exponent``) on the wedge
     0 <= theta <= omega about (x0, 0) with the frictionless-contact ("roller") conditions
     u_y = 0, sigma_xy = 0 on theta = 0 and a traction-free face theta = omega: the elastic
@@ -77,12 +79,57 @@ def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, m
     displacement in the (x, z) plane, Gamma_C = {z = 0}: plane strain is the 3D body with
     u_y = 0 and nothing depending on y (eps_yy = 0, and sigma_yy = lambda div u depends on x, z
     only, so div sigma keeps no y-component): an exact 3D elastic field.
+    ``with_gradient``: return (u, grad u), the Jacobian (row i = grad u_i) in closed form from
+    the series' derivatives (a case's ``grad_u``: NGSolve's derived one costs several times u).
     """
     import math
 
-    from ngsolve import CF, cos
+    from ngsolve import CF
     from ngsolve import x as X
     from ngsolve import y as Y
+
+    series = roller_free_series(exponent, omega, material)
+    ca, sa = math.cos(angle), math.sin(angle)
+    # the local frame's coordinates (x0 + R(angle) local = global)
+    if coordinates not in ("xy", "xz") or (angle and coordinates != "xy"):
+        raise ValueError(f"coordinates must be 'xy' (any angle) or 'xz' (angle 0), got {coordinates!r}, angle {angle}")
+    if coordinates == "xz":
+        Y = z
+    local = (x0 + ca * (X - x0) + sa * Y, -sa * (X - x0) + ca * Y) if angle else (X, Y)
+    at = polar(x0, mirrored, *local)
+    # mirrored (x -> x0 - x): the x-component changes sign, and so does each d/dx
+    flip = -1.0 if mirrored else 1.0
+    ux, uy = series.real_imag(*at)
+    u = _in_frame((flip * ux, uy), ca, sa, coordinates)
+    if not with_gradient:
+        return u
+    (dx_ux, dx_uy), (dy_ux, dy_uy) = series.diff("x").real_imag(*at), series.diff("y").real_imag(*at)
+    local_jacobian = ((dx_ux, flip * dy_ux), (flip * dx_uy, dy_uy))      # row i = grad of component i
+    # rotated: J = R J_local R^T
+    rotation = ((ca, -sa), (sa, ca))
+    jacobian = [[sum(rotation[i][k] * local_jacobian[k][m] * rotation[j][m] for k in range(2) for m in range(2))
+                 for j in range(2)] for i in range(2)] if angle else local_jacobian
+    if coordinates == "xz":
+        (a, b), (c, d) = jacobian
+        return u, CF((a, 0.0, b, 0.0, 0.0, 0.0, c, 0.0, d), dims=(3, 3))
+    return u, CF(tuple(jacobian[0]) + tuple(jacobian[1]), dims=(2, 2))
+
+
+def _in_frame(local, ca, sa, coordinates):
+    """The plane vector ``local`` as the case's displacement: rotated by the angle (cos ca, sin
+    sa) in the (x, y) plane, or (u_x, 0, u_z) in the (x, z) plane."""
+    from ngsolve import CF
+    ux, uy = local
+    if coordinates == "xz":
+        return CF((ux, 0.0, uy))
+    return CF((ca * ux - sa * uy, sa * ux + ca * uy)) if (ca, sa) != (1.0, 0.0) else CF((ux, uy))
+
+
+def roller_free_series(exponent: float, omega: float, material) -> "PolarSeries":
+    """u_x + i u_y of ``roller_free_mode`` (unrotated, about 0) as a ``PolarSeries``: with
+    phi = a z^l, psi = b z^l, 2 mu (u_x + i u_y) = kappa a z^l - a l z conj(z)^{l-1} - b conj(z)^l
+    = r^l (kappa a e^{i l theta} - a l e^{i (2 - l) theta} - b e^{-i l theta})."""
+    import math
 
     l = float(exponent)
     residual = math.sin(2 * l * omega) + l * math.sin(2 * omega)
@@ -93,19 +140,52 @@ def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, m
     b_unit = -(l + 1) * math.cos((l - 1) * omega) / c if abs(c) >= abs(s) else -(l - 1) * math.sin((l - 1) * omega) / s
     a = -1.0 / ((l + 1) + b_unit)       # sigma_tt(0) = l r^{l-1} (a (l + 1) + b) = -l r^{l-1}
     b = a * b_unit
-    ca, sa = math.cos(angle), math.sin(angle)
-    # the local frame's coordinates (x0 + R(angle) local = global)
-    if coordinates not in ("xy", "xz") or (angle and coordinates != "xy"):
-        raise ValueError(f"coordinates must be 'xy' (any angle) or 'xz' (angle 0), got {coordinates!r}, angle {angle}")
-    if coordinates == "xz":
-        Y = z
-    local = (x0 + ca * (X - x0) + sa * Y, -sa * (X - x0) + ca * Y) if angle else (X, Y)
-    r, theta = polar(x0, mirrored, *local)
-    kappa, two_mu = material.kappa, 2 * material.mu
-    ux = r**l * ((kappa * a - b) * cos(l * theta) - a * l * cos((2 - l) * theta)) / two_mu
-    uy = r**l * ((kappa * a + b) * sin(l * theta) - a * l * sin((2 - l) * theta)) / two_mu
-    # mirrored (x -> x0 - x): the x-component changes sign
-    ux = -ux if mirrored else ux
-    if coordinates == "xz":
-        return CF((ux, 0.0, uy))
-    return CF((ca * ux - sa * uy, sa * ux + ca * uy)) if angle else CF((ux, uy))
+    two_mu = 2 * material.mu
+    return PolarSeries(((material.kappa * a / two_mu, l, l), (-a * l / two_mu, l, 2 - l), (-b / two_mu, l, -l)))
+
+
+@dataclass(frozen=True)
+class PolarSeries:
+    """A complex function sum_k c_k r^{m_k} e^{i q_k theta} of the plane (z = r e^{i theta}),
+    closed under d/dx and d/dy: each term is c z^A conj(z)^B with A = (m + q)/2, B = (m - q)/2,
+    and d/dx = d/dz + d/dconj(z), d/dy = i (d/dz - d/dconj(z)), so
+
+        d/dx c r^m e^{i q theta} = c A r^{m-1} e^{i (q-1) theta} + c B r^{m-1} e^{i (q+1) theta},
+        d/dy c r^m e^{i q theta} = i c A r^{m-1} e^{i (q-1) theta} - i c B r^{m-1} e^{i (q+1) theta}.
+
+    The derivatives of a Kolosov-Muskhelishvili displacement in closed form: NGSolve's Diff of
+    r^l sin(l theta) through sqrt and atan2 builds trees that cost 3-10 times more per point."""
+
+    terms: tuple            # (c, m, q): complex coefficient, power of r, frequency in theta
+
+    def diff(self, axis: str) -> "PolarSeries":
+        """d/dx (``axis`` 'x') or d/dy ('y') of the series."""
+        unit = {"x": (1, 1), "y": (1j, -1j)}[axis]
+        merged: dict = {}
+        for c, m, q in self.terms:
+            for factor, power, shift in ((unit[0] * (m + q) / 2, m - 1, q - 1), (unit[1] * (m - q) / 2, m - 1, q + 1)):
+                if factor:
+                    merged[(power, shift)] = merged.get((power, shift), 0) + c * factor
+        return PolarSeries(tuple((c, m, q) for (m, q), c in merged.items() if abs(c) > 1e-15 * _largest(merged)))
+
+    def real_imag(self, r, theta):
+        """(Re, Im) of the series at polar coordinates (r, theta) (CoefficientFunctions). Terms
+        with the same power and opposite frequencies share one cos and one sin:
+        A e^{i q theta} + B e^{-i q theta} = (A + B) cos(q theta) + i (A - B) sin(q theta)."""
+        pairs: dict = {}
+        for c, m, q in self.terms:
+            plus, minus = pairs.get((m, abs(q)), (0j, 0j))
+            pairs[(m, abs(q))] = (plus + c, minus) if q >= 0 else (plus, minus + c)
+        re = im = 0.0
+        powers = {m: r**m for m, _ in pairs if m}
+        for (m, q), (plus, minus) in pairs.items():
+            even, odd = plus + minus, (plus - minus) * 1j        # the cos and sin coefficients
+            scale = powers.get(m, 1.0)
+            cos_q, sin_q = (cos(q * theta), sin(q * theta)) if q else (1.0, 0.0)
+            re = re + scale * (even.real * cos_q + odd.real * sin_q)
+            im = im + scale * (even.imag * cos_q + odd.imag * sin_q)
+        return re, im
+
+
+def _largest(coefficients: dict) -> float:
+    return max((abs(c) for c in coefficients.values()), default=0.0)

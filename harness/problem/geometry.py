@@ -6,6 +6,7 @@ transition point and every label change gives exactly that.
 """
 from __future__ import annotations
 
+import numpy as np
 from netgen.geom2d import SplineGeometry
 
 LABELS = ("contact", "dirichlet", "neumann")
@@ -57,29 +58,39 @@ def geometry_dimension(geometry) -> int:
     return 2 if isinstance(geometry, SplineGeometry) else 3
 
 
-def _labelled_box(x0: float, x1: float, interior=()):
-    """The box (x0, x1) x (-1, 1) x (0, 1) with Gamma_C the bottom face z = 0, Gamma_u the top,
-    Gamma_g the sides; the faces named in ``interior`` ('xmin', 'xmax') lie inside the body."""
+def _labelled_box(x0: float, x1: float, interior=(), bottom: str = "contact"):
+    """The box (x0, x1) x (-1, 1) x (0, 1) with the bottom face z = 0 labelled ``bottom``
+    (Gamma_C by default), Gamma_u the top, Gamma_g the sides; the faces named in ``interior``
+    ('xmin', 'xmax') lie inside the body."""
     from netgen.occ import Box, Pnt, X, Z
     box = Box(Pnt(x0, -1.0, 0.0), Pnt(x1, 1.0, 1.0))
     box.faces.name = "neumann"
-    box.faces.Min(Z).name = "contact"
+    box.faces.Min(Z).name = bottom
     box.faces.Max(Z).name = "dirichlet"
     for side in interior:
         (box.faces.Min(X) if side == "xmin" else box.faces.Max(X)).name = "interior"
     return box
 
 
-def contact_box(split_at: float | None = None):
+def contact_box(split_at: float | list[float] | None = None, bottom: list[str] | None = None):
     """Omega = (-1, 1) x (-1, 1) x (0, 1), the 3D counterpart of ``contact_strip``: Gamma_C the
-    bottom face (n = -e_z), Gamma_u the top, Gamma_g the four sides. ``split_at``: the box is two
-    boxes glued along the plane x = split_at (faces labelled 'interior'), so that every mesh
-    has edges along the line {x = split_at, z = 0} of Gamma_C (a straight transition line) and
-    faces along the plane."""
+    bottom face (n = -e_z), Gamma_u the top, Gamma_g the four sides. ``split_at``: the box is
+    boxes glued along the planes x = a for each a given (faces labelled 'interior'), so that
+    every mesh has edges along the lines {x = a, z = 0} of the bottom (a straight transition or
+    junction line) and faces along the planes. ``bottom``: the labels of the pieces' bottom
+    faces from left to right (default all 'contact'; 'neumann' makes that piece of the bottom
+    Gamma_g: a junction of Gamma_C and Gamma_g along the line between them)."""
     from netgen.occ import Glue, OCCGeometry
-    if split_at is None:
-        return OCCGeometry(_labelled_box(-1.0, 1.0))
-    return OCCGeometry(Glue([_labelled_box(-1.0, split_at, ["xmax"]), _labelled_box(split_at, 1.0, ["xmin"])]))
+    cuts = [] if split_at is None else sorted(float(a) for a in np.atleast_1d(split_at))
+    if any(not -1.0 < a < 1.0 for a in cuts) or len(set(cuts)) < len(cuts):
+        raise ValueError(f"contact_box: split planes must be distinct and inside (-1, 1), got {cuts}")
+    bounds = [-1.0, *cuts, 1.0]
+    bottom = ["contact"] * (len(bounds) - 1) if bottom is None else list(bottom)
+    if len(bottom) != len(bounds) - 1 or any(label not in LABELS for label in bottom):
+        raise ValueError(f"contact_box: need one label of {LABELS} per piece ({len(bounds) - 1}), got {bottom}")
+    pieces = [_labelled_box(x0, x1, ["xmin"] * (k > 0) + ["xmax"] * (k < len(bottom) - 1), bottom[k])
+              for k, (x0, x1) in enumerate(zip(bounds[:-1], bounds[1:]))]
+    return OCCGeometry(pieces[0] if len(pieces) == 1 else Glue(pieces))
 
 
 def disc_box(radius: float):

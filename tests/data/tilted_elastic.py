@@ -22,6 +22,6 @@ def _turned(px, py):
 geometry = polygon([_turned(*p) for p in [(-1, 0), (0, 0), (1, 0), (1, 1), (-1, 1)]],
                    ["contact", "contact", "neumann", "dirichlet", "neumann"])
 maxh = 0.5
-u = roller_free_mode(1.5, pi, Elasticity(poisson=poisson), angle=ANGLE)
+u, grad_u = roller_free_mode(1.5, pi, Elasticity(poisson=poisson), angle=ANGLE, with_gradient=True)
 f = 0
 singular_points = [(0.0, 0.0)]
