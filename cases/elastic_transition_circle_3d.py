@@ -84,3 +84,8 @@ _pressure = IfPos(level_set, 1.5 * sqrt(IfPos(level_set, level_set, 0.0)), 0.0)
 contact_load = CF((0.0, 0.0, -(_material.stress(grad_u)[2, 2] + _pressure)))
 # the exact transition curve on Gamma_C, drawn on the report's pictures of it
 transition_curve = [[(radius * cos(2 * pi * k / 128), radius * sin(2 * pi * k / 128)) for k in range(129)]]
+
+# Its study is the dearest of the 3D cases (92 s of the default report's work on one thread,
+# 2026-11-26: three P2 methods at 1.7e5 dofs and P1 on 3.3e5 tetrahedra, a curved refinement):
+# more than the five minutes of `make report` leave. `make report-fine` and `report --case` run it.
+report_profile = "fine"

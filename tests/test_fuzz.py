@@ -42,6 +42,7 @@ BAD = {
     "reference_levels": ["0", "-1", "1.5"],
     "asymptotic_levels": ["2", "0", "6.0", "True", "'6'"],
     "asymptotic_levels_p1": ["2", "6.0", "False", "'7'"],
+    "report_profile": ["'weekly'", "None", "1", "['fine']"],
     "physics": ["'plasticity'", "3"],
 }
 mutations = st.one_of(

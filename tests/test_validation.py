@@ -7,7 +7,7 @@ import ngsolve as ngs
 import pytest
 
 from harness.methods import methods_named
-from harness.problem.case import CaseError, load_case, registered_cases
+from harness.problem.case import REPORT_PROFILES, CaseError, load_case, registered_cases
 from harness.problem.validate import validate_case
 
 DATA = Path(__file__).parent / "data"
@@ -154,3 +154,30 @@ def test_the_3d_roller_modes_closed_form_gradient_is_its_derived_one():
     derived = gradient(roller_free_mode(1.5, math.pi, material, x0=0.2, mirrored=True, coordinates="xz"), 3)
     size = ngs.Integrate(ngs.InnerProduct(derived, derived), mesh, order=6)
     assert ngs.Integrate(ngs.InnerProduct(closed - derived, closed - derived), mesh, order=6) <= 1e-24 * size
+
+
+def test_a_fine_only_case_is_left_out_of_the_default_report_and_named_there():
+    """``report_profile = "fine"`` (elastic-transition-circle-3d: its study is more than the
+    default report's five minutes allow): the default profile's cases leave it out and the
+    report's meta line names it and how to run it; the fine profile, and a report of chosen
+    cases, run it; the profiles a case may name are the study's."""
+    from harness.report.build import in_profile, left_out_text
+    from harness.study.chain import PROFILES
+    known = registered_cases()
+    assert known["elastic-transition-circle-3d"].report_profile == "fine"
+    default, fine = in_profile(known.values(), "default"), in_profile(known.values(), "fine")
+    assert [c.name for c in fine] == list(known)
+    assert {c.name for c in fine} - {c.name for c in default} == {"elastic-transition-circle-3d"}
+    text = left_out_text(default, {"profile": "default"})
+    assert "elastic-transition-circle-3d" in text and "report-fine" in text
+    assert left_out_text(fine, {"profile": "fine"}) == ""
+    assert left_out_text([known["smooth"]], {"profile": "default"}) == ""      # report --case smooth
+    assert tuple(PROFILES) == REPORT_PROFILES
+
+
+def test_an_unknown_report_profile_is_refused(tmp_path):
+    source = Path(registered_cases()["corner-r12"].source).read_text()
+    path = tmp_path / "case.py"
+    path.write_text(source + "\nreport_profile = 'weekly'\n")
+    with pytest.raises(CaseError, match="report_profile must be one of default, fine, got 'weekly'"):
+        load_case(str(path))

@@ -45,6 +45,10 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     asymptotic_levels_p1   optional int >= 3: the same for the P1 methods (order 1), which a
                            study otherwise runs one level past P2, to P2's finest number of
                            dofs (``methods.base.EXTRA_LEVELS``): P2's levels or one more
+    report_profile         optional, the first report profile that includes the case: "default"
+                           (the default) or "fine" -- a case whose study costs more than the
+                           five minutes of ``make report`` allow, run by ``make report-fine``
+                           or ``report --case NAME``; the default report names it
 
 An *elastic case* (``physics = "elasticity"``, ``harness.physics.Elasticity``) declares besides
 
@@ -97,6 +101,8 @@ CASES_DIR = Path(__file__).resolve().parents[2] / "cases"
 
 REQUIRED = ("name", "description", "geometry", "maxh", "u", "nu", "expected_rate", "theorem")
 # a reference case replaces u by its data; it may leave its regularity and rate unknown
+# the report profiles from the cheapest (``study.chain.PROFILES`` has these keys)
+REPORT_PROFILES = ("default", "fine")
 REFERENCE_REQUIRED = ("name", "description", "geometry", "maxh", "f", "dirichlet", "neumann")
 REFERENCE_OPTIONAL = {"nu": float("nan"), "expected_rate": float("nan"), "theorem": ""}
 DEFAULT_REFERENCE_LEVELS = 2
@@ -132,6 +138,7 @@ class Case:
     transition_curve: tuple = ()                       # 3D: polylines on Gamma_C for the pictures
     asymptotic_levels: int | None = None               # the default report's levels for this case
     asymptotic_levels_p1: int | None = None            # and for its P1 methods
+    report_profile: str = "default"                    # the first report profile that includes it
 
     @property
     def exact(self) -> bool:
@@ -271,6 +278,9 @@ def _check_declared(module, source: str) -> None:
     p1, p2 = getattr(module, "asymptotic_levels_p1", None), getattr(module, "asymptotic_levels", None)
     if p1 is not None and p2 is not None and p1 not in (p2, p2 + 1):
         raise CaseError(f"case {source}: asymptotic_levels_p1 must be asymptotic_levels ({p2}) or one more, got {p1}")
+    if getattr(module, "report_profile", REPORT_PROFILES[0]) not in REPORT_PROFILES:
+        raise CaseError(f"case {source}: report_profile must be one of {', '.join(REPORT_PROFILES)}, "
+                        f"got {module.report_profile!r}")
     if hasattr(module, "reference_levels"):
         _reference_levels(module, source)
     reference = not hasattr(module, "u")
@@ -366,7 +376,7 @@ def _reference_levels(module, source: str) -> int:
 def _optional_fields(module) -> dict:
     fields = {}
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
-                "transition_curve", "asymptotic_levels", "asymptotic_levels_p1"):
+                "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..problem.case import Case, bound_text, fraction, registered_cases
+from ..problem.case import REPORT_PROFILES, Case, bound_text, fraction, registered_cases
 from .document import Document, anchor
 from ..measure.efficiency import efficiency_table, verdicts
 from ..study import InProcess
@@ -43,7 +43,7 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         f"Belhachmi and Ben Belgacem, Math. Comp. 72 (2003). Harness {meta['harness_version']} "
         f"(commit {meta['git_commit'][:12]}), NGSolve {meta['ngsolve_version']}, {meta['date']}, "
         f"{meta['machine']['node']} ({meta['machine']['cpus']} cpus); profile {settings['profile']}, "
-        f"{levels_text(cases, settings)}; methods {', '.join(settings['methods'])}; "
+        f"{levels_text(cases, settings)}{left_out_text(cases, settings)}; methods {', '.join(settings['methods'])}; "
         + study_sentence(meta), css="meta")
     doc.contents()
     doc.heading("At a glance: every case × method")
@@ -103,6 +103,25 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
                          verdict_counts(rates[rates.case == case.name]), listed=case.name):
             _case_section(doc, case, results, rates, figs)
     return doc
+
+
+def in_profile(cases, profile: str) -> list[Case]:
+    """The cases a report of ``profile`` runs: those whose ``report_profile`` is that one or a
+    cheaper one (``REPORT_PROFILES``)."""
+    rank = REPORT_PROFILES.index(profile)
+    return [case for case in cases if REPORT_PROFILES.index(case.report_profile) <= rank]
+
+
+def left_out_text(cases: list[Case], settings: dict) -> str:
+    """The registered cases a full report of this profile leaves out for their cost (nothing
+    for a report of chosen cases, ``--case``)."""
+    names = {case.name for case in cases}
+    registered = registered_cases().values()
+    if not all(case.name in names for case in in_profile(registered, settings["profile"])):
+        return ""
+    left = [case.name for case in registered if case.name not in names]
+    return (f"; left out of this profile for their cost: {', '.join(left)} (make report-fine, or report --case NAME)"
+            if left else "")
 
 
 def levels_text(cases: list[Case], settings: dict) -> str:
@@ -202,7 +221,8 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     if profile not in PROFILES:
         raise ValueError(f"unknown profile {profile!r}; expected one of: {', '.join(PROFILES)}")
     known = registered_cases()
-    cases = list(known.values()) if not case_names else [known[n] if n in known else _unknown(n, known) for n in case_names]
+    cases = (in_profile(known.values(), profile) if not case_names
+             else [known[n] if n in known else _unknown(n, known) for n in case_names])
     methods = [m if isinstance(m, str) else m.name for m in methods]
     settings = {"profile": profile, "methods": [m.name for m in methods_named(methods)], **PROFILES[profile]}
     if levels is not None:
