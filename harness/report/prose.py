@@ -81,9 +81,11 @@ THREE_D_NOTE = (
     "values v > 0 and all edge means 0, the P2 trace of a triangle is −v at its centroid and its mean "
     "is −v/2, yet every constraint holds), and its rate stalls near 1/2. The table shows what the discrete "
     "solutions do with that freedom (the smallest value of u_h − α over Γ_C: penetration is negative). "
-    "The pictures show Γ_C from below: red where u_h dips below the obstacle. The elastic case "
-    "(elastic-transition-3d: the plane-strain transition extruded, u_y = 0) constrains the normal "
-    "displacement with the same cones on c = −u·n, solved by the vector V-cycle."
+    "The pictures show Γ_C from below: red where u_h dips below the obstacle. The elastic cases "
+    "(elastic-transition-3d: the plane-strain transition extruded, u_y = 0; elastic-junction-3d: Γ_C "
+    "meets Γ_g along a line, r^{1/2}; elastic-transition-circle-3d, in the fine profile: the transition "
+    "along a circle) constrain the normal displacement with the same cones on c = −u·n, solved by the "
+    "vector V-cycle."
 )
 
 
