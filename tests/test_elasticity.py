@@ -40,7 +40,7 @@ def test_every_registered_elastic_case_is_exact_and_every_weak_method_is_left_ou
 
 
 @pytest.mark.parametrize("change, condition", [
-    (lambda c: dataclasses.replace(c, u=-c.u), "u.n - gap <= 0"),
+    (lambda c: dataclasses.replace(c, u=-c.u, declared_grad_u=-c.declared_grad_u), "u.n - gap <= 0"),
     (lambda c: dataclasses.replace(c, contact_load=ngs.CF((0.1, 0.0))), "sigma_t(u) = g_t"),
     (lambda c: dataclasses.replace(c, declared_f=ngs.CF((0.0, 0.1))), "declared f is not -div sigma(u)"),
 ])
@@ -56,7 +56,7 @@ def test_roller_free_mode_is_an_elastic_field_with_a_free_face_at_omega(exponent
     every Poisson ratio: the exponent is a root of sin(2 l omega) + l sin(2 omega) alone."""
     material = Elasticity(poisson=poisson)
     u = roller_free_mode(exponent, omega, material)
-    case = dataclasses.replace(load_case("elastic-transition-r32"), u=u, physics=material)
+    case = dataclasses.replace(load_case("elastic-transition-r32"), u=u, physics=material, declared_grad_u=None)
     mesh = ngs.Mesh(case.geometry.GenerateMesh(maxh=0.5))
     direction = np.array([np.cos(omega), np.sin(omega)])
     inside = np.array([[0.3, 0.2], [-0.4, 0.5], [0.1, 0.8]])
@@ -220,6 +220,24 @@ def test_done_when_3d_elasticity_reaches_half_a_million_dofs_at_its_rates():
         assert mine[-1]["ndof"] >= 5e5
         rate[name] = pairwise_rates(np.array([r["h"] for r in mine]), np.array([r["err_h1"] for r in mine]))[-1]
     assert rate["nodal"] >= 1.4 and rate["mean"] >= 1.4 and rate["p1"] >= 0.9, rate
+
+
+@pytest.mark.slow       # about 25 s: `make test-full`
+def test_3d_elastic_junction_meets_h_to_the_half_with_every_cone_and_p1():
+    """elastic-junction-3d (Gamma_C meets Gamma_g along a line: u ~ r^{1/2}) on three levels
+    (P1 four, to 8.4e4 dofs): the last pairwise H^1 rate of `mean`, `nodal` and `p1` within 0.1
+    of 1/2 (measured 0.57, 0.52, 0.54 there; on four levels 0.53, 0.51, 0.53: README), every
+    solve exact."""
+    from harness.measure.rates import pairwise_rates
+    case = load_case("elastic-junction-3d")
+    names = ("mean", "nodal", "p1")
+    with ngs.TaskManager():
+        rows = run_chain(case, [METHODS[m] for m in names], 3).rows
+    assert all(r["kkt_residual"] <= 1e-10 and r["status"] == "converged" for r in rows)
+    for name in names:
+        mine = [r for r in rows if r["method"] == name]
+        rate = pairwise_rates(np.array([r["h"] for r in mine]), np.array([r["err_h1"] for r in mine]))[-1]
+        assert abs(rate - case.expected_rate) <= 0.1, (name, rate)
 
 
 @pytest.mark.parametrize("case_file", ["elastic-transition-r32", TILTED])
