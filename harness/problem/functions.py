@@ -100,7 +100,7 @@ def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, m
     # mirrored (x -> x0 - x): the x-component changes sign, and so does each d/dx
     flip = -1.0 if mirrored else 1.0
     ux, uy = series.real_imag(*at)
-    u = _in_frame((flip * ux, uy), ca, sa, coordinates)
+    u = _in_frame((flip * ux, uy), angle, coordinates)
     if not with_gradient:
         return u
     (dx_ux, dx_uy), (dy_ux, dy_uy) = series.diff("x").real_imag(*at), series.diff("y").real_imag(*at)
@@ -115,14 +115,17 @@ def roller_free_mode(exponent: float, omega: float, material, x0: float = 0.0, m
     return u, CF(tuple(jacobian[0]) + tuple(jacobian[1]), dims=(2, 2))
 
 
-def _in_frame(local, ca, sa, coordinates):
-    """The plane vector ``local`` as the case's displacement: rotated by the angle (cos ca, sin
-    sa) in the (x, y) plane, or (u_x, 0, u_z) in the (x, z) plane."""
+def _in_frame(local, angle: float, coordinates: str):
+    """The plane vector ``local`` as the case's displacement: turned by ``angle`` in the (x, y)
+    plane, or (u_x, 0, u_z) in the (x, z) plane."""
+    import math
+
     from ngsolve import CF
     ux, uy = local
     if coordinates == "xz":
         return CF((ux, 0.0, uy))
-    return CF((ca * ux - sa * uy, sa * ux + ca * uy)) if (ca, sa) != (1.0, 0.0) else CF((ux, uy))
+    ca, sa = math.cos(angle), math.sin(angle)
+    return CF((ca * ux - sa * uy, sa * ux + ca * uy)) if angle else CF((ux, uy))
 
 
 def roller_free_series(exponent: float, omega: float, material) -> "PolarSeries":
@@ -166,7 +169,8 @@ class PolarSeries:
             for factor, power, shift in ((unit[0] * (m + q) / 2, m - 1, q - 1), (unit[1] * (m - q) / 2, m - 1, q + 1)):
                 if factor:
                     merged[(power, shift)] = merged.get((power, shift), 0) + c * factor
-        return PolarSeries(tuple((c, m, q) for (m, q), c in merged.items() if abs(c) > 1e-15 * _largest(merged)))
+        largest = max((abs(c) for c in merged.values()), default=0.0)
+        return PolarSeries(tuple((c, m, q) for (m, q), c in merged.items() if abs(c) > 1e-15 * largest))
 
     def real_imag(self, r, theta):
         """(Re, Im) of the series at polar coordinates (r, theta) (CoefficientFunctions). Terms
@@ -186,6 +190,3 @@ class PolarSeries:
             im = im + scale * (even.imag * cos_q + odd.imag * sin_q)
         return re, im
 
-
-def _largest(coefficients: dict) -> float:
-    return max((abs(c) for c in coefficients.values()), default=0.0)
