@@ -65,11 +65,12 @@ class Method:
     sharper_theory: Callable[[object], Expectation] | None = None
     physics: tuple = ("scalar",)                  # the physics it discretises (``harness.physics``)
     dimensions: tuple = (2,)                      # the space dimensions it discretises
+    bodies: tuple = (1,)                          # the number of bodies it couples (``Case.bodies``)
     # its levels past a study's P2 levels, if not ``EXTRA_LEVELS`` (``with_extra_levels``)
     study_extra_levels: int | None = None
 
     def supports(self, case) -> bool:
-        return case.physics.name in self.physics and case.dimension in self.dimensions
+        return case.physics.name in self.physics and case.dimension in self.dimensions and case.bodies in self.bodies
 
     def sharper(self, case) -> Expectation | None:
         return None if self.sharper_theory is None else self.sharper_theory(case)

@@ -49,6 +49,10 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            (the default) or "fine" -- a case whose study costs more than the
                            five minutes of ``make report`` allow, run by ``make report-fine``
                            or ``report --case NAME``; the default report names it
+    second_body            optional ``harness.problem.bodies.MirrorBody(geometry, maxh)``: a
+                           two-body case (Section 6), the declared data being the upper body's
+                           and the lower body its mirror image across Gamma_C, meshed on its
+                           own (``problem.bodies``); 2D, exact u, solved by the mortar methods
 
 An *elastic case* (``physics = "elasticity"``, ``harness.physics.Elasticity``) declares besides
 
@@ -139,6 +143,12 @@ class Case:
     asymptotic_levels: int | None = None               # the default report's levels for this case
     asymptotic_levels_p1: int | None = None            # and for its P1 methods
     report_profile: str = "default"                    # the first report profile that includes it
+    second_body: object = None                         # ``bodies.MirrorBody``: a two-body case
+
+    @property
+    def bodies(self) -> int:
+        """1, or 2 for a two-body case (``second_body``)."""
+        return 1 if self.second_body is None else 2
 
     @property
     def exact(self) -> bool:
@@ -313,6 +323,8 @@ def case_from_module(module, source: str) -> Case:
         case = _exact_case(module, source)
     elif physics is not SCALAR:
         raise CaseError(f"case {source}: an elastic case needs its exact displacement u (no reference cases in elasticity yet)")
+    elif getattr(module, "second_body", None) is not None:
+        raise CaseError(f"case {source}: a two-body case needs its exact u (the mirror solution, harness.problem.bodies)")
     else:
         return _reference_case(module, source)
     if physics is not SCALAR:
@@ -321,7 +333,19 @@ def case_from_module(module, source: str) -> Case:
         if not physics.is_field(case.u):
             raise CaseError(f"case {source}: u must be a {physics.components}-vector for {physics.name}, got dimension {case.u.dim}")
         case = dataclasses.replace(case, physics=physics)
+    if case.second_body is not None:
+        _check_second_body(case, source)
     return case
+
+
+def _check_second_body(case: Case, source: str) -> None:
+    """A two-body case: a ``bodies.MirrorBody`` on a 2D geometry."""
+    from .bodies import MirrorBody
+    if not isinstance(case.second_body, MirrorBody):
+        raise CaseError(f"case {source}: second_body must be harness.problem.bodies.MirrorBody(geometry, maxh), "
+                        f"got {type(case.second_body).__name__}")
+    if case.dimension != 2 or geometry_dimension(case.second_body.geometry) != 2:
+        raise CaseError(f"case {source}: two bodies are 2D only (both geometries must be polygons)")
 
 
 def _physics(module, source: str):
@@ -376,7 +400,7 @@ def _reference_levels(module, source: str) -> int:
 def _optional_fields(module) -> dict:
     fields = {}
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
-                "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile"):
+                "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile", "second_body"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):

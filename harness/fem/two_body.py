@@ -1,0 +1,141 @@
+"""The discrete two-body problem of one level: each body's ``DiscreteProblem`` on its own mesh
+(``problem.bodies``: the lower body in its mirrored frame solves the upper body's problem) and
+the joint QP of the mortar condition (``mortar``):
+
+    minimise  1/2 a_1(u_1, u_1) - L_1(u_1) + 1/2 a_2(u_2, u_2) - L_2(u_2)
+    over      u_k = u_D on Gamma_u of each body,   B (u_1, u_2) >= g,
+
+whose multipliers lambda >= 0 are the mortar pressure's coefficients (the same on both bodies:
+the fluxes balance). z = (u_1, u_2) concatenates the two bodies' NGSolve numberings.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from .assembly import DiscreteProblem
+from .mortar import MortarCoupling, TraceElements, hierarchical_basis
+
+
+@dataclass
+class TwoBodyProblem:
+    """The two bodies' discrete problems of one level (the same order)."""
+
+    upper: DiscreteProblem      # the slave body of the mortar condition
+    lower: DiscreteProblem      # the master body, in its mirrored frame
+
+    @property
+    def bodies(self) -> tuple[DiscreteProblem, DiscreteProblem]:
+        return self.upper, self.lower
+
+    @property
+    def ndof(self) -> int:
+        return self.upper.ndof + self.lower.ndof
+
+    @property
+    def order(self) -> int:
+        return self.upper.order
+
+    def split(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(u_1, u_2) of a joint vector."""
+        return z[: self.upper.ndof], z[self.upper.ndof:]
+
+
+@dataclass
+class JointQP:
+    """The two-body QP: block-diagonal K, the loads, free dofs and lifts side by side."""
+
+    K: sp.csr_matrix
+    b: np.ndarray
+    free: np.ndarray
+    lift: np.ndarray
+
+
+def joint_qp(problem: TwoBodyProblem) -> JointQP:
+    upper, lower = problem.bodies
+    return JointQP(sp.block_diag([upper.A, lower.A], format="csr"), np.concatenate([upper.b, lower.b]),
+                   np.concatenate([upper.free, lower.free]), np.concatenate([upper.lift, lower.lift]))
+
+
+def opening(problem: TwoBodyProblem, coupling: MortarCoupling, z: np.ndarray, samples: int = 9) -> tuple[np.ndarray, np.ndarray]:
+    """The opening c_1 + c_2 of the interface at ``samples`` points of every intersection
+    segment (ends included): (x, values), both (segments, samples). Between the nodes the
+    discrete opening may be negative although every mortar row holds (the condition is weak)."""
+    segments = coupling.segments
+    t = np.linspace(0.0, 1.0, samples)
+    x = segments[:, :1] + t[None, :] * (segments[:, 1:] - segments[:, :1])
+    total = np.zeros_like(x)
+    for body, u in zip(problem.bodies, problem.split(z)):
+        elements = TraceElements.of(body)
+        e = elements.locate(0.5 * (segments[:, 0] + segments[:, 1]))
+        local = (x - elements.left[e][:, None]) / (elements.right[e] - elements.left[e])[:, None]
+        basis = hierarchical_basis(local.ravel(), body.order).reshape(*x.shape, -1)
+        total += np.einsum("sqj,sj->sq", basis, u[elements.dofs[e]])
+    return x, total
+
+
+@dataclass
+class BoundQP:
+    """The dual mortar QP as bounds (``dual_bound_qp``): min 1/2 z'Kz - b'z over z = lift on the
+    pinned dofs and z[C] >= alpha, u = S z."""
+
+    S: sp.csr_matrix
+    K: sp.csr_matrix
+    b: np.ndarray
+    free: np.ndarray
+    lift: np.ndarray
+    C: np.ndarray
+    alpha: np.ndarray
+    D: np.ndarray       # the dual rows' weights int psi_i: row multiplier = (force on z[C]) / D
+
+    def to_u(self, z: np.ndarray) -> np.ndarray:
+        return self.S @ z
+
+
+def dual_bound_qp(problem: TwoBodyProblem, dual: MortarCoupling, weight: float | None = None) -> BoundQP:
+    """The dual mortar condition (``mortar_coupling(..., "dual")``, one row per slave node) as
+    bounds, by a change of variables local to the slave's trace (Wohlmuth 2000, Section 4; for
+    contact Hueeber & Wohlmuth 2005): with m_i = (master part of row i) / D_i, the row is
+    D_i (N_i(u_1) + m_i u_2), N_i the slave's nodal value at node i, so the new variable of a
+    slave vertex dof is pi_v = u_1,v + m_v u_2 and that of a slave edge pi_e = N_e(u_1) + m_e u_2
+    (the dual projection of the opening at the node), each bounded below by g_i / D_i.
+
+    ``weight`` (P2): the one-body cones' w (``cones.ContactModel.weight``): 4 keeps the midpoint
+    variable pi_e (`mortar-nodal`), 6 replaces it by the edge mean of the projection,
+    mu_e = (pi_a + pi_b)/6 + 2 pi_e / 3 (`mortar-mean`): in both, with NGSolve's bubble
+    c_e = 8 ((u_a + u_b)/2 - N_e(u)) (docs/mathematics.md §3),
+
+        c_e = w (pi_a + pi_b) - 2 w z_e + (8 m_e - 4 m_a - 4 m_b) u_2.
+    """
+    upper = problem.upper
+    n1, n = upper.ndof, problem.ndof
+    if dual.multipliers != "dual":
+        raise ValueError("only dual multipliers make the mortar condition a bound")
+    V, E, ends = upper.vertex_dofs, upper.edge_dofs, upper.end_dofs
+    nv, ne = len(V), len(E)
+    m = (sp.diags(1.0 / dual.D) @ dual.B[:, n1:]).tocsr()            # (rows, n2)
+    alpha = dual.g / dual.D
+    row_of_vertex = np.full(n1, -1, np.int64)
+    row_of_vertex[V] = np.arange(nv)
+    # S = I but in the rows of the slave's trace dofs; u_1,v = pi_v - m_v u_2
+    rows, cols, vals = [np.arange(n)], [np.arange(n)], [np.ones(n)]
+    mv = m[:nv].tocoo()
+    rows.append(V[mv.row]), cols.append(n1 + mv.col), vals.append(-mv.data)
+    if ne:
+        w = 4.0 if weight is None else float(weight)
+        a, b = row_of_vertex[ends[:, 0]], row_of_vertex[ends[:, 1]]
+        vals[0][E] = -2.0 * w
+        rows += [E, E]
+        cols += [ends[:, 0], ends[:, 1]]
+        vals += [np.full(ne, w), np.full(ne, w)]
+        me = (8.0 * m[nv:] - 4.0 * m[a] - 4.0 * m[b]).tocoo()
+        rows.append(E[me.row]), cols.append(n1 + me.col), vals.append(me.data)
+        if w == 6.0:
+            alpha = np.concatenate([alpha[:nv], (alpha[a] + alpha[b]) / 6.0 + 2.0 * alpha[nv:] / 3.0])
+    S = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+    joint = joint_qp(problem)
+    K = (S.T @ joint.K @ S).tocsr()
+    K.sort_indices()
+    return BoundQP(S, K, S.T @ joint.b, joint.free, joint.lift, np.concatenate([V, E]), alpha, dual.D)

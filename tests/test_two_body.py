@@ -1,0 +1,170 @@
+"""Two bodies on non-matching meshes (issue 34): the mortar rows, the matching-mesh limit, the
+exact solves, the case contract."""
+import dataclasses
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from harness.fem.assembly import discretise
+from harness.fem.mortar import TraceElements, intersection, mortar_coupling
+from harness.fem.two_body import TwoBodyProblem
+from harness.mesh.levels import coarse_mesh
+from harness.methods import METHODS, methods_for, methods_named
+from harness.problem.bodies import MirrorBody, lower_body
+from harness.problem.case import CaseError, case_from_module, registered_cases
+from harness.problem.geometry import contact_strip
+from harness.study.chain import run_chain
+
+TWO_BODY = [name for name, case in registered_cases().items() if case.bodies == 2]
+MORTAR = [name for name, method in METHODS.items() if 2 in method.bodies]
+
+
+@pytest.fixture(scope="module")
+def case():
+    return registered_cases()["two-body-transition-r32"]
+
+
+@pytest.fixture(scope="module")
+def refined_pair(case):
+    """Both bodies' coarse meshes refined once (non-matching: element sizes 2:3 on Gamma_C)."""
+    meshes = [coarse_mesh(body) for body in (case, lower_body(case))]
+    for mesh in meshes:
+        mesh.Refine()
+    return case, meshes
+
+
+def trace_values(problem, function):
+    """The dofs of a polynomial of degree <= k on Gamma_C (y = 0) in the hierarchical trace basis:
+    vertex values and, for P2, bubble coefficients c = 8 ((f(a) + f(b))/2 - f(mid))."""
+    z = np.zeros(problem.ndof)
+    trace = problem.trace
+    z[problem.vertex_dofs] = function(trace.vertex_points[:, 0])
+    if problem.order == 2:
+        a, b = trace.a[:, 0], trace.b[:, 0]
+        z[problem.edge_dofs] = 8.0 * (0.5 * (function(a) + function(b)) - function(0.5 * (a + b)))
+    return z
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_dual_rows_are_the_slave_node_values_of_the_jump_for_polynomials(refined_pair, order):
+    """Biorthogonality: for c_1 + c_2 in the slave's trace space, row i / D_i is its value at the
+    slave node i, whatever the master's (non-matching) mesh: the intersection integrals are exact."""
+    case, meshes = refined_pair
+    upper, lower = (discretise(body, mesh, order) for body, mesh in zip((case, lower_body(case)), meshes))
+    p = lambda x: 0.3 + x - 0.7 * x ** order          # noqa: E731 -- degree k on each body
+    q = lambda x: -1.1 + 0.5 * x + 0.2 * x ** order   # noqa: E731
+    coupling = mortar_coupling(upper, lower, multipliers="dual")
+    z = np.concatenate([trace_values(upper, p), trace_values(lower, q)])
+    nodes = upper.trace.vertex_points[:, 0]
+    if order == 2:
+        nodes = np.concatenate([nodes, upper.trace.midpoints[:, 0]])
+    assert not np.allclose(TraceElements.of(upper).left[:6], TraceElements.of(lower).left[:6])
+    np.testing.assert_allclose((coupling.B @ z) / coupling.D, p(nodes) + q(nodes), rtol=0, atol=1e-13)
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_standard_rows_integrate_the_slave_basis_against_the_master_trace_exactly(refined_pair, order):
+    """Standard multipliers: sum over the rows of int phi_i (c_1 + c_2) = int (c_1 + c_2) (the
+    Lagrange basis is a partition of unity): for polynomials, the exact integral over Gamma_C."""
+    case, meshes = refined_pair
+    upper, lower = (discretise(body, mesh, order) for body, mesh in zip((case, lower_body(case)), meshes))
+    coupling = mortar_coupling(upper, lower, multipliers="standard")
+    z = np.concatenate([np.zeros(upper.ndof), trace_values(lower, lambda x: x ** order)])
+    assert (coupling.B @ z).sum() == pytest.approx((1.0 - (-1.0) ** (order + 1)) / (order + 1), abs=1e-14)
+
+
+def test_intersection_segments_cover_gamma_c_once(refined_pair):
+    case, meshes = refined_pair
+    upper, lower = (discretise(body, mesh, 1) for body, mesh in zip((case, lower_body(case)), meshes))
+    segments = intersection(TraceElements.of(upper), TraceElements.of(lower))
+    assert segments[0, 0] == -1.0 and segments[-1, 1] == 1.0
+    np.testing.assert_array_equal(segments[1:, 0], segments[:-1, 1])
+    assert (np.diff(segments, axis=1) > 0).all()
+    assert len(segments) > max(len(upper.trace.edges), len(lower.trace.edges))
+
+
+@pytest.fixture(scope="module")
+def matching():
+    """transition-r32 with a second body meshed like the first: the matching-mesh limit."""
+    one = registered_cases()["transition-r32"]
+    two = dataclasses.replace(one, name="matching", second_body=MirrorBody(one.geometry, one.maxh))
+    frames = {name: pd.DataFrame(run_chain(case, methods_named(methods), 3).rows)
+              for name, case, methods in (("two", two, ["mortar"]), ("one", one, ["mean", "nodal", "p1"]))}
+    return frames
+
+
+@pytest.mark.parametrize("method", ["mean", "nodal", "p1"])
+def test_matching_meshes_reproduce_the_one_body_errors(matching, method):
+    """On matching meshes the dual mortar condition is the one-body cone on the jump, and by the
+    mirror symmetry each body's solution is the one-body one: every error is sqrt(2) times the
+    one-body error (two equal bodies), to 1e-8 relative."""
+    two = matching["two"][matching["two"].method == f"mortar-{method}"].reset_index()
+    one = matching["one"][matching["one"].method == method].reset_index()
+    assert len(two) == len(one) >= 3
+    for column in ("err_h1", "err_l2", "err_best_h1", "err_trace_l2"):
+        np.testing.assert_allclose(two[column], np.sqrt(2.0) * one[column], rtol=1e-8)
+    np.testing.assert_allclose(two.err_h1_over_best, one.err_h1_over_best, rtol=1e-8)
+
+
+@pytest.mark.parametrize("method", MORTAR)
+@pytest.mark.parametrize("case_name", TWO_BODY)
+def test_mortar_solves_are_exact_on_non_matching_meshes(case_name, method):
+    case = registered_cases()[case_name]
+    rows = pd.DataFrame(run_chain(case, methods_named([method]), 2).rows)
+    assert (rows.status == "converged").all()
+    assert rows.kkt_residual.max() <= 1e-10
+    assert rows.n_contact_constraints.min() > 0 and rows.active_constraints.min() > 0
+    assert (rows.err_h1_over_best >= 1.0 - 1e-9).all()      # R_h u is the best in the energy norm
+
+
+def test_one_body_methods_and_mortar_methods_keep_to_their_cases(case):
+    assert {m.name for m in methods_for(case, METHODS.values())} == set(MORTAR)
+    assert not [m for m in methods_for(registered_cases()["transition-r32"], METHODS.values()) if m.name in MORTAR]
+
+
+class _Module:
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
+
+
+def _two_body_module(**changes):
+    from ngsolve import x
+    fields = dict(name="t", description="d", geometry=contact_strip(), maxh=0.5, u=x, nu=3.0, expected_rate=2.0,
+                  theorem="4.1", second_body=MirrorBody(contact_strip(), 0.4))
+    fields.update(changes)
+    return _Module(**fields)
+
+
+def test_a_two_body_case_declares_a_mirror_body():
+    assert case_from_module(_two_body_module(), "t").bodies == 2
+    with pytest.raises(CaseError, match="second_body must be"):
+        case_from_module(_two_body_module(second_body=(contact_strip(), 0.4)), "t")
+
+
+def test_a_two_body_case_needs_its_exact_u():
+    module = _two_body_module(f=0, dirichlet=0, neumann=0)
+    del module.u
+    with pytest.raises(CaseError, match="needs its exact u"):
+        case_from_module(module, "t")
+
+
+@pytest.mark.parametrize("maxh", [0, -1.0, float("nan"), "0.2", True])
+def test_a_mirror_body_refuses_a_bad_mesh_size(maxh):
+    with pytest.raises(ValueError, match="maxh must be a finite number > 0"):
+        MirrorBody(contact_strip(), maxh)
+
+
+@pytest.mark.parametrize("method", MORTAR)
+def test_the_bound_form_of_the_dual_condition_solves_the_same_qp_as_its_rows(refined_pair, method):
+    """Cross-check of two solvers: the dual rows as bounds after the local change of variables
+    (active set method on sparse Cholesky) and as general constraints (active set on the saddle
+    system, SuperLU) give the same u_h on non-matching meshes."""
+    case, meshes = refined_pair
+    chosen = METHODS[method]
+    problem = TwoBodyProblem(*(discretise(body, mesh, chosen.order) for body, mesh in zip((case, lower_body(case)), meshes)))
+    bounds = chosen.solve(case, problem, None, None)
+    rows = chosen.solve(case, problem, None, None, general=True)
+    assert bounds.fields["kkt_residual"] <= 1e-10 and rows.fields["kkt_residual"] <= 1e-10
+    assert bounds.fields["active_constraints"] == rows.fields["active_constraints"] > 0
+    np.testing.assert_allclose(bounds.u, rows.u, rtol=0, atol=1e-10 * np.abs(rows.u).max())
