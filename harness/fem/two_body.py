@@ -16,7 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .assembly import DiscreteProblem
-from .mortar import MortarCoupling, TraceElements, hierarchical_basis
+from .mortar import MortarCoupling, TraceElements, hierarchical_basis, intersection
 
 
 @dataclass
@@ -59,20 +59,21 @@ def joint_qp(problem: TwoBodyProblem) -> JointQP:
                    np.concatenate([upper.free, lower.free]), np.concatenate([upper.lift, lower.lift]))
 
 
-def opening(problem: TwoBodyProblem, coupling: MortarCoupling, z: np.ndarray, samples: int = 9) -> tuple[np.ndarray, np.ndarray]:
-    """The opening c_1 + c_2 of the interface at ``samples`` points of every intersection
-    segment (ends included): (x, values), both (segments, samples). Between the nodes the
-    discrete opening may be negative although every mortar row holds (the condition is weak)."""
-    segments = coupling.segments
+def opening(problem: TwoBodyProblem, z: np.ndarray, samples: int = 9) -> tuple[np.ndarray, np.ndarray]:
+    """The opening c_1 + c_2 of the interface at ``samples`` points of every segment of the
+    intersection of the two trace meshes (ends included): (x, values), both (segments, samples).
+    Between the slave's nodes the discrete opening may be negative although every mortar row
+    holds (the condition is weak)."""
+    elements = [TraceElements.of(body) for body in problem.bodies]
+    segments = intersection(*elements)
     t = np.linspace(0.0, 1.0, samples)
     x = segments[:, :1] + t[None, :] * (segments[:, 1:] - segments[:, :1])
     total = np.zeros_like(x)
-    for body, u in zip(problem.bodies, problem.split(z)):
-        elements = TraceElements.of(body)
-        e = elements.locate(0.5 * (segments[:, 0] + segments[:, 1]))
-        local = (x - elements.left[e][:, None]) / (elements.right[e] - elements.left[e])[:, None]
+    for body, trace, u in zip(problem.bodies, elements, problem.split(z)):
+        e = trace.locate(0.5 * (segments[:, 0] + segments[:, 1]))
+        local = (x - trace.left[e][:, None]) / (trace.right[e] - trace.left[e])[:, None]
         basis = hierarchical_basis(local.ravel(), body.order).reshape(*x.shape, -1)
-        total += np.einsum("sqj,sj->sq", basis, u[elements.dofs[e]])
+        total += np.einsum("sqj,sj->sq", basis, u[trace.dofs[e]])
     return x, total
 
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fem.cones import ContactModel
+from ..fem.cones import ContactModel, contact_pressure
 from ..fem.mortar import mortar_coupling
 from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
 from ..mesh.points import evaluate
@@ -80,15 +80,18 @@ class Mortar(Method):
             if dual and not general:
                 solution = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).solve(predicted)
                 u = qp.to_u(solution.z)
-                # the bound's multiplier is D_i times the row's, the row's the nodal pressure
-                pressure = solution.multipliers / qp.D
+                # the bound's multiplier is the force on its variable: D_i times the row's
+                forces = solution.multipliers
             else:
                 solution = _general(problem, coupling, predicted)
                 u = solution.z
-                pressure = solution.multipliers
+                # dual rows: int lambda_h phi_i = lambda_i D_i (standard ones: an approximation)
+                forces = solution.multipliers * coupling.D
+        # per slave edge, as the one-body cones report it: the forces shared among the edges
+        pressure = contact_pressure(problem.upper, forces)
         fields = {
             "n_contact_constraints": coupling.rows,
-            "max_penetration": max_penetration(case, problem, coupling, u),
+            "max_penetration": max_penetration(case, problem, u),
             "min_pressure": float(pressure.min()),
             "active_constraints": int(solution.active.sum()),
             "solver_iterations": solution.iterations,
@@ -105,10 +108,10 @@ def _general(problem: TwoBodyProblem, coupling, predicted):
     return GeneralConstraintSolver(qp.K, qp.b, qp.free, coupling.B, coupling.g, lift=qp.lift).solve(predicted)
 
 
-def max_penetration(case, problem: TwoBodyProblem, coupling, z: np.ndarray) -> float:
+def max_penetration(case, problem: TwoBodyProblem, z: np.ndarray) -> float:
     """max over Gamma_C of (2 obstacle - opening): positive where the bodies interpenetrate
     (between the slave's nodes a weak condition allows it), sampled on every intersection segment."""
-    x, values = opening(problem, coupling, z)
+    x, values = opening(problem, z)
     if case.obstacle is None:
         return float((-values).max())
     gap = evaluate(case.obstacle, problem.upper.mesh, np.stack([x, np.zeros_like(x)], axis=-1))

@@ -29,10 +29,10 @@ from ..study.chain import PROFILES
 from ..study.mesh_study import PICTURE_METHOD
 from ..study.timing import Timings
 from .prose import (EFFICIENCY_NOTE, ELASTICITY_NOTE, GAMMA_C_NOTE, INTRO, MATRIX_NOTE, RATES_NOTE, REGULARITY_NOTE, SWEEP_NOTE,
-                    THREE_D_NOTE, belief_finding, reference_sentence, which_bound)
+                    THREE_D_NOTE, TWO_BODY_NOTE, belief_finding, reference_sentence, which_bound)
 from .vtk import VtkWriter
 from .tables import (efficiency_view, elasticity_view, gamma_c_view, level_table, normalised_view, regularity_view,
-                     summary_table, sweep_view, three_d_view)
+                     summary_table, sweep_view, three_d_view, two_body_view)
 
 
 def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame, efficiency: pd.DataFrame,
@@ -91,6 +91,14 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         doc.heading("Unilateral contact in linear elasticity (Remark 2.3)")
         doc.paragraph(ELASTICITY_NOTE)
         doc.table(elasticity_view(cases, rates))
+    if any(case.bodies == 2 for case in cases):
+        doc.heading("Two bodies, non-matching meshes (Section 6)")
+        doc.paragraph(TWO_BODY_NOTE)
+        doc.table(two_body_view(cases, rates, results), verdict_column="verdict")
+        first = next(case for case in cases if case.bodies == 2)
+        if figs.get(first.name, {}).get("interface") is not None:
+            doc.figures([(figs[first.name]["interface"]["png"], f"{first.name}: the two meshes at the interface on level 1.")],
+                        wide=True)
     if any(case.dimension == 3 for case in cases):
         doc.heading("Three dimensions (Section 6)")
         doc.paragraph(THREE_D_NOTE + f" Levels: {settings.get('levels_3d', settings['levels'])} per 3D case.")
@@ -177,8 +185,10 @@ def _case_section(doc: Document, case: Case, results: pd.DataFrame, rates: pd.Da
         doc.table(gamma_c_view(rates, results, case.name))
     f = figs[case.name]
     doc.figures([(f["convergence"]["png"], "H¹ error against h; dashed: each theory's bound through the coarsest point."),
-                 (f["contact"]["png"], "Finest level along Γ_C: u_h - α and the discrete contact pressure; shaded: exact contact zone."
-                  if case.dimension == 2 else "Γ_C from below, finest level: u_h - α and the discrete pressure per triangle.")])
+                 (f["contact"]["png"], _contact_caption(case))])
+    if f.get("interface") is not None:
+        doc.figures([(f["interface"]["png"], "The two bodies' meshes at the interface on level 1: independent, not matching on Γ_C.")],
+                    wide=True)
     doc.figures([(f["efficiency"]["png"], "H¹ error against ndof and against seconds summed over the levels; dotted: the target.")],
                 wide=True)
     if f["solution"] is not None:
@@ -187,6 +197,15 @@ def _case_section(doc: Document, case: Case, results: pd.DataFrame, rates: pd.Da
     for method, group in results[results.case == case.name].groupby("method", sort=False):
         doc.heading(f"{case.name}: method {method}", level=3, key=f"{anchor(case.name)}-{method}")
         doc.table(level_table(group, energy=case.physics.elastic))
+
+
+def _contact_caption(case: Case) -> str:
+    if case.bodies == 2:
+        return ("Finest level along Γ_C: the opening [u_h] - 2α of the interface (sampled on the intersection of the two "
+                "trace meshes) and the mortar pressure per slave edge; shaded: exact contact zone.")
+    if case.dimension == 2:
+        return "Finest level along Γ_C: u_h - α and the discrete contact pressure; shaded: exact contact zone."
+    return "Γ_C from below, finest level: u_h - α and the discrete pressure per triangle."
 
 
 def computed_since(cases, store: Path, since: datetime.datetime) -> list[str]:

@@ -43,7 +43,8 @@ def _case_figures(source: str, store: str, folder: str) -> dict:
     return {
         "convergence": figures.convergence(case, frame, folder),
         "contact": figures.contact(case, contact, folder),
-        "solution": figures.domain(case, domain, folder),
+        "solution": figures.domain(case, {k: v for k, v in domain.items() if k != "interface"}, folder),
+        "interface": figures.interface(case, domain.get("interface"), folder),
         "efficiency": figures.efficiency(case, frame, efficiency_table(frame).target_err_h1.iloc[0], folder),
     }
 

@@ -54,6 +54,8 @@ CONTACT_LABELS = {
     "scalar": (r"$u-\alpha$", r"$u_h-\alpha$", r"$\partial_n u - g_C$"),
     "elasticity": (r"$\alpha - u\cdot n$", r"$\alpha - u_h\cdot n$", r"$-(\sigma_n(u) - g_n)$"),
 }
+# two bodies: the opening of the interface (the sum of both contact variables) against twice the gap
+TWO_BODY_LABELS = (r"$[u]-2\alpha$", r"$[u_h]-2\alpha$", "pressure")
 
 
 def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
@@ -64,7 +66,7 @@ def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 5.2), sharex=True)
     first = next(iter(snapshots.values()))
     exact = bool(np.isfinite(first["u"]).any())        # a reference case has no exact u to draw
-    gap_u, gap_uh, pressure_label = CONTACT_LABELS[case.physics.name]
+    gap_u, gap_uh, pressure_label = TWO_BODY_LABELS if "two_bodies" in first else CONTACT_LABELS[case.physics.name]
     if exact:
         top.plot(first["s"], first["u"] - first["gap"], "k-", lw=1.0, label=f"exact {gap_u}")
         bottom.plot(first["s"], first["exact_pressure"], "k-", lw=1.0, label=f"exact {pressure_label}")
@@ -133,6 +135,27 @@ def domain(case, snapshot: dict, folder: Path) -> dict[str, Path] | None:
     ax.set_aspect("equal")
     ax.set_title(f"{case.name}: $u_h$ ({snapshot.get('method', 'nodal')})", fontsize=10)
     return save(fig, folder, f"{case.name}_solution")
+
+
+def interface(case, snapshot: dict | None, folder: Path) -> dict[str, Path] | None:
+    """Two bodies: both meshes near the interface on a coarse level (``snapshots.INTERFACE_LEVEL``),
+    upper and lower in their own colours, and the vertices of each on Gamma_C: they do not match."""
+    if not snapshot:
+        return None
+    points, triangles, body = snapshot["points"], snapshot["triangles"], snapshot["body"]
+    fig, ax = plt.subplots(figsize=(7.2, 3.0))
+    for k, (color, label) in enumerate((("tab:blue", "upper body (slave)"), ("tab:orange", "lower body (master)"))):
+        mine = triangles[body == k]
+        ax.triplot(mtri.Triangulation(points[:, 0], points[:, 1], mine), color=color, lw=0.5)
+        on = np.unique(mine.ravel())
+        on = on[np.abs(points[on, 1]) < 1e-12]
+        ax.plot(points[on, 0], np.full(len(on), 0.02 if k == 0 else -0.02), "|", color=color, ms=8, label=f"{label}: Γ_C vertices")
+    ax.axhline(0.0, color="k", lw=1.0)
+    ax.set_ylim(-0.35, 0.35)
+    ax.set_aspect("equal")
+    ax.legend(fontsize=7, loc="upper right", ncol=2)
+    ax.set_title(f"{case.name}: the two meshes at the interface (level 1)", fontsize=10)
+    return save(fig, folder, f"{case.name}_interface")
 
 
 def deformed(case, snapshot: dict, folder: Path) -> dict[str, Path]:

@@ -65,6 +65,25 @@ ELASTICITY_NOTE = (
 )
 
 
+TWO_BODY_NOTE = (
+    "The paper's Section 6 names the mortar method on non-coinciding meshes, for contact between two "
+    "bodies, as the next step. Here two bodies touch along Γ_C = {y = 0}: the upper one carries a "
+    "one-body exact solution s, the lower one its mirror image (scalar u₂(x, y) = −s(x, −y); "
+    "elastic u₂ = (s_x, −s_y)(x, −y)), so the fluxes balance, the opening [u] = 2s, and each regime "
+    "of the paper has a two-body counterpart with the same singular exponent. Each body is meshed on "
+    "its own (element sizes 2:3 on Γ_C, refined uniformly: the meshes never match). The contact "
+    "condition holds weakly against multipliers on the upper (slave) body's trace, ∫ ψᵢ ([u_h] − 2α) ≥ 0, "
+    "integrated exactly on the intersection of the two trace meshes. Dual (biorthogonal) multipliers "
+    "(Wohlmuth 2000; for contact Hüeber & Wohlmuth 2005) make each row a bound after a change of "
+    "variables local to the slave's trace, solved exactly by the active set method on sparse Cholesky "
+    "and cross-checked against the rows as general constraints; on matching meshes they are `nodal` "
+    "(`mortar-nodal`), `mean` (`mortar-mean`, K_h on the dual mortar projection of the jump) and `p1` "
+    "(`mortar-p1`) on the jump, which the tests check to 1e-8. No theorem we could read states the "
+    "rates of quadratic mortar contact on non-matching meshes (Hild & Laborde 2002 analyse quadratic "
+    "elements with continuous quadratic multipliers); each method is held to the one-body rate "
+    "min(ν − 1, k). Errors are over both bodies, err² = err₁² + err₂²; ndof counts both."
+)
+
 THREE_D_NOTE = (
     "The paper's Section 6 names 3D as open. Here Ω = (−1, 1)² × (0, 1) in tetrahedra (netgen, red "
     "refinement: every edge halves, 8 children per tetrahedron), Γ_C its bottom face. `mean` is K_h on "

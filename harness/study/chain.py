@@ -222,7 +222,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
         if mesh.name != "uniform" or sequence is not None:
             raise ValueError(f"case {case.name}: two bodies are refined uniformly only (graded and adaptive meshes: not yet)")
         from .two_body import run_two_body_chain
-        return run_two_body_chain(case, methods, levels, progress, phases)
+        return run_two_body_chain(case, methods, levels, progress, phases, on_level)
     requested = {m.name for m in methods_for(case, methods)}      # the weak methods are scalar and 2D only
     methods = chain_methods(case, methods)
     sequence = sequence or mesh.sequence(case, max(m.order for m in methods))

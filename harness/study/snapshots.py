@@ -14,6 +14,9 @@ from .chain import study_levels
 from .files import write_atomic
 
 PICTURE_LEVEL = 3
+# two bodies: the level whose meshes the report draws at the interface (coarse enough to see them
+# not match)
+INTERFACE_LEVEL = 1
 SAMPLES_PER_EDGE = 9
 
 
@@ -86,6 +89,41 @@ def domain_snapshot(case, problem, u: np.ndarray) -> dict:
     return {"points": coords, "triangles": triangles, "values": case.physics.displacement_at_vertices(problem, u)}
 
 
+def two_body_snapshot(case, problem, solve) -> dict:
+    """``contact_snapshot``'s fields for two bodies (``fem.two_body``): along Gamma_C the opening
+    c_1 + c_2 of u_h and of u (twice the one-body contact value), twice the obstacle, the
+    pressures (the mortar pressure per slave edge, ``methods._mortar``)."""
+    from ..fem.two_body import opening
+    x, values = opening(problem, solve.u, SAMPLES_PER_EDGE)
+    points = np.stack([x, np.zeros_like(x)], axis=-1)
+    upper = problem.upper
+    normals = np.broadcast_to(np.array([0.0, -1.0]), points.shape)
+    order = np.argsort(x.ravel(), kind="stable")
+    along = {"s": x, "u_h": values, "u": 2.0 * case.physics.contact_value(case, upper.mesh, points, normals),
+             "gap": 2.0 * evaluate(case.obstacle, upper.mesh, points) if case.obstacle is not None else np.zeros(x.shape),
+             "exact_pressure": case.physics.pressure(case, upper.mesh, points, normals)}
+    edge_s = upper.trace.midpoints[:, 0]
+    edge_order = np.argsort(edge_s)
+    return {**{key: np.ravel(value)[order] for key, value in along.items()},
+            "edge_s": edge_s[edge_order], "edge_lengths": upper.trace.lengths[edge_order],
+            "pressure": solve.pressure[edge_order], "two_bodies": np.array(True)}
+
+
+def two_body_domain_snapshot(case, problem, z: np.ndarray) -> dict:
+    """Both bodies as one picture: the lower body mirrored back to y < 0 (its triangles after
+    the upper one's), its values those of the real u_2 (``problem.bodies``: -w for the scalar
+    variable, (u_x, -u_y) for a displacement), and ``body`` (0, 1) per triangle."""
+    parts = [domain_snapshot(case, body, u) for body, u in zip(problem.bodies, problem.split(z))]
+    upper, lower = parts
+    lower["points"] = lower["points"] * np.array([1.0, -1.0])
+    values = lower["values"]
+    lower["values"] = values * np.array([1.0, -1.0]) if values.ndim == 2 else -values
+    return {"points": np.concatenate([upper["points"], lower["points"]]),
+            "triangles": np.concatenate([upper["triangles"], lower["triangles"] + len(upper["points"])]),
+            "values": np.concatenate([upper["values"], lower["values"]]),
+            "body": np.repeat([0, 1], [len(upper["triangles"]), len(lower["triangles"])])}
+
+
 class SnapshotHook:
     """``on_level`` hook of the study: returns the finest contact snapshot of each (case, method)
     and the domain picture of each case (method `nodal` if it runs, else the first; level
@@ -95,10 +133,21 @@ class SnapshotHook:
     def __init__(self, levels: int, methods):
         self.finest = {m.name: study_levels(m, levels) - 1 for m in methods}
         self.picture_method = "nodal" if "nodal" in self.finest else next(iter(self.finest))
+        # two bodies: mortar-nodal if it runs, else the first method that couples two bodies
+        mortar = [m.name for m in methods if 2 in m.bodies]
+        self.two_body_method = "mortar-nodal" if "mortar-nodal" in mortar else next(iter(mortar), None)
         self.picture_level = min(PICTURE_LEVEL, self.finest[self.picture_method])
 
     def __call__(self, case, method, level, problem, solve) -> dict | None:
         kept = {}
+        if case.bodies == 2:
+            if level == self.finest.get(method.name):
+                kept["contact"] = two_body_snapshot(case, problem, solve)
+            if method.name == self.two_body_method and level == min(PICTURE_LEVEL, self.finest[method.name]):
+                kept["domain"] = two_body_domain_snapshot(case, problem, solve.u) | {"method": np.array(method.name)}
+            if method.name == self.two_body_method and level == INTERFACE_LEVEL:
+                kept["interface"] = two_body_domain_snapshot(case, problem, solve.u)
+            return kept or None
         three_d = problem.trace.faces is not None
         if level == self.finest.get(method.name):
             snapshot = contact_face_snapshot if three_d else contact_snapshot
@@ -114,6 +163,7 @@ def save_snapshots(kept: dict, path: Path) -> None:
     for (method, _level), snaps in kept.items():
         arrays.update({f"contact__{method}__{k}": v for k, v in snaps.get("contact", {}).items()})
         arrays.update({f"domain_{k}": v for k, v in snaps.get("domain", {}).items()})
+        arrays.update({f"interface_{k}": v for k, v in snaps.get("interface", {}).items()})
     buffer = io.BytesIO()
     np.savez_compressed(buffer, **arrays)
     write_atomic(path, buffer.getvalue())
@@ -129,4 +179,6 @@ def load_snapshots(path: Path) -> tuple[dict, dict]:
             contact.setdefault(method, {})[field] = data[key]
         elif key.startswith("domain_"):
             domain[key[len("domain_"):]] = data[key]
+        elif key.startswith("interface_"):      # two bodies: their meshes at the interface
+            domain.setdefault("interface", {})[key[len("interface_"):]] = data[key]
     return contact, domain

@@ -11,8 +11,9 @@ so that ``err_h1`` is the H^1 error over both bodies and ``err_h1_over_best`` th
 combined errors. One row per (method, level), with the columns of a one-body chain; ``ndof`` the
 two bodies' together, ``h`` the coarser body's mesh size.
 
-Not yet: checkpoints (a killed two-body chain starts again), graded and adaptive meshes, the
-multigrid (each body's R_h u and the mortar QP are solved by sparse factorisations).
+Not yet: checkpoints (a killed two-body chain starts again from its first level), graded and
+adaptive meshes, the multigrid (each body's R_h u and the mortar QP are solved by sparse
+Cholesky).
 """
 from __future__ import annotations
 
@@ -42,10 +43,12 @@ def combine(upper: dict, lower: dict) -> dict:
     return out
 
 
-def run_two_body_chain(case, methods, levels: int, progress=None, phases=None):
+def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, on_level=None):
     """The rows of ``methods`` (those that couple two bodies) on the two-body ``case``, levels
     0 .. ``levels`` - 1 (+ the methods' extra levels, P1's), sharing each level's meshes and
-    each order's pair of discrete problems. Returns ``chain.ChainOutput``."""
+    each order's pair of discrete problems. ``on_level(case, method, level, problem, solve)`` as
+    in ``chain.run_chain``, with ``problem`` a ``fem.two_body.TwoBodyProblem``; what it returns
+    is kept by (method, level). Returns ``chain.ChainOutput``."""
     from .chain import ChainOutput, Phases, _sharper, study_levels
 
     phases = phases or Phases()
@@ -58,7 +61,7 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None):
     measures = [ExactErrors(body, phases, {m.name: m.order for m in methods}) for body in bodies]
     walks = [UniformRefinement(body).levels(last_level) for body in bodies]
     carry = {m.name: None for m in methods}
-    rows = []
+    rows, kept = [], {}
     for level in range(last_level):
         clock = time.perf_counter()
         with phases("mesh"):
@@ -102,6 +105,11 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None):
                     for k, (measure, u) in enumerate(zip(measures, problem.split(solve.u))):
                         body_rows[k].update(measure.solved(method, level, problem.bodies[k], u, body_rows[k]))
                 level_rows.append((row, body_rows))
+                if on_level is not None:
+                    with phases("hooks"):
+                        value = on_level(case, method, level, problem, solve)
+                    if value is not None:
+                        kept[(method.name, level)] = value
                 if progress is not None:
                     progress.solved(case.name, method.name, level)
             with phases("errors"):
@@ -113,4 +121,4 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None):
                 rows.append(row)
     order = {m.name: k for k, m in enumerate(methods)}
     rows.sort(key=lambda r: (r["level"], order[r["method"]]))
-    return ChainOutput(rows, {}, phases.as_dict(), {m.name: 0 for m in methods})
+    return ChainOutput(rows, kept, phases.as_dict(), {m.name: 0 for m in methods})
