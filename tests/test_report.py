@@ -11,9 +11,9 @@ from harness.report.build import make_report
 from harness.study.sweep import REPORT_SWEEP
 
 CASES = ["transition-r32", "corner-r12"]            # the cases the report sweeps and studies on other meshes
-# and a case without u and the Remark 4.3 case, for what the report says of them (one report: its
-# figure processes and its fixed costs once)
-ALL = CASES + ["oscillating-r34", "smooth-obstacle"]
+# and a case without u, the Remark 4.3 case and a two-body case, for what the report says of them
+# (one report: its figure processes and its fixed costs once)
+ALL = CASES + ["oscillating-r34", "smooth-obstacle", "two-body-transition-r32"]
 
 
 @pytest.fixture(scope="module")
@@ -27,14 +27,28 @@ def test_results_rates_and_provenance_are_written(report):
     root, _ = report
     results = pd.read_csv(root / "results" / "results.csv")
     # the P2 methods on 3 levels, the P1 methods on 4
-    per_case = sum(3 + m.extra_levels for m in METHODS.values() if 2 in m.dimensions)
-    assert set(results.case) == set(ALL) and len(results) == len(ALL) * per_case
+    per_case = {bodies: sum(3 + m.extra_levels for m in METHODS.values() if 2 in m.dimensions and bodies in m.bodies)
+                for bodies in (1, 2)}
+    two_body = [name for name in ALL if name.startswith("two-body")]
+    assert set(results.case) == set(ALL)
+    assert len(results) == (len(ALL) - len(two_body)) * per_case[1] + len(two_body) * per_case[2]
     rates = pd.read_csv(root / "results" / "rates.csv")
     assert {"fitted_rate", "fitted_rate_se", "pairwise_rates", "verdict"} <= set(rates.columns)
     meta = json.loads((root / "results" / "provenance.json").read_text())
     for key in ("harness_version", "git_commit", "ngsolve_version", "date", "machine", "settings"):
         assert key in meta
     assert meta["settings"]["levels"] == 3
+
+
+def test_report_has_the_two_body_section_with_both_meshes_at_the_interface(report):
+    root, html = report
+    text = Path(html).read_text()
+    assert "Two bodies, non-matching meshes (Section 6)" in text
+    section = text[text.rindex("Two bodies, non-matching meshes"):]          # the heading, not the contents
+    for method in ("mortar-mean", "mortar-nodal", "mortar-p1"):
+        assert method in section[:section.index("<h2", 10)]
+    assert (root / "report" / "figures" / "two-body-transition-r32_interface.png").is_file()
+    assert "opening [u_h] - 2α" in text
 
 
 def test_every_figure_exists_as_png_and_pdf(report):
@@ -219,3 +233,4 @@ def test_unchanged_results_are_reused(report, capsys):
     assert (root / "results" / "cases" / "corner-r12.csv").stat().st_mtime_ns == stored
     # the header says so, instead of the wall time of a run that computed nothing
     assert "study reused from results/cases" in (root / "report" / "report.md").read_text()
+

@@ -169,3 +169,42 @@ def test_the_bound_form_of_the_dual_condition_solves_the_same_qp_as_its_rows(ref
     assert bounds.fields["kkt_residual"] <= 1e-10 and rows.fields["kkt_residual"] <= 1e-10
     assert bounds.fields["active_constraints"] == rows.fields["active_constraints"] > 0
     np.testing.assert_allclose(bounds.u, rows.u, rtol=0, atol=1e-10 * np.abs(rows.u).max())
+
+
+@pytest.mark.parametrize("case_name", ["two-body-transition-r32", "two-body-elastic-transition"])
+def test_vtk_files_hold_both_bodies_and_the_interface(tmp_path, case_name):
+    import meshio
+
+    from harness.report.vtk import VtkWriter, level_files
+    case = registered_cases()[case_name]
+    run_chain(case, methods_named(["mortar-nodal"]), 2, on_level=VtkWriter(tmp_path))
+    omega, gamma = (meshio.read(path) for path in level_files(tmp_path, case.name, "mortar-nodal", 1))
+    assert omega.points[:, 1].min() == -1.0 and omega.points[:, 1].max() == 1.0
+    assert set(np.concatenate(omega.cell_data["body"])) == {0, 1}
+    # the lower body's values are the real u_2 (mirrored back): the error against u is small on both
+    name = "displacement" if case.physics.elastic else "u_h"
+    assert np.abs(omega.point_data["error"]).max() < 0.05 * np.abs(omega.point_data[name]).max()
+    assert gamma.cells[0].type == "line" and np.abs(gamma.points[:, 1]).max() == 0.0
+    assert gamma.point_data["gap_h"].min() > -1e-2 and np.concatenate(gamma.cell_data["pressure"]).max() > 0
+
+
+# the rates of issue 34's goals: P2 mortar >= 1.4 on the transition at >= 5e5 dofs, P1 mortar >= 0.9,
+# the junction within 0.1 of h^{1/2}, the elastic transition h^{3/2} (a fit over the finest three levels)
+RATE_GOALS = [("two-body-transition-r32", 6, {"mortar-nodal": (1.4, None), "mortar-mean": (1.4, None), "mortar-p1": (0.9, None)}),
+              ("two-body-junction", 5, {"mortar-nodal": (0.4, 0.6), "mortar-mean": (0.4, 0.6), "mortar-p1": (0.4, 0.6)}),
+              ("two-body-elastic-transition", 6, {"mortar-nodal": (1.4, None), "mortar-mean": (1.4, None), "mortar-p1": (0.9, None)})]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case_name, levels, goals", RATE_GOALS, ids=[goal[0] for goal in RATE_GOALS])
+def test_mortar_methods_meet_their_rates_on_non_matching_meshes(case_name, levels, goals):
+    from harness.measure.rates import fit_rate
+    case = registered_cases()[case_name]
+    rows = pd.DataFrame(run_chain(case, methods_named(list(goals)), levels).rows)
+    assert rows.kkt_residual.max() <= 1e-10
+    for method, (low, high) in goals.items():
+        mine = rows[rows.method == method]
+        rate, _ = fit_rate(mine.h.to_numpy(), mine.err_h1.to_numpy())
+        assert rate >= low and (high is None or rate <= high), f"{method}: {rate:.3f}"
+    if case_name == "two-body-transition-r32":
+        assert rows[rows.order == 2].ndof.max() >= 5e5

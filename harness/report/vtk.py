@@ -130,13 +130,53 @@ def level_files(directory: Path, case: str, method: str, level: int) -> tuple[Pa
     return folder / f"omega_level{level}.vtu", folder / f"gamma_c_level{level}.vtu"
 
 
+def two_body_volume_fields(case, problem, z: np.ndarray) -> tuple[np.ndarray, list, dict, dict]:
+    """Both bodies (``fem.two_body``) as one .vtu: the lower one mirrored back to y < 0 with the
+    real u_2 (``problem.bodies``: the scalar variable negated, a displacement's y component
+    flipped), and the cell data ``body`` (0 upper, 1 lower)."""
+    parts = [volume_fields(case, body, u) for body, u in zip(problem.bodies, problem.split(z))]
+    (upper_points, upper_cells, upper_data), (lower_points, lower_cells, lower_data) = parts
+    flip = np.array([1.0, -1.0, 1.0])
+    mirror = (lambda v: v * flip) if case.physics.elastic else (lambda v: -v)
+    points = np.concatenate([upper_points, lower_points * flip[:upper_points.shape[1]]])
+    cells = upper_cells + [(kind, table + len(upper_points)) for kind, table in lower_cells]
+    data = {key: np.concatenate([upper_data[key], mirror(lower_data[key])]) for key in upper_data}
+    body = [np.full(len(table), k, np.uint8) for k, (_, table) in enumerate(cells)]
+    return points, cells, data, {"body": body}
+
+
+def two_body_interface_fields(case, problem, solve) -> tuple[np.ndarray, list, dict, dict]:
+    """Gamma_C of two bodies as the segments of the intersection of their trace meshes: the
+    discrete and exact opening less twice the gap at the segment ends, the mortar pressure of
+    the slave edge holding each segment."""
+    from ..fem.mortar import TraceElements
+    from ..fem.two_body import opening
+    x, values = opening(problem, solve.u, 2)
+    points = np.stack([x.ravel(), np.zeros(x.size)], axis=1)
+    upper = problem.upper
+    twice_gap = 2.0 * evaluate(case.obstacle, upper.mesh, points) if case.obstacle is not None else np.zeros(len(points))
+    point_data = {"gap_h": values.ravel() - twice_gap}
+    if case.u is not None:
+        normals = np.broadcast_to(np.array([0.0, -1.0]), points.shape)
+        point_data["gap"] = 2.0 * case.physics.contact_value(case, upper.mesh, points, normals) - twice_gap
+    slave = TraceElements.of(upper)
+    edge = slave.edge_index[slave.locate(x.mean(axis=1))]
+    cell_data = {"pressure": np.asarray(solve.pressure, float)[edge]}
+    return points, [("line", np.arange(x.size).reshape(-1, 2))], point_data, cell_data
+
+
 def write_level(directory: Path, case, method, level: int, problem, solve) -> tuple[Path, Path]:
     """One level's two .vtu files and the two collections over the levels written so far."""
     omega, gamma = level_files(directory, case.name, method.name, level)
     omega.parent.mkdir(parents=True, exist_ok=True)
-    points, table, data = volume_fields(case, problem, solve.u)
-    _write(omega, meshio.Mesh(_points3(points), table, point_data=data))
-    points, table, point_data, cell_data = contact_fields(case, problem, solve)
+    if case.bodies == 2:
+        points, table, data, cell_data = two_body_volume_fields(case, problem, solve.u)
+        _write(omega, meshio.Mesh(_points3(points), table, point_data=data, cell_data=cell_data))
+        points, table, point_data, cell_data = two_body_interface_fields(case, problem, solve)
+    else:
+        points, table, data = volume_fields(case, problem, solve.u)
+        _write(omega, meshio.Mesh(_points3(points), table, point_data=data))
+        points, table, point_data, cell_data = contact_fields(case, problem, solve)
     _write(gamma, meshio.Mesh(_points3(points), table, point_data=point_data,
                               cell_data={k: [v] for k, v in cell_data.items()}))
     for stem in ("omega", "gamma_c"):

@@ -100,9 +100,12 @@ def stale_sweeps(cases: list[Case], config: dict, results_dir: Path) -> list[Cas
 
 def case_settings(case: Case, settings: dict) -> dict:
     """The settings ``case``'s study runs with: a 3D case its own (smaller) number of levels (a
-    3D level has 8 times the dofs); a case that declares ``asymptotic_levels`` stops there when
+    3D level has 8 times the dofs), a two-body case at most the profile's ``levels_two_body``; a case that declares ``asymptotic_levels`` stops there when
     the profile says so (``stop_when_asymptotic``: the default profile, not ``--levels``)."""
     levels = settings["levels_3d"] if case.dimension == 3 else settings["levels"]
+    if case.bodies == 2:
+        # two bodies: about twice a one-body level's dofs, solved by sparse Cholesky
+        levels = min(levels, settings.get("levels_two_body", levels))
     if settings.get("stop_when_asymptotic") and case.asymptotic_levels:
         levels = min(levels, case.asymptotic_levels)
     own = settings | {"levels": levels}
