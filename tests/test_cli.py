@@ -11,7 +11,7 @@ from harness.methods import METHODS
 from harness.study.chain import COLUMNS
 
 # the methods of a 2D scalar case (`mean-edges` is 3D only)
-METHODS_2D = [name for name, m in METHODS.items() if 2 in m.dimensions]
+METHODS_2D = [name for name, m in METHODS.items() if 2 in m.dimensions and 1 in m.bodies]   # one body
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -25,7 +25,8 @@ VALID = {
     "maxh": "0.5", "geometry": "contact_strip(breaks=[0.0])",
     "u": "-sqrt(x * x + y * y) ** 1.5 * sin(1.5 * atan2(y, x))", "f": "0", "singular_points": "[(0.0, 0.0)]",
 }
-HEADER = "from ngsolve import atan2, sin, sqrt, x, y\nfrom harness.problem.geometry import contact_strip\n"
+HEADER = ("from ngsolve import atan2, sin, sqrt, x, y\nfrom harness.problem.geometry import contact_strip, polygon\n"
+          "from harness.problem.bodies import MirrorBody\n")
 BAD = {
     "name": ["3", "None", "''", "['a']"],
     "description": ["None", "1.0"],
@@ -44,6 +45,12 @@ BAD = {
     "asymptotic_levels_p1": ["2", "6.0", "False", "'7'"],
     "report_profile": ["'weekly'", "None", "1", "['fine']"],
     "physics": ["'plasticity'", "3"],
+    # a two-body case: not a MirrorBody, a bad mesh size or geometry, a lower body whose Gamma_C
+    # is not the upper one's
+    "second_body": ["(contact_strip(), 0.2)", "'lower'", "MirrorBody(contact_strip(), 0)", "MirrorBody(0, 0.2)",
+                    "MirrorBody(contact_strip(), float('nan'))",
+                    "MirrorBody(polygon([(-1, 0), (0.5, 0), (1, 0), (1, 1), (-1, 1)], "
+                    "['contact', 'neumann', 'neumann', 'dirichlet', 'neumann']), 0.3)"],
 }
 mutations = st.one_of(
     st.sampled_from(REQUIRED).map(lambda key: ("missing", key, None)),

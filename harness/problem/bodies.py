@@ -48,7 +48,7 @@ class MirrorBody:
             raise ValueError(f"second_body: maxh must be a finite number > 0, got {self.maxh!r}")
 
 
-LOWER_SUFFIX = " (lower body)"
+LOWER_SUFFIX = " (second_body: the lower body)"
 
 
 def lower_body(case):

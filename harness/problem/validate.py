@@ -129,6 +129,10 @@ def check_reference_data(case, mesh) -> None:
 
 
 def validate_case(case) -> None:
+    """The case's declarations against its coarse mesh and the Signorini conditions (2.2)-(2.4)
+    at samples of Gamma_C; a two-body case (``bodies``) each body's, and that they meet."""
+    if case.bodies == 2:
+        check_two_bodies(case)
     mesh = coarse_mesh(case)
     missing = [label for label in LABELS if label not in boundary_labels(mesh)]
     if missing:
@@ -171,3 +175,21 @@ def validate_case(case) -> None:
                 f"case {case.name!r} violates the Signorini condition {condition} on Gamma_C "
                 f"at {format_point(points[k])}: value {value[k]:.3e} ({int(violated.sum())} of {len(points)} samples)"
             )
+
+
+def check_two_bodies(case) -> None:
+    """Both bodies of a two-body case: each a valid one-body case in its frame (the mirror
+    solution satisfies the two-body conditions exactly when it does, ``problem.bodies``), and
+    their Gamma_C one segment of the line y = 0 with the body above it."""
+    from .bodies import lower_body
+    lower = lower_body(case)
+    validate_case(lower)
+    extents = []
+    for body in (case, lower):
+        trace = contact_trace(coarse_mesh(body))
+        ends = np.concatenate([trace.a, trace.b])
+        if np.abs(ends[:, 1]).max() > 1e-12 or not np.allclose(trace.normals, [0.0, -1.0]):
+            raise CaseError(f"case {case.name!r}: two bodies need Gamma_C on y = 0 below each body (in each body's frame)")
+        extents.append((ends[:, 0].min(), ends[:, 0].max()))
+    if not np.allclose(extents[0], extents[1], atol=1e-12):
+        raise CaseError(f"case {case.name!r}: the two bodies' Gamma_C differ: {extents[0]} and {extents[1]}")
