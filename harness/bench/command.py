@@ -14,6 +14,7 @@ def run_bench_command(args) -> int:
     from .adaptive import adaptive_goals, run_adaptive_bench
     from .common import write_bench
     from .elastic import elastic_goals, run_elastic_bench
+    from .mortar import mortar_goals, run_mortar_bench
     from .solvers import DEFAULT_SIZES, goals, run_bench
     from .study import measure_study, study_goals
     from .three_d import run_3d_bench, three_d_goals
@@ -29,7 +30,10 @@ def run_bench_command(args) -> int:
                "3D (Section 6): contact solve against one linear solve of the same matrix (multigrid CG):", three_d_goals),
               ("adaptive", run_adaptive_bench, "_adaptive",
                "adaptive meshes (corner-r12): contact solve on the finest against one linear solve (multigrid CG):",
-               adaptive_goals)]
+               adaptive_goals),
+              ("mortar", run_mortar_bench, "_mortar",
+               "two bodies, non-matching meshes (Section 6): mortar contact solve against one linear solve of both bodies:",
+               mortar_goals)]
     for name, run, suffix, title, judge in tables:
         if args.only in (None, name):
             frame = run()
