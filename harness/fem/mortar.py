@@ -89,6 +89,11 @@ class TraceElements:
         """The element holding each of ``x`` (interior points of the elements)."""
         return np.clip(np.searchsorted(self.left, x, side="right") - 1, 0, len(self.left) - 1)
 
+    def parameters(self, x: np.ndarray, e: np.ndarray) -> np.ndarray:
+        """The local parameter t in [0, 1] of the points x (segments, points) on their elements e
+        (one per segment)."""
+        return (x - self.left[e][:, None]) / (self.right[e] - self.left[e])[:, None]
+
 
 def hierarchical_basis(t: np.ndarray, order: int) -> np.ndarray:
     """The trace basis of ``TraceElements.dofs`` at parameters t in [0, 1]: (len(t), order + 1)."""
@@ -177,8 +182,7 @@ def mortar_coupling(slave: DiscreteProblem, master: DiscreteProblem, obstacle=No
     x = segments[:, :1] + t[None, :] * (segments[:, 1:] - segments[:, :1])          # (s, q)
     weights = (segments[:, 1] - segments[:, 0])[:, None] * w[None, :]                # (s, q)
     e_slave, e_master = mine.locate(x.mean(axis=1)), theirs.locate(x.mean(axis=1))
-    local = lambda elements, e: (x - elements.left[e][:, None]) / (elements.right[e] - elements.left[e])[:, None]
-    t_slave, t_master = local(mine, e_slave), local(theirs, e_master)
+    t_slave, t_master = mine.parameters(x, e_slave), theirs.parameters(x, e_master)
     psi = lagrange_basis(t_slave.ravel(), order)                                     # (s q, k+1)
     if multipliers == "dual":
         psi = psi @ dual_coefficients(order).T

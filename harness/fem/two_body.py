@@ -71,8 +71,7 @@ def opening(problem: TwoBodyProblem, z: np.ndarray, samples: int = 9) -> tuple[n
     total = np.zeros_like(x)
     for body, trace, u in zip(problem.bodies, elements, problem.split(z)):
         e = trace.locate(0.5 * (segments[:, 0] + segments[:, 1]))
-        local = (x - trace.left[e][:, None]) / (trace.right[e] - trace.left[e])[:, None]
-        basis = hierarchical_basis(local.ravel(), body.order).reshape(*x.shape, -1)
+        basis = hierarchical_basis(trace.parameters(x, e).ravel(), body.order).reshape(*x.shape, -1)
         total += np.einsum("sqj,sj->sq", basis, u[trace.dofs[e]])
     return x, total
 

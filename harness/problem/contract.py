@@ -1,0 +1,163 @@
+"""The case contract's checks (``case``'s docstring says what a case module declares): the
+plain values of a module, each of the type and range it must have, refused in one line before
+anything is built from them; the optional fields as the ``Case`` record takes them; a case
+file imported with its failure in one line."""
+from __future__ import annotations
+
+import importlib.util
+import math
+import sys
+import traceback
+from pathlib import Path
+
+import ngsolve as ngs
+
+from .geometry import geometry_dimension
+from .physics import PHYSICS, SCALAR, Elasticity
+
+REQUIRED = ("name", "description", "geometry", "maxh", "u", "nu", "expected_rate", "theorem")
+# a reference case replaces u by its data; it may leave its regularity and rate unknown
+# the report profiles from the cheapest (``study.chain.PROFILES`` has these keys)
+REPORT_PROFILES = ("default", "fine")
+REFERENCE_REQUIRED = ("name", "description", "geometry", "maxh", "f", "dirichlet", "neumann")
+REFERENCE_OPTIONAL = {"nu": float("nan"), "expected_rate": float("nan"), "theorem": ""}
+DEFAULT_REFERENCE_LEVELS = 2
+
+
+class CaseError(ValueError):
+    """A case that cannot be loaded or does not satisfy the Signorini conditions."""
+
+
+def import_file(path: Path):
+    module_name = f"_signorini_case_{path.stem.replace('-', '_')}"
+    spec = importlib.util.spec_from_file_location(module_name, path)
+    if spec is None or spec.loader is None:
+        raise CaseError(f"cannot import case file {path}")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[module_name] = module
+    try:
+        spec.loader.exec_module(module)
+    except (Exception, SystemExit) as exc:  # a broken user file: one clear line, not a traceback or its exit
+        raise CaseError(f"case file {path}{_line_in(exc, path)} failed to import: {type(exc).__name__}"
+                        + (f": {exc}" if str(exc) else "")) from exc
+    return module
+
+
+def _line_in(exc: BaseException, path: Path) -> str:
+    """", line N": the last line of the case file in the exception's traceback (or a syntax
+    error's own line)."""
+    if isinstance(exc, SyntaxError) and exc.lineno:
+        return f", line {exc.lineno}"
+    lines = [lineno for frame, lineno in traceback.walk_tb(exc.__traceback__)
+             if Path(frame.f_code.co_filename).resolve() == Path(path).resolve()]
+    return f", line {lines[-1]}" if lines else ""
+
+
+def check_declared(module, source: str) -> None:
+    """The plain values of the contract, each of the type and range it must have, refused in
+    one line (wrong type, NaN or infinite where a finite number is meant, wrong sign), before
+    anything is built from them."""
+    def number(key: str, low: float, finite: bool = True, optional_nan: bool = False):
+        if not hasattr(module, key):
+            return
+        value = getattr(module, key)
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        if ok and math.isnan(value):
+            ok = optional_nan
+        elif ok:
+            ok = value > low and (math.isfinite(value) or not finite)
+        if not ok:
+            bound = f"> {low:g}" + ("" if finite else " (inf allowed)")
+            raise CaseError(f"case {source}: {key} must be a number {bound}, got {value!r}")
+
+    for key in ("name", "description", "theorem", "regime"):
+        if hasattr(module, key) and not isinstance(getattr(module, key), str):
+            raise CaseError(f"case {source}: {key} must be a string, got {getattr(module, key)!r}")
+    if hasattr(module, "name") and not module.name.strip():
+        raise CaseError(f"case {source}: name must not be empty")
+    number("maxh", 0.0)
+    for key in ("asymptotic_levels", "asymptotic_levels_p1"):
+        levels = getattr(module, key, None)
+        if levels is not None and (isinstance(levels, bool) or not isinstance(levels, int) or levels < 3):
+            raise CaseError(f"case {source}: {key} must be an integer >= 3 (a fit needs three levels), got {levels!r}")
+    p1, p2 = getattr(module, "asymptotic_levels_p1", None), getattr(module, "asymptotic_levels", None)
+    if p1 is not None and p2 is not None and p1 not in (p2, p2 + 1):
+        raise CaseError(f"case {source}: asymptotic_levels_p1 must be asymptotic_levels ({p2}) or one more, got {p1}")
+    if getattr(module, "report_profile", REPORT_PROFILES[0]) not in REPORT_PROFILES:
+        raise CaseError(f"case {source}: report_profile must be one of {', '.join(REPORT_PROFILES)}, "
+                        f"got {module.report_profile!r}")
+    if hasattr(module, "reference_levels"):
+        reference_levels(module, source)
+    reference = not hasattr(module, "u")
+    number("nu", 1.0, finite=False, optional_nan=reference)               # u in H^{nu - eps}, nu > 1
+    number("expected_rate", 0.0, optional_nan=reference)
+    number("expected_log_exponent", -math.inf)
+    if hasattr(module, "geometry") and not hasattr(module.geometry, "GenerateMesh"):
+        raise CaseError(f"case {source}: geometry must be a netgen geometry (harness.problem.geometry.polygon builds one), "
+                        f"got {type(module.geometry).__name__}")
+    for key in ("u", "f", "dirichlet", "neumann", "gap", "contact_load"):
+        value = getattr(module, key, None)
+        if (value is None and not (key == "u" and hasattr(module, "u"))) or isinstance(value, ngs.CoefficientFunction):
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise CaseError(f"case {source}: {key} must be an NGSolve CoefficientFunction or a finite number, got {value!r}")
+    points = getattr(module, "singular_points", None)
+    if points is not None:
+        try:
+            ok = all(len(point) == 2 and all(math.isfinite(float(c)) for c in point) for point in points)
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise CaseError(f"case {source}: singular_points must be a list of (x, y) pairs of finite numbers, got {points!r}")
+
+
+def check_second_body(case, source: str) -> None:
+    """A two-body case: a ``bodies.MirrorBody`` on a 2D geometry."""
+    from .bodies import MirrorBody
+    if not isinstance(case.second_body, MirrorBody):
+        raise CaseError(f"case {source}: second_body must be harness.problem.bodies.MirrorBody(geometry, maxh), "
+                        f"got {type(case.second_body).__name__}")
+    if case.dimension != 2 or geometry_dimension(case.second_body.geometry) != 2:
+        raise CaseError(f"case {source}: two bodies are 2D only (both geometries must be polygons)")
+
+
+def physics_of(module, source: str):
+    """The case's ``physics``: scalar unless it declares physics = "elasticity" (with poisson)."""
+    name = getattr(module, "physics", "scalar")
+    if name not in PHYSICS:
+        raise CaseError(f"case {source}: physics must be one of {', '.join(PHYSICS)}, got {name!r}")
+    if name == "scalar":
+        return SCALAR
+    if not hasattr(module, "poisson"):
+        raise CaseError(f"case {source}: an elastic case must declare poisson (Poisson's ratio)")
+    try:
+        return Elasticity(young=float(getattr(module, "young", 1.0)), poisson=float(module.poisson))
+    except ValueError as exc:
+        raise CaseError(f"case {source}: {exc}") from None
+
+
+def reference_levels(module, source: str) -> int:
+    levels = getattr(module, "reference_levels", DEFAULT_REFERENCE_LEVELS)
+    if not isinstance(levels, int) or levels < 1:
+        raise CaseError(f"case {source}: reference_levels must be a positive integer, got {levels!r}")
+    return levels
+
+
+def optional_fields(module) -> dict:
+    fields = {}
+    for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
+                "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile", "second_body"):
+        if hasattr(module, key):
+            fields[key] = getattr(module, key)
+    if hasattr(module, "f"):
+        fields["declared_f"] = module.f
+    if "transition_curve" in fields:
+        fields["transition_curve"] = tuple(tuple(tuple(map(float, p)) for p in line) for line in fields["transition_curve"])
+    if fields.get("singular_points") is not None:
+        fields["singular_points"] = tuple(tuple(map(float, point)) for point in fields["singular_points"])
+    for key in ("gap", "contact_load"):
+        if fields.get(key) is not None:
+            fields[key] = ngs.CF(fields[key])
+    if getattr(module, "grad_u", None) is not None:
+        fields["declared_grad_u"] = ngs.CF(module.grad_u)
+    return fields
