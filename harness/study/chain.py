@@ -325,17 +325,10 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                     sequence.observe(indicators)
                 row = None
                 if level < studied[method.name]:
-                    expectation = expectations[method.name]
-                    row = {
-                        "case": case.name, "method": method.name, "order": method.order,
-                        "parameters": method.parameter_text, "mesh": mesh_label, "level": level, "h": h,
-                        "ndof": problem.ndof, **solve.fields,
-                        "estimator": estimate(indicators) if indicators is not None else float("nan"),
-                        "total_seconds": mesh_seconds + assembly_seconds[method.order] + own_seconds,
-                        "nu": case.nu, "expected_rate": expectation.rate, "expected_log_exponent": expectation.log_exponent,
-                        "reference": expectation.reference, **_sharper(sharper[method.name]), "case_source": case.source,
-                        "errors_against": "exact" if case.exact else "reference",
-                    }
+                    row = level_row(case, method, mesh_label, level, h, problem.ndof, solve.fields,
+                                    mesh_seconds + assembly_seconds[method.order] + own_seconds,
+                                    estimate(indicators) if indicators is not None else float("nan"),
+                                    expectations[method.name], sharper[method.name])
                     method_rows[method.name].append(row)
                 else:
                     reference_solve_seconds += solve.fields["solve_seconds"]
@@ -345,11 +338,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                     columns = measure.solved(method, level, problem, solve.u, row)
                 if row is not None:
                     row.update(columns)
-                    if on_level is not None:
-                        with phases("hooks"):
-                            value = on_level(case, method, level, problem, solve)
-                        if value is not None:
-                            kept[(method.name, level)] = value
+                    keep(on_level, phases, kept, case, method, level, problem, solve)
                 if progress is not None:
                     progress.solved(case.name, method.name, level)
             with phases("errors"):
@@ -373,6 +362,28 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     order = {m.name: k for k, m in enumerate(methods)}
     rows = sorted((row for name in method_rows for row in method_rows[name]), key=lambda r: (r["level"], order[r["method"]]))
     return ChainOutput(rows, kept, phases.as_dict(), {name: start[name] for name in start}, reference_solve_seconds)
+
+
+def level_row(case, method, mesh_label: str, level: int, h: float, ndof: int, fields: dict, total_seconds: float,
+              estimator: float, expectation, sharper) -> dict:
+    """A row of the study before its errors: what the case, the method and its solve say."""
+    return {
+        "case": case.name, "method": method.name, "order": method.order, "parameters": method.parameter_text,
+        "mesh": mesh_label, "level": level, "h": h, "ndof": ndof, **fields, "estimator": estimator,
+        "total_seconds": total_seconds, "nu": case.nu, "expected_rate": expectation.rate,
+        "expected_log_exponent": expectation.log_exponent, "reference": expectation.reference, **_sharper(sharper),
+        "case_source": case.source, "errors_against": "exact" if case.exact else "reference",
+    }
+
+
+def keep(on_level, phases, kept: dict, case, method, level: int, problem, solve) -> None:
+    """``on_level``'s view of a studied solve, kept by (method, level) if it returns one."""
+    if on_level is None:
+        return
+    with phases("hooks"):
+        value = on_level(case, method, level, problem, solve)
+    if value is not None:
+        kept[(method.name, level)] = value
 
 
 def _reference_fields(rows: list[dict], level: int, ndof: int, fields: dict) -> None:

@@ -49,7 +49,7 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, o
     each order's pair of discrete problems. ``on_level(case, method, level, problem, solve)`` as
     in ``chain.run_chain``, with ``problem`` a ``fem.two_body.TwoBodyProblem``; what it returns
     is kept by (method, level). Returns ``chain.ChainOutput``."""
-    from .chain import ChainOutput, Phases, _sharper, study_levels
+    from .chain import ChainOutput, Phases, keep, level_row, study_levels
 
     phases = phases or Phases()
     methods = methods_for(case, methods)
@@ -90,26 +90,15 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, o
                 solve = method.solve(case, problem, carry[method.name], None, phases=phases)
                 own_seconds = time.perf_counter() - clock
                 carry[method.name] = solve.carry
-                expectation = method.expected(case)
-                row = {
-                    "case": case.name, "method": method.name, "order": method.order, "parameters": method.parameter_text,
-                    "mesh": "uniform", "level": level, "h": max(step.h for step in steps), "ndof": problem.ndof,
-                    **solve.fields, "estimator": float("nan"),
-                    "total_seconds": mesh_seconds + assembly_seconds[method.order] + own_seconds,
-                    "nu": case.nu, "expected_rate": expectation.rate, "expected_log_exponent": expectation.log_exponent,
-                    "reference": expectation.reference, **_sharper(method.sharper(case)), "case_source": case.source,
-                    "errors_against": "exact",
-                }
+                row = level_row(case, method, "uniform", level, max(step.h for step in steps), problem.ndof, solve.fields,
+                                mesh_seconds + assembly_seconds[method.order] + own_seconds, float("nan"),
+                                method.expected(case), method.sharper(case))
                 body_rows = [{}, {}]
                 with phases("errors"):
                     for k, (measure, u) in enumerate(zip(measures, problem.split(solve.u))):
                         body_rows[k].update(measure.solved(method, level, problem.bodies[k], u, body_rows[k]))
                 level_rows.append((row, body_rows))
-                if on_level is not None:
-                    with phases("hooks"):
-                        value = on_level(case, method, level, problem, solve)
-                    if value is not None:
-                        kept[(method.name, level)] = value
+                keep(on_level, phases, kept, case, method, level, problem, solve)
                 if progress is not None:
                     progress.solved(case.name, method.name, level)
             with phases("errors"):
