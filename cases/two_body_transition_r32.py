@@ -13,10 +13,8 @@ the lower with maxh 1/6 and an extra break at x = -0.9 (its vertices at sixths o
 (-0.9, 0) and (0, 1), elsewhere near them): element sizes in ratio 2:3 on Gamma_C that
 uniform refinement keeps apart. The transition point 0 is a corner of both.
 """
-from ngsolve import atan2, sin, sqrt, x, y
-
 from harness.problem.bodies import MirrorBody
-from harness.problem.functions import transition_gradient
+from harness.problem.functions import transition, transition_gradient
 from harness.problem.geometry import contact_strip
 
 name = "two-body-transition-r32"
@@ -30,8 +28,9 @@ geometry = contact_strip(breaks=[0.0])
 maxh = 0.25
 second_body = MirrorBody(geometry=contact_strip(breaks=[-0.9, 0.0]), maxh=1 / 6)
 
-r = sqrt(x * x + y * y)
-u = -(r ** 1.5) * sin(1.5 * atan2(y, x))
+# (``transition`` puts the branch cut of theta outside the body: the lower body's mesh maps some
+# points of Gamma_C with x < 0 to y = -1e-17, where atan2(y, x) = -pi flipped the sign of u)
+u = transition(0.0)
 grad_u = transition_gradient(0.0)
 f = 0
 singular_points = [(0.0, 0.0)]

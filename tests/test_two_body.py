@@ -119,6 +119,22 @@ def test_mortar_solves_are_exact_on_non_matching_meshes(case_name, method):
     assert (rows.err_energy >= rows.err_best_energy * (1.0 - 1e-9)).all()
 
 
+@pytest.mark.parametrize("case_name", TWO_BODY)
+def test_every_two_body_case_satisfies_the_signorini_conditions_in_both_bodies(case_name):
+    from harness.problem.validate import validate_case
+    validate_case(registered_cases()[case_name])
+
+
+def test_a_lower_body_whose_gamma_c_differs_is_refused_in_one_line():
+    from harness.problem.geometry import polygon
+    from harness.problem.validate import validate_case
+    two = registered_cases()["two-body-transition-r32"]
+    shorter = polygon([(-1, 0), (0, 0), (0.8, 0), (1, 0), (1, 1), (-1, 1)],
+                      ["contact", "contact", "neumann", "neumann", "dirichlet", "neumann"])
+    with pytest.raises(CaseError, match="Gamma_C differ"):
+        validate_case(dataclasses.replace(two, second_body=MirrorBody(shorter, 0.3)))
+
+
 def test_one_body_methods_and_mortar_methods_keep_to_their_cases(case):
     assert {m.name for m in methods_for(case, METHODS.values())} == set(MORTAR)
     assert not [m for m in methods_for(registered_cases()["transition-r32"], METHODS.values()) if m.name in MORTAR]
