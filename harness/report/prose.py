@@ -71,7 +71,7 @@ TWO_BODY_NOTE = (
     "one-body exact solution s, the lower one its mirror image (scalar u₂(x, y) = −s(x, −y); "
     "elastic u₂ = (s_x, −s_y)(x, −y)), so the fluxes balance, the opening [u] = 2s, and each regime "
     "of the paper has a two-body counterpart with the same singular exponent. Each body is meshed on "
-    "its own (element sizes 2:3 on Γ_C, refined uniformly: the meshes never match). The contact "
+    "its own (element sizes 2:3 on Γ_C, refined uniformly: the meshes never match; "lower / upper maxh" 0.67), but for the control two-body-transition-r32-matching (1.00: every vertex of Γ_C is both meshes'). The contact "
     "condition holds weakly against multipliers on the upper (slave) body's trace, ∫ ψᵢ ([u_h] − 2α) ≥ 0, "
     "integrated exactly on the intersection of the two trace meshes. Dual (biorthogonal) multipliers "
     "(Wohlmuth 2000; for contact Hüeber & Wohlmuth 2005) make each row a bound after a change of "

@@ -94,15 +94,18 @@ def elasticity_view(cases, rates: pd.DataFrame) -> pd.DataFrame:
 
 
 def two_body_view(cases, rates: pd.DataFrame, results: pd.DataFrame) -> pd.DataFrame:
-    """The two-body cases: per case x method the fitted H^1 rate over both bodies against the
-    one-body rate, and on the finest level the dofs, err / best, the largest interpenetration
-    between the slave's nodes and the largest KKT residual over the levels."""
-    names = [case.name for case in cases if case.bodies == 2]
+    """The two-body cases: per case x method the ratio of the bodies' coarse mesh sizes (1.00: the
+    matching control), the fitted H^1 rate over both bodies against the one-body rate, and on the
+    finest level the dofs, err / best, the largest interpenetration between the slave's nodes and
+    the largest KKT residual over the levels."""
+    two = {case.name: case for case in cases if case.bodies == 2}
     rows = []
-    for _, rate in rates[rates.case.isin(names)].iterrows():
+    for _, rate in rates[rates.case.isin(list(two))].iterrows():
         mine = results[(results.case == rate.case) & (results.method == rate.method)]
         finest = mine[mine.level == mine.level.max()].iloc[0]
-        rows.append({"case": rate.case, "method": rate.method, "expected": bound_text(rate.expected_rate, rate.expected_log_exponent),
+        case = two[rate.case]
+        rows.append({"case": rate.case, "lower / upper maxh": f"{case.second_body.maxh / case.maxh:.2f}", "method": rate.method,
+                     "expected": bound_text(rate.expected_rate, rate.expected_log_exponent),
                      "H¹ rate": _fmt(rate.fitted_rate, ".3f"), "finest ndof": f"{int(finest.ndof):,}",
                      "err / best": _fmt(finest.err_h1_over_best, ".3f"),
                      "max [u_h] below 2α": _fmt(finest.max_penetration, ".1e"),
