@@ -28,6 +28,8 @@ grad_u = transition_gradient(0.0)
 f = 0
 singular_points = [(0.0, 0.0)]
 
-# as two-body-transition-r32 (measured there): the default report stops P2 and P1 at five levels
+# Asymptotic by five P2 levels: a sixth moved no method's fitted H1 rate by more than 0.001, and P1
+# one level past P2 moved its rate by 0.002 (measured 2026-11-26), so the default report stops
+# both at five.
 asymptotic_levels = 5
 asymptotic_levels_p1 = 5
