@@ -37,7 +37,7 @@ def test_every_registered_elastic_case_is_exact_and_every_weak_method_is_left_ou
         # in 3D also the edge-wise counterexample (``mean-edges``); two bodies: the mortar methods
         expected = CONES if case.dimension == 2 else ["mean", "mean-edges", "nodal", "p1"]
         if case.bodies == 2:
-            expected = ["mortar-mean", "mortar-nodal", "mortar-p1"]
+            expected = ["mortar-mean", "mortar-nodal", "mortar-standard", "mortar-p1"]
         assert [m.name for m in methods_for(case, METHODS.values())] == expected
 
 

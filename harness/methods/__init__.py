@@ -17,7 +17,7 @@ GROUPS = {
     "paper": ("mean", "nodal"),
     "cones": ("mean", "nodal", "p1"),                                   # exact discrete inequalities
     "weak": ("nitsche", "penalty", "nitsche-p1", "penalty-p1"),         # contact by a Gamma_C term
-    "mortar": ("mortar-mean", "mortar-nodal", "mortar-p1"),             # two bodies, non-matching meshes
+    "mortar": ("mortar-mean", "mortar-nodal", "mortar-standard", "mortar-p1"),             # two bodies, non-matching meshes
 }
 
 

@@ -41,6 +41,8 @@ from scipy.sparse.linalg import splu
 from .active_set import DEFAULT_TOLERANCE, KKT, loose_depth, next_active_set, row_norm
 
 REGULARISATION = 1e-14
+# steps of iterative refinement of each saddle solve (``SaddleSystem``)
+REFINEMENT_STEPS = 2
 
 
 @dataclass
@@ -167,7 +169,18 @@ class SaddleSystem:
         K_FF, B_F, d = self._blocks
         B_A = B_F[rows]
         saddle = sp.bmat([[K_FF, B_A.T], [B_A, -d * sp.identity(len(rows))]], format="csc")
-        solution = splu(saddle).solve(np.concatenate([qp.rhs_F, qp.g_F[rows]]))
+        factor = splu(saddle)
+        rhs = np.concatenate([qp.rhs_F, qp.g_F[rows]])
+        solution = factor.solve(rhs)
+        # iterative refinement against the unregularised system: the -d I block leaves the
+        # active rows off by d lambda, which a singular pressure (large lambda, e.g. at a
+        # junction) made 1e-9 of the load; the same factorisation corrects it (where rows are
+        # dependent the correction keeps z and leaves lambda's null-space part alone)
+        n = len(qp.F)
+        for _ in range(REFINEMENT_STEPS):
+            z_F, l_A = solution[:n], solution[n:]
+            residual = np.concatenate([qp.rhs_F - K_FF @ z_F - B_A.T @ l_A, qp.g_F[rows] - B_A @ z_F])
+            solution += factor.solve(residual)
         self.factorizations += 1
         z = qp.lift.copy()
         z[qp.F] = solution[: len(qp.F)]
