@@ -71,6 +71,10 @@ def test_errors_agree_with_a_much_finer_integration(case_name, level):
     order 20 everywhere, to 0.1%, every method, on a P2 level (P1 ends one level later, on a
     mesh of the same dofs): a small one, and the finest of `make report` (`make test-full`)."""
     case = registered_cases()[case_name]
+    if case.bodies == 2:
+        # the finest level of `make report` for two bodies is their own (asymptotic_levels); level
+        # 6 would put mortar-standard's SuperLU saddle at 2e6 dofs (past 19 GB)
+        level = min(level, case.asymptotic_levels - 1)
     reference = ReferenceErrors(level)
     with ngs.TaskManager():
         rows = run_chain(case, list(METHODS.values()), level + 1, on_level=reference).rows
