@@ -132,8 +132,6 @@ class MortarCoupling:
     g: np.ndarray
     D: np.ndarray
     multipliers: str
-    n_slave: int        # dofs of the slave body: z[:n_slave] are its dofs
-    segments: np.ndarray  # (s, 2): the intersection segments [x0, x1], for pictures and tests
 
     @property
     def rows(self) -> int:
@@ -208,7 +206,7 @@ def mortar_coupling(slave: DiscreteProblem, master: DiscreteProblem, obstacle=No
         gap_values = evaluate(obstacle, slave.mesh, points)
     g = np.bincount(node_rows.ravel(), weights=np.einsum("sqi,sq->si", psi, 2.0 * gap_values).ravel(), minlength=n_rows)
     D = np.bincount(node_rows.ravel(), weights=psi.sum(axis=1).ravel(), minlength=n_rows)
-    coupling = MortarCoupling(B.tocsr(), g, D, multipliers, slave.ndof, segments)
+    coupling = MortarCoupling(B.tocsr(), g, D, multipliers)
     return coupling if edge_functional == "midpoint" else _edge_means(coupling, slave, mine)
 
 
@@ -232,4 +230,4 @@ def _edge_means(coupling: MortarCoupling, slave: DiscreteProblem, mine: TraceEle
     T = sp.csr_matrix((values, (rows, cols)), shape=(coupling.rows, coupling.rows))
     B, g = (T @ coupling.B).tocsr(), T @ coupling.g
     D = np.concatenate([coupling.D[:n_vertices], lengths])
-    return MortarCoupling(B, g, D, "dual mean", coupling.n_slave, coupling.segments)
+    return MortarCoupling(B, g, D, "dual mean")
