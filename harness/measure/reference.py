@@ -112,8 +112,10 @@ def edge_dofs_of_sides(mesh: ngs.Mesh, fes: ngs.H1) -> tuple[np.ndarray, np.ndar
     values = numbered.vec.FV().NumPy()
     values[:nv], values[nv:] = 0.0, np.arange(1, ndof - nv + 1)
     label = np.asarray(numbered(points), dtype=float).ravel()
+    # the common bubble value, read at one midpoint (a bubble of another value or sign would
+    # give a label off the integers 1 ... ndof - nv, which raises below)
     values[nv:] = 1.0
-    bubble = np.asarray(numbered(points), dtype=float).ravel()
+    bubble = float(np.asarray(numbered(points[:1]), dtype=float).ravel()[0])
     edge = np.rint(label / bubble).astype(np.int64)
     if np.abs(label / bubble - edge).max() > 1e-6 or edge.min() < 1 or edge.max() > ndof - nv:
         raise RuntimeError("the P2 space's dofs past the vertices are not one per edge")

@@ -373,15 +373,19 @@ def next_active_set(active: np.ndarray, leave: np.ndarray, enter: np.ndarray, se
 def row_norm(K: sp.csr_matrix, rows: np.ndarray, chunk: int = 1 << 22) -> float:
     """max over ``rows`` of sum_j |K_ij| (||K||_inf restricted to them), from K's CSR arrays a
     block of about ``chunk`` entries at a time: no copy of K (0.25 s at 5.7e5 P2 dofs by row
-    slices, which the study paid once per method and level; this takes a fifth)."""
+    slices, which the study paid once per method and level; row sums by ``np.add.reduceat``
+    over each block's non-empty rows, a third of the time of differences of a cumulative sum)."""
     n, indptr = K.shape[0], K.indptr
     step = max(1, chunk // max(1, K.nnz // max(1, n)))
     sums = np.zeros(n)
     for start in range(0, n, step):
         stop = min(n, start + step)
         low = indptr[start]
-        partial = np.concatenate(([0.0], np.cumsum(np.abs(K.data[low:indptr[stop]]))))
-        sums[start:stop] = partial[indptr[start + 1:stop + 1] - low] - partial[indptr[start:stop] - low]
+        starts = indptr[start:stop]
+        filled = np.flatnonzero(indptr[start + 1:stop + 1] > starts)
+        if len(filled):
+            # consecutive starts of the non-empty rows bound each row's entries exactly
+            sums[start + filled] = np.add.reduceat(np.abs(K.data[low:indptr[stop]]), starts[filled] - low)
     return float(sums[rows].max(initial=0.0))
 
 
