@@ -20,13 +20,14 @@ weak methods need, are 2D only).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..mesh.points import evaluate, in_elements
+from ..mesh.points import TRIANGLE_EDGES, cells, coordinates, evaluate, in_elements
 
 # Gauss points per contact edge: exact for polynomials of degree 7 (the P2 contact terms are of
 # degree <= 4 where the bracket [.]_+ does not switch); the few edges where it switches, at a
@@ -45,19 +46,25 @@ class ContactQuadrature:
     h: np.ndarray               # (q,) diameter of the point's cell (contact edge; 3D: triangle)
     edge: np.ndarray            # (q,) index of the point's cell (in problem.trace's edges; 3D: its faces)
     T: sp.csr_matrix            # (q, ndof) trace values of the basis (of the contact variable)
-    N: sp.csr_matrix | None     # (q, ndof) outward normal derivatives of the basis (2D scalar problems)
     normals: np.ndarray         # (q, dim) outward unit normal at each point
+    # what ``N`` is made from, when it is first asked for: (problem, T_t) of a 2D scalar problem
+    _flux: tuple | None = field(default=None, repr=False, compare=False)
+
+    @cached_property
+    def N(self) -> sp.csr_matrix | None:
+        """(q, ndof) outward normal derivatives of the basis at the points (2D scalar problems,
+        else None); made on first use: only the weak methods and the estimator read it, and
+        the error measurement, the loads and the best approximation make quadratures too."""
+        if self._flux is None:
+            return None
+        problem, T_t = self._flux
+        return _normal_derivatives(problem, self.edge, T_t, self.T.shape)
 
     def edge_means(self, values: np.ndarray) -> np.ndarray:
         """Mean over each contact edge of a function given at the points."""
         n_edges = self.edge.max() + 1 if len(self.edge) else 0
         integral = np.bincount(self.edge, weights=self.weights * values, minlength=n_edges)
         return integral / np.bincount(self.edge, weights=self.weights, minlength=n_edges)
-
-
-def _dof(fes, kind, number) -> int:
-    (dof,) = fes.GetDofNrs(ngs.NodeId(kind, int(number)))
-    return dof
 
 
 def gauss(points: int) -> tuple[np.ndarray, np.ndarray]:
@@ -108,8 +115,8 @@ def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: 
         h=trace.lengths[edge],
         edge=edge,
         T=_rows(cols_T, vals_T, shape),
-        N=_normal_derivatives(problem, edge, T_t, shape) if problem.physics.flux_rows else None,
         normals=trace.normals[edge],
+        _flux=(problem, T_t) if problem.physics.flux_rows else None,
     )
 
 
@@ -140,7 +147,6 @@ def _face_quadrature(problem, degree: int) -> ContactQuadrature:
         h=np.repeat(diameter, k),
         edge=face,
         T=_rows(cols_T, vals_T, (f * k, problem.ndof)),
-        N=None,
         normals=faces.normals[face],
     )
 
@@ -150,18 +156,23 @@ def _normal_derivatives(problem, edge: np.ndarray, T_t: np.ndarray, shape) -> sp
     flux term; see the module docstring)."""
     mesh, fes, trace = problem.mesh, problem.fes, problem.trace
     m = len(trace.edges)
-    third = trace.opposite                              # vertex c of the triangle on each edge
+    a, b = trace.edge_vertices.T
+    c = trace.opposite                                  # vertex c of the triangle on each edge
+    # each contact triangle's dofs: one per local vertex (in the cell table's order), then, for
+    # P2, one per side in the order of TRIANGLE_EDGES (one call per triangle, no node objects)
+    dofs = np.array([fes.GetDofNrs(ngs.ElementId(ngs.VOL, int(t))) for t in trace.volumes], dtype=np.int64)
+    local = cells(mesh)[trace.volumes]
+    if not all(((local == v[:, None]).sum(axis=1) == 1).all() for v in (a, b, c)):
+        raise RuntimeError("a contact edge's triangle does not hold its vertices and the opposite one")
+    vertex_dofs = np.column_stack([(dofs[:, :3] * (local == v[:, None])).sum(axis=1) for v in (a, b, c)])
     edge_dofs = np.zeros((m, 3), dtype=np.int64)        # bubble dofs of ab, ac, bc (order 2)
     if problem.order == 2:
-        for k, (e, (a, b), c) in enumerate(zip(trace.edges, trace.edge_vertices, third)):
-            (element,) = mesh[ngs.NodeId(ngs.EDGE, int(e))].elements
-            ends = {frozenset(v.nr for v in mesh[edge].vertices): edge.nr for edge in mesh[element].edges}
-            edge_dofs[k] = [_dof(fes, ngs.EDGE, ends[frozenset(pair)]) for pair in ((a, b), (a, c), (b, c))]
-    coords = np.array([mesh[ngs.NodeId(ngs.VERTEX, int(v))].point for v in third])
-    grad = _barycentric_gradients(trace.a, trace.b, coords)             # (m, 3, 2): a, b, c
+        for k, (p, q) in enumerate(((a, b), (a, c), (b, c))):
+            for side, (i, j) in enumerate(TRIANGLE_EDGES):
+                joins = ((local[:, i] == p) & (local[:, j] == q)) | ((local[:, i] == q) & (local[:, j] == p))
+                edge_dofs[joins, k] = dofs[joins, 3 + side]
+    grad = _barycentric_gradients(trace.a, trace.b, coordinates(mesh)[c])    # (m, 3, 2): a, b, c
     dn = np.einsum("mij,mj->mi", grad, trace.normals)                   # (m, 3)
-    vertex_dofs = np.array([[_dof(fes, ngs.VERTEX, v) for v in row] for row in
-                            np.column_stack([trace.edge_vertices, third])], dtype=np.int64).reshape(m, 3)
     la, lb = 1.0 - T_t, T_t
     dna, dnb, dnc = (dn[edge, i] for i in range(3))
     cols_N = [vertex_dofs[edge, 0], vertex_dofs[edge, 1], vertex_dofs[edge, 2]]

@@ -8,6 +8,9 @@ from collections import OrderedDict
 import ngsolve as ngs
 import numpy as np
 
+# local edges of an NGSolve triangle (vertex pairs), in the order of its edge dofs
+TRIANGLE_EDGES = ((0, 2), (1, 2), (0, 1))
+
 
 def coordinates(mesh: ngs.Mesh) -> np.ndarray:
     """(nv, dim) vertex coordinates (a copy: netgen's is a view of a mesh refined in place)."""
