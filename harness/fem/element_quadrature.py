@@ -16,7 +16,7 @@ from functools import lru_cache
 import ngsolve as ngs
 import numpy as np
 
-from ..mesh.points import cells, coordinates, geometry_vertices, vertices_at
+from ..mesh.points import cells, coordinates, geometry_vertices, mesh_points, vertices_at
 
 # The graded rule on the elements touching a singular point: Gauss order 12 on leaves of size
 # down to 2^-14 h (raising either changes no error of any case by 1e-6 relative; tests).
@@ -168,11 +168,9 @@ class ElementQuadrature:
         reference = np.array([ip.point[:dim] for ip in rule])
         weights = np.array([ip.weight for ip in rule])
         jacobian = np.abs(np.linalg.det(corners[:, 1:] - corners[:, :1]))
-        template = mesh(*corners[:1, 0].T)                  # the record layout and the mesh pointer
-        points = np.zeros(len(elements) * len(weights), dtype=template.dtype)
+        points = mesh_points(mesh, len(elements) * len(weights))
         for axis, name in enumerate("xyz"[:dim]):
             points[name] = np.tile(reference[:, axis], len(elements))
-        points["meshptr"], points["VorB"], points["facetnr"] = template["meshptr"][0], template["VorB"][0], -1
         points["nr"] = np.repeat(elements, len(weights))
         values = np.asarray(cf(points), dtype=float).reshape(len(elements), len(weights), cf.dim)
         return values, weights[None, :] * jacobian[:, None]

@@ -43,8 +43,9 @@ import scipy.sparse as sp
 
 from ..fem.assembly import csr_view
 from ..fem.contact_quadrature import contact_quadrature
-from ..mesh.points import TRIANGLE_EDGES, cells
+from ..mesh.points import TRIANGLE_EDGES, cells, mesh_points
 from .errors import CONTACT_ERROR_POINTS, DiscretePressure
+
 
 @dataclass(frozen=True)
 class LevelNumbering:
@@ -100,10 +101,8 @@ def edge_dofs_of_sides(mesh: ngs.Mesh, fes: ngs.H1) -> tuple[np.ndarray, np.ndar
     # NGSolve's reference triangle: local vertices at (1, 0), (0, 1), (0, 0)
     local = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
     midpoints = np.array([(local[a] + local[b]) / 2 for a, b in TRIANGLE_EDGES])
-    template = mesh(np.array([0.0]), np.array([0.0]))
-    points = np.zeros(3 * ne, dtype=template.dtype)
+    points = mesh_points(mesh, 3 * ne)
     points["x"], points["y"] = np.tile(midpoints[:, 0], ne), np.tile(midpoints[:, 1], ne)
-    points["meshptr"], points["VorB"], points["facetnr"] = template["meshptr"][0], 0, -1
     points["nr"] = np.repeat(np.arange(ne), 3)
     numbered = ngs.GridFunction(fes)
     values = numbered.vec.FV().NumPy()

@@ -107,6 +107,30 @@ def remember(mesh: ngs.Mesh, points: np.ndarray, found: np.ndarray) -> None:
         _LOCATED.popitem(last=False)
 
 
+# (mesh, a located record) per mesh object: the record layout and NGSolve's mesh pointer
+_TEMPLATES: "OrderedDict[int, tuple]" = OrderedDict()
+_TEMPLATES_KEPT = 4
+
+
+def mesh_points(mesh: ngs.Mesh, count: int) -> np.ndarray:
+    """``count`` zeroed volume points of ``mesh`` as NGSolve's mesh-point records, for the caller
+    to fill with element numbers (``nr``) and local coordinates: points made directly, which a
+    coefficient function evaluates without a search. The record layout and the mesh pointer
+    come from one point search per mesh object, made the first time: a volume search builds
+    netgen's element search tree, again after every refinement (0.2 s on 9e5 triangles, 0.9 s
+    on 3.7e6), while a mesh refined in place keeps its pointer."""
+    hit = _TEMPLATES.get(id(mesh))
+    if hit is None or hit[0] is not mesh:
+        hit = (mesh, mesh(*coordinates(mesh)[:1].T))
+        _TEMPLATES[id(mesh)] = hit
+        while len(_TEMPLATES) > _TEMPLATES_KEPT:
+            _TEMPLATES.popitem(last=False)
+    template = hit[1]
+    points = np.zeros(count, dtype=template.dtype)
+    points["meshptr"], points["VorB"], points["facetnr"] = template["meshptr"][0], 0, -1
+    return points
+
+
 def in_elements(mesh: ngs.Mesh, points: np.ndarray, elements: np.ndarray) -> None:
     """Make ``points`` (..., dim), each inside (or on the boundary of) the volume element of the
     same index in ``elements`` (...), known without searching the mesh (``located``): their
@@ -125,11 +149,9 @@ def in_elements(mesh: ngs.Mesh, points: np.ndarray, elements: np.ndarray) -> Non
     np.maximum(local, 0.0, out=local)
     for k in range(1, mesh.dim):
         local[:, k] = np.minimum(local[:, k], 1.0 - local[:, :k].sum(axis=1))
-    template = mesh(*flat[:1].T)                  # one search: the record layout and the mesh pointer
-    found = np.zeros(len(flat), dtype=template.dtype)
+    found = mesh_points(mesh, len(flat))
     for k, name in enumerate("xyz"[:mesh.dim]):
         found[name] = local[:, k]
-    found["meshptr"], found["VorB"], found["facetnr"] = template["meshptr"][0], 0, -1
     found["nr"] = owners
     remember(mesh, flat, found)
 

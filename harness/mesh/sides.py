@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .points import cells, coordinates, mesh_key
+from .points import cells, coordinates, mesh_key, mesh_points
 
 # side s of a triangle joins its local vertices s and s + 1 (mod 3)
 SIDE_ENDS = np.array([[0, 1], [1, 2], [2, 0]])
@@ -84,10 +84,8 @@ class MeshSides:
         index 3e + k; local coordinates (1, 0), (0, 1), (0, 0) in NGSolve's reference triangle),
         for evaluating volume functions -- gradients included -- there without a search."""
         ne = len(self.cells)
-        template = mesh(np.array([self.corners[0, 0, 0]]), np.array([self.corners[0, 0, 1]]))
-        points = np.zeros(3 * ne, dtype=template.dtype)
+        points = mesh_points(mesh, 3 * ne)
         points["x"] = np.tile([1.0, 0.0, 0.0], ne)
         points["y"] = np.tile([0.0, 1.0, 0.0], ne)
-        points["meshptr"], points["VorB"], points["facetnr"] = template["meshptr"][0], 0, -1
         points["nr"] = np.repeat(np.arange(ne), 3)
         return points

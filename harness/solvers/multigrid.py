@@ -37,7 +37,7 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from ..fem.assembly import RotatedFrame, csr_view, rotate_in_place
+from ..fem.assembly import RotatedFrame, csr_view, free_dofs, rotate_in_place
 from ..mesh.trace import contact_trace
 from ..problem.physics import SCALAR
 
@@ -79,7 +79,7 @@ class Multilevel:
                 frame = rotated.pairs, rotated.blocks()
         self.matrices.append(self._form.mat)
         self.frames.append(frame)
-        self.free.append(np.array(self.fes.FreeDofs(), dtype=bool))
+        self.free.append(free_dofs(self.fes))
         self.mesh_levels.append(self.mesh.levels - 1)
 
     def _rotate(self, level: int, values: np.ndarray, to_cartesian: bool) -> None:
