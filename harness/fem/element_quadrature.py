@@ -27,6 +27,20 @@ MOMENT_CHUNK = 1 << 17
 
 
 @lru_cache(maxsize=None)
+def gauss_rule(shape, order: int) -> ngs.IntegrationRule:
+    """NGSolve's Gauss rule of ``order`` on ``shape``, one object per (shape, order)."""
+    return ngs.IntegrationRule(shape, order)
+
+
+@lru_cache(maxsize=64)
+def rule_arrays(rule: ngs.IntegrationRule, dim: int) -> tuple[np.ndarray, np.ndarray]:
+    """(points (k, dim), weights (k,)) of ``rule`` on its reference element, read once per rule
+    object (the graded rule has hundreds of points; the cache keeps the rule, so its id stays
+    its own)."""
+    return np.array([ip.point[:dim] for ip in rule]), np.array([ip.weight for ip in rule])
+
+
+@lru_cache(maxsize=None)
 def graded_rule(depth: int = GRADING_DEPTH, order: int = GRADED_ORDER) -> ngs.IntegrationRule:
     """Composite Gauss rule on the reference triangle, graded towards all three vertices."""
     base = ngs.IntegrationRule(ngs.TRIG, order)
@@ -126,7 +140,7 @@ class ElementQuadrature:
         # the swap on the near elements: every component at once, at mesh points made directly
         # (ngs.Integrate over a subset of elements takes scalar functions only and visits every
         # element of the mesh: per component, as long as the whole pass above)
-        return total + self._on_near(cf, self.graded) - self._on_near(cf, ngs.IntegrationRule(ngs.TRIG, order))
+        return total + self._on_near(cf, self.graded) - self._on_near(cf, gauss_rule(ngs.TRIG, order))
 
     def element_moments(self, cf: ngs.CoefficientFunction, order: int) -> tuple[np.ndarray, np.ndarray]:
         """((ne,) int_T g, (ne,) int_T (g - g_T)^2 with g_T the mean of g on T) of the scalar
@@ -137,7 +151,7 @@ class ElementQuadrature:
         is per element (1.2 us for a 1.1e6-triangle mesh at any order up to 8, measured)."""
         cf = cf.Compile()
         integral, deviation = np.zeros(self.mesh.ne), np.zeros(self.mesh.ne)
-        plain = ngs.IntegrationRule(ELEMENT_TYPE[self.mesh.dim], order)
+        plain = gauss_rule(ELEMENT_TYPE[self.mesh.dim], order)
         corners = coordinates(self.mesh)[cells(self.mesh)]
         for elements in np.array_split(np.arange(self.mesh.ne), max(1, self.mesh.ne // MOMENT_CHUNK)):
             values, weights = self._values(cf, elements, plain, corners[elements])
@@ -165,8 +179,7 @@ class ElementQuadrature:
         vertices (elements affine: the weight of a point is its reference weight times the
         Jacobian determinant, dim! times the volume)."""
         mesh, dim = self.mesh, self.mesh.dim
-        reference = np.array([ip.point[:dim] for ip in rule])
-        weights = np.array([ip.weight for ip in rule])
+        reference, weights = rule_arrays(rule, dim)
         jacobian = np.abs(np.linalg.det(corners[:, 1:] - corners[:, :1]))
         points = mesh_points(mesh, len(elements) * len(weights))
         for axis, name in enumerate("xyz"[:dim]):
