@@ -32,7 +32,7 @@ SIGNATURES = {
 
 
 def test_the_api_readme_shows_exists_with_its_signatures():
-    assert harness.__version__ == "0.3.9"
+    assert harness.__version__ == "0.3.10"
     assert harness.cases is harness.case_table
     for function, expected in SIGNATURES.items():
         parameters = inspect.signature(function).parameters.values()
