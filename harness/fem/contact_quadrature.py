@@ -47,7 +47,9 @@ class ContactQuadrature:
     edge: np.ndarray            # (q,) index of the point's cell (in problem.trace's edges; 3D: its faces)
     T: sp.csr_matrix            # (q, ndof) trace values of the basis (of the contact variable)
     normals: np.ndarray         # (q, dim) outward unit normal at each point
-    # what ``N`` is made from, when it is first asked for: (problem, T_t) of a 2D scalar problem
+    # what ``N`` is made from, when it is first asked for, for a 2D scalar problem: its space,
+    # trace and the points' edge parameters (not the problem: the problem's caches hold
+    # quadratures, and a cycle would keep its matrices alive until a full garbage collection)
     _flux: tuple | None = field(default=None, repr=False, compare=False)
 
     @cached_property
@@ -57,8 +59,7 @@ class ContactQuadrature:
         the error measurement, the loads and the best approximation make quadratures too."""
         if self._flux is None:
             return None
-        problem, T_t = self._flux
-        return _normal_derivatives(problem, self.edge, T_t, self.T.shape)
+        return _normal_derivatives(*self._flux, self.edge, self.T.shape)
 
     def edge_means(self, values: np.ndarray) -> np.ndarray:
         """Mean over each contact edge of a function given at the points."""
@@ -116,7 +117,7 @@ def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: 
         edge=edge,
         T=_rows(cols_T, vals_T, shape),
         normals=trace.normals[edge],
-        _flux=(problem, T_t) if problem.physics.flux_rows else None,
+        _flux=(problem.fes, trace, T_t) if problem.physics.flux_rows else None,
     )
 
 
@@ -151,10 +152,10 @@ def _face_quadrature(problem, degree: int) -> ContactQuadrature:
     )
 
 
-def _normal_derivatives(problem, edge: np.ndarray, T_t: np.ndarray, shape) -> sp.csr_matrix:
+def _normal_derivatives(fes, trace, T_t: np.ndarray, edge: np.ndarray, shape) -> sp.csr_matrix:
     """The outward normal derivative of every scalar basis function at the points (Nitsche's
     flux term; see the module docstring)."""
-    mesh, fes, trace = problem.mesh, problem.fes, problem.trace
+    mesh, order = fes.mesh, fes.globalorder
     m = len(trace.edges)
     a, b = trace.edge_vertices.T
     c = trace.opposite                                  # vertex c of the triangle on each edge
@@ -166,7 +167,7 @@ def _normal_derivatives(problem, edge: np.ndarray, T_t: np.ndarray, shape) -> sp
         raise RuntimeError("a contact edge's triangle does not hold its vertices and the opposite one")
     vertex_dofs = np.column_stack([(dofs[:, :3] * (local == v[:, None])).sum(axis=1) for v in (a, b, c)])
     edge_dofs = np.zeros((m, 3), dtype=np.int64)        # bubble dofs of ab, ac, bc (order 2)
-    if problem.order == 2:
+    if order == 2:
         for k, (p, q) in enumerate(((a, b), (a, c), (b, c))):
             for side, (i, j) in enumerate(TRIANGLE_EDGES):
                 joins = ((local[:, i] == p) & (local[:, j] == q)) | ((local[:, i] == q) & (local[:, j] == p))
@@ -177,7 +178,7 @@ def _normal_derivatives(problem, edge: np.ndarray, T_t: np.ndarray, shape) -> sp
     dna, dnb, dnc = (dn[edge, i] for i in range(3))
     cols_N = [vertex_dofs[edge, 0], vertex_dofs[edge, 1], vertex_dofs[edge, 2]]
     vals_N = [dna, dnb, dnc]
-    if problem.order == 2:
+    if order == 2:
         cols_N += [edge_dofs[edge, 0], edge_dofs[edge, 1], edge_dofs[edge, 2]]
         vals_N += [-0.5 * (lb * dna + la * dnb), -0.5 * la * dnc, -0.5 * lb * dnc]
     return _rows(cols_N, vals_N, shape)

@@ -3,6 +3,7 @@ functions at many points, with the points located once per mesh."""
 from __future__ import annotations
 
 import hashlib
+import weakref
 from collections import OrderedDict
 
 import ngsolve as ngs
@@ -107,7 +108,9 @@ def remember(mesh: ngs.Mesh, points: np.ndarray, found: np.ndarray) -> None:
         _LOCATED.popitem(last=False)
 
 
-# (mesh, a located record) per mesh object: the record layout and NGSolve's mesh pointer
+# (a weak reference to the mesh, a located record) per mesh object: the record layout and
+# NGSolve's mesh pointer (weak: a mesh kept here would outlive its study, as a whole refined
+# mesh; its id is checked against the live object, so a reused id is never trusted)
 _TEMPLATES: "OrderedDict[int, tuple]" = OrderedDict()
 _TEMPLATES_KEPT = 4
 
@@ -120,8 +123,8 @@ def mesh_points(mesh: ngs.Mesh, count: int) -> np.ndarray:
     netgen's element search tree, again after every refinement (0.2 s on 9e5 triangles, 0.9 s
     on 3.7e6), while a mesh refined in place keeps its pointer."""
     hit = _TEMPLATES.get(id(mesh))
-    if hit is None or hit[0] is not mesh:
-        hit = (mesh, mesh(*coordinates(mesh)[:1].T))
+    if hit is None or hit[0]() is not mesh:
+        hit = (weakref.ref(mesh), mesh(*coordinates(mesh)[:1].T))
         _TEMPLATES[id(mesh)] = hit
         while len(_TEMPLATES) > _TEMPLATES_KEPT:
             _TEMPLATES.popitem(last=False)
