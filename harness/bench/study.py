@@ -49,9 +49,9 @@ def measure_study() -> pd.DataFrame:
 
 def study_goals(study: pd.DataFrame) -> list[tuple[str, bool, str]]:
     """The goal of the everyday-loop issue (28), set for the paper's methods: a study costs at
-    most 2.5x its contact solves (the study-pipeline issue asked 3x). With P1 the ratio is shown, not judged: P1's extra level is a mesh
-    four times larger, whose refinement, assembly and error integration cost per element while
-    its solve is cheap."""
+    most 2.5x its contact solves (the study-pipeline issue asked 3x). With P1 the ratio is
+    shown, not judged: P1's extra level is a mesh four times larger, whose refinement, assembly
+    and error integration cost per element while its solve is cheap."""
     out = []
     for row in study.to_dict("records"):
         shares = ", ".join(f"{k[len('share_'):]} {v:.0%}" for k, v in row.items() if k.startswith("share_"))

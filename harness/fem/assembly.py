@@ -21,6 +21,8 @@ from scipy.spatial import cKDTree
 
 from ..mesh.trace import ContactTrace, contact_trace
 from .element_quadrature import ElementQuadrature, singular_vertices
+from .rotated_frame import RotatedFrame, rotate_in_place
+from .sparse import csr_view, free_dofs
 
 # Gauss order of the volume load f v away from singular points (the graded rule near them):
 # see LOAD_ORDER_NOTE in tests/test_errors.py for the measurement that chose it.
@@ -109,41 +111,6 @@ def _contact_dof(fes, node) -> int:
     return fes.GetDofNrs(node)[-1]
 
 
-def free_dofs(fes) -> np.ndarray:
-    """``fes.FreeDofs()`` as a boolean array, by NGSolve's projector onto them applied to ones:
-    converting the BitArray element by element costs 0.14 s per 1e6 dofs, this 6 ms."""
-    ones = ngs.BaseVector(fes.ndof)
-    ones.FV().NumPy()[:] = 1.0
-    kept = ones.CreateVector()
-    kept.data = ngs.Projector(fes.FreeDofs(), True) * ones
-    return kept.FV().NumPy() != 0.0
-
-
-def csr_view(matrix) -> sp.csr_matrix:
-    """A scipy CSR matrix on the memory of an NGSolve sparse matrix (values and column indices
-    shared, not copied); it keeps ``matrix`` alive."""
-    values, columns, pointers = matrix.CSR()
-    view = sp.csr_matrix((values.NumPy(), np.asarray(columns), np.asarray(pointers, dtype=np.int64)),
-                         shape=(matrix.height, matrix.width), copy=False)
-    view.owner = matrix
-    return view
-
-
-def csr_positions(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
-    """Positions in ``M.data`` of the entries (rows[k], cols[k]), which must be in M's pattern
-    (column indices sorted within each row, as NGSolve stores them)."""
-    touched = np.unique(rows)
-    starts, lengths = M.indptr[touched], np.diff(M.indptr)[touched]
-    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
-    positions = np.repeat(starts - offsets, lengths) + np.arange(lengths.sum())
-    keys = np.repeat(touched, lengths) * M.shape[1] + M.indices[positions]
-    wanted = rows * M.shape[1] + cols
-    where = np.minimum(np.searchsorted(keys, wanted), len(keys) - 1)
-    if not (np.all(np.diff(keys) > 0) and np.array_equal(keys[where], wanted)):
-        raise RuntimeError("S^T A S does not fit the sparsity pattern of A: a contact edge outside one triangle?")
-    return positions[where]
-
-
 def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
     """L(v) of (2.5) in NGSolve's basis: the volume load and the Neumann data (du/dn, or the
     traction sigma(u) n), plus, in elasticity, the traction g_C on Gamma_C (the scalar contact
@@ -162,74 +129,6 @@ def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
         load += case.contact_load.Compile() * v * ngs.ds("contact", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
     load.Assemble()
     return load.vec.FV().NumPy().copy()
-
-
-@dataclass(frozen=True)
-class RotatedFrame:
-    """At each node of Gamma_C of a vector space: the variables (t, c) = (u . tau, -u . n) in 2D,
-    (t1, t2, c) = (u . tau1, u . tau2, -u . n) in 3D, in place of the Cartesian components, so
-    that u = sum t_i tau_i - c n (an orthogonal change of basis Q: NGSolve's coefficients =
-    Q @ ours; Q = I where n = -e_y, resp. -e_z). The contact variable c then sits in the last
-    component's dof, where ``_contact_dof`` finds it. Tangents (``tangents``): tau = (-n_y, n_x)
-    in 2D; in 3D tau1 the unit projection of e_x (or e_y when n is near e_x) on the tangent
-    plane and tau2 = -n x tau1, so that (tau1, tau2, -n) is a right-handed orthonormal basis.
-
-    A vertex of Gamma_C needs one normal: Gamma_C must be flat through each of its vertices
-    (the discrete contact conditions on the normal displacement of a kink would need the
-    normals of its cells, and the cones would no longer be bounds)."""
-
-    pairs: np.ndarray       # (k, dim) the dofs (one per component) of each node of Gamma_C
-    normals: np.ndarray     # (k, dim) the outward unit normal there
-
-    @classmethod
-    def of(cls, fes, trace: ContactTrace) -> "RotatedFrame":
-        dim = fes.mesh.dim
-        nodes = [(ngs.EDGE, int(e)) for e in trace.edges] + [(ngs.VERTEX, int(v)) for v in trace.edge_vertices.ravel()]
-        normals = np.concatenate([trace.normals, np.repeat(trace.normals, 2, axis=0)])
-        dofs = [fes.GetDofNrs(ngs.NodeId(kind, number)) for kind, number in nodes]
-        has = np.array([len(d) == dim for d in dofs])          # an edge of P1 has no dofs
-        pairs = np.array([d for d, keep in zip(dofs, has) if keep], dtype=np.int64).reshape(-1, dim)
-        normals = normals[has]
-        unique, first, which = np.unique(pairs[:, 0], return_index=True, return_inverse=True)
-        # every cell at a node must give it the same normal
-        kinked = np.abs(normals - normals[first][which]).max(axis=1) > 1e-12
-        if kinked.any():
-            kind, number = [node for node, keep in zip(nodes, has) if keep][int(np.argmax(kinked))]
-            point = ", ".join(f"{c:.4g}" for c in fes.mesh[ngs.NodeId(kind, number)].point)
-            raise ValueError(f"Gamma_C has a kink at ({point}): elastic contact needs it "
-                             f"flat through each of its vertices")
-        return cls(pairs[first], normals[first])
-
-    @property
-    def identity(self) -> bool:
-        outward = np.zeros(self.normals.shape[1])
-        outward[-1] = -1.0
-        return bool(np.allclose(self.normals, outward, atol=1e-14))
-
-    def tangents(self) -> np.ndarray:
-        """(k, dim - 1, dim): the tangent vectors of each node."""
-        n = self.normals
-        if n.shape[1] == 2:
-            return np.stack([-n[:, 1], n[:, 0]], axis=1)[:, None, :]
-        seed = np.where((np.abs(n[:, 0]) < 0.9)[:, None], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0])
-        first = seed - (seed * n).sum(axis=1, keepdims=True) * n
-        first /= np.linalg.norm(first, axis=1, keepdims=True)
-        return np.stack([first, np.cross(-n, first)], axis=1)
-
-    def blocks(self) -> np.ndarray:
-        """(k, dim, dim): Q at each node, column j the Cartesian components of ours j."""
-        return np.concatenate([self.tangents(), -self.normals[:, None, :]], axis=1).transpose(0, 2, 1)
-
-    def matrix(self, ndof: int) -> sp.csr_matrix:
-        """Q: identity off Gamma_C, ``blocks`` at its nodes."""
-        dim = self.pairs.shape[1]
-        off = np.ones(ndof, bool)
-        off[self.pairs.ravel()] = False
-        rest = np.flatnonzero(off)
-        rows = np.repeat(self.pairs, dim, axis=1).ravel()           # (k, i, j) -> pairs[k, i]
-        cols = np.tile(self.pairs, (1, dim)).ravel()                # (k, i, j) -> pairs[k, j]
-        return sp.csr_matrix((np.concatenate([np.ones(len(rest)), self.blocks().ravel()]),
-                              (np.concatenate([rest, rows]), np.concatenate([rest, cols]))), shape=(ndof, ndof))
 
 
 def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadrature | None = None) -> DiscreteProblem:
@@ -273,15 +172,6 @@ def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadratu
     if case.contact_load is not None and not physics.traction_load:
         problem.b += contact_load_vector(case, problem)
     return problem
-
-
-def rotate_in_place(A: sp.csr_matrix, Q: sp.csr_matrix) -> None:
-    """A <- Q^T A Q in A's own memory. Q mixes the two dofs of one node, which A already couples
-    with every dof it couples either of them with, so Q^T A Q fits A's sparsity pattern."""
-    K = (Q.T @ A @ Q).tocoo()
-    positions = csr_positions(A, K.row.astype(np.int64), K.col.astype(np.int64))
-    A.data[:] = 0.0
-    np.add.at(A.data, positions, K.data)
 
 
 def contact_load_vector(case, problem: DiscreteProblem) -> np.ndarray:

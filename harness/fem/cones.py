@@ -24,7 +24,8 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..mesh.points import evaluate
-from .assembly import ContactTraceFunction, DiscreteProblem, csr_positions, csr_view
+from .assembly import ContactTraceFunction, DiscreteProblem
+from .sparse import csr_positions, csr_view
 
 # Gauss-Legendre points on [0, 1] for edge means of the gap (exact for polynomial gaps of
 # degree <= 15, far below the discretisation error otherwise).

@@ -56,8 +56,9 @@ import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
 from ..mesh.points import evaluate
-from .assembly import DiscreteProblem, csr_positions, csr_view
+from .assembly import DiscreteProblem
 from .contact_quadrature import ContactQuadrature, at_points, contact_quadrature
+from .sparse import csr_positions, csr_view
 
 
 @dataclass

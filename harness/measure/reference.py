@@ -41,8 +41,8 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..fem.assembly import csr_view
 from ..fem.contact_quadrature import contact_quadrature
+from ..fem.sparse import csr_view
 from ..mesh.points import TRIANGLE_EDGES, cells, mesh_points
 from .errors import CONTACT_ERROR_POINTS, DiscretePressure
 

@@ -21,7 +21,7 @@ outward unit normal, alpha the initial gap, compression negative),
 
 read c(u) - obstacle >= 0, p >= 0, (c(u) - obstacle) p = 0: the scalar conditions (2.4) of the
 contact variable. In the rotated frame (tangential components, c) at each Gamma_C node
-(``fem.assembly.RotatedFrame``), the P2 trace of c on a flat piece of Gamma_C is the scalar
+(``fem.rotated_frame.RotatedFrame``), the P2 trace of c on a flat piece of Gamma_C is the scalar
 problem's trace, so every cone (vertex values and edge means or midpoints of c >= obstacle; in
 3D the triangle means) is the scalar one on the contact variable (``fem.cones``,
 ``fem.face_means``).

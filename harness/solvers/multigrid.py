@@ -19,7 +19,7 @@ pins finds exactly those hats.
 
 Elasticity (issue 33): the same cycle on the vector spaces, in the frame of the problem. Each
 level is vector P1 of its mesh (the physics' own order-1 space and form), written, like the
-problem (``fem.assembly.RotatedFrame``), in the rotated frame (t, c) = (u . tau, -u . n) at the
+problem (``fem.rotated_frame.RotatedFrame``), in the rotated frame (t, c) = (u . tau, -u . n) at the
 vertices of its Gamma_C: A_l <- Q_l^T A_l Q_l and the prolongation Q_f^T P Q_c, so the coarse
 matrices are still exact Galerkin products. Truncation stays per variable: a coarse hat of an
 interior vertex vanishes on Gamma_C (it vanishes on every boundary edge not at its vertex),
@@ -37,7 +37,8 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from ..fem.assembly import RotatedFrame, csr_view, free_dofs, rotate_in_place
+from ..fem.rotated_frame import RotatedFrame, rotate_in_place
+from ..fem.sparse import csr_view, free_dofs
 from ..mesh.trace import contact_trace
 from ..problem.physics import SCALAR
 

@@ -1,5 +1,5 @@
 """elastic-transition-r32 turned by 0.3 rad about the origin: Gamma_C no longer horizontal, so
-the rotated frame at its nodes (``discrete.RotatedFrame``) is not the identity."""
+the rotated frame at its nodes (``fem.rotated_frame.RotatedFrame``) is not the identity."""
 from math import cos, pi, sin
 
 from harness.problem.functions import roller_free_mode

@@ -1,0 +1,43 @@
+"""NGSolve's sparse objects as NumPy/scipy ones, without copies or element-by-element loops:
+the free dofs as a boolean array, a sparse matrix as a scipy CSR view of its memory, and the
+positions of entries in a CSR pattern (for writing into NGSolve's matrices in place)."""
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+import scipy.sparse as sp
+
+
+def free_dofs(fes) -> np.ndarray:
+    """``fes.FreeDofs()`` as a boolean array, by NGSolve's projector onto them applied to ones:
+    converting the BitArray element by element costs 0.14 s per 1e6 dofs, this 6 ms."""
+    ones = ngs.BaseVector(fes.ndof)
+    ones.FV().NumPy()[:] = 1.0
+    kept = ones.CreateVector()
+    kept.data = ngs.Projector(fes.FreeDofs(), True) * ones
+    return kept.FV().NumPy() != 0.0
+
+
+def csr_view(matrix) -> sp.csr_matrix:
+    """A scipy CSR matrix on the memory of an NGSolve sparse matrix (values and column indices
+    shared, not copied); it keeps ``matrix`` alive."""
+    values, columns, pointers = matrix.CSR()
+    view = sp.csr_matrix((values.NumPy(), np.asarray(columns), np.asarray(pointers, dtype=np.int64)),
+                         shape=(matrix.height, matrix.width), copy=False)
+    view.owner = matrix
+    return view
+
+
+def csr_positions(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Positions in ``M.data`` of the entries (rows[k], cols[k]), which must be in M's pattern
+    (column indices sorted within each row, as NGSolve stores them)."""
+    touched = np.unique(rows)
+    starts, lengths = M.indptr[touched], np.diff(M.indptr)[touched]
+    offsets = np.concatenate([[0], np.cumsum(lengths)[:-1]])
+    positions = np.repeat(starts - offsets, lengths) + np.arange(lengths.sum())
+    keys = np.repeat(touched, lengths) * M.shape[1] + M.indices[positions]
+    wanted = rows * M.shape[1] + cols
+    where = np.minimum(np.searchsorted(keys, wanted), len(keys) - 1)
+    if not (np.all(np.diff(keys) > 0) and np.array_equal(keys[where], wanted)):
+        raise RuntimeError("S^T A S does not fit the sparsity pattern of A: a contact edge outside one triangle?")
+    return positions[where]
