@@ -73,11 +73,8 @@ def engine_of(args):
 
 def cmd_run(args) -> int:
     from .problem.case import load_case
-    from .report.vtk import VtkWriter
-    from .study import run_study
-    from .study.checkpoint import CheckpointStore
     from .study.engines import study_jobs
-    from .study.files import ensure_writable, write_csv
+    from .study.folder import owned
 
     methods = selected_methods(args)
     args.mesh = selected_meshes(args)
@@ -88,31 +85,56 @@ def cmd_run(args) -> int:
     try:
         # refused before the output folder is touched or a worker started
         study_jobs(cases, methods, args.levels, engine, check_memory=not args.skip_memory_check, meshes=args.mesh)
-        out = ensure_writable(Path(args.out))
-        checkpoints = out / ".checkpoints"
-        writer = VtkWriter(out / "vtk") if args.vtk else None
-        frame = run_study(cases, methods, args.levels, show_progress=not args.quiet, engine=engine,
-                          checkpoints=checkpoints, check_memory=False, meshes=args.mesh, on_level=writer)
+        with owned(Path(args.out)) as out:
+            frame, merged = _run_into(out, args, cases, methods, engine)
     finally:
         engine.close()
-    path = write_csv(frame, out / "results.csv")
-    CheckpointStore(checkpoints, args.levels).forget()
+    if not args.quiet:
+        _print_run(frame, out / ".checkpoints")
+    print(merged.summary(out / "results.csv"))
+    return report_failures(frame)
+
+
+def _run_into(out: Path, args, cases, methods, engine):
+    """The study of ``run`` into the folder ``out`` (which this process owns): its rows merged
+    into ``out``/results.csv (``study.merge``), its checkpoints deleted once they are there."""
+    from .report.vtk import VtkWriter
+    from .study import run_study
+    from .study.checkpoint import CheckpointStore
+    from .study.files import write_csv
+    from .study.merge import merge_rows, read_rows
+
+    path = out / "results.csv"
+    read_rows(path)             # a file that is not a results CSV is refused before the study
+    checkpoints = out / ".checkpoints"
+    writer = VtkWriter(out / "vtk") if args.vtk else None
+    frame = run_study(cases, methods, args.levels, show_progress=not args.quiet, engine=engine,
+                      checkpoints=checkpoints, check_memory=False, meshes=args.mesh, on_level=writer)
+    merged = merge_rows(read_rows(path), frame)
+    write_csv(merged.frame, path)
+    store = CheckpointStore(checkpoints, args.levels)
+    for case in cases:
+        store.forget(case)
+    if checkpoints.is_dir() and not any(checkpoints.iterdir()):
+        checkpoints.rmdir()
     if args.vtk:
         _print_vtk(out / "vtk")
-    if not args.quiet:
-        for (case, method), level in frame.attrs["resumed"].items():
-            if level:
-                print(f"{case} {method}: resumed after level {level - 1} from {checkpoints}")
-        with pd.option_context("display.width", 200, "display.max_columns", 30):
-            columns = ["case", "method", "level", "h", "ndof", "err_h1", "max_penetration", "solver_iterations",
-                       "kkt_residual", "status"]
-            if (frame["mesh"] != "uniform").any():
-                columns[2:2] = ["mesh"]
-                columns[-2:-2] = ["effectivity"]
-            print(frame[columns].to_string(index=False))
-            _print_references(frame)
-    print(f"wrote {path}")
-    return report_failures(frame)
+    return frame, merged
+
+
+def _print_run(frame: pd.DataFrame, checkpoints: Path) -> None:
+    """The run's rows as a table, and the chains it resumed."""
+    for (case, method), level in frame.attrs["resumed"].items():
+        if level:
+            print(f"{case} {method}: resumed after level {level - 1} from {checkpoints}")
+    with pd.option_context("display.width", 200, "display.max_columns", 30):
+        columns = ["case", "method", "level", "h", "ndof", "err_h1", "max_penetration", "solver_iterations",
+                   "kkt_residual", "status"]
+        if (frame["mesh"] != "uniform").any():
+            columns[2:2] = ["mesh"]
+            columns[-2:-2] = ["effectivity"]
+        print(frame[columns].to_string(index=False))
+        _print_references(frame)
 
 
 def failures(frame: pd.DataFrame) -> list[str]:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import datetime
 import json
+import sys
 import time
 from pathlib import Path
 
@@ -25,6 +26,8 @@ from ..methods import methods_named
 from ..measure.rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from ..study.cache import case_settings, compute, provenance
 from ..study.files import ensure_writable, write_atomic, write_csv
+from ..study.folder import all_owned
+from ..study.merge import merge_rows, read_rows
 from ..study.chain import PROFILES
 from ..study.mesh_study import PICTURE_METHOD
 from ..study.timing import Timings
@@ -247,7 +250,14 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     if levels is not None:
         settings["levels"], settings["stop_when_asymptotic"] = levels, False
         settings["mesh_levels"] = min(settings["mesh_levels"], levels)
-    results_dir = Path(results_dir)
+    results_dir, report_dir = Path(results_dir), Path(report_dir)
+    with all_owned([results_dir, report_dir]):
+        read_rows(results_dir / "results.csv")      # refused before the study if it is not a results CSV
+        return _build(cases, known, settings, results_dir, report_dir, show_progress, engine, check_memory, vtk)
+
+
+def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_progress, engine, check_memory, vtk) -> Path:
+    """``make_report``'s work, in folders this process owns."""
     ensure_writable(report_dir / "figures")
     timings = Timings()
     start = time.perf_counter()
@@ -262,7 +272,10 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
             rates = rate_table(results)
             efficiency = efficiency_table(results)
         with timings("writing", "results"):
-            write_csv(results, results_dir / "results.csv")
+            merged = merge_rows(read_rows(results_dir / "results.csv"), results)
+            write_csv(merged.frame, results_dir / "results.csv")
+            if merged.kept:
+                print(merged.summary(results_dir / "results.csv"), file=sys.stderr)
             if not meshes.empty:
                 write_csv(meshes, results_dir / "meshes.csv")
             write_csv(rates, results_dir / "rates.csv")

@@ -18,6 +18,7 @@ from pathlib import Path
 import pandas as pd
 from PIL import Image
 
+from ..study.files import write_atomic
 from .plots import VERDICT_COLORS
 
 CSS = """
@@ -98,7 +99,7 @@ def save_compact(path: Path) -> None:
     processes: the page then only reads it, 3 s less of the report's wall time)."""
     target = embedded_path(path)
     target.parent.mkdir(exist_ok=True)
-    target.write_bytes(_webp(path))
+    write_atomic(target, _webp(path))
 
 
 def compact_image(path: Path) -> tuple[str, bytes]:

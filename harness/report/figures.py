@@ -1,6 +1,7 @@
 """Figures of the report (matplotlib, Agg): PNG for the HTML page, PDF for papers."""
 from __future__ import annotations
 
+import io
 from pathlib import Path
 
 import matplotlib
@@ -11,6 +12,7 @@ import matplotlib.tri as mtri  # noqa: E402
 import numpy as np  # noqa: E402
 
 from ..problem.case import fraction
+from ..study.files import write_atomic
 from . import plots
 from .document import save_compact
 from .plots import OTHER_COLORS, style
@@ -36,7 +38,9 @@ def save(fig, folder: Path, stem: str) -> dict[str, Path]:
     paths = {}
     for fmt in FORMATS:
         paths[fmt] = folder / f"{stem}.{fmt}"
-        fig.savefig(paths[fmt], dpi=130, bbox_inches=box)
+        buffer = io.BytesIO()
+        fig.savefig(buffer, format=fmt, dpi=130, bbox_inches=box)
+        write_atomic(paths[fmt], buffer.getvalue())      # a report killed while drawing leaves no half figure
     plt.close(fig)
     save_compact(paths["png"])
     return paths

@@ -29,6 +29,7 @@ import numpy as np
 
 from ..mesh.points import cells, coordinates, evaluate, in_elements
 from ..study.chain import study_levels
+from ..study.files import TEMPORARY_MARK, write_atomic
 from ..study.snapshots import problem_vertex_values
 
 # VTK's node order of quadratic cells: the corners, then the midpoints of these corner pairs
@@ -186,7 +187,7 @@ def write_level(directory: Path, case, method, level: int, problem, solve) -> tu
 
 def _write(path: Path, mesh: meshio.Mesh) -> None:
     """A .vtu written whole or not at all (a reader never sees half a file)."""
-    partial = path.with_name(f".{path.name}.{os.getpid()}.part")
+    partial = path.with_name(f".{path.name}{TEMPORARY_MARK}-{os.getpid()}.vtu")
     meshio.write(partial, mesh, file_format="vtu")
     os.replace(partial, path)
 
@@ -204,10 +205,7 @@ def write_collection(folder: Path, stem: str) -> Path:
     text = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n'
             f"  <Collection>\n{entries}\n  </Collection>\n</VTKFile>\n")
     path = Path(folder) / f"{stem}.pvd"
-    partial = path.with_name(f".{path.name}.{os.getpid()}.part")
-    partial.write_text(text)
-    os.replace(partial, path)
-    return path
+    return write_atomic(path, text)
 
 
 class VtkWriter:

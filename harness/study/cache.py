@@ -33,6 +33,7 @@ from .mesh_study import FinestMesh, mesh_config, mesh_jobs_plan, read_mesh_resul
 from .progress import StudyProgress, scoped
 from .snapshots import SnapshotHook, save_snapshots
 from .sweep import REPORT_SWEEP, label_sweep, sweep_plan
+from .threads import usable_cpus
 from .timing import Timings
 
 PACKAGE = Path(__file__).resolve().parents[1]
@@ -200,7 +201,7 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
     remaining = {name: sum(1 for job in jobs if job.scope + job.case.name == name) for name in pending}
     progress = StudyProgress(weights, show_progress and bool(jobs))
     clock = time.perf_counter()
-    cores = os.cpu_count() or 1
+    cores = usable_cpus()
     if listener is not None:
         listener.cores_free(max(0, cores - engine.busy_cores(len(jobs))))
     try:
@@ -231,6 +232,8 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
                     listener.case_stored(case)
     finally:
         progress.close()
+    # every job is stored: what is left are the checkpoints of chains no store needed
+    CheckpointStore(checkpoints, 0).forget()
     if timings is not None:
         timings.add("jobs (wall)", engine.describe(), "", time.perf_counter() - clock)
     results = pd.concat([pd.read_csv(case_store / f"{case.name}.csv") for case in sorted(cases, key=lambda c: c.dimension)],

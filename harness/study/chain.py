@@ -21,6 +21,8 @@ from ..mesh.strategies import MeshStrategy, element_budget
 from ..methods import Method, get_method, methods_for
 from ..problem.case import Case
 from ..solvers.multigrid import Multilevel
+from . import threads
+from .threads import p2_size
 
 COLUMNS = [
     "case", "method", "order", "parameters", "mesh", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
@@ -287,7 +289,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                     budget_elements = element_budget(case, levels, max(m.extra_levels for m in methods))
                 if level and mesh.ne > budget_elements:
                     break
-        with ngs.TaskManager():
+        with threads.level(p2_size(mesh)):
             if hierarchical:
                 # the P1 levels' assembly, threaded (outside the task manager it was 5 s of the
                 # paper methods' default study)

@@ -5,12 +5,12 @@ same two-case study 41 s on two local processes, 54 s on a two-worker LocalClust
 """
 from __future__ import annotations
 
-import os
 import uuid
 
 from . import budget
 from .engines import Job, largest_first, run_job, split_large
 from .progress import EventProgress, relay
+from .threads import usable_cpus
 
 # seconds to wait for an existing scheduler to answer before saying it is unreachable
 SCHEDULER_TIMEOUT = 10
@@ -31,7 +31,7 @@ class DaskEngine:
         if (workers is None) == (scheduler is None):
             raise ValueError("a Dask engine needs either a number of local workers or a scheduler address")
         self.workers, self.scheduler = workers, scheduler
-        cores = os.cpu_count() or 1
+        cores = usable_cpus()
         # N local workers share the cores: no more NGSolve threads than cores in all
         self.threads = threads or (max(1, cores // workers) if workers else 1)
         self._client = self._cluster = None

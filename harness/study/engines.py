@@ -19,9 +19,7 @@ under it) are not done in a fixed order, and two runs agree only to about 1e-14 
 """
 from __future__ import annotations
 
-import os
 import time
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -32,30 +30,12 @@ from ..methods import methods_for
 from ..problem.case import load_case
 from ..problem.validate import validate_case
 from . import budget
+from . import threads as thread_policy
 from .budget import check_fits, estimate, solve_weights
 from .chain import COLUMNS, Phases, level_hook, run_chain
 from .checkpoint import CheckpointStore
 from .progress import Scoped, StudyProgress, scoped
-
-
-@contextmanager
-def thread_count(threads: int | None):
-    """NGSolve's task manager and the BLAS use ``threads`` threads in this process while the
-    context lasts (None: as they are). One per process makes every sum in a fixed order:
-    results reproducible bit for bit."""
-    if threads is None:
-        yield
-        return
-    import ngsolve as ngs
-    from threadpoolctl import threadpool_limits
-    with ngs.TaskManager():
-        previous = ngs.GetNumThreads()      # outside a task manager it reads 1
-    ngs.SetNumThreads(int(threads))
-    try:
-        with threadpool_limits(int(threads)):
-            yield
-    finally:
-        ngs.SetNumThreads(previous)
+from .threads import usable_cpus
 
 
 @dataclass(frozen=True)
@@ -139,13 +119,13 @@ class InProcess:
     def busy_cores(self, remaining: int) -> int:
         """The cores of this machine the study keeps busy while ``remaining`` jobs are left:
         all of them (NGSolve's threads) until the last job ends."""
-        return (os.cpu_count() or 1) if remaining else 0
+        return usable_cpus() if remaining else 0
 
     def run(self, jobs: list[Job], progress=None):
         """(job, ``study.ChainOutput``) for each job, as they finish."""
         for job in jobs:
             view = Scoped(progress, job.scope) if progress is not None and job.scope else progress
-            with thread_count(self.threads):
+            with thread_policy.using(self.threads):
                 output = run_chain(job.case, list(job.methods), job.levels, view, job.on_level, Phases(), job.store(),
                                    mesh=job.mesh)
             yield job, output
@@ -163,7 +143,7 @@ def run_job(source: str, reference_levels, methods, levels: int, on_level, threa
     if reference_levels != case.reference_levels:
         case = case.with_reference(reference_levels)
     store = CheckpointStore(folder, levels, on_level, mesh.label) if folder is not None else None
-    with thread_count(threads):
+    with thread_policy.using(threads):
         return run_chain(case, list(methods), levels, progress, on_level, Phases(), store, mesh=mesh)
 
 

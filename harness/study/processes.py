@@ -14,7 +14,6 @@ clusters. Results are those of ``InProcess(threads=1)``, bit for bit.
 from __future__ import annotations
 
 import multiprocessing
-import os
 import queue as queues
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -24,6 +23,7 @@ import cloudpickle
 from . import budget
 from .engines import Job, largest_first, run_job, split_large
 from .progress import QueueProgress, replay
+from .threads import usable_cpus
 
 # how often the client looks at the progress queue while jobs run
 POLL_SECONDS = 0.2
@@ -55,7 +55,7 @@ class LocalProcesses:
         if workers < 1:
             raise ValueError(f"local processes: workers must be a positive integer, got {workers}")
         self.workers = int(workers)
-        self.threads = threads or max(1, (os.cpu_count() or 1) // self.workers)
+        self.threads = threads or max(1, usable_cpus() // self.workers)
 
     def split(self, jobs: list[Job]) -> list[Job]:
         return split_large(jobs, self.workers)

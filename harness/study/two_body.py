@@ -20,8 +20,6 @@ from __future__ import annotations
 import math
 import time
 
-import ngsolve as ngs
-
 from ..fem.assembly import discretise
 from ..fem.element_quadrature import ElementQuadrature
 from ..fem.two_body import TwoBodyProblem
@@ -29,6 +27,8 @@ from ..measure.errors import ExactErrors
 from ..mesh.levels import UniformRefinement
 from ..methods import methods_for
 from ..problem.bodies import lower_body
+from . import threads
+from .threads import p2_size
 
 # the error columns combined over the bodies as the root of the sum of squares
 COMBINED = ("err_h1", "err_h1_semi", "err_l2", "err_energy", "err_best_h1", "err_best_h1_semi", "err_best_energy",
@@ -66,7 +66,7 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, o
         clock = time.perf_counter()
         with phases("mesh"):
             steps = [next(walk) for walk in walks]
-        with ngs.TaskManager():
+        with threads.level(p2_size(*(step.mesh for step in steps))):
             active = [m for m in methods if level < studied[m.name]]
             with phases("mesh"):
                 quadratures = [ElementQuadrature.of(body, step.mesh) for body, step in zip(bodies, steps)]
