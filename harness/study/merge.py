@@ -41,7 +41,7 @@ def read_rows(path: Path) -> pd.DataFrame | None:
 
 def _keys(frame: pd.DataFrame) -> pd.MultiIndex:
     key = frame[ROW_KEY].copy()
-    key["parameters"] = key["parameters"].fillna("").astype(str)
+    key["parameters"] = key["parameters"].astype(object).fillna("").astype(str)
     key["level"] = key["level"].astype(int)
     return pd.MultiIndex.from_frame(key)
 

@@ -17,7 +17,8 @@ busy process (harness 0.3.10). One thread loses nothing to that. So the study's 
   level costs less than the threads' start and synchronisation (measured: levels of 600 to 4e4
   dofs were as fast or faster on one thread; 1.2x faster on two from 1.4e5 dofs on).
 
-``Threads(n)`` (``--threads n``) fixes n threads for every level, as before.
+``Threads(n)`` (``--threads n``, or the environment variable ``HARNESS_THREADS=n``) fixes n
+threads for every level, as before.
 """
 from __future__ import annotations
 
@@ -37,6 +38,9 @@ SPARE_CORE = 0.75
 # a measurement shorter than this (seconds) is too coarse for /proc/stat's 10 ms ticks: the
 # previous decision stands
 MIN_WINDOW = 0.05
+# the environment variable that fixes the threads where no --threads is given (a CI runner, a
+# test suite on one process per core), as OMP_NUM_THREADS does for OpenMP programs
+ENVIRONMENT = "HARNESS_THREADS"
 
 
 def cgroup_quota(root: Path = Path("/sys/fs/cgroup")) -> float | None:
@@ -87,6 +91,13 @@ def _busy_ticks(cpus: set[int] | None, stat: Path = Path("/proc/stat")) -> int |
     return total
 
 
+def _environment_threads() -> int:
+    text = os.environ[ENVIRONMENT].strip()
+    if not text.isdigit() or int(text) < 1:
+        raise ValueError(f"{ENVIRONMENT} must be a positive integer, got {text!r}")
+    return int(text)
+
+
 @dataclass
 class CpuMonitor:
     """The cores the other processes kept busy, on the CPUs this process may use, since the
@@ -124,6 +135,8 @@ class Threads:
     _last: int | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self):
+        if self.fixed is None and os.environ.get(ENVIRONMENT, "").strip():
+            self.fixed = _environment_threads()
         self.monitor.others()           # opens the first window
 
     def for_level(self, p2_dofs: int) -> int:
