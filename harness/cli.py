@@ -406,9 +406,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="coarse mesh size and level of each problem (default: 9e3 to 4.2e6 dofs)")
     p.add_argument("--method", action="append", choices=_method_names(),
                    help="default: mean and nodal; nitsche and penalty add their rows (one solve against one nodal solve)")
-    p.add_argument("--only", choices=["study", "solver", "elastic", "3d", "adaptive", "mortar", "report"],
+    p.add_argument("--only", choices=["study", "solver", "elastic", "3d", "adaptive", "mortar", "load", "report"],
                    help="only the study row, only the solver table, only the elastic rows, only the 3D rows, only the "
-                        "adaptive rows, only the two-body (mortar) rows, or "
+                        "adaptive rows, only the two-body (mortar) rows, only the runs beside a busy process (load), or "
                         "only the report's profile (not part of the default run: a whole `make report` per variant)")
     p.add_argument("--workers", type=_non_negative_int, action="append", metavar="N",
                    help="with --only report: the variants, 0 = in this process, N = N local worker processes "

@@ -14,6 +14,7 @@ def run_bench_command(args) -> int:
     from .adaptive import adaptive_goals, run_adaptive_bench
     from .common import write_bench
     from .elastic import elastic_goals, run_elastic_bench
+    from .load import load_goals, run_load_bench
     from .mortar import mortar_goals, run_mortar_bench
     from .solvers import DEFAULT_SIZES, goals, run_bench
     from .study import measure_study, study_goals
@@ -33,7 +34,9 @@ def run_bench_command(args) -> int:
                adaptive_goals),
               ("mortar", run_mortar_bench, "_mortar",
                "two bodies, non-matching meshes (Section 6): mortar contact solve against one linear solve of both bodies:",
-               mortar_goals)]
+               mortar_goals),
+              ("load", run_load_bench, "_load",
+               "a study beside one busy process (`run`, wall seconds; threads: auto = the default policy):", load_goals)]
     for name, run, suffix, title, judge in tables:
         if args.only in (None, name):
             frame = run()

@@ -9,7 +9,7 @@ import resource
 import numpy as np
 import pandas as pd
 
-from .common import contact_goals, fastest, fresh_rows, timed
+from .common import FAIR_COLUMNS, contact_goals, fastest, fresh_rows, timed
 from .three_d import solve_row
 
 # Poisson ratio 0.3 (the multigrid path; ``physics.Elasticity.multigrid``), plane strain and 3D
@@ -28,7 +28,7 @@ ELASTIC_SIZES = ((ELASTIC_CASE, None, 5), (ELASTIC_CASE, None, 6), (ELASTIC_CASE
 CHOLESKY_MAX_NDOF_3D = 100_000
 
 
-ELASTIC_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_linear", "t_linear_cholesky", "iterations",
+ELASTIC_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_linear", *FAIR_COLUMNS, "t_linear_cholesky", "iterations",
                    "cg_iterations", "linear_cg_iterations", "kkt_residual", "peak_rss_mb"]
 
 
@@ -40,16 +40,18 @@ def _measure_elastic(model_name: str, size: tuple, connection):
     ngs.ngsglobals.msg_level = 0
     case, coarse_maxh, level = size
     with ngs.TaskManager():
-        qp, t_contact, solution, t_linear, system = solve_row(model_name, level, case, coarse_maxh)
+        row = solve_row(model_name, level, case, coarse_maxh)
+        qp = row.qp
         rhs = np.where(qp.free, qp.b - qp.K @ qp.lift, 0.0)
         t_cholesky = np.nan
         if qp.problem.mesh.dim == 2 or qp.problem.ndof <= CHOLESKY_MAX_NDOF_3D:
             t_cholesky, _ = fastest(lambda: timed(lambda: Cholesky(qp.K_ngs, qp.free).solve(rhs)))
     connection.send({
-        "case": case, "method": model_name, "ndof": qp.problem.ndof, "t_contact": t_contact, "t_linear": t_linear,
-        "ratio_linear": t_contact / t_linear, "t_linear_cholesky": t_cholesky, "iterations": solution.iterations,
-        "cg_iterations": solution.work["cg_iterations"], "linear_cg_iterations": system.cg_iterations,
-        "kkt_residual": solution.kkt.residual, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        "case": case, "method": model_name, "ndof": qp.problem.ndof, "t_contact": row.t_contact, "t_linear": row.t_linear,
+        "ratio_linear": row.t_contact / row.t_linear, **row.fair(), "t_linear_cholesky": t_cholesky,
+        "iterations": row.solution.iterations, "cg_iterations": row.solution.work["cg_iterations"],
+        "linear_cg_iterations": row.linear.cg_iterations, "kkt_residual": row.solution.kkt.residual,
+        "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
     })
     connection.close()
 

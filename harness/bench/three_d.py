@@ -3,10 +3,20 @@ solve, on a 3D transition case."""
 from __future__ import annotations
 
 import resource
+from dataclasses import dataclass
 
 import pandas as pd
 
-from .common import contact_goals, fastest, fresh_rows, linear_multigrid_seconds, linear_seconds, own_seconds
+from .common import (
+    FAIR_COLUMNS,
+    contact_goals,
+    fair_columns,
+    fastest,
+    fresh_rows,
+    linear_multigrid_seconds,
+    linear_seconds,
+    own_seconds,
+)
 from .solvers import cone_problem
 
 THREE_D_CASE = "transition-line-3d"
@@ -15,8 +25,8 @@ THREE_D_CASE = "transition-line-3d"
 THREE_D_LEVELS = (1, 2, 3)         # 1.8e4, 1.3e5, 1.0e6 P2 dofs
 
 
-THREE_D_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_linear", "iterations", "cg_iterations",
-                   "linear_cg_iterations", "kkt_residual", "peak_rss_mb"]
+THREE_D_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_linear", *FAIR_COLUMNS, "iterations",
+                   "cg_iterations", "linear_cg_iterations", "kkt_residual", "peak_rss_mb"]
 
 
 def face_mean_problem(level: int, case_name: str = THREE_D_CASE):
@@ -41,18 +51,35 @@ def face_mean_problem(level: int, case_name: str = THREE_D_CASE):
     return qp, qp.predicted_active(previous), multilevel, start
 
 
-def solve_row(model_name: str, level: int, case_name: str = THREE_D_CASE, coarse_maxh=None):
-    """(qp, contact seconds, solution, linear seconds, linear system) of one row: the contact
-    solve (nested iteration from ``level`` - 1) and one linear multigrid solve of its matrix.
-    The 3D `mean` is the face-mean QP (general rows, ``solvers.projected``), every other method
-    a cone of bounds."""
+@dataclass
+class SolveRow:
+    """One row's measurements: the contact solve (nested iteration from the level below) and
+    the linear solves of its matrix by the same multigrid CG, from zero and from the same start."""
+
+    qp: object
+    t_contact: float
+    solution: object
+    t_linear: float
+    linear: object                  # the MultigridSystem of the solve from zero (its cg_iterations)
+    t_nested: float
+    nested: object                  # ... of the solve from the contact solve's start
+
+    def fair(self) -> dict:
+        return fair_columns(self.t_contact, self.solution.work["cg_iterations"], self.t_linear, self.linear.cg_iterations,
+                            self.t_nested, self.nested.cg_iterations)
+
+
+def solve_row(model_name: str, level: int, case_name: str = THREE_D_CASE, coarse_maxh=None) -> SolveRow:
+    """One row: the contact solve (nested iteration from ``level`` - 1) and the linear multigrid
+    solves of its matrix (``SolveRow``). The 3D `mean` is the face-mean QP (general rows,
+    ``solvers.projected``), every other method a cone of bounds."""
     from ..problem.case import load_case
     from ..solvers.active_set import solve_contact_qp
     if model_name != "mean" or load_case(case_name).dimension != 3:
         qp, predicted, multilevel, start = cone_problem(model_name, level, coarse_maxh, case_name)
-        t_linear, system = linear_multigrid_seconds(qp, multilevel)
+        linear = [linear_multigrid_seconds(qp, multilevel, s) for s in (None, start)]
         t_contact, solution = fastest(lambda: own_seconds(solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)))
-        return qp, t_contact, solution, t_linear, system
+        return SolveRow(qp, t_contact, solution, *linear[0], *linear[1])
     from ..solvers.active_set import MultigridSystem
     from ..solvers.general_constraints import GeneralConstraintSolver
     from ..solvers.multigrid import ContactEdges
@@ -64,24 +91,26 @@ def solve_row(model_name: str, level: int, case_name: str = THREE_D_CASE, coarse
         return GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift,
                                        system=ProjectedMultigridSystem(qp.K_ngs, multilevel, embedding))
     load_scale = contact().load_scale
-    t_linear, system = linear_seconds(MultigridSystem(qp.K_ngs, qp.b, multilevel, embedding), qp, load_scale)
+    linear = [linear_seconds(MultigridSystem(qp.K_ngs, qp.b, multilevel, embedding), qp, load_scale, s) for s in (None, start)]
     t_contact, solution = fastest(lambda: own_seconds(contact().solve(predicted, start)))
-    return qp, t_contact, solution, t_linear, system
+    return SolveRow(qp, t_contact, solution, *linear[0], *linear[1])
 
 
 def _measure_3d(model_name: str, level: int, connection):
     """Issue 19: a 3D contact solve (truncated multigrid, nested iteration) against one
-    unconstrained solve of the same matrix by the same multigrid CG, from zero, as deep."""
+    unconstrained solve of the same matrix by the same multigrid CG, from zero, as deep; and
+    (issue 50) from the same start."""
     import ngsolve as ngs
 
     ngs.ngsglobals.msg_level = 0
     with ngs.TaskManager():
-        qp, t_contact, solution, t_linear, system = solve_row(model_name, level)
+        row = solve_row(model_name, level)
     connection.send({
-        "case": THREE_D_CASE, "method": model_name, "ndof": qp.problem.ndof, "t_contact": t_contact, "t_linear": t_linear,
-        "ratio_linear": t_contact / t_linear, "iterations": solution.iterations,
-        "cg_iterations": solution.work["cg_iterations"], "linear_cg_iterations": system.cg_iterations,
-        "kkt_residual": solution.kkt.residual, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        "case": THREE_D_CASE, "method": model_name, "ndof": row.qp.problem.ndof, "t_contact": row.t_contact,
+        "t_linear": row.t_linear, "ratio_linear": row.t_contact / row.t_linear, "iterations": row.solution.iterations,
+        "cg_iterations": row.solution.work["cg_iterations"], "linear_cg_iterations": row.linear.cg_iterations,
+        "kkt_residual": row.solution.kkt.residual, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        **row.fair(),
     })
     connection.close()
 
