@@ -201,17 +201,18 @@ def _print_references(frame: pd.DataFrame) -> None:
 def cmd_sweep(args) -> int:
     from .problem.case import load_case
     from .report import figures
-    from .study.files import ensure_writable, write_csv
+    from .study.files import write_csv
+    from .study.folder import owned
     from .study.sweep import run_sweep, swept
 
     case = load_case(args.case)
     for spec in args.method:
         swept(spec, args.values)        # refuses a method without a parameter before anything is written
-    out = ensure_writable(Path(args.out))
-    frame = run_sweep(case, args.method, args.values, args.level, reference=[] if args.reference == "none" else [args.reference],
-                      show_progress=not args.quiet)
-    path = write_csv(frame, out / f"sweep_{case.name}.csv")
-    figure = figures.sweep(case, frame, out)
+    with owned(Path(args.out)) as out:
+        frame = run_sweep(case, args.method, args.values, args.level, reference=[] if args.reference == "none" else [args.reference],
+                          show_progress=not args.quiet)
+        path = write_csv(frame, out / f"sweep_{case.name}.csv")
+        figure = figures.sweep(case, frame, out)
     if not args.quiet:
         with pd.option_context("display.width", 200, "display.max_columns", 20):
             print(frame[["method", "level", "ndof", "err_h1", "max_penetration", "min_pressure", "solver_iterations",
@@ -253,12 +254,13 @@ def _method_spec(text: str) -> str:
 def cmd_rates(args) -> int:
     from .measure.rates import rate_table
     from .measure.results_file import read_results
-    from .study.files import ensure_writable, write_csv
+    from .study.files import write_csv
+    from .study.folder import owned
     path = Path(args.results)
     frame = read_results(path, args.case)
     table = rate_table(frame, levels=args.fit_levels)
-    ensure_writable(path.parent)
-    out = write_csv(table, path.parent / "rates.csv")
+    with owned(path.parent):
+        out = write_csv(table, path.parent / "rates.csv")
     if args.latex:
         from .report import latex
         print(latex.summary_table(table))

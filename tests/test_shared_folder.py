@@ -206,3 +206,15 @@ def test_a_level_inside_a_callers_task_manager_keeps_its_threads():
                 assert count is None and ngs.GetNumThreads() == 2
     finally:
         ngs.SetNumThreads(previous)
+
+
+def test_bench_load_times_every_thread_setting_idle_and_beside_a_busy_process():
+    """`bench --only load` on a one-level run: each setting idle and beside a busy loop, and its goals."""
+    from harness.bench.load import load_goals, run_load_bench
+    frame = run_load_bench(runs=(("1 level", ["--case", "transition-r32", "--method", "nodal", "--levels", "1"]),),
+                           progress=lambda line: None)
+    assert sorted(zip(frame.threads, frame.load)) == sorted((t, load) for t in ("auto", "1", str(threads.usable_cpus()))
+                                                             for load in ("idle", "one busy process"))
+    assert (frame.seconds > 0).all()
+    goals = load_goals(frame)
+    assert len(goals) == 3 and all(figure[0].isdigit() for _, _, figure in goals)

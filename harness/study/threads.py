@@ -159,14 +159,16 @@ _POLICY: contextvars.ContextVar[Threads | None] = contextvars.ContextVar("thread
 @contextmanager
 def using(threads: int | None):
     """A job's threads: ``threads`` on every level (and for the BLAS throughout), or None: the
-    auto policy decides per level (``level``). NGSolve's thread count is restored after."""
+    auto policy decides per level (``level``), and between levels the BLAS runs on one thread
+    (its dense work there is small, and OpenBLAS's threads spin against a busy neighbour as
+    NGSolve's wait for one). NGSolve's thread count is restored after."""
     import ngsolve as ngs
     from threadpoolctl import threadpool_limits
     with ngs.TaskManager():
         previous = ngs.GetNumThreads()      # outside a task manager it reads 1
     token = _POLICY.set(Threads(threads))
     try:
-        with threadpool_limits(threads) if threads else nullcontext():
+        with threadpool_limits(threads or 1):
             yield
     finally:
         _POLICY.reset(token)
