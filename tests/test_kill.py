@@ -39,12 +39,15 @@ def finish(args) -> float:
     return time.perf_counter() - clock
 
 
-def kill_after(process, seconds: float) -> None:
+def kill_after(process, seconds: float) -> bool:
+    """SIGKILL to ``process`` and its workers after ``seconds``; False if it had ended."""
     try:
         process.wait(timeout=seconds)
+        return False
     except subprocess.TimeoutExpired:
         os.killpg(process.pid, signal.SIGKILL)
         process.wait()
+        return True
 
 
 def measured(path: Path) -> pd.DataFrame:
@@ -65,7 +68,7 @@ def test_a_report_killed_anywhere_and_run_again_gives_the_same_results_and_no_or
     for k, fraction in enumerate(KILL_AT):
         folder = tmp_path / f"killed-{k}"
         args = [*REPORT, "--results", str(folder / "results"), "--report", str(folder / "report")]
-        kill_after(start(args), fraction * seconds)
+        assert kill_after(start(args), fraction * seconds), fraction
         finish(args)
         for name in ("results.csv", "rates.csv"):
             pd.testing.assert_frame_equal(measured(folder / "results" / name), measured(clean / "results" / name))
@@ -80,10 +83,11 @@ def test_two_runs_on_one_folder_killed_and_run_again_keep_every_row_and_no_orpha
     clean = tmp_path / "clean"
     seconds = finish([*first, "--out", str(clean)])
     finish([*second, "--out", str(clean)])
+    killed = 0
     for k, fraction in enumerate(KILL_AT):
         folder = tmp_path / f"killed-{k}"
         a, b = start([*first, "--out", str(folder)]), start([*second, "--out", str(folder)])
-        kill_after(a, fraction * seconds)
+        killed += kill_after(a, fraction * seconds)
         _, err = b.communicate()
         # the second either ran (before or after the first held the folder) or was refused in one line
         assert b.returncode == 0 or (b.returncode == 2 and err.count("\n") == 1 and "is in use by" in err), err
@@ -92,3 +96,4 @@ def test_two_runs_on_one_folder_killed_and_run_again_keep_every_row_and_no_orpha
             finish([*second, "--out", str(folder)])
         pd.testing.assert_frame_equal(measured(folder / "results.csv"), measured(clean / "results.csv"))
         assert orphans(folder) == []
+    assert killed       # (the first run is refused instead when the second takes the folder first)
