@@ -314,6 +314,7 @@ def test_bench_elastic_times_the_contact_solve_against_a_linear_multigrid_solve(
     assert row["case"] == size[0] and row["kkt_residual"] <= 1e-10
     assert row["cg_iterations"] > 0 and row["linear_cg_iterations"] > 0
     assert row["t_contact"] > 0 and row["t_linear"] > 0 and row["t_linear_cholesky"] > 0
-    # the fair row: from the contact solve's nested start the linear solve needs no more V-cycles than from zero
-    assert 0 < row["nested_iterations"] <= row["linear_cg_iterations"] and row["contact_vcycles"] == row["cg_iterations"]
+    # the fair row: the linear solve from the contact solve's nested start (not always fewer V-cycles
+    # than from zero: 3D elastic level 1, 62 against 47), the contact solve's V-cycles and work units
+    assert row["nested_iterations"] > 0 and row["contact_vcycles"] == row["cg_iterations"]
     assert row["work_units"] > 0 and row["ratio_nested"] > 0
