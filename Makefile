@@ -6,7 +6,7 @@ STAMP  := $(VENV)/.installed
 
 .PHONY: test test-full lint report report-fine bench clean distclean
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml setup.py
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[test]'

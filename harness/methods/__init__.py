@@ -1,5 +1,7 @@
 """Discretisations as plug-ins: one short module per method in this folder, each defining
-``method`` (a ``base.Method``). Adding a method is adding a module; nothing else changes.
+``method`` (a ``base.Method``), and methods from outside the package: a file, a dotted name,
+an installed package's entry point or an object (``plugins``). Every one passes the same
+checks (``plugins.check_method``).
 
     >>> from harness.methods import METHODS, methods_named
     >>> methods_named(["paper", "p1"])     # mean, nodal, p1
@@ -11,6 +13,7 @@ import importlib
 import pkgutil
 
 from .base import BoundConstrained, Expectation, LevelSolve, Method, WeakContact
+from .plugins import MethodError, check_method, installed_methods, is_external, load_external
 
 # Named groups besides the method names themselves.
 GROUPS = {
@@ -24,13 +27,10 @@ GROUPS = {
 def _discover() -> dict[str, Method]:
     found = []
     for info in pkgutil.iter_modules(__path__):
-        if info.name == "base" or info.name.startswith("_"):
+        if info.name in ("base", "plugins") or info.name.startswith("_"):
             continue
         module = importlib.import_module(f"{__name__}.{info.name}")
-        method = getattr(module, "method", None)
-        if not isinstance(method, Method):
-            raise TypeError(f"harness/methods/{info.name}.py must define `method`, a harness.methods.base.Method")
-        found.append(method)
+        found.append(check_method(getattr(module, "method", None), f"harness/methods/{info.name}.py (its `method`)"))
     # the cones (the paper's P2 models first), then the weak methods, each by order
     return {m.name: m for m in sorted(found, key=lambda m: (not isinstance(m, BoundConstrained), -m.order, m.name))}
 
@@ -39,26 +39,34 @@ METHODS = _discover()
 
 
 def method_choices() -> list[str]:
-    return [*METHODS, *GROUPS, "all"]
+    return [*METHODS, *installed_methods(), *GROUPS, "all"]
 
 
 def methods_named(names) -> list[Method]:
-    """Methods by name, group ('paper' = mean + nodal) or 'all', in registry order, once each;
-    then methods with parameters (``parse_method``), in the order given."""
-    names = [names] if isinstance(names, str) else list(names)
-    wanted, parametrised = set(), []
+    """Methods by name, group ('paper' = mean + nodal) or 'all' (the package's own), in registry
+    order, once each; then methods with parameters (``parse_method``), methods from files,
+    modules and installed packages (``plugins``) and ``Method`` objects, in the order given."""
+    names = [names] if isinstance(names, (str, Method)) else list(names)
+    wanted, others = set(), []
     for name in names:
-        if name == "all":
+        if isinstance(name, Method):
+            found = [check_method(name, "a method object")]
+        elif name == "all":
             wanted |= set(METHODS)
+            continue
         elif name in GROUPS:
             wanted |= set(GROUPS[name])
-        elif ":" in name:
-            method = parse_method(name)
-            if method.name not in [m.name for m in parametrised]:
-                parametrised.append(method)
+            continue
+        elif name in METHODS:
+            wanted.add(name)
+            continue
         else:
-            wanted.add(get_method(name).name)
-    return [m for name, m in METHODS.items() if name in wanted] + parametrised
+            found = load_external(name) if is_external(name) else [get_method(name)]
+        others += [m for m in found if m.name not in [o.name for o in others]]
+    clash = [m.name for m in others if m.name in wanted and m is not METHODS.get(m.name)]
+    if clash:
+        raise MethodError(f"two methods named {clash[0]!r}: rename yours (the harness has one)")
+    return [m for name, m in METHODS.items() if name in wanted] + others
 
 
 def methods_for(case, methods) -> list[Method]:
@@ -71,9 +79,12 @@ def get_method(name: str) -> Method:
     """A registered method, or one with parameters: ``nitsche:gamma0=0.5,theta=-1``."""
     if ":" in name:
         return parse_method(name)
-    if name not in METHODS:
-        raise ValueError(f"unknown method {name!r}; expected one of: {', '.join(method_choices())}")
-    return METHODS[name]
+    if name in METHODS:
+        return METHODS[name]
+    if name in installed_methods():
+        return installed_methods()[name]
+    raise MethodError(f"unknown method {name!r}; expected one of: {', '.join(method_choices())}, "
+                      f"a file (path/to/method.py[:name]) or a module (package.module[:name])")
 
 
 def parse_method(spec: str) -> Method:
@@ -94,5 +105,5 @@ def parse_method(spec: str) -> Method:
     return method.with_parameters(**values)
 
 
-__all__ = ["METHODS", "GROUPS", "BoundConstrained", "Expectation", "LevelSolve", "Method", "WeakContact", "get_method",
-           "method_choices", "methods_for", "methods_named", "parse_method"]
+__all__ = ["METHODS", "GROUPS", "BoundConstrained", "Expectation", "LevelSolve", "Method", "MethodError", "WeakContact",
+           "check_method", "get_method", "method_choices", "methods_for", "methods_named", "parse_method"]

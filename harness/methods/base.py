@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from contextlib import nullcontext
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
@@ -68,6 +68,9 @@ class Method:
     bodies: tuple = (1,)                          # the number of bodies it couples (``Case.bodies``)
     # its levels past a study's P2 levels, if not ``EXTRA_LEVELS`` (``with_extra_levels``)
     study_extra_levels: int | None = None
+    # the file that defines a method from outside the package (``plugins``): what its
+    # checkpoints and cached results depend on besides the harness's code
+    source: str | None = field(default=None, compare=False)
 
     def supports(self, case) -> bool:
         return case.physics.name in self.physics and case.dimension in self.dimensions and case.bodies in self.bodies

@@ -111,7 +111,21 @@ from .contract import (  # noqa: F401
 from .geometry import geometry_dimension
 from .physics import SCALAR, gradient
 
-CASES_DIR = Path(__file__).resolve().parents[2] / "cases"
+
+def _cases_dir() -> Path:
+    """The registered cases' folder: the installed package ``signorini_cases`` (the repository's
+    cases/, shipped with the wheel; an editable install maps it there), or cases/ beside this
+    package in a checkout that is not installed."""
+    try:
+        import signorini_cases
+        return Path(signorini_cases.__file__).resolve().parent
+    except ImportError:
+        return Path(__file__).resolve().parents[2] / "cases"
+
+
+CASES_DIR = _cases_dir()
+# installed packages declare their cases (case modules) in this entry-point group
+CASE_ENTRY_POINTS = "signorini_harness.cases"
 
 
 @dataclass(frozen=True, eq=False)
@@ -281,7 +295,25 @@ def _reference_case(module, source: str) -> Case:
 
 
 def _registered_files() -> list[Path]:
-    return sorted(p for p in CASES_DIR.glob("*.py") if not p.name.startswith("_"))
+    """The case files of cases/, then those installed packages declare (``CASE_ENTRY_POINTS``:
+    ``my-case = "mypkg.cases.my_case"``, a case module)."""
+    return sorted(p for p in CASES_DIR.glob("*.py") if not p.name.startswith("_")) + installed_case_files()
+
+
+def installed_case_files() -> list[Path]:
+    """The files of the case modules of the entry-point group ``CASE_ENTRY_POINTS``."""
+    import importlib.metadata
+    import importlib.util
+    files = []
+    for entry in importlib.metadata.entry_points(group=CASE_ENTRY_POINTS):
+        try:
+            spec = importlib.util.find_spec(entry.module)
+        except (ImportError, ValueError) as exc:
+            raise CaseError(f"case entry point {entry.name} = {entry.value} ({CASE_ENTRY_POINTS}): {exc}") from exc
+        if spec is None or not spec.origin or not spec.origin.endswith(".py"):
+            raise CaseError(f"case entry point {entry.name} = {entry.value} ({CASE_ENTRY_POINTS}) is not a case module (.py)")
+        files.append(Path(spec.origin))
+    return files
 
 
 def registered_cases(dimension: int | None = None) -> dict[str, Case]:

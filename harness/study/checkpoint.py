@@ -40,10 +40,12 @@ def code_digest(package: Path = PACKAGE) -> str:
 
 def chain_key(case, method, levels: int, hook=None, mesh: str = "uniform") -> str:
     """What a (case, method) chain's results depend on: the code, the case file and its
-    reference setting, the method and its parameters, the number of levels, the hook, the
+    reference setting, the method (and the file of one from outside the package) and its parameters, the number of levels, the hook, the
     mesh strategy."""
     digest = hashlib.sha256(code_digest().encode())
     digest.update(Path(case.source).read_bytes())
+    if method.source:               # a method from outside the package: its file too
+        digest.update(Path(method.source).read_bytes())
     settings = (case.name, case.reference_levels, method.name, method.parameter_text, levels, type(hook).__qualname__)
     digest.update(repr(settings if mesh == "uniform" else (*settings, mesh)).encode())
     return digest.hexdigest()

@@ -1,0 +1,150 @@
+"""Methods and cases from outside the package (issue 51): a method by its file, by file:name,
+by a dotted name, by an installed package's entry point and as an object, each checked as a
+registered method is, each refused in one line when it cannot be used; cases from an installed
+package's entry point. Everything from a folder outside the repository, as a user would."""
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+import harness
+from harness.methods import MethodError, check_method, get_method, methods_named
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples" / "methods"
+
+
+def harness_cli(*args, cwd, pythonpath=None):
+    env = dict(os.environ)
+    if pythonpath:
+        env["PYTHONPATH"] = os.pathsep.join([str(pythonpath), env.get("PYTHONPATH", "")])
+    return subprocess.run([sys.executable, "-m", "harness", *args], capture_output=True, text=True, cwd=cwd, env=env)
+
+
+@pytest.fixture
+def outside(tmp_path):
+    """A folder outside the repository holding the example method files."""
+    for path in EXAMPLES.glob("*.py"):
+        shutil.copy(path, tmp_path / path.name)
+    return tmp_path
+
+
+def rows_of(folder: Path) -> pd.DataFrame:
+    return pd.read_csv(folder / "results.csv")
+
+
+def assert_exact(rows: pd.DataFrame, methods: set[str]):
+    assert set(rows.method) == methods
+    assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
+
+
+def test_a_method_file_runs_by_its_path_and_is_rated_like_a_registered_one(outside):
+    done = harness_cli("run", "--case", "transition-r32", "--method", "nitsche_small_gamma.py", "--method", "nodal",
+                       "--levels", "3", "--out", "out", "--quiet", cwd=outside)
+    assert done.returncode == 0, done.stderr
+    rows = rows_of(outside / "out")
+    assert_exact(rows, {"nitsche-g002", "nodal"})
+    mine = rows[rows.method == "nitsche-g002"]
+    # the theory it declares (Nitsche's, CHR 2015 Thm 3.8: h^{3/2} on transition-r32), in its rows
+    assert (mine.expected_rate == 1.5).all() and mine.reference.str.contains("Chouly").all()
+    done = harness_cli("rates", "out/results.csv", cwd=outside)
+    assert done.returncode == 0 and "nitsche-g002" in pd.read_csv(outside / "out" / "rates.csv").method.tolist()
+
+
+def test_one_method_of_a_file_is_picked_by_file_colon_name(outside):
+    done = harness_cli("run", "--case", "corner-r12", "--method", f"{outside / 'weak_variants.py'}:nitsche_skew", "--levels", "2",
+                       "--out", "out", "--quiet", cwd=outside)
+    assert done.returncode == 0, done.stderr
+    assert_exact(rows_of(outside / "out"), {"nitsche-skew"})
+    assert [m.name for m in methods_named(str(outside / "weak_variants.py"))] == ["nitsche-skew", "penalty-stiff"]
+
+
+def test_a_method_of_an_importable_module_runs_by_its_dotted_name_on_two_workers(outside):
+    package = outside / "mypkg"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    shutil.copy(EXAMPLES / "weak_variants.py", package / "contact.py")
+    work = outside / "work"
+    work.mkdir()
+    done = harness_cli("run", "--case", "transition-r32", "--method", "mypkg.contact:penalty_stiff", "--levels", "2",
+                       "--workers", "2", "--out", "out", "--quiet", cwd=work, pythonpath=outside)
+    assert done.returncode == 0, done.stderr
+    assert_exact(rows_of(work / "out"), {"penalty-stiff"})
+
+
+def test_an_installed_packages_entry_point_method_runs_by_its_name(outside):
+    site = outside / "site"
+    (site / "userpkg").mkdir(parents=True)
+    shutil.copy(EXAMPLES / "nitsche_small_gamma.py", site / "userpkg" / "methods.py")
+    (site / "userpkg" / "__init__.py").write_text("")
+    info = site / "userpkg-0.1.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: userpkg\nVersion: 0.1\n")
+    (info / "entry_points.txt").write_text("[signorini_harness.methods]\nsmall-gamma = userpkg.methods:method\n")
+    done = harness_cli("run", "--case", "transition-r32", "--method", "nitsche-g002", "--levels", "2", "--out", "out",
+                       "--quiet", cwd=outside, pythonpath=site)
+    assert done.returncode == 0, done.stderr
+    assert_exact(rows_of(outside / "out"), {"nitsche-g002"})
+    listed = harness_cli("run", "--case", "transition-r32", "--method", "no-such", "--out", "x", cwd=outside, pythonpath=site)
+    assert listed.returncode == 2 and "nitsche-g002" in listed.stderr
+
+
+def test_a_method_object_runs_in_the_python_api_beside_a_name(outside):
+    from dataclasses import replace
+    mine = replace(get_method("nodal"), name="my-nodal")
+    rows = harness.run(["transition-r32"], methods=[mine, "p1"], levels=2, show_progress=False)
+    assert_exact(rows, {"my-nodal", "p1"})
+    nodal = harness.run(["transition-r32"], methods=["nodal"], levels=2, show_progress=False)
+    pd.testing.assert_series_equal(rows[rows.method == "my-nodal"].err_h1.reset_index(drop=True),
+                                   nodal.err_h1.reset_index(drop=True))
+
+
+@pytest.mark.parametrize("source, message", [
+    ("broken = (\n", "failed to import: SyntaxError"),
+    ("x = 1\n", "defines no method"),
+    ("from dataclasses import replace\nfrom harness.methods import get_method\n"
+     "method = replace(get_method('nodal'), name='bad name', order=3)\n", "is malformed: name 'bad name'"),
+    ("method = 42\n", "is not a method"),
+])
+def test_a_method_file_that_cannot_be_used_is_refused_in_one_line_before_anything_is_written(outside, source, message):
+    (outside / "mine.py").write_text(source)
+    done = harness_cli("run", "--case", "transition-r32", "--method", "mine.py", "--out", "out", cwd=outside)
+    assert done.returncode == 2 and done.stderr.count("\n") == 1 and message in done.stderr, done.stderr
+    assert not (outside / "out").exists()
+
+
+def test_a_method_named_like_a_registered_one_is_refused():
+    from dataclasses import replace
+    with pytest.raises(MethodError, match="two methods named 'nodal'"):
+        methods_named([replace(get_method("mean"), name="nodal"), "nodal"])
+
+
+def test_every_registered_method_passes_the_checks_a_plugin_passes():
+    for method in harness.METHODS.values():
+        assert check_method(method, "registered") is method
+
+
+def test_a_case_of_an_installed_package_is_registered_by_its_entry_point(tmp_path):
+    site = tmp_path / "site"
+    (site / "usercases").mkdir(parents=True)
+    (site / "usercases" / "__init__.py").write_text("")
+    text = (ROOT / "cases" / "transition_r32.py").read_text().replace('name = "transition-r32"', 'name = "my-transition"')
+    assert 'name = "my-transition"' in text
+    (site / "usercases" / "mine.py").write_text(text)
+    info = site / "usercases-0.1.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: usercases\nVersion: 0.1\n")
+    (info / "entry_points.txt").write_text(textwrap.dedent("""\
+        [signorini_harness.cases]
+        my-transition = usercases.mine
+        """))
+    done = harness_cli("run", "--case", "my-transition", "--method", "nodal", "--levels", "2", "--out", "out", "--quiet",
+                       cwd=tmp_path, pythonpath=site)
+    assert done.returncode == 0, done.stderr
+    assert set(rows_of(tmp_path / "out").case) == {"my-transition"}
+    assert "my-transition" in harness_cli("cases", cwd=tmp_path, pythonpath=site).stdout
