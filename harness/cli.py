@@ -73,7 +73,7 @@ def engine_of(args):
 
 def cmd_run(args) -> int:
     from .problem.case import load_case
-    from .study.engines import study_jobs
+    from .study.engines import skipped_meshes, study_jobs
     from .study.folder import owned
 
     methods = selected_methods(args)
@@ -85,6 +85,8 @@ def cmd_run(args) -> int:
     try:
         # refused before the output folder is touched or a worker started
         study_jobs(cases, methods, args.levels, engine, check_memory=not args.skip_memory_check, meshes=args.mesh)
+        for line in skipped_meshes(cases, args.mesh):
+            print(f"harness: {line}", file=sys.stderr)
         with owned(Path(args.out)) as out:
             frame, merged = _run_into(out, args, cases, methods, engine)
     finally:

@@ -281,3 +281,21 @@ def test_a_level_without_refinement_keeps_the_multigrid_hierarchy(corner):
     mesh = ngs.Mesh(corner.geometry.GenerateMesh(maxh=corner.maxh))
     multilevel = Multilevel(mesh)
     assert multilevel.refined() is multilevel and len(multilevel.matrices) == 1
+
+
+def test_mesh_all_runs_what_applies_to_each_case_and_skips_the_rest_in_one_line_each(tmp_path, capsys):
+    """A one-body 2D, a two-body and a 3D case on every strategy: the one-body case on all
+    three, the others on uniform meshes, two skip lines each, before any solve."""
+    from harness.cli import main
+    cases = ["transition-r32", "two-body-transition-r32", "transition-line-3d"]
+    code = main(["run", *(a for c in cases for a in ("--case", c)), "--mesh", "all", "--method", "nodal", "--method", "mortar-nodal",
+                 "--levels", "1", "--out", str(tmp_path), "--quiet"])
+    err = capsys.readouterr().err.splitlines()
+    assert code == 0
+    assert err == [f"harness: {case}: {mesh} meshes skipped: {why}" for case, why in
+                   (("two-body-transition-r32", "graded and adaptive meshes refine one body (two bodies: uniform meshes only)"),
+                    ("transition-line-3d", "graded and adaptive meshes are 2D only")) for mesh in ("graded", "adaptive")]
+    rows = pd.read_csv(tmp_path / "results.csv")
+    assert sorted(set(zip(rows.case, rows["mesh"]))) == [("transition-line-3d", "uniform"), ("transition-r32", "adaptive"),
+                                                          ("transition-r32", "graded"), ("transition-r32", "uniform"),
+                                                          ("two-body-transition-r32", "uniform")]

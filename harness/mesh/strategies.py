@@ -40,6 +40,8 @@ class MeshStrategy:
         """None if the strategy can mesh ``case``, else why not (one clause)."""
         if self.name == "uniform":
             return None
+        if case.bodies != 1:
+            return "graded and adaptive meshes refine one body (two bodies: uniform meshes only)"
         if not case.exact:
             return "graded and adaptive meshes need an exact case (errors against a reference need uniform refinement)"
         if case.dimension != 2:

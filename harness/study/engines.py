@@ -244,6 +244,13 @@ def check_methods(case, methods) -> None:
                          f"discretises it")
 
 
+def skipped_meshes(cases, meshes) -> list[str]:
+    """One line per (case, mesh strategy) a study skips because the strategy cannot mesh the
+    case, and why (``MeshStrategy.applies_to``)."""
+    return [f"{case.name}: {mesh.label} meshes skipped: {reason}" for case in cases for mesh in meshes
+            if (reason := mesh.applies_to(case)) is not None]
+
+
 def check_meshes(cases, meshes) -> None:
     """ValueError in one line if a mesh strategy applies to none of ``cases``."""
     for mesh in meshes:
