@@ -22,14 +22,16 @@ def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_le
     processes), ``DaskEngine(scheduler="tcp://...")`` to run on Dask (default: this process);
     ``checkpoints``: a folder that makes every finished level durable (run again to resume).
     ``meshes``: a mesh strategy or a list of them -- "uniform" (the default), "graded",
-    "adaptive" (or "adaptive:theta=0.3"), "all" (``harness.mesh.strategies``); each case runs on
+    "adaptive" (or "adaptive:theta=0.3"), "all", a file or a module of your own, or a strategy
+    object (``harness.mesh.strategies.Strategy``); ``methods`` may hold ``Method`` objects and
+    files or modules of your own beside names (``harness.methods.plugins``); each case runs on
     each strategy that applies to it, and the rows say which in their ``mesh`` column."""
     if isinstance(cases, (str, Case)):
         cases = [cases]
     if models is not None:
         methods = "paper" if models == "all" else models
     loaded = [c if isinstance(c, Case) else load_case(c) for c in cases]
-    strategies = parse_meshes([meshes] if isinstance(meshes, str) else list(meshes))
+    strategies = parse_meshes(list(meshes) if isinstance(meshes, (list, tuple)) else [meshes])
     return run_study(loaded, methods_named(methods), levels, show_progress=show_progress, on_level=on_level,
                      engine=engine, checkpoints=checkpoints, meshes=strategies)
 

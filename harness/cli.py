@@ -174,13 +174,14 @@ def _mesh_list(text: str) -> list:
 
 def add_mesh_option(p) -> None:
     p.add_argument("--mesh", action="append", type=_mesh_list, metavar="STRATEGY",
-                   help="uniform (the default), graded (Remark 4.4), adaptive (Dörfler, adaptive:theta=0.3) or all; "
+                   help="uniform (the default), graded (Remark 4.4), adaptive (Dörfler, adaptive:theta=0.3), all, or a "
+                        "strategy of your own (path/to/file.py[:name], package.module[:name], an installed one's label); "
                         "repeat for several")
 
 
 def selected_meshes(args) -> list:
     from .mesh.strategies import parse_meshes
-    return parse_meshes([s.label for group in (args.mesh or []) for s in group] or ["uniform"])
+    return parse_meshes([s for group in (args.mesh or []) for s in group] or ["uniform"])
 
 
 def report_failures(frame: pd.DataFrame) -> int:

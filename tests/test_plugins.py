@@ -148,3 +148,46 @@ def test_a_case_of_an_installed_package_is_registered_by_its_entry_point(tmp_pat
     assert done.returncode == 0, done.stderr
     assert set(rows_of(tmp_path / "out").case) == {"my-transition"}
     assert "my-transition" in harness_cli("cases", cwd=tmp_path, pythonpath=site).stdout
+
+
+# --- mesh strategies (``harness.mesh.strategies.Strategy``)
+
+def test_a_mesh_strategy_file_runs_from_outside_on_two_workers_and_labels_its_rows(tmp_path):
+    shutil.copy(ROOT / "examples" / "meshes" / "strong_grading.py", tmp_path / "grading.py")
+    done = harness_cli("run", "--case", "corner-r12", "--method", "nodal", "--method", "p1", "--mesh", "grading.py", "--levels", "3",
+                       "--workers", "2", "--out", "out", "--quiet", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    rows = rows_of(tmp_path / "out")
+    assert set(rows["mesh"]) == {"graded-mu0.1"} and set(rows.method) == {"nodal", "p1"}
+    assert (rows.kkt_residual <= 1e-10).all() and rows.effectivity.notna().all()
+
+
+def test_a_mesh_strategy_object_and_an_installed_one_run_by_the_api_and_by_label(tmp_path):
+    sys.path.insert(0, str(ROOT / "examples" / "meshes"))
+    try:
+        from strong_grading import Grading
+    finally:
+        sys.path.pop(0)
+    rows = harness.run("corner-r12", methods="nodal", levels=2, meshes=[Grading(mu=0.2), "uniform"], show_progress=False)
+    assert sorted(set(rows["mesh"])) == ["graded-mu0.2", "uniform"] and (rows.status == "converged").all()
+    site = tmp_path / "site"
+    (site / "usermeshes").mkdir(parents=True)
+    shutil.copy(ROOT / "examples" / "meshes" / "strong_grading.py", site / "usermeshes" / "grading.py")
+    (site / "usermeshes" / "__init__.py").write_text("")
+    info = site / "usermeshes-0.1.dist-info"
+    info.mkdir()
+    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: usermeshes\nVersion: 0.1\n")
+    (info / "entry_points.txt").write_text("[signorini_harness.meshes]\nstrong = usermeshes.grading:strategy\n")
+    done = harness_cli("run", "--case", "corner-r12", "--method", "nodal", "--mesh", "graded-mu0.1", "--levels", "2", "--out", "out",
+                       "--quiet", cwd=tmp_path, pythonpath=site)
+    assert done.returncode == 0, done.stderr
+    assert set(rows_of(tmp_path / "out")["mesh"]) == {"graded-mu0.1"}
+
+
+@pytest.mark.parametrize("source, message", [("strategy = 3\n", "is not a mesh strategy"),
+                                             ("x = 1\n", "defines no mesh strategy")])
+def test_a_mesh_strategy_that_cannot_be_used_is_refused_in_one_line(tmp_path, source, message):
+    (tmp_path / "mine.py").write_text(source)
+    done = harness_cli("run", "--case", "corner-r12", "--mesh", "mine.py", "--out", "out", cwd=tmp_path)
+    assert done.returncode == 2 and done.stderr.count("\n") == 1 and message in done.stderr, done.stderr
+    assert not (tmp_path / "out").exists()

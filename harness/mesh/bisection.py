@@ -90,6 +90,10 @@ class GradedRefinement:
     name = "graded"
     nested = True
     adaptive = False
+    budgeted = True
+
+    def observe(self, indicators) -> None:
+        pass
 
     def __init__(self, case, lam: float, order: int, points: np.ndarray):
         self.case, self.order = case, order
@@ -133,6 +137,7 @@ class AdaptiveRefinement:
     name = "adaptive"
     nested = True
     adaptive = True
+    budgeted = True
 
     def __init__(self, case, theta: float = 0.5):
         if not (0 < theta <= 1):

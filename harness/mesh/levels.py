@@ -30,14 +30,19 @@ class Level:
 
 
 class LevelSequence(Protocol):
-    """What a study needs of a mesh strategy."""
+    """What a study needs of the meshes of one chain (``MeshStrategy.sequence`` makes one)."""
 
     name: str
     nested: bool        # each mesh refines the previous one in place (multigrid prolongations)
     adaptive: bool      # the next level needs ``observe(indicators)`` of this level's solve
+    budgeted: bool      # the chain stops at the uniform chain's number of elements (graded, adaptive)
 
     def levels(self, count: int) -> Iterator[Level]:
         """The first ``count`` levels, coarse to fine."""
+
+    def observe(self, indicators) -> None:
+        """The error indicators of the level just solved, one per element (numpy array), before
+        the next level is asked for; a sequence that is not ``adaptive`` ignores them."""
 
 
 def coarse_mesh(case) -> ngs.Mesh:
@@ -81,9 +86,13 @@ class UniformRefinement:
     name = "uniform"
     nested = True
     adaptive = False
+    budgeted = False
 
     def __init__(self, case):
         self.case = case
+
+    def observe(self, indicators) -> None:
+        pass
 
     def levels(self, count: int) -> Iterator[Level]:
         h = None

@@ -8,20 +8,59 @@
 A strategy also says which methods can share a sequence: every method on uniform meshes, the
 methods of one order on graded ones (the grading exponent depends on k), none on adaptive ones
 (each method's solutions drive its own meshes).
+
+A strategy from outside the package is any object with the ``Strategy`` protocol: a file
+(``--mesh path/to/grading.py[:name]``, its ``strategy``, its ``strategies`` or every strategy it
+defines), a dotted name (``--mesh mypkg.meshes:fine_grading``), an installed package's entry
+point (group ``signorini_harness.meshes``, selected by its label) or an object
+(``harness.run(..., meshes=[my_strategy, "uniform"])``), checked by ``check_strategy``.
 """
 from __future__ import annotations
 
+import functools
 import math
+import re
 from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from .bisection import AdaptiveRefinement, GradedRefinement
-from .levels import UniformRefinement, coarse_mesh
+from .levels import LevelSequence, UniformRefinement, coarse_mesh
+from .plugins import PluginError, entry_point_objects, is_external, load_spec
 from .points import coordinates, geometry_vertices
 
 STRATEGIES = ("uniform", "graded", "adaptive")
 DEFAULT_THETA = 0.5
+ENTRY_POINTS = "signorini_harness.meshes"
+LABEL = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.=+-]*$")
+
+
+@runtime_checkable
+class Strategy(Protocol):
+    """What a study asks of a mesh strategy (``MeshStrategy`` is the package's own)."""
+
+    label: str          # the ``mesh`` column of its rows; letters, digits and _.=+-
+
+    def applies_to(self, case) -> str | None:
+        """None if it can mesh ``case``, else why not (one clause): the study skips the case on
+        it in one line, before any solve."""
+
+    def group_key(self, method) -> object:
+        """Methods with equal keys share one level sequence (None: all of them)."""
+
+    def sequence(self, case, order: int) -> LevelSequence:
+        """The meshes of a chain of methods of finite element ``order`` on ``case``."""
+
+
+def check_strategy(obj, where: str) -> Strategy:
+    """``obj`` if it has the ``Strategy`` protocol and a label that fits a CSV cell; a one-line
+    PluginError naming ``where`` else."""
+    if not isinstance(obj, Strategy):
+        raise PluginError(f"{where}: {obj!r} is not a mesh strategy (label, applies_to, group_key, sequence)")
+    if not isinstance(obj.label, str) or not LABEL.match(obj.label):
+        raise PluginError(f"{where}: mesh strategy label {obj.label!r} is not letters, digits and _.=+-")
+    return obj
 
 
 @dataclass(frozen=True)
@@ -80,14 +119,23 @@ def singular_points(case) -> np.ndarray:
     return coordinates(mesh)[geometry_vertices(mesh)]
 
 
-def parse_mesh(spec: str) -> list[MeshStrategy]:
-    """``uniform``, ``graded``, ``adaptive``, ``adaptive:theta=0.3`` or ``all``; a one-line
+def parse_mesh(spec) -> list:
+    """``uniform``, ``graded``, ``adaptive``, ``adaptive:theta=0.3``, ``all``, the label of an
+    installed strategy, a file or a dotted name (``plugins``) or a strategy object; a one-line
     ValueError otherwise."""
-    name, _, parameters = str(spec).strip().partition(":")
+    if not isinstance(spec, str):
+        return [check_strategy(spec, "a mesh strategy object")]
+    name, _, parameters = spec.strip().partition(":")
     if name == "all" and not parameters:
         return [MeshStrategy(s) for s in STRATEGIES]
+    if name not in STRATEGIES and spec in installed_strategies():
+        return [installed_strategies()[spec]]
+    if is_external(spec):
+        objects, _ = load_spec(spec, ("strategy", "strategies"), Strategy, "mesh strategy")
+        return [check_strategy(obj, spec) for obj in objects]
     if name not in STRATEGIES:
-        raise ValueError(f"unknown mesh strategy {spec!r}: choose from {', '.join(STRATEGIES)} or all")
+        raise ValueError(f"unknown mesh strategy {spec!r}: choose from {', '.join([*STRATEGIES, *installed_strategies()])} "
+                         f"or all, a file (path/to/strategy.py[:name]) or a module (package.module[:name])")
     if not parameters:
         return [MeshStrategy(name)]
     if name != "adaptive":
@@ -104,11 +152,22 @@ def parse_mesh(spec: str) -> list[MeshStrategy]:
     return [MeshStrategy("adaptive", theta)]
 
 
-def parse_meshes(specs) -> list[MeshStrategy]:
-    """Several specs (``--mesh`` repeated), duplicates dropped, in order."""
-    out: list[MeshStrategy] = []
+@functools.lru_cache(maxsize=1)
+def installed_strategies() -> dict:
+    """The strategies installed packages declare in the entry-point group ``ENTRY_POINTS``, by label."""
+    return {strategy.label: strategy
+            for objects, _, where in entry_point_objects(ENTRY_POINTS, ("strategy", "strategies"), Strategy, "mesh strategy")
+            for strategy in (check_strategy(obj, where) for obj in objects)}
+
+
+def parse_meshes(specs) -> list:
+    """Several specs or objects (``--mesh`` repeated), duplicates dropped, in order."""
+    out: list = []
     for spec in specs or ["uniform"]:
         for strategy in parse_mesh(spec):
             if strategy not in out:
                 out.append(strategy)
     return out
+
+
+UNIFORM = MeshStrategy("uniform")

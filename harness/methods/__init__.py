@@ -12,8 +12,9 @@ from __future__ import annotations
 import importlib
 import pkgutil
 
+from ..mesh.plugins import is_external
 from .base import BoundConstrained, Expectation, LevelSolve, Method, WeakContact
-from .plugins import MethodError, check_method, installed_methods, is_external, load_external
+from .plugins import MethodError, check_method, installed_methods, load_external
 
 # Named groups besides the method names themselves.
 GROUPS = {
@@ -61,7 +62,8 @@ def methods_named(names) -> list[Method]:
             wanted.add(name)
             continue
         else:
-            found = load_external(name) if is_external(name) else [get_method(name)]
+            external = is_external(name) and name not in installed_methods()
+            found = load_external(name) if external else [get_method(name)]
         others += [m for m in found if m.name not in [o.name for o in others]]
     clash = [m.name for m in others if m.name in wanted and m is not METHODS.get(m.name)]
     if clash:

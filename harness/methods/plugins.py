@@ -19,22 +19,18 @@ that fails to import, defines no method or a malformed one is refused in one lin
 from __future__ import annotations
 
 import functools
-import hashlib
-import importlib
-import importlib.metadata
-import importlib.util
 import re
-import sys
 from dataclasses import replace
 from pathlib import Path
 
+from ..mesh.plugins import PluginError, entry_point_objects, load_spec
 from .base import Method
 
 ENTRY_POINTS = "signorini_harness.methods"
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.+-]*$")
 
 
-class MethodError(ValueError):
+class MethodError(PluginError):
     """A method that cannot be used, in one line."""
 
 
@@ -61,58 +57,8 @@ def check_method(obj, where: str) -> Method:
     return obj
 
 
-def _import_file(path: Path):
-    """The module of the Python file ``path``, importable by its workers (pickled by value)."""
-    digest = hashlib.sha1(str(path).encode()).hexdigest()[:8]
-    name = f"_signorini_method_{re.sub(r'[^A-Za-z0-9_]', '_', path.stem)}_{digest}"
-    if name in sys.modules:
-        return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, path)
-    if spec is None or spec.loader is None:
-        raise MethodError(f"method file {path} cannot be imported")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    try:
-        spec.loader.exec_module(module)
-    except (Exception, SystemExit) as exc:
-        del sys.modules[name]
-        raise MethodError(f"method file {path} failed to import: {type(exc).__name__}" + (f": {exc}" if str(exc) else "")) from exc
-    import cloudpickle
-    # its methods go to worker processes by value: the workers cannot import a file by path
-    cloudpickle.register_pickle_by_value(module)
-    return module
-
-
-def _import_module(name: str):
-    try:
-        return importlib.import_module(name)
-    except ImportError as exc:
-        raise MethodError(f"method module {name!r} cannot be imported: {exc}") from exc
-    except Exception as exc:
-        raise MethodError(f"method module {name!r} failed to import: {type(exc).__name__}: {exc}") from exc
-
-
-def _as_methods(obj, where: str) -> list[Method]:
-    items = list(obj) if isinstance(obj, (list, tuple)) else [obj]
-    if not items:
-        raise MethodError(f"{where} is an empty list of methods")
-    return [check_method(item, where) for item in items]
-
-
-def methods_in(module, attribute: str | None, where: str) -> list[Method]:
-    """The methods a module gives: ``attribute`` if named, else its ``method``, its ``methods``,
-    or every ``Method`` it defines at top level (in the order defined)."""
-    if attribute:
-        if not hasattr(module, attribute):
-            raise MethodError(f"{where} defines no {attribute!r}")
-        return _as_methods(getattr(module, attribute), f"{where}:{attribute}")
-    for name in ("method", "methods"):
-        if hasattr(module, name):
-            return _as_methods(getattr(module, name), f"{where}:{name}")
-    found = [value for value in vars(module).values() if isinstance(value, Method)]
-    if not found:
-        raise MethodError(f"{where} defines no method (a harness.methods.Method named `method`, or any at top level)")
-    return [check_method(m, where) for m in found]
+def _checked(objects: list, where: str) -> list[Method]:
+    return [check_method(obj, where) for obj in objects]
 
 
 def _with_source(methods: list[Method], source: Path | None) -> list[Method]:
@@ -121,39 +67,18 @@ def _with_source(methods: list[Method], source: Path | None) -> list[Method]:
     return methods if source is None else [replace(m, source=str(source)) for m in methods]
 
 
-def is_external(spec: str) -> bool:
-    """A method given by a file or a dotted module name, not by a registered name (registered
-    names have neither dots nor slashes)."""
-    base = spec.partition(":")[0]
-    return base.endswith(".py") or "/" in base or "\\" in base or "." in base
-
-
 def load_external(spec: str) -> list[Method]:
-    """The methods of ``path.py``, ``path.py:name``, ``package.module`` or ``package.module:name``."""
-    base, _, attribute = spec.partition(":")
-    if base.endswith(".py") or "/" in base or "\\" in base:
-        path = Path(base).expanduser()
-        if not path.is_file():
-            raise MethodError(f"method file not found: {base}")
-        path = path.resolve()
-        return _with_source(methods_in(_import_file(path), attribute, str(base)), path)
-    module = _import_module(base)
-    source = Path(module.__file__) if getattr(module, "__file__", None) else None
-    return _with_source(methods_in(module, attribute, base), source)
+    """The methods of ``path.py``, ``path.py:name``, ``package.module`` or ``package.module:name``
+    (its ``method``, its ``methods``, or every ``Method`` it defines)."""
+    objects, source = load_spec(spec, ("method", "methods"), Method, "method")
+    return _with_source(_checked(objects, spec), source)
 
 
 @functools.lru_cache(maxsize=1)
 def installed_methods() -> dict[str, Method]:
     """The methods installed packages declare in the entry-point group ``ENTRY_POINTS``, by name."""
     found = {}
-    for entry in importlib.metadata.entry_points(group=ENTRY_POINTS):
-        where = f"entry point {entry.name} = {entry.value} ({ENTRY_POINTS})"
-        try:
-            obj = entry.load()
-        except Exception as exc:
-            raise MethodError(f"{where} failed to load: {type(exc).__name__}: {exc}") from exc
-        methods = methods_in(obj, None, where) if isinstance(obj, type(sys)) else _as_methods(obj, where)
-        source = getattr(sys.modules.get(entry.module), "__file__", None)
-        for method in _with_source(methods, Path(source) if source else None):
+    for objects, source, where in entry_point_objects(ENTRY_POINTS, ("method", "methods"), Method, "method"):
+        for method in _with_source(_checked(objects, where), source):
             found[method.name] = method
     return found

@@ -17,7 +17,7 @@ from ..measure.errors import ExactErrors
 from ..measure.estimator import ResidualEstimator, estimate
 from ..measure.reference import REFERENCE_METHOD, ReferenceErrors
 from ..mesh.levels import LevelSequence
-from ..mesh.strategies import MeshStrategy, element_budget
+from ..mesh.strategies import UNIFORM, MeshStrategy, element_budget
 from ..methods import Method, get_method, methods_for
 from ..problem.case import Case
 from ..solvers.multigrid import Multilevel
@@ -180,7 +180,6 @@ class BothHooks:
         return kept
 
 
-UNIFORM = MeshStrategy("uniform")
 # an adaptive chain stops when its mesh has more elements than the uniform level it replaces
 # (the same budget of dofs as the uniform chain), or after this many levels
 MAX_ADAPTIVE_LEVELS = 60
@@ -224,7 +223,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     phases = phases or Phases()
     if case.bodies == 2:
         # two bodies on their own meshes, coupled by a mortar method (``two_body``)
-        if mesh.name != "uniform" or sequence is not None:
+        if mesh != UNIFORM or sequence is not None:
             raise ValueError(f"case {case.name}: two bodies are refined uniformly only (graded and adaptive meshes: not yet)")
         from .two_body import run_two_body_chain
         return run_two_body_chain(case, methods, levels, progress, phases, on_level)
@@ -282,7 +281,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
             if step is None:
                 break
             mesh, h = step.mesh, step.h
-            if sequence.name != "uniform":
+            if getattr(sequence, "budgeted", True):
                 # the uniform finest level's number of triangles (of the coarse mesh times 4 per
                 # level): graded and adaptive meshes get the same budget of dofs
                 if budget_elements is None:

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..mesh.strategies import MeshStrategy
+from ..mesh.strategies import UNIFORM, MeshStrategy
 from ..methods import methods_for
 from ..problem.case import load_case
 from ..problem.validate import validate_case
@@ -54,7 +54,7 @@ class Job:
     scope: str = ""
     tag: str = field(default="study", compare=False)
     per_dof: float | None = None          # a solve's seconds per dof, if not its family's (``budget``)
-    mesh: MeshStrategy = MeshStrategy("uniform")
+    mesh: MeshStrategy = UNIFORM
 
     @property
     def seconds(self) -> float:
@@ -69,11 +69,11 @@ class Job:
 
 def mesh_scope(scope: str, mesh: MeshStrategy) -> str:
     """The progress bar's scope of a job on ``mesh`` (uniform: the study's own)."""
-    return scope if mesh.name == "uniform" else f"{scope}{mesh.label} "
+    return scope if mesh == UNIFORM else f"{scope}{mesh.label} "
 
 
 def chains(cases, methods, levels: int, on_level=None, checkpoints=None, scope: str = "", tag: str = "study",
-           meshes=(MeshStrategy("uniform"),)) -> list[Job]:
+           meshes=(UNIFORM,)) -> list[Job]:
     """The jobs of a study as this process runs them: per case and mesh strategy, the methods
     that discretise the case, grouped by the level sequence they can share
     (``MeshStrategy.group_key``: all of them on uniform meshes)."""
@@ -135,7 +135,7 @@ class InProcess:
 
 
 def run_job(source: str, reference_levels, methods, levels: int, on_level, threads, folder, progress=None,
-            mesh: MeshStrategy = MeshStrategy("uniform")):
+            mesh: MeshStrategy = UNIFORM):
     """A job in a worker process (local or Dask): the case is loaded there from its file (what a
     worker needs of it is its source, not NGSolve objects); ``progress`` relays the solves to the
     client's bar (``progress.EventProgress``, ``progress.QueueProgress``)."""
@@ -180,7 +180,7 @@ def plan(jobs: list[Job], engine, check_memory: bool = True) -> list[Job]:
     return jobs
 
 
-def study_weights(cases, methods, levels: int, meshes=(MeshStrategy("uniform"),)) -> dict:
+def study_weights(cases, methods, levels: int, meshes=(UNIFORM,)) -> dict:
     """The progress bar's weights of every solve of a study (``budget.solve_weights``); a graded
     or adaptive chain is weighed as the uniform one of the same budget of dofs, under its scope."""
     weights = {}
@@ -193,11 +193,11 @@ def study_weights(cases, methods, levels: int, meshes=(MeshStrategy("uniform"),)
     return weights
 
 
-def study_progress(cases, methods, levels: int, show: bool, meshes=(MeshStrategy("uniform"),)) -> StudyProgress:
+def study_progress(cases, methods, levels: int, show: bool, meshes=(UNIFORM,)) -> StudyProgress:
     return StudyProgress(study_weights(cases, methods, levels, meshes), show)
 
 
-def tidy(outputs, cases, methods, meshes=(MeshStrategy("uniform"),)) -> pd.DataFrame:
+def tidy(outputs, cases, methods, meshes=(UNIFORM,)) -> pd.DataFrame:
     """One frame of the rows of all jobs: by case, then mesh strategy, level, method, as given
     (the same order whichever engine ran them)."""
     case_order = {c.name: k for k, c in enumerate(cases)}
@@ -209,7 +209,7 @@ def tidy(outputs, cases, methods, meshes=(MeshStrategy("uniform"),)) -> pd.DataF
 
 
 def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=None, progress=None,
-              engine=None, checkpoints: Path | None = None, check_memory: bool = True, meshes=(MeshStrategy("uniform"),)) -> pd.DataFrame:
+              engine=None, checkpoints: Path | None = None, check_memory: bool = True, meshes=(UNIFORM,)) -> pd.DataFrame:
     """Every case x method x level; one tidy row each (columns ``study.COLUMNS``). ``levels``
     counts the P2 levels (P1 runs one more: ``study.study_levels``). ``engine``: where the jobs
     run (default ``InProcess()``). ``checkpoints``: a folder that makes every finished level
@@ -260,7 +260,7 @@ def check_meshes(cases, meshes) -> None:
 
 
 def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: Path | None = None,
-               check_memory: bool = True, meshes=(MeshStrategy("uniform"),)) -> list[Job]:
+               check_memory: bool = True, meshes=(UNIFORM,)) -> list[Job]:
     """The jobs of a study at ``engine``'s grain: every case validated, discretised by at least
     one of ``methods``, meshed by at least one strategy, and its largest job within the memory
     (``plan``); refused otherwise."""
@@ -275,7 +275,7 @@ def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: 
 
 
 def run_jobs(cases, methods, levels: int, engine=None, progress=None, on_level=None, checkpoints: Path | None = None,
-             check_memory: bool = True, meshes=(MeshStrategy("uniform"),)):
+             check_memory: bool = True, meshes=(UNIFORM,)):
     """(job, ``study.ChainOutput``) of every job of a study, as they finish: validated and
     checked against the memory first (``study_jobs``), then run on ``engine`` (default: this process)."""
     engine = engine or InProcess()
