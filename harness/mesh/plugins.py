@@ -13,6 +13,7 @@ import importlib.metadata
 import importlib.util
 import re
 import sys
+import traceback
 from pathlib import Path
 
 
@@ -27,12 +28,13 @@ def is_external(spec: str) -> bool:
     return base.endswith(".py") or "/" in base or "\\" in base or "." in base
 
 
-def import_file(path: Path, kind: str):
+def import_file(path: Path, kind: str, cached: bool = True):
     """The module of the Python file ``path``, pickled by value to worker processes (which
-    cannot import a file by its path)."""
+    cannot import a file by its path); ``cached``: a file imported before is not run again. A
+    file that fails is one line naming it and the line of it that failed."""
     digest = hashlib.sha1(str(path).encode()).hexdigest()[:8]
-    name = f"_signorini_{kind}_{re.sub(r'[^A-Za-z0-9_]', '_', path.stem)}_{digest}"
-    if name in sys.modules:
+    name = f"_signorini_{kind.replace(' ', '_')}_{re.sub(r'[^A-Za-z0-9_]', '_', path.stem)}_{digest}"
+    if cached and name in sys.modules:
         return sys.modules[name]
     spec = importlib.util.spec_from_file_location(name, path)
     if spec is None or spec.loader is None:
@@ -41,12 +43,23 @@ def import_file(path: Path, kind: str):
     sys.modules[name] = module
     try:
         spec.loader.exec_module(module)
-    except (Exception, SystemExit) as exc:
+    except (Exception, SystemExit) as exc:  # a broken user file: one clear line, not a traceback or its exit
         del sys.modules[name]
-        raise PluginError(f"{kind} file {path} failed to import: {type(exc).__name__}" + (f": {exc}" if str(exc) else "")) from exc
+        raise PluginError(f"{kind} file {path}{_line_in(exc, path)} failed to import: {type(exc).__name__}"
+                          + (f": {exc}" if str(exc) else "")) from exc
     import cloudpickle
     cloudpickle.register_pickle_by_value(module)
     return module
+
+
+def _line_in(exc: BaseException, path: Path) -> str:
+    """", line N": the last line of the file in the exception's traceback (or a syntax error's
+    own line)."""
+    if isinstance(exc, SyntaxError) and exc.lineno:
+        return f", line {exc.lineno}"
+    lines = [lineno for frame, lineno in traceback.walk_tb(exc.__traceback__)
+             if Path(frame.f_code.co_filename).resolve() == Path(path).resolve()]
+    return f", line {lines[-1]}" if lines else ""
 
 
 def import_module(name: str, kind: str):

@@ -4,14 +4,12 @@ anything is built from them; the optional fields as the ``Case`` record takes th
 file imported with its failure in one line."""
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
-import traceback
 from pathlib import Path
 
 import ngsolve as ngs
 
+from ..mesh import plugins
 from .geometry import geometry_dimension
 from .physics import PHYSICS, SCALAR, Elasticity
 
@@ -29,28 +27,12 @@ class CaseError(ValueError):
 
 
 def import_file(path: Path):
-    module_name = f"_signorini_case_{path.stem.replace('-', '_')}"
-    spec = importlib.util.spec_from_file_location(module_name, path)
-    if spec is None or spec.loader is None:
-        raise CaseError(f"cannot import case file {path}")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[module_name] = module
+    """The case module of the file ``path``, run afresh (a case file edited between two loads
+    is read again); CaseError in one line if it fails (``mesh.plugins.import_file``)."""
     try:
-        spec.loader.exec_module(module)
-    except (Exception, SystemExit) as exc:  # a broken user file: one clear line, not a traceback or its exit
-        raise CaseError(f"case file {path}{_line_in(exc, path)} failed to import: {type(exc).__name__}"
-                        + (f": {exc}" if str(exc) else "")) from exc
-    return module
-
-
-def _line_in(exc: BaseException, path: Path) -> str:
-    """", line N": the last line of the case file in the exception's traceback (or a syntax
-    error's own line)."""
-    if isinstance(exc, SyntaxError) and exc.lineno:
-        return f", line {exc.lineno}"
-    lines = [lineno for frame, lineno in traceback.walk_tb(exc.__traceback__)
-             if Path(frame.f_code.co_filename).resolve() == Path(path).resolve()]
-    return f", line {lines[-1]}" if lines else ""
+        return plugins.import_file(Path(path), "case", cached=False)
+    except plugins.PluginError as exc:
+        raise CaseError(str(exc)) from exc.__cause__
 
 
 def check_declared(module, source: str) -> None:
