@@ -96,3 +96,59 @@ def test_the_import_paths_of_version_0_2_still_work_with_a_deprecation_warning(o
     with pytest.warns(DeprecationWarning, match=new):
         module = importlib.import_module(old)
     assert getattr(module, name) is getattr(importlib.import_module(new), name)
+
+
+def import_graph() -> dict[str, set[str]]:
+    """Each module of the package (dotted, below ``harness``) -> the package's modules it imports,
+    lazy imports inside functions included; ``from . import x`` is the module x."""
+    names = {".".join(p for p in path.relative_to(PACKAGE).with_suffix("").parts if p != "__init__"): path for path in modules()}
+    graph = {}
+    for key, path in names.items():
+        package = [p for p in (key.split(".") if path.name == "__init__.py" else key.split(".")[:-1]) if p]
+        found = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").split(".")[0] == "harness"):
+                base = package[:len(package) - (node.level - 1)] if node.level else []
+                target = base + (node.module.split(".") if node.module else []) if node.level else node.module.split(".")[1:]
+                for alias in node.names:
+                    full = ".".join([*target, alias.name])
+                    found.add(full if full in names else ".".join(target))
+            elif isinstance(node, ast.Import):
+                found |= {".".join(a.name.split(".")[1:]) for a in node.names if a.name.split(".")[0] == "harness"}
+        graph[key] = {m for m in found if m in names and m != key}
+    return graph
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan's algorithm)."""
+    index, low, stack, on_stack, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while not component or component[-1] != v:
+                component.append(stack.pop())
+                on_stack.discard(component[-1])
+            if len(component) > 1:
+                found.append(sorted(component))
+    for v in graph:
+        if v not in index:
+            visit(v)
+    return found
+
+
+def test_no_module_imports_itself_through_others_lazy_imports_included():
+    assert cycles(import_graph()) == []
+
+
+def test_the_cycle_check_finds_a_cycle():
+    assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]

@@ -68,8 +68,8 @@ def _with_source(methods: list[Method], source: Path | None) -> list[Method]:
 
 
 def load_external(spec: str) -> list[Method]:
-    """The methods of ``path.py``, ``path.py:name``, ``package.module`` or ``package.module:name``
-    (its ``method``, its ``methods``, or every ``Method`` it defines)."""
+    """The methods of a Python file (``FILE`` or ``FILE:name``) or of a module (``package.module``
+    or ``package.module:name``): its ``method``, its ``methods``, or every ``Method`` it defines."""
     objects, source = load_spec(spec, ("method", "methods"), Method, "method")
     return _with_source(_checked(objects, spec), source)
 

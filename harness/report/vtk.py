@@ -28,7 +28,7 @@ import meshio
 import numpy as np
 
 from ..mesh.points import cells, coordinates, evaluate, in_elements
-from ..study.chain import study_levels
+from ..study.rows import study_levels
 from ..study.files import TEMPORARY_MARK, write_atomic
 from ..study.snapshots import problem_vertex_values
 

@@ -9,7 +9,8 @@ import os
 from dataclasses import dataclass
 
 from ..mesh.levels import coarse_mesh
-from .chain import chain_levels, chain_methods, is_reference, study_levels
+from .chain import chain_levels, chain_methods, is_reference
+from .rows import study_levels
 
 MB = 2.0**20
 

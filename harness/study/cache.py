@@ -25,12 +25,13 @@ from ..methods.base import EXTRA_LEVELS
 from ..problem.case import Case
 from ..problem.validate import validate_case
 from .budget import SWEEP_SECONDS_PER_DOF, solve_weights
-from .chain import PHASES, BothHooks
+from .chain import BothHooks
 from .checkpoint import CheckpointStore, code_digest
 from .engines import InProcess, Job, chains, check_methods, mesh_scope, plan, study_weights, tidy
 from .files import ensure_writable, write_atomic, write_csv
 from .mesh_study import FinestMesh, mesh_config, mesh_jobs_plan, read_mesh_results, save_finest_mesh, store_name
 from .progress import StudyProgress, scoped
+from .rows import PHASES
 from .snapshots import SnapshotHook, save_snapshots
 from .sweep import REPORT_SWEEP, label_sweep, sweep_plan
 from .threads import usable_cpus

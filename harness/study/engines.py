@@ -32,9 +32,10 @@ from ..problem.validate import validate_case
 from . import budget
 from . import threads as thread_policy
 from .budget import check_fits, estimate, solve_weights
-from .chain import COLUMNS, Phases, level_hook, run_chain
+from .chain import level_hook, run_chain
 from .checkpoint import CheckpointStore
 from .progress import Scoped, StudyProgress, scoped
+from .rows import COLUMNS, Phases
 from .threads import usable_cpus
 
 

@@ -10,8 +10,8 @@ from pathlib import Path
 import numpy as np
 
 from ..mesh.points import evaluate
-from .chain import study_levels
 from .files import write_atomic
+from .rows import study_levels
 
 PICTURE_LEVEL = 3
 # two bodies: the level whose meshes the report draws at the interface (coarse enough to see them

@@ -10,7 +10,7 @@ import pandas as pd
 from ..methods import Method, methods_named
 from . import run_study
 from .budget import solve_weights
-from .chain import study_levels
+from .rows import study_levels
 
 # eps0 / gamma0 values: four decades around the defaults (0.05) and past theta = 1's bound
 # (gamma0 < 0.145 for P2 on every registered case, ``methods/nitsche.py``)

@@ -28,6 +28,7 @@ from ..mesh.levels import UniformRefinement
 from ..methods import methods_for
 from ..problem.bodies import lower_body
 from . import threads
+from .rows import ChainOutput, Phases, keep, level_row, study_levels
 from .threads import p2_size
 
 # the error columns combined over the bodies as the root of the sum of squares
@@ -49,8 +50,6 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, o
     each order's pair of discrete problems. ``on_level(case, method, level, problem, solve)`` as
     in ``chain.run_chain``, with ``problem`` a ``fem.two_body.TwoBodyProblem``; what it returns
     is kept by (method, level). Returns ``chain.ChainOutput``."""
-    from .chain import ChainOutput, Phases, keep, level_row, study_levels
-
     phases = phases or Phases()
     methods = methods_for(case, methods)
     if not case.exact:
