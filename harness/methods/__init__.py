@@ -13,7 +13,7 @@ import importlib
 import pkgutil
 
 from ..mesh.plugins import is_external
-from .base import BoundConstrained, Expectation, LevelSolve, Method, WeakContact
+from .base import BoundConstrained, Expectation, FunctionalCone, LevelSolve, Method, WeakContact
 from .plugins import MethodError, check_method, installed_methods, load_external
 
 # Named groups besides the method names themselves.
@@ -107,5 +107,5 @@ def parse_method(spec: str) -> Method:
     return method.with_parameters(**values)
 
 
-__all__ = ["METHODS", "GROUPS", "BoundConstrained", "Expectation", "LevelSolve", "Method", "MethodError", "WeakContact",
+__all__ = ["METHODS", "GROUPS", "BoundConstrained", "Expectation", "FunctionalCone", "LevelSolve", "Method", "MethodError", "WeakContact",
            "check_method", "get_method", "method_choices", "methods_for", "methods_named", "parse_method"]

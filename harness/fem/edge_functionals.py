@@ -1,0 +1,132 @@
+"""A discrete cone given only by constraint functionals on the edges of Gamma_C (2D): v_h >= alpha
+at the vertices of Gamma_C and, on every contact edge [a, b] and for each of the cone's
+functionals l_j v = sum_k w_jk v(a + t_jk (b - a)),
+
+    l_j(v_h) >= l_j(alpha).
+
+The paper's cones are the case of one functional per edge, the midpoint value (K~_h, Section 5)
+or the edge mean (K_h, Section 3); one functional per edge is a bound after a local change of
+variables (``cones``). Two or more per edge (values at the points 1/4 and 3/4, say) couple the
+edge's three trace variables in more rows than it has bubbles: general rows B u >= g, solved by
+the general-constraint active set method (``solvers.general_constraints``) as the 3D ``mean``'s
+triangle means are (``face_means``).
+
+On an edge, NGSolve's hierarchical P2 trace is v(t) = (1 - t) v_a + t v_b - c_e t (1 - t) / 2
+(docs/mathematics.md §5), so each functional is a row with (sum w (1 - t), sum w t,
+-sum w t (1 - t) / 2) on (v_a, v_b, c_e): exact for every P2 function, whatever the rule.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..mesh.points import evaluate
+from .assembly import ContactTraceFunction, DiscreteProblem
+from .cones import ProblemQP, contact_pressure, end_status
+
+
+def check_rules(rules) -> tuple:
+    """``rules`` as a tuple of rules, each a tuple of (t, w) with t in [0, 1] and w finite, and
+    sum w != 0; a one-line ValueError otherwise."""
+    try:
+        checked = tuple(tuple((float(t), float(w)) for t, w in rule) for rule in rules)
+    except (TypeError, ValueError):
+        raise ValueError(f"edge functionals are rules ((t, w), ...) of points t in [0, 1] and weights w, got {rules!r}") from None
+    if not checked:
+        raise ValueError("a cone of edge functionals needs at least one functional")
+    for rule in checked:
+        if not rule or any(not (0.0 <= t <= 1.0 and math.isfinite(w)) for t, w in rule):
+            raise ValueError(f"an edge functional is a non-empty rule of points t in [0, 1] with finite weights, got {rule!r}")
+        if abs(sum(w for _, w in rule)) < 1e-12:
+            raise ValueError(f"an edge functional's weights must not sum to 0 (it would not bound v_h), got {rule!r}")
+    return checked
+
+
+def _coefficients(rule) -> tuple[float, float, float]:
+    """The functional's coefficients on (v_a, v_b, c_e)."""
+    return (sum(w * (1 - t) for t, w in rule), sum(w * t for t, w in rule), sum(-0.5 * w * t * (1 - t) for t, w in rule))
+
+
+def edge_functional_rows(problem: DiscreteProblem, rules) -> sp.csr_matrix:
+    """One row per (contact edge, functional), edge by edge, in the problem's variables."""
+    ne, m = len(problem.end_dofs), len(rules)
+    ends = problem.end_dofs
+    rows, cols, vals = [], [], []
+    for j, rule in enumerate(rules):
+        ca, cb, cc = _coefficients(rule)
+        row = np.arange(ne) * m + j
+        rows += [row, row]
+        cols += [ends[:, 0], ends[:, 1]]
+        vals += [np.full(ne, ca), np.full(ne, cb)]
+        if len(problem.edge_dofs):
+            rows.append(row)
+            cols.append(problem.edge_dofs)
+            vals.append(np.full(ne, cc))
+    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(ne * m, problem.ndof))
+
+
+def edge_functional_values(case, problem: DiscreteProblem, rules) -> np.ndarray:
+    """l_j(alpha) per (contact edge, functional), in the order of ``edge_functional_rows``."""
+    ne, m = len(problem.end_dofs), len(rules)
+    if case.obstacle is None:
+        return np.zeros(ne * m)
+    columns = [np.ravel(evaluate(case.obstacle, problem.mesh, problem.trace.points(np.array([t for t, _ in rule])))
+                        .reshape(ne, len(rule)) @ np.array([w for _, w in rule])) for rule in rules]
+    return np.stack(columns, axis=1).ravel()
+
+
+@dataclass
+class EdgeFunctionalQP(ProblemQP):
+    """min 1/2 u'Ku - b'u over u = u_D on Gamma_u and B u >= g: B's first rows the vertex values
+    on Gamma_C (in the order of ``problem.vertex_dofs``), then ``m`` rows per contact edge."""
+
+    problem: DiscreteProblem
+    K: sp.csr_matrix
+    K_ngs: object
+    b: np.ndarray
+    B: sp.csr_matrix
+    g: np.ndarray
+    m: int
+
+    @property
+    def n_vertices(self) -> int:
+        return len(self.problem.vertex_dofs)
+
+    def predicted_active(self, previous: ContactTraceFunction | None) -> np.ndarray | None:
+        """Nested iteration: a fine vertex inherits the status of the coarse vertex or edge it
+        lies at, each functional of a fine edge that of the coarse edge it lies in."""
+        if previous is None:
+            return None
+        trace = self.problem.trace
+        return np.concatenate([previous.vertex_status(trace.vertex_points),
+                               np.repeat(previous.edge_status(trace.a, trace.b), self.m)])
+
+    def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
+        problem, nv = self.problem, self.n_vertices
+        edge_active = active[nv:].reshape(-1, self.m).any(axis=1)
+        return ContactTraceFunction.of(problem, u, end_status(problem, active[:nv]), edge_active)
+
+    def pressure(self, multipliers: np.ndarray) -> np.ndarray:
+        """The discrete pressure per contact edge: the vertex rows' as for the cones, and the
+        edge rows' forces spread uniformly over their edge (sum_j lambda_ej / |e|)."""
+        problem, nv = self.problem, self.n_vertices
+        vertex_part = contact_pressure(problem, np.concatenate([multipliers[:nv], np.zeros(len(problem.edge_dofs))]))
+        return vertex_part + multipliers[nv:].reshape(-1, self.m).sum(axis=1) / problem.trace.cell_sizes
+
+
+def edge_functional_qp(case, problem: DiscreteProblem, rules, take_stiffness: bool = False) -> EdgeFunctionalQP:
+    """The QP of the cone of ``rules`` (``check_rules``) on ``problem`` (2D); ``take_stiffness``
+    as for the cones (``cones.contact_qp``): A itself is K, no change of variables."""
+    if problem.trace.faces is not None:
+        raise ValueError("a cone of edge functionals is 2D (3D: triangle rows, fem/face_means.py)")
+    vertices = problem.vertex_dofs
+    bounds = sp.csr_matrix((np.ones(len(vertices)), (np.arange(len(vertices)), vertices)), shape=(len(vertices), problem.ndof))
+    g_vertices = (np.zeros(len(vertices)) if case.obstacle is None
+                  else np.ravel(evaluate(case.obstacle, problem.mesh, problem.trace.vertex_points)))
+    K, K_ngs = problem.take_stiffness() if take_stiffness else (problem.A, problem.A_ngs)
+    B = sp.vstack([bounds, edge_functional_rows(problem, rules)]).tocsr()
+    return EdgeFunctionalQP(problem, K, K_ngs, problem.b, B, np.concatenate([g_vertices, edge_functional_values(case, problem, rules)]),
+                            len(rules))
