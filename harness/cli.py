@@ -336,8 +336,9 @@ def add_engine_options(p) -> None:
     group.add_argument("--scheduler", metavar="ADDRESS",
                        help="run the jobs on an existing Dask cluster, e.g. tcp://10.0.0.1:8786 (see README)")
     p.add_argument("--threads", type=_positive_int, metavar="T",
-                   help="NGSolve and BLAS threads per process (default: all cores in this process; cores / N "
-                        "with --workers; 1 with --scheduler); with 1, results are reproducible bit for bit")
+                   help="NGSolve and BLAS threads per process on every level (default: per level, 1 below 4e4 dofs, else "
+                        "the usable cores other processes leave free; cores / N with --workers; 1 with --scheduler; "
+                        "HARNESS_THREADS=T sets a default); with 1, results are reproducible bit for bit")
     p.add_argument("--skip-memory-check", action="store_true",
                    help="run even if the estimated peak memory exceeds the machine's (or a worker's)")
 

@@ -111,10 +111,12 @@ def test_a_method_object_runs_in_the_python_api_beside_a_name(outside):
      "method = replace(get_method('nodal'), name='bad name', order=3)\n", "is malformed: name 'bad name'"),
     ("method = 42\n", "is not a method"),
 ])
-def test_a_method_file_that_cannot_be_used_is_refused_in_one_line_before_anything_is_written(outside, source, message):
+def test_a_method_file_that_cannot_be_used_is_refused_in_one_line_before_anything_is_written(outside, source, message, capsys):
+    from harness.cli import main
     (outside / "mine.py").write_text(source)
-    done = harness_cli("run", "--case", "transition-r32", "--method", "mine.py", "--out", "out", cwd=outside)
-    assert done.returncode == 2 and done.stderr.count("\n") == 1 and message in done.stderr, done.stderr
+    code = main(["run", "--case", "transition-r32", "--method", str(outside / "mine.py"), "--out", str(outside / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and message in err, err
     assert not (outside / "out").exists()
 
 
@@ -186,10 +188,12 @@ def test_a_mesh_strategy_object_and_an_installed_one_run_by_the_api_and_by_label
 
 @pytest.mark.parametrize("source, message", [("strategy = 3\n", "is not a mesh strategy"),
                                              ("x = 1\n", "defines no mesh strategy")])
-def test_a_mesh_strategy_that_cannot_be_used_is_refused_in_one_line(tmp_path, source, message):
+def test_a_mesh_strategy_that_cannot_be_used_is_refused_in_one_line(tmp_path, source, message, capsys):
+    from harness.cli import main
     (tmp_path / "mine.py").write_text(source)
-    done = harness_cli("run", "--case", "corner-r12", "--mesh", "mine.py", "--out", "out", cwd=tmp_path)
-    assert done.returncode == 2 and done.stderr.count("\n") == 1 and message in done.stderr, done.stderr
+    code = main(["run", "--case", "corner-r12", "--mesh", str(tmp_path / "mine.py"), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and message in err, err
     assert not (tmp_path / "out").exists()
 
 

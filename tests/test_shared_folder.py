@@ -208,6 +208,7 @@ def test_a_level_inside_a_callers_task_manager_keeps_its_threads():
         ngs.SetNumThreads(previous)
 
 
+@pytest.mark.slow      # six runs and a busy loop that slows the other test worker: `make test-full`
 def test_bench_load_times_every_thread_setting_idle_and_beside_a_busy_process():
     """`bench --only load` on a one-level run: each setting idle and beside a busy loop, and its goals."""
     from harness.bench.load import load_goals, run_load_bench
