@@ -132,6 +132,33 @@ class ProblemQP:
         return self.problem.lift
 
 
+@dataclass
+class GeneralRowsQP(ProblemQP):
+    """min 1/2 u'Ku - b'u over u = u_D on Gamma_u and B u >= g, B's first rows the vertex values
+    on Gamma_C (``vertex_rows``, in the order of ``problem.vertex_dofs``), then rows on the cells
+    of Gamma_C (the 3D triangle means, ``face_means``; edge functionals, ``edge_functionals``)."""
+
+    problem: DiscreteProblem
+    K: sp.csr_matrix
+    K_ngs: object
+    b: np.ndarray
+    B: sp.csr_matrix
+    g: np.ndarray
+
+    @property
+    def n_vertices(self) -> int:
+        return len(self.problem.vertex_dofs)
+
+
+def vertex_rows(case, problem: DiscreteProblem) -> tuple[sp.csr_matrix, np.ndarray]:
+    """(rows, values): v_h at each vertex of Gamma_C >= alpha there."""
+    vertices = problem.vertex_dofs
+    rows = sp.csr_matrix((np.ones(len(vertices)), (np.arange(len(vertices)), vertices)), shape=(len(vertices), problem.ndof))
+    values = (np.zeros(len(vertices)) if case.obstacle is None
+              else np.ravel(evaluate(case.obstacle, problem.mesh, problem.trace.vertex_points)))
+    return rows, values
+
+
 def end_status(problem: DiscreteProblem, vertex_active: np.ndarray) -> np.ndarray:
     """(m, 2) the status of the vertex constraints at both ends of each contact edge, from one
     per vertex of Gamma_C (in the order of ``problem.vertex_dofs``)."""

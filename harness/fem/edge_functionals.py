@@ -25,7 +25,7 @@ import scipy.sparse as sp
 
 from ..mesh.points import evaluate
 from .assembly import ContactTraceFunction, DiscreteProblem
-from .cones import ProblemQP, contact_pressure, end_status
+from .cones import GeneralRowsQP, contact_pressure, end_status, vertex_rows
 
 
 def check_rules(rules) -> tuple:
@@ -79,21 +79,10 @@ def edge_functional_values(case, problem: DiscreteProblem, rules) -> np.ndarray:
 
 
 @dataclass
-class EdgeFunctionalQP(ProblemQP):
-    """min 1/2 u'Ku - b'u over u = u_D on Gamma_u and B u >= g: B's first rows the vertex values
-    on Gamma_C (in the order of ``problem.vertex_dofs``), then ``m`` rows per contact edge."""
+class EdgeFunctionalQP(GeneralRowsQP):
+    """The cone's QP (``cones.GeneralRowsQP``): after the vertex rows, ``m`` rows per contact edge."""
 
-    problem: DiscreteProblem
-    K: sp.csr_matrix
-    K_ngs: object
-    b: np.ndarray
-    B: sp.csr_matrix
-    g: np.ndarray
     m: int
-
-    @property
-    def n_vertices(self) -> int:
-        return len(self.problem.vertex_dofs)
 
     def predicted_active(self, previous: ContactTraceFunction | None) -> np.ndarray | None:
         """Nested iteration: a fine vertex inherits the status of the coarse vertex or edge it
@@ -122,10 +111,7 @@ def edge_functional_qp(case, problem: DiscreteProblem, rules, take_stiffness: bo
     as for the cones (``cones.contact_qp``): A itself is K, no change of variables."""
     if problem.trace.faces is not None:
         raise ValueError("a cone of edge functionals is 2D (3D: triangle rows, fem/face_means.py)")
-    vertices = problem.vertex_dofs
-    bounds = sp.csr_matrix((np.ones(len(vertices)), (np.arange(len(vertices)), vertices)), shape=(len(vertices), problem.ndof))
-    g_vertices = (np.zeros(len(vertices)) if case.obstacle is None
-                  else np.ravel(evaluate(case.obstacle, problem.mesh, problem.trace.vertex_points)))
+    bounds, g_vertices = vertex_rows(case, problem)
     K, K_ngs = problem.take_stiffness() if take_stiffness else (problem.A, problem.A_ngs)
     B = sp.vstack([bounds, edge_functional_rows(problem, rules)]).tocsr()
     return EdgeFunctionalQP(problem, K, K_ngs, problem.b, B, np.concatenate([g_vertices, edge_functional_values(case, problem, rules)]),

@@ -20,9 +20,8 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..mesh.points import evaluate
 from .assembly import ContactTraceFunction, DiscreteProblem
-from .cones import ProblemQP, contact_pressure, end_status
+from .cones import GeneralRowsQP, contact_pressure, end_status, vertex_rows
 
 CONTACT = "contact"
 
@@ -69,22 +68,10 @@ def _in_trace_order(problem, elements: np.ndarray) -> np.ndarray:
 
 
 @dataclass
-class FaceMeanQP(ProblemQP):
-    """The 3D counterpart of K_h as min 1/2 u'Au - b'u over u = u_D on Gamma_u and B u >= g, in
-    NGSolve's hierarchical P2 variables: B's first rows are the vertex values on Gamma_C (in
-    the order of ``problem.vertex_dofs``), the next its triangles' means (in the order of
+class FaceMeanQP(GeneralRowsQP):
+    """The 3D counterpart of K_h (``cones.GeneralRowsQP``) in NGSolve's hierarchical P2
+    variables: after the vertex rows, its triangles' means (in the order of
     ``problem.trace.faces``), g the obstacle's values and means there (``face_mean_rows``)."""
-
-    problem: DiscreteProblem
-    K: sp.csr_matrix
-    K_ngs: object
-    b: np.ndarray
-    B: sp.csr_matrix
-    g: np.ndarray
-
-    @property
-    def n_vertices(self) -> int:
-        return len(self.problem.vertex_dofs)
 
     def predicted_active(self, previous: ContactTraceFunction | None) -> np.ndarray | None:
         """Nested iteration: a fine vertex inherits the status of the coarse vertex it is (or, at
@@ -118,10 +105,7 @@ def face_mean_qp(case, problem: DiscreteProblem, take_stiffness: bool = False) -
         raise ValueError("the face-mean cone is the 3D counterpart of K_h: P2 on a tetrahedral mesh")
     B_faces, g_faces, elements = face_mean_rows(problem, case.obstacle)
     order = _in_trace_order(problem, elements)
-    vertices = problem.vertex_dofs
-    bounds = sp.csr_matrix((np.ones(len(vertices)), (np.arange(len(vertices)), vertices)), shape=(len(vertices), problem.ndof))
-    g_vertices = (np.zeros(len(vertices)) if case.obstacle is None
-                  else np.ravel(evaluate(case.obstacle, problem.mesh, problem.trace.vertex_points)))
+    bounds, g_vertices = vertex_rows(case, problem)
     K, K_ngs = problem.take_stiffness() if take_stiffness else (problem.A, problem.A_ngs)
     return FaceMeanQP(problem, K, K_ngs, problem.b, sp.vstack([bounds, B_faces[order]]).tocsr(),
                       np.concatenate([g_vertices, g_faces[order]]))
