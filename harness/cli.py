@@ -322,8 +322,9 @@ def _method_names() -> list[str]:
 def add_method_options(p) -> None:
     from .methods import GROUPS, METHODS
     p.add_argument("--method", action="append", type=_method_spec, metavar="METHOD",
-                   help=f"a method ({', '.join(METHODS)}), a group ({', '.join(GROUPS)}) or 'all' (the default), or a "
-                        f"method with parameters, e.g. nitsche:gamma0=0.1,theta=-1; repeat for several")
+                   help=f"a method ({', '.join(METHODS)}), a group ({', '.join(GROUPS)}) or 'all' (the default), a "
+                        f"method with parameters, e.g. nitsche:gamma0=0.1,theta=-1, or one of your own: path/to/file.py[:name], "
+                        f"package.module[:name] or an installed one's name; repeat for several")
     p.add_argument("--model", choices=["mean", "nodal", "all"],
                    help="the paper's models, as before the method axis ('all' = paper)")
 
