@@ -6,7 +6,6 @@ import os
 import shutil
 import subprocess
 import sys
-import textwrap
 from pathlib import Path
 
 import pandas as pd
@@ -77,15 +76,23 @@ def test_a_method_of_an_importable_module_runs_by_its_dotted_name_on_two_workers
     assert_exact(rows_of(work / "out"), {"penalty-stiff"})
 
 
-def test_an_installed_packages_entry_point_method_runs_by_its_name(outside):
-    site = outside / "site"
-    (site / "userpkg").mkdir(parents=True)
-    shutil.copy(EXAMPLES / "nitsche_small_gamma.py", site / "userpkg" / "methods.py")
-    (site / "userpkg" / "__init__.py").write_text("")
-    info = site / "userpkg-0.1.dist-info"
+def installed_package(site: Path, name: str, modules: dict[str, str], group: str, entry: str) -> Path:
+    """A tiny installed package under ``site`` (put it on PYTHONPATH): the ``modules`` (name ->
+    source), and a dist-info that declares ``entry`` in the entry-point ``group``."""
+    (site / name).mkdir(parents=True)
+    (site / name / "__init__.py").write_text("")
+    for module, source in modules.items():
+        (site / name / f"{module}.py").write_text(source)
+    info = site / f"{name}-0.1.dist-info"
     info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: userpkg\nVersion: 0.1\n")
-    (info / "entry_points.txt").write_text("[signorini_harness.methods]\nsmall-gamma = userpkg.methods:method\n")
+    (info / "METADATA").write_text(f"Metadata-Version: 2.1\nName: {name}\nVersion: 0.1\n")
+    (info / "entry_points.txt").write_text(f"[{group}]\n{entry}\n")
+    return site
+
+
+def test_an_installed_packages_entry_point_method_runs_by_its_name(outside):
+    site = installed_package(outside / "site", "userpkg", {"methods": (EXAMPLES / "nitsche_small_gamma.py").read_text()},
+                             "signorini_harness.methods", "small-gamma = userpkg.methods:method")
     done = harness_cli("run", "--case", "transition-r32", "--method", "nitsche-g002", "--levels", "2", "--out", "out",
                        "--quiet", cwd=outside, pythonpath=site)
     assert done.returncode == 0, done.stderr
@@ -132,19 +139,10 @@ def test_every_registered_method_passes_the_checks_a_plugin_passes():
 
 
 def test_a_case_of_an_installed_package_is_registered_by_its_entry_point(tmp_path):
-    site = tmp_path / "site"
-    (site / "usercases").mkdir(parents=True)
-    (site / "usercases" / "__init__.py").write_text("")
     text = (ROOT / "cases" / "transition_r32.py").read_text().replace('name = "transition-r32"', 'name = "my-transition"')
     assert 'name = "my-transition"' in text
-    (site / "usercases" / "mine.py").write_text(text)
-    info = site / "usercases-0.1.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: usercases\nVersion: 0.1\n")
-    (info / "entry_points.txt").write_text(textwrap.dedent("""\
-        [signorini_harness.cases]
-        my-transition = usercases.mine
-        """))
+    site = installed_package(tmp_path / "site", "usercases", {"mine": text}, "signorini_harness.cases",
+                             "my-transition = usercases.mine")
     done = harness_cli("run", "--case", "my-transition", "--method", "nodal", "--levels", "2", "--out", "out", "--quiet",
                        cwd=tmp_path, pythonpath=site)
     assert done.returncode == 0, done.stderr
@@ -172,14 +170,8 @@ def test_a_mesh_strategy_object_and_an_installed_one_run_by_the_api_and_by_label
         sys.path.pop(0)
     rows = harness.run("corner-r12", methods="nodal", levels=2, meshes=[Grading(mu=0.2), "uniform"], show_progress=False)
     assert sorted(set(rows["mesh"])) == ["graded-mu0.2", "uniform"] and (rows.status == "converged").all()
-    site = tmp_path / "site"
-    (site / "usermeshes").mkdir(parents=True)
-    shutil.copy(ROOT / "examples" / "meshes" / "strong_grading.py", site / "usermeshes" / "grading.py")
-    (site / "usermeshes" / "__init__.py").write_text("")
-    info = site / "usermeshes-0.1.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text("Metadata-Version: 2.1\nName: usermeshes\nVersion: 0.1\n")
-    (info / "entry_points.txt").write_text("[signorini_harness.meshes]\nstrong = usermeshes.grading:strategy\n")
+    site = installed_package(tmp_path / "site", "usermeshes", {"grading": (ROOT / "examples" / "meshes" / "strong_grading.py").read_text()},
+                             "signorini_harness.meshes", "strong = usermeshes.grading:strategy")
     done = harness_cli("run", "--case", "corner-r12", "--method", "nodal", "--mesh", "graded-mu0.1", "--levels", "2", "--out", "out",
                        "--quiet", cwd=tmp_path, pythonpath=site)
     assert done.returncode == 0, done.stderr
