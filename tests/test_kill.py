@@ -1,6 +1,7 @@
 """Kill tests (issue 50): a report, and two runs sharing one folder, killed with SIGKILL at
 several points and started again, end with the results of an uninterrupted run and no orphan
 file (no temporary file, lock file or checkpoint). Minutes of work: `make test-full`."""
+import json
 import os
 import signal
 import subprocess
@@ -77,23 +78,38 @@ def test_a_report_killed_anywhere_and_run_again_gives_the_same_results_and_no_or
             sorted(p.relative_to(clean) for p in clean.rglob("*")), fraction
 
 
+def wait_for_owner(folder: Path, process, timeout: float = 60.0) -> None:
+    """Wait until ``process`` owns ``folder`` (its pid in the lock file), so that a second
+    command is started only once the first holds the folder: which of two commands started
+    together wins the lock is a race the machine's scheduler decides."""
+    clock = time.perf_counter()
+    while time.perf_counter() - clock < timeout:
+        assert process.poll() is None, process.communicate()[1]
+        try:
+            if json.loads((folder / LOCK_NAME).read_text() or "{}").get("pid") == process.pid:
+                return
+        except (OSError, ValueError):
+            pass
+        time.sleep(0.01)
+    raise AssertionError(f"{process.args} did not take {folder} in {timeout} s")
+
+
 def test_two_runs_on_one_folder_killed_and_run_again_keep_every_row_and_no_orphan(tmp_path):
     first = ["run", "--case", "transition-r32", "--method", "nodal", "--method", "p1", "--levels", "6", "--threads", "1", "--quiet"]
     second = ["run", "--case", "corner-r12", "--method", "mean", "--levels", "5", "--threads", "1", "--quiet"]
     clean = tmp_path / "clean"
     seconds = finish([*first, "--out", str(clean)])
     finish([*second, "--out", str(clean)])
-    killed = 0
     for k, fraction in enumerate(KILL_AT):
         folder = tmp_path / f"killed-{k}"
-        a, b = start([*first, "--out", str(folder)]), start([*second, "--out", str(folder)])
-        killed += kill_after(a, fraction * seconds)
+        started, a = time.perf_counter(), start([*first, "--out", str(folder)])
+        wait_for_owner(folder, a)
+        b = start([*second, "--out", str(folder)])
         _, err = b.communicate()
-        # the second either ran (before or after the first held the folder) or was refused in one line
-        assert b.returncode == 0 or (b.returncode == 2 and err.count("\n") == 1 and "is in use by" in err), err
-        finish([*first, "--out", str(folder)])
-        if b.returncode:
-            finish([*second, "--out", str(folder)])
+        # the second is refused in one line naming the first, before it writes anything
+        assert b.returncode == 2 and err.count("\n") == 1 and "is in use by" in err and f"pid {a.pid}" in err, err
+        assert kill_after(a, max(fraction * seconds - (time.perf_counter() - started), 0.0)), fraction
+        for args in (first, second):
+            finish([*args, "--out", str(folder)])
         pd.testing.assert_frame_equal(measured(folder / "results.csv"), measured(clean / "results.csv"))
         assert orphans(folder) == []
-    assert killed       # (the first run is refused instead when the second takes the folder first)
