@@ -74,6 +74,37 @@ def test_the_study_takes_h_from_its_level_sequence():
     assert "h / 2" not in (PACKAGE / "study" / "chain.py").read_text()
 
 
+# a function longer than this does more than one job (issue 51 item 7)
+LONGEST_FUNCTION = 80
+
+
+def long_functions(folder: Path, limit: int) -> list[str]:
+    """Every function of ``folder``'s modules (methods and nested ones too) longer than
+    ``limit`` lines, from its ``def`` line to its last line."""
+    found = []
+    for path in sorted(folder.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                lines = node.end_lineno - node.lineno + 1
+                if lines > limit:
+                    found.append(f"{path.relative_to(folder.parent)}:{node.lineno} {node.name} ({lines} lines)")
+    return found
+
+
+def test_every_function_of_the_study_fits_in_80_lines():
+    assert long_functions(PACKAGE / "study", LONGEST_FUNCTION) == []
+
+
+def test_the_length_check_measures_methods_and_nested_functions(tmp_path):
+    def body(lines, indent):
+        return "".join(f"{' ' * indent}x{k} = {k}\n" for k in range(lines))
+    source = ("def fits():\n" + body(LONGEST_FUNCTION - 1, 4) +
+              "class A:\n    def method(self):\n        def nested():\n" + body(LONGEST_FUNCTION, 12) + "        return nested\n")
+    (tmp_path / "m.py").write_text(source)
+    found = [text.split(" ", 1)[1] for text in long_functions(tmp_path, LONGEST_FUNCTION)]
+    assert found == ["method (83 lines)", "nested (81 lines)"]
+
+
 def test_every_cited_file_exists():
     cited = re.compile(r"`([\w./-]+\.(?:md|py|pdf))`|(\b[\w-]+/[\w./-]+\.md)\b|\b(MATH\.md)\b")
     missing = []

@@ -102,19 +102,19 @@ def test_a_file_that_is_not_results_is_refused_before_the_study(tmp_path, capsys
 
 
 def test_a_failed_run_leaves_only_the_checkpoints_its_resume_reuses(tmp_path, monkeypatch, capsys):
-    from harness.study import chain
+    from harness.study import walk
     solved = []
-    original = chain.keep
+    original = walk.keep
 
     def fail_on_the_second_level(on_level, phases, kept, case, method, level, problem, solve):
         if level == 1:
             raise RuntimeError("killed")
         solved.append(level)
         return original(on_level, phases, kept, case, method, level, problem, solve)
-    monkeypatch.setattr(chain, "keep", fail_on_the_second_level)
+    monkeypatch.setattr(walk, "keep", fail_on_the_second_level)
     assert run(tmp_path, "transition-r32", "nodal", 3) == 1
     assert sorted(p.name for p in tmp_path.iterdir()) == [".checkpoints"]
-    monkeypatch.setattr(chain, "keep", original)
+    monkeypatch.setattr(walk, "keep", original)
     assert main(["run", "--case", "transition-r32", "--method", "nodal", "--levels", "3", "--out", str(tmp_path)]) == 0
     assert "transition-r32 nodal: resumed after level 0" in capsys.readouterr().out
     assert sorted(p.name for p in tmp_path.iterdir()) == ["results.csv"]

@@ -14,6 +14,9 @@ import os
 import platform
 import subprocess
 import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 import ngsolve as ngs
@@ -153,14 +156,64 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
     store (a reused case at once), and ``cores_free(n)`` whenever the number of this machine's
     cores the study leaves idle changes (``engine.busy_cores``; the report draws its figures
     there, ``report.figure_jobs``)."""
-    results_dir = Path(results_dir)
-    case_store, sweep_store = ensure_writable(results_dir / "cases"), ensure_writable(results_dir / "sweeps")
-    checkpoints = case_store / ".checkpoints"
-    config = sweep_config(settings["levels"])
-    jobs, weights, pending = [], {}, {}
+    stores = Stores.under(Path(results_dir))
+    config, mconfig = sweep_config(settings["levels"]), mesh_config(settings)
+    work, sweeps = Work(), {}
+    plan_studies(work, cases, settings, stores, writer, listener)
+    plan_sweeps(work, sweeps, sweep_cases, config, stores)
+    plan_mesh_studies(work, cases, mconfig, stores)
+    run_work(work, engine or InProcess(), check_memory, show_progress, timings, listener, stores.checkpoints)
+    results = pd.concat([pd.read_csv(stores.cases / f"{case.name}.csv") for case in sorted(cases, key=lambda c: c.dimension)],
+                        ignore_index=True)
+    return (results, {name: sweeps[name] for name in config["cases"] if name in sweeps},
+            read_mesh_results(stores.meshes, cases, mconfig))
+
+
+@dataclass(frozen=True)
+class Stores:
+    """The report's cache under ``root``: a folder per kind of computation, each proved
+    writable before any of them starts, and the studies' checkpoints."""
+
+    root: Path
+    cases: Path
+    sweeps: Path
+    meshes: Path
+
+    @classmethod
+    def under(cls, root: Path) -> "Stores":
+        return cls(root, *(ensure_writable(root / kind) for kind in ("cases", "sweeps", "meshes")))
+
+    @property
+    def checkpoints(self) -> Path:
+        return self.cases / ".checkpoints"
+
+
+@dataclass
+class Pending:
+    """The outputs of one stored name's jobs (scope + case) so far, and what stores them once
+    all are in (``store(outputs)``); ``section``: where ``Timings`` counts their phases."""
+
+    section: str
+    store: Callable[[list], None]
+    outputs: list = field(default_factory=list)
+
+
+@dataclass
+class Work:
+    """What ``compute`` runs: the jobs, the progress bar's weights of their solves, and per
+    stored name (scope + case) its ``Pending`` outputs."""
+
+    jobs: list = field(default_factory=list)
+    weights: dict = field(default_factory=dict)
+    pending: dict[str, Pending] = field(default_factory=dict)
+
+
+def plan_studies(work: Work, cases: list[Case], settings: dict, stores: Stores, writer, listener) -> None:
+    """The study jobs of every case not stored (or whose ``writer`` files are missing); a
+    stored case is reused, and ``listener`` hears so at once."""
     for group, group_settings in study_groups(cases, settings):
         methods, levels = study_methods(group_settings), group_settings["levels"]
-        stale = stale_cases(group, group_settings, results_dir)
+        stale = stale_cases(group, group_settings, stores.root)
         todo = [c for c in group if c in stale or (writer is not None and not writer.written(c, methods, levels))]
         for case in group:
             if case not in todo:
@@ -170,37 +223,51 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
         for case in todo:
             validate_case(case)
             check_methods(case, methods)
-            pending[case.name] = (case, group_settings, methods, [])
+            work.pending[case.name] = Pending("study", partial(_finish_case, stores, case, methods=methods,
+                                                                 settings=group_settings, listener=listener))
         hook = SnapshotHook(levels, methods) if writer is None else BothHooks(SnapshotHook(levels, methods), writer)
-        jobs += chains(todo, methods, levels, hook, checkpoints)
-        weights |= study_weights(todo, methods, levels)
-    sweeps = {}
+        work.jobs += chains(todo, methods, levels, hook, stores.checkpoints)
+        work.weights |= study_weights(todo, methods, levels)
+
+
+def plan_sweeps(work: Work, sweeps: dict, sweep_cases: list[Case], config: dict, stores: Stores) -> None:
+    """The sweep jobs of the cases the report sweeps whose sweep is not stored; a stored one
+    is read into ``sweeps`` (a computed one joins it when stored)."""
     for case in [c for c in sweep_cases if c.name in config["cases"]]:
-        if case not in stale_sweeps([case], config, results_dir):
+        if case not in stale_sweeps([case], config, stores.root):
             print(f"{case.name}: reusing the parameter sweep computed with the same code and settings")
-            sweeps[case.name] = pd.read_csv(sweep_store / f"{case.name}.csv")
+            sweeps[case.name] = pd.read_csv(stores.sweeps / f"{case.name}.csv")
             continue
         validate_case(case)
         runs, methods = sweep_plan(config["methods"], config["values"], config["reference"])
-        jobs.append(Job(case, tuple(methods), config["level"] + 1, scope=SWEEP_SCOPE, tag="sweep", per_dof=SWEEP_SECONDS_PER_DOF))
-        weights |= scoped(solve_weights(case, methods, config["level"] + 1, per_dof=SWEEP_SECONDS_PER_DOF), SWEEP_SCOPE)
-        pending[SWEEP_SCOPE + case.name] = (case, runs, methods, [])
-    mconfig = mesh_config(settings)
-    mesh_store = ensure_writable(results_dir / "meshes")
-    for case, mesh, methods in mesh_jobs_plan(cases, mconfig):
-        name, key = store_name(case, mesh), cache_key(case, {"meshes": mconfig, "mesh": mesh.label})
-        if _stored(mesh_store / f"{name}.json", [mesh_store / f"{name}.csv"], key):
+        work.jobs.append(Job(case, tuple(methods), config["level"] + 1, scope=SWEEP_SCOPE, tag="sweep", per_dof=SWEEP_SECONDS_PER_DOF))
+        work.weights |= scoped(solve_weights(case, methods, config["level"] + 1, per_dof=SWEEP_SECONDS_PER_DOF), SWEEP_SCOPE)
+        work.pending[SWEEP_SCOPE + case.name] = Pending("sweeps", partial(_finish_sweep, sweeps, stores.sweeps, case,
+                                                                          runs=runs, methods=methods, config=config))
+
+
+def plan_mesh_studies(work: Work, cases: list[Case], config: dict, stores: Stores) -> None:
+    """The jobs of the mesh study's (case, mesh strategy) chains not stored."""
+    for case, mesh, methods in mesh_jobs_plan(cases, config):
+        name, key = store_name(case, mesh), cache_key(case, {"meshes": config, "mesh": mesh.label})
+        if _stored(stores.meshes / f"{name}.json", [stores.meshes / f"{name}.csv"], key):
             print(f"{case.name}: reusing the {mesh.label} meshes computed with the same code and settings")
             continue
         validate_case(case)
         hook = FinestMesh() if mesh.name == "adaptive" else None
-        jobs += chains([case], methods, mconfig["levels"], hook, checkpoints, tag="mesh", meshes=[mesh])
-        weights |= study_weights([case], methods, mconfig["levels"], [mesh])
-        pending[mesh_scope("", mesh) + case.name] = (case, mesh, methods, [])
-    engine = engine or InProcess()
-    jobs = plan(jobs, engine, check_memory)
-    remaining = {name: sum(1 for job in jobs if job.scope + job.case.name == name) for name in pending}
-    progress = StudyProgress(weights, show_progress and bool(jobs))
+        work.jobs += chains([case], methods, config["levels"], hook, stores.checkpoints, tag="mesh", meshes=[mesh])
+        work.weights |= study_weights([case], methods, config["levels"], [mesh])
+        work.pending[mesh_scope("", mesh) + case.name] = Pending("meshes", partial(_store_meshes, stores.meshes, case, mesh,
+                                                                                   methods=methods, config=config))
+
+
+def run_work(work: Work, engine, check_memory: bool, show_progress: bool, timings: Timings | None, listener,
+             checkpoints: Path) -> None:
+    """``work``'s jobs on ``engine`` under one progress bar, each name's outputs stored as soon
+    as its last job is done; then the checkpoints no store needed are forgotten."""
+    jobs = plan(work.jobs, engine, check_memory)
+    remaining = {name: sum(1 for job in jobs if job.scope + job.case.name == name) for name in work.pending}
+    progress = StudyProgress(work.weights, show_progress and bool(jobs))
     clock = time.perf_counter()
     cores = usable_cpus()
     if listener is not None:
@@ -210,37 +277,36 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
             if listener is not None:
                 listener.cores_free(max(0, cores - engine.busy_cores(len(jobs) - finished)))
             name = job.scope + job.case.name
-            pending[name][-1].append(output)
+            work.pending[name].outputs.append(output)
             remaining[name] -= 1
-            if remaining[name]:
-                continue
-            outputs = pending[name][-1]
-            if timings is not None:
-                section = {"sweep": "sweeps", "mesh": "meshes"}.get(job.tag, "study")
-                for phase in PHASES:
-                    timings.add(section, job.case.name, phase, sum(o.phases.get(phase, 0.0) for o in outputs))
-            if job.tag == "sweep":
-                case, runs, methods, _ = pending[name]
-                sweeps[case.name] = _store_sweep(sweep_store, case, outputs, runs, methods, config)
-            elif job.tag == "mesh":
-                case, mesh, methods, _ = pending[name]
-                _store_meshes(mesh_store, case, mesh, outputs, methods, mconfig)
-            else:
-                case, group_settings, methods, _ = pending[name]
-                _store_case(case_store, case, outputs, methods, group_settings)
-                CheckpointStore(checkpoints, group_settings["levels"]).forget(case)
-                if listener is not None:
-                    listener.case_stored(case)
+            if not remaining[name]:
+                _store_pending(work.pending[name], job.case.name, timings)
     finally:
         progress.close()
     # every job is stored: what is left are the checkpoints of chains no store needed
     CheckpointStore(checkpoints, 0).forget()
     if timings is not None:
         timings.add("jobs (wall)", engine.describe(), "", time.perf_counter() - clock)
-    results = pd.concat([pd.read_csv(case_store / f"{case.name}.csv") for case in sorted(cases, key=lambda c: c.dimension)],
-                        ignore_index=True)
-    return (results, {name: sweeps[name] for name in config["cases"] if name in sweeps},
-            read_mesh_results(mesh_store, cases, mconfig))
+
+
+def _store_pending(pending: Pending, case_name: str, timings: Timings | None) -> None:
+    """A name's outputs, all in: their phases counted, then stored."""
+    if timings is not None:
+        for phase in PHASES:
+            timings.add(pending.section, case_name, phase, sum(o.phases.get(phase, 0.0) for o in pending.outputs))
+    pending.store(pending.outputs)
+
+
+def _finish_case(stores: Stores, case: Case, outputs: list, methods, settings: dict, listener) -> None:
+    """A case's study, all in: stored, its checkpoints forgotten, ``listener`` told."""
+    _store_case(stores.cases, case, outputs, methods, settings)
+    CheckpointStore(stores.checkpoints, settings["levels"]).forget(case)
+    if listener is not None:
+        listener.case_stored(case)
+
+
+def _finish_sweep(sweeps: dict, store: Path, case: Case, outputs: list, runs, methods, config: dict) -> None:
+    sweeps[case.name] = _store_sweep(store, case, outputs, runs, methods, config)
 
 
 def _store_meshes(store: Path, case: Case, mesh, outputs: list, methods, config: dict) -> None:

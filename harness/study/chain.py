@@ -1,28 +1,24 @@
 """A convergence study: case -> mesh hierarchy -> discrete problems -> methods -> solve ->
-errors -> one tidy row per (case, method, level)."""
+errors -> one tidy row per (case, method, level). ``run_chain`` sets a case's chain up (its
+methods, how many levels each solves, its meshes and problems: ``one_body``, or ``two_body``'s
+for two bodies; what its errors are measured against); ``walk.ChainWalk`` walks it."""
 from __future__ import annotations
 
 import inspect
-import time
 import warnings
-from dataclasses import dataclass
 
 import ngsolve as ngs
 
-from ..fem.assembly import discretise
-from ..fem.element_quadrature import ElementQuadrature
 from ..measure.errors import ExactErrors
-from ..measure.estimator import ResidualEstimator, estimate
 from ..measure.reference import REFERENCE_METHOD, ReferenceErrors
 from ..mesh.levels import LevelSequence
-from ..mesh.strategies import UNIFORM, MeshStrategy, element_budget
+from ..mesh.strategies import UNIFORM, MeshStrategy
 from ..methods import Method, get_method, methods_for
 from ..problem.case import Case
-from ..solvers.multigrid import Multilevel
-from . import threads
-from .rows import COLUMNS, PHASES, ChainOutput, Phases, keep, level_row, study_levels  # noqa: F401 (COLUMNS, PHASES: their home was here)
-from .threads import p2_size
+from .one_body import OneBody
+from .rows import COLUMNS, PHASES, ChainOutput, Phases, study_levels  # noqa: F401 (COLUMNS, PHASES: their home was here)
 from .two_body import run_two_body_chain
+from .walk import ChainPlan, ChainWalk
 
 ngs.ngsglobals.msg_level = 0
 
@@ -61,18 +57,6 @@ def chain_levels(case: Case, method: Method, levels: int) -> int:
     case's reference, k more (nested iteration all the way; the last is the reference, with
     4^k times the dofs of every method's finest studied level)."""
     return study_levels(method, levels) + (case.reference_levels if is_reference(case, method) else 0)
-
-
-@dataclass
-class ChainState:
-    """A method's level chain after its last finished level (``next_level`` - 1): everything
-    resuming it needs. Saved by the study after every level (``checkpoints``)."""
-
-    next_level: int
-    rows: list[dict]          # its rows so far (a reference case's stay without errors until the reference)
-    carry: object             # what the next level's solve starts from (nested iteration)
-    pending: list             # what the error measure keeps across levels (``state_of``)
-    kept: dict                # level -> what ``on_level`` returned
 
 
 class _LevelHook_0_1:
@@ -125,11 +109,6 @@ class BothHooks:
 MAX_ADAPTIVE_LEVELS = 60
 
 
-def has_estimator(case) -> bool:
-    """The residual estimator has terms for 2D scalar problems (``measure.estimator``)."""
-    return case.dimension == 2 and not case.physics.elastic
-
-
 def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_level=None,
               phases: Phases | None = None, checkpoints=None, sequence: LevelSequence | None = None,
               mesh: MeshStrategy = UNIFORM) -> ChainOutput:
@@ -148,7 +127,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     report keeps the finest solutions that way. ``progress`` (if given) hears
     ``solving(case, method, level, ndof, stage)``, ``solved(case, method, level)`` and
     ``restored(case, method, levels)``. ``checkpoints`` (if given: ``load(case, method)`` ->
-    ``ChainState`` or None, ``save(case, method, state)``) makes every finished level durable
+    ``walk.ChainState`` or None, ``save(case, method, state)``) makes every finished level durable
     and lets a chain killed at any moment continue from its last finished level: the meshes
     and the multigrid's hierarchy are rebuilt (they are determined by the case), the solves
     start again from the saved coarser solution.
@@ -170,147 +149,40 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     methods = chain_methods(case, methods)
     sequence = sequence or mesh.sequence(case, max(m.order for m in methods))
     if sequence.adaptive:
-        if not case.exact:
-            raise ValueError(f"case {case.name}: adaptive meshes need an exact case (reference errors need uniform refinement)")
-        if len(methods) != 1:
-            raise ValueError("an adaptive mesh serves one method: run one chain per method")
+        check_adaptive(case, methods)
         # its meshes come from its solves: a killed adaptive chain starts again (no checkpoints)
         checkpoints = None
-    studied = {m.name: study_levels(m, levels) if m.name in requested else 0 for m in methods}
-    chain = {m.name: chain_levels(case, m, levels) for m in methods}
-    if case.exact:
-        measure = ExactErrors(case, phases, {m.name: m.order for m in methods})
-    else:
-        measure = ReferenceErrors(studied, {m.name: m.order for m in methods}, REFERENCE_METHOD,
-                                  chain[REFERENCE_METHOD] - 1, phases)
-    reference_fields, reference_solve_seconds = None, 0.0
-    saved = {m.name: checkpoints.load(case, m) if checkpoints is not None else None for m in methods}
-    start = {name: state.next_level if state else 0 for name, state in saved.items()}
-    carry = {name: state.carry if state else None for name, state in saved.items()}
-    method_rows = {name: list(state.rows) if state else [] for name, state in saved.items()}
-    kept = {(name, level): value for name, state in saved.items() if state for level, value in state.kept.items()}
-    for method in methods:
-        if saved[method.name]:
-            measure.restore(method.name, saved[method.name].pending, method_rows[method.name])
-            if progress is not None:
-                progress.restored(case.name, method.name, start[method.name])
-    expectations = {m.name: m.expected(case) for m in methods}
-    sharper = {m.name: m.sharper(case) for m in methods}
-    last_level = max((chain[n] for n in chain if start[n] < chain[n]), default=0)
-    mesh_label = mesh.label
-    multilevel = None
-    budget_elements = None
-    if sequence.adaptive:
+    plan = chain_plan(case, methods, requested, levels, sequence.adaptive)
+    discretisation = OneBody(case, sequence, levels, max(m.extra_levels for m in methods))
+    return ChainWalk(case, methods, plan, discretisation, error_measure(case, methods, plan, phases), mesh.label,
+                     phases, progress, on_level, checkpoints).run()
+
+
+def check_adaptive(case: Case, methods: list[Method]) -> None:
+    """Refuse what an adaptive mesh cannot serve."""
+    if not case.exact:
+        raise ValueError(f"case {case.name}: adaptive meshes need an exact case (reference errors need uniform refinement)")
+    if len(methods) != 1:
+        raise ValueError("an adaptive mesh serves one method: run one chain per method")
+
+
+def chain_plan(case: Case, methods: list[Method], requested: set[str], levels: int, adaptive: bool) -> ChainPlan:
+    """How many levels each of ``methods`` solves (``chain_levels``); one not ``requested`` (the
+    reference method a case without u needs) none with rows."""
+    if adaptive:
         # every level of an adaptive chain after the first: as many as it takes to reach the
         # budget (or MAX_ADAPTIVE_LEVELS)
-        studied = chain = {m.name: MAX_ADAPTIVE_LEVELS for m in methods}
-        last_level = MAX_ADAPTIVE_LEVELS
-    # the P1 hierarchy of the truncated multigrid (where the physics has one: ``physics``;
-    # nested meshes only: its prolongations are the refinement's); else the solves factorise
-    hierarchical = case.physics.multigrid and sequence.nested
-    estimating = has_estimator(case)
-    # The meshes are made outside NGSolve's task manager, each level's work under it: a study
-    # whose bisections (Mesh.Refine with flags) ran under it crashed once here (munmap_chunk,
-    # not reproduced in 30 runs since; NGSolve's own adaptive tutorials refine outside it).
-    walk = sequence.levels(last_level)
-    for level in range(last_level):
-        clock = time.perf_counter()
-        with phases("mesh"):
-            step = next(walk, None)
-            if step is None:
-                break
-            mesh, h = step.mesh, step.h
-            if getattr(sequence, "budgeted", True):
-                # the uniform finest level's number of triangles (of the coarse mesh times 4 per
-                # level): graded and adaptive meshes get the same budget of dofs
-                if budget_elements is None:
-                    budget_elements = element_budget(case, levels, max(m.extra_levels for m in methods))
-                if level and mesh.ne > budget_elements:
-                    break
-        with threads.level(p2_size(mesh)):
-            if hierarchical:
-                # the P1 levels' assembly, threaded (outside the task manager it was 5 s of the
-                # paper methods' default study)
-                with phases("mesh"):
-                    multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
-            active = [m for m in methods if start[m.name] <= level < chain[m.name]]
-            if not active:          # a level every method has finished: rebuilt, not solved
-                measure.skip_level(level, mesh)
-                continue
-            with phases("mesh"):
-                quadrature = ElementQuadrature.of(case, mesh)
-            mesh_seconds = time.perf_counter() - clock
-            problems, assembly_seconds, estimators = {}, {}, {}
-            for order in sorted({m.order for m in active}, reverse=True):
-                clock = time.perf_counter()
-                with phases("assembly"):
-                    problems[order] = discretise(case, mesh, order, quadrature)
-                assembly_seconds[order] = time.perf_counter() - clock
-                if estimating and any(level < studied[m.name] for m in active if m.order == order):
-                    with phases("errors"):
-                        estimators[order] = ResidualEstimator(case, problems[order])
-            # before a method takes the stiffness matrix (the best approximation needs it)
-            measure.begin_level(level, mesh, problems, quadrature, multilevel)
-            for method in active:
-                problem = problems[method.order]
-                stage = "" if level < studied[method.name] else "reference chain"
-                if progress is not None:
-                    progress.solving(case.name, method.name, level, problem.ndof, stage)
-                last = method is [m for m in active if m.order == method.order][-1]
-                clock = time.perf_counter()
-                solve = method.solve(case, problem, carry[method.name], multilevel, take_stiffness=last, phases=phases)
-                own_seconds = time.perf_counter() - clock
-                carry[method.name] = solve.carry
-                indicators = None
-                # the studied rows' estimator (a reference chain's finer solves need none)
-                if estimating and level < studied[method.name]:
-                    with phases("errors"):
-                        indicators = estimators[method.order].indicators(solve.u)
-                if sequence.adaptive:
-                    sequence.observe(indicators)
-                row = None
-                if level < studied[method.name]:
-                    row = level_row(case, method, mesh_label, level, h, problem.ndof, solve.fields,
-                                    mesh_seconds + assembly_seconds[method.order] + own_seconds,
-                                    estimate(indicators) if indicators is not None else float("nan"),
-                                    expectations[method.name], sharper[method.name])
-                    method_rows[method.name].append(row)
-                else:
-                    reference_solve_seconds += solve.fields["solve_seconds"]
-                    if is_reference(case, method) and level == chain[method.name] - 1:
-                        reference_fields = (level, problem.ndof, solve.fields)
-                with phases("errors"):
-                    columns = measure.solved(method, level, problem, solve.u, row)
-                if row is not None:
-                    row.update(columns)
-                    keep(on_level, phases, kept, case, method, level, problem, solve)
-                if progress is not None:
-                    progress.solved(case.name, method.name, level)
-            with phases("errors"):
-                measure.end_level()
-            for row in (rows[-1] for rows in method_rows.values() if rows and rows[-1]["level"] == level):
-                if row["errors_against"] == "exact":
-                    row["effectivity"] = row["estimator"] / row["err_energy"]
-            # the reference level completes every method's rows: all are saved again, the
-            # reference method last (a kill in between leaves its level to be solved again)
-            saved_now = active
-            if reference_fields is not None:
-                for rows in method_rows.values():
-                    _reference_fields(rows, *reference_fields)
-                saved_now = sorted(methods, key=lambda m: is_reference(case, m))
-            for method in saved_now:
-                if checkpoints is not None:
-                    checkpoints.save(case, method, ChainState(
-                        min(level + 1, chain[method.name]), method_rows[method.name], carry[method.name],
-                        measure.state_of(method.name),
-                        {lev: value for (name, lev), value in kept.items() if name == method.name}))
-    order = {m.name: k for k, m in enumerate(methods)}
-    rows = sorted((row for name in method_rows for row in method_rows[name]), key=lambda r: (r["level"], order[r["method"]]))
-    return ChainOutput(rows, kept, phases.as_dict(), {name: start[name] for name in start}, reference_solve_seconds)
+        every = {m.name: MAX_ADAPTIVE_LEVELS for m in methods}
+        return ChainPlan(every, every)
+    studied = {m.name: study_levels(m, levels) if m.name in requested else 0 for m in methods}
+    chain = {m.name: chain_levels(case, m, levels) for m in methods}
+    return ChainPlan(studied, chain, None if case.exact else REFERENCE_METHOD)
 
 
-def _reference_fields(rows: list[dict], level: int, ndof: int, fields: dict) -> None:
-    """What the rows of a case without u say about the reference they were measured against."""
-    for row in rows:
-        row.update({"reference_level": level, "reference_ndof": ndof, "reference_method": REFERENCE_METHOD,
-                    "reference_kkt_residual": fields["kkt_residual"], "reference_status": fields["status"]})
+def error_measure(case: Case, methods: list[Method], plan: ChainPlan, phases: Phases):
+    """What the rows' errors are measured against: u (``errors.ExactErrors``), or one reference
+    solution k levels finer (``reference.ReferenceErrors``)."""
+    orders = {m.name: m.order for m in methods}
+    if case.exact:
+        return ExactErrors(case, phases, orders)
+    return ReferenceErrors(plan.studied, orders, REFERENCE_METHOD, plan.chain[REFERENCE_METHOD] - 1, phases)

@@ -9,7 +9,9 @@ u in its mirrored frame) and combined over the two bodies:
 
 so that ``err_h1`` is the H^1 error over both bodies and ``err_h1_over_best`` the ratio of the
 combined errors. One row per (method, level), with the columns of a one-body chain; ``ndof`` the
-two bodies' together, ``h`` the coarser body's mesh size.
+two bodies' together, ``h`` the coarser body's mesh size. The level loop is every chain's
+(``walk.ChainWalk``); the two bodies' own are their meshes, problems and solves (``TwoBodies``)
+and their combined errors (``TwoBodyErrors``).
 
 Not yet: checkpoints (a killed two-body chain starts again from its first level), graded and
 adaptive meshes, the multigrid (each body's R_h u and the mortar QP are solved by sparse
@@ -18,18 +20,18 @@ Cholesky).
 from __future__ import annotations
 
 import math
-import time
+from collections.abc import Iterator
 
 from ..fem.assembly import discretise
 from ..fem.element_quadrature import ElementQuadrature
 from ..fem.two_body import TwoBodyProblem
 from ..measure.errors import ExactErrors
-from ..mesh.levels import UniformRefinement
+from ..mesh.levels import Level, UniformRefinement
 from ..methods import methods_for
 from ..problem.bodies import lower_body
-from . import threads
-from .rows import ChainOutput, Phases, keep, level_row, study_levels
+from .rows import ChainOutput, Phases, study_levels
 from .threads import p2_size
+from .walk import ChainPlan, ChainWalk
 
 # the error columns combined over the bodies as the root of the sum of squares
 COMBINED = ("err_h1", "err_h1_semi", "err_l2", "err_energy", "err_best_h1", "err_best_h1_semi", "err_best_energy",
@@ -44,7 +46,70 @@ def combine(upper: dict, lower: dict) -> dict:
     return out
 
 
-def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, on_level=None):
+class TwoBodies:
+    """The levels of a two-body case (the ``walk.Discretisation`` of ``run_two_body_chain``):
+    each body refined uniformly on its own, a level's mesh and quadrature the pair of the
+    bodies', its h the coarser body's; each order's problem a ``fem.two_body.TwoBodyProblem``
+    solved by sparse Cholesky (no multigrid, no estimator)."""
+
+    estimating = False
+
+    def __init__(self, case, bodies: tuple):
+        self.case, self.bodies = case, bodies
+
+    def levels(self, count: int) -> Iterator[Level]:
+        walks = [UniformRefinement(body).levels(count) for body in self.bodies]
+        for index, steps in enumerate(zip(*walks)):
+            yield Level(index, tuple(step.mesh for step in steps), max(step.h for step in steps))
+
+    def size(self, meshes) -> int:
+        return p2_size(*meshes)
+
+    def multilevel(self, meshes):
+        return None
+
+    def quadrature(self, meshes) -> tuple:
+        return tuple(ElementQuadrature.of(body, mesh) for body, mesh in zip(self.bodies, meshes))
+
+    def discretise(self, order: int, meshes, quadratures) -> TwoBodyProblem:
+        return TwoBodyProblem(*(discretise(body, mesh, order, quadrature)
+                                for body, mesh, quadrature in zip(self.bodies, meshes, quadratures)))
+
+    def solve(self, method, problem, carry, multilevel, last_of_order: bool, phases):
+        return method.solve(self.case, problem, carry, None, phases=phases)
+
+    def observe(self, indicators) -> None:
+        pass
+
+
+class TwoBodyErrors:
+    """Each body's errors measured as a one-body chain measures them (``measures``: the upper
+    body's, the lower body's), combined into each row at the end of the level (``combine``)."""
+
+    def __init__(self, measures: list[ExactErrors]):
+        self.measures = measures
+        self.pending: list[tuple[dict, list[dict]]] = []       # (row, its two bodies' columns)
+
+    def begin_level(self, level: int, meshes, problems: dict, quadratures, multilevel) -> None:
+        self.pending = []
+        for k, (measure, mesh, quadrature) in enumerate(zip(self.measures, meshes, quadratures)):
+            measure.begin_level(level, mesh, {order: pair.bodies[k] for order, pair in problems.items()}, quadrature, None)
+
+    def solved(self, method, level: int, problem: TwoBodyProblem, u, row: dict) -> dict:
+        body_rows = [{}, {}]
+        for k, (measure, body_u) in enumerate(zip(self.measures, problem.split(u))):
+            body_rows[k].update(measure.solved(method, level, problem.bodies[k], body_u, body_rows[k]))
+        self.pending.append((row, body_rows))
+        return {}
+
+    def end_level(self) -> None:
+        for measure in self.measures:
+            measure.end_level()
+        for row, (upper, lower) in self.pending:
+            row.update(combine(upper, lower))
+
+
+def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, on_level=None) -> ChainOutput:
     """The rows of ``methods`` (those that couple two bodies) on the two-body ``case``, levels
     0 .. ``levels`` - 1 (+ the methods' extra levels, P1's), sharing each level's meshes and
     each order's pair of discrete problems. ``on_level(case, method, level, problem, solve)`` as
@@ -56,57 +121,6 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, o
         raise ValueError(f"case {case.name}: a two-body case needs its exact u")
     bodies = (case, lower_body(case))
     studied = {m.name: study_levels(m, levels) for m in methods}
-    last_level = max(studied.values(), default=0)
-    measures = [ExactErrors(body, phases, {m.name: m.order for m in methods}) for body in bodies]
-    walks = [UniformRefinement(body).levels(last_level) for body in bodies]
-    carry = {m.name: None for m in methods}
-    rows, kept = [], {}
-    for level in range(last_level):
-        clock = time.perf_counter()
-        with phases("mesh"):
-            steps = [next(walk) for walk in walks]
-        with threads.level(p2_size(*(step.mesh for step in steps))):
-            active = [m for m in methods if level < studied[m.name]]
-            with phases("mesh"):
-                quadratures = [ElementQuadrature.of(body, step.mesh) for body, step in zip(bodies, steps)]
-            mesh_seconds = time.perf_counter() - clock
-            problems, assembly_seconds = {}, {}
-            for order in sorted({m.order for m in active}, reverse=True):
-                clock = time.perf_counter()
-                with phases("assembly"):
-                    problems[order] = TwoBodyProblem(*(discretise(body, step.mesh, order, quadrature)
-                                                       for body, step, quadrature in zip(bodies, steps, quadratures)))
-                assembly_seconds[order] = time.perf_counter() - clock
-            for k, (measure, step, quadrature) in enumerate(zip(measures, steps, quadratures)):
-                measure.begin_level(level, step.mesh, {order: pair.bodies[k] for order, pair in problems.items()},
-                                    quadrature, None)
-            level_rows = []
-            for method in active:
-                problem = problems[method.order]
-                if progress is not None:
-                    progress.solving(case.name, method.name, level, problem.ndof, "")
-                clock = time.perf_counter()
-                solve = method.solve(case, problem, carry[method.name], None, phases=phases)
-                own_seconds = time.perf_counter() - clock
-                carry[method.name] = solve.carry
-                row = level_row(case, method, "uniform", level, max(step.h for step in steps), problem.ndof, solve.fields,
-                                mesh_seconds + assembly_seconds[method.order] + own_seconds, float("nan"),
-                                method.expected(case), method.sharper(case))
-                body_rows = [{}, {}]
-                with phases("errors"):
-                    for k, (measure, u) in enumerate(zip(measures, problem.split(solve.u))):
-                        body_rows[k].update(measure.solved(method, level, problem.bodies[k], u, body_rows[k]))
-                level_rows.append((row, body_rows))
-                keep(on_level, phases, kept, case, method, level, problem, solve)
-                if progress is not None:
-                    progress.solved(case.name, method.name, level)
-            with phases("errors"):
-                for measure in measures:
-                    measure.end_level()
-            for row, (upper, lower) in level_rows:
-                row.update(combine(upper, lower))
-                row["effectivity"] = float("nan")
-                rows.append(row)
-    order = {m.name: k for k, m in enumerate(methods)}
-    rows.sort(key=lambda r: (r["level"], order[r["method"]]))
-    return ChainOutput(rows, kept, phases.as_dict(), {m.name: 0 for m in methods})
+    measure = TwoBodyErrors([ExactErrors(body, phases, {m.name: m.order for m in methods}) for body in bodies])
+    return ChainWalk(case, methods, ChainPlan(studied, studied), TwoBodies(case, bodies), measure, "uniform",
+                     phases, progress, on_level).run()

@@ -1,0 +1,69 @@
+"""How a one-body chain's levels are meshed, discretised and solved (the ``walk.Discretisation``
+of ``chain.run_chain``): the meshes of a level sequence (``mesh.levels``), a graded or adaptive
+one within the uniform chain's budget of elements; beside them the P1 hierarchy of the
+truncated multigrid; one ``fem.assembly.DiscreteProblem`` per finite element order, solved by
+the method itself."""
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from ..fem.assembly import discretise
+from ..fem.element_quadrature import ElementQuadrature
+from ..mesh.levels import Level, LevelSequence
+from ..mesh.strategies import element_budget
+from ..solvers.multigrid import Multilevel
+from .threads import p2_size
+
+
+def has_estimator(case) -> bool:
+    """The residual estimator has terms for 2D scalar problems (``measure.estimator``)."""
+    return case.dimension == 2 and not case.physics.elastic
+
+
+class OneBody:
+    """The levels of ``case`` on ``sequence``'s meshes. A graded or adaptive chain stops before
+    its mesh has more elements than the uniform level ``levels`` - 1 (+ ``extra_levels``, P1's):
+    the same budget of dofs."""
+
+    def __init__(self, case, sequence: LevelSequence, levels: int, extra_levels: int):
+        self.case, self.sequence = case, sequence
+        self.budget_levels, self.extra_levels = levels, extra_levels
+        # the P1 hierarchy of the truncated multigrid (where the physics has one: ``physics``;
+        # nested meshes only: its prolongations are the refinement's); else the solves factorise
+        self.hierarchical = case.physics.multigrid and sequence.nested
+        self.estimating = has_estimator(case)
+        self._multilevel = None
+
+    def levels(self, count: int) -> Iterator[Level]:
+        budget_elements = None
+        for index, step in enumerate(self.sequence.levels(count)):
+            if getattr(self.sequence, "budgeted", True):
+                # the uniform finest level's number of triangles (of the coarse mesh times 4 per
+                # level): graded and adaptive meshes get the same budget of dofs
+                if budget_elements is None:
+                    budget_elements = element_budget(self.case, self.budget_levels, self.extra_levels)
+                if index and step.mesh.ne > budget_elements:
+                    return
+            yield step
+
+    def size(self, mesh) -> int:
+        return p2_size(mesh)
+
+    def multilevel(self, mesh):
+        if self.hierarchical:
+            self._multilevel = Multilevel(mesh, self.case.physics) if self._multilevel is None else self._multilevel.refined()
+        return self._multilevel
+
+    def quadrature(self, mesh) -> ElementQuadrature:
+        return ElementQuadrature.of(self.case, mesh)
+
+    def discretise(self, order: int, mesh, quadrature):
+        return discretise(self.case, mesh, order, quadrature)
+
+    def solve(self, method, problem, carry, multilevel, last_of_order: bool, phases):
+        # the level's last method of its order may take the stiffness matrix
+        return method.solve(self.case, problem, carry, multilevel, take_stiffness=last_of_order, phases=phases)
+
+    def observe(self, indicators) -> None:
+        if self.sequence.adaptive:
+            self.sequence.observe(indicators)
