@@ -13,6 +13,7 @@ from harness.methods import METHODS
 from harness.problem.case import load_case
 from harness.solvers.active_set import solve_contact_qp
 from harness.solvers.general_constraints import GeneralConstraintSolver
+from harness.solvers.options import SolverOptions
 
 
 def _clarabel(K, b, B, g):
@@ -162,7 +163,7 @@ def test_row_projection_is_the_orthogonal_projector_even_with_dependent_rows():
     assert np.abs(B @ P.onto(x, target) - target).max() <= 1e-12
 
 
-def _face_mean_solvers(case_name: str, level: int):
+def _face_mean_solvers(case_name: str, level: int, options: SolverOptions = SolverOptions()):
     from conftest import problem_with_hierarchy
 
     from harness.fem.face_means import face_mean_qp
@@ -170,8 +171,9 @@ def _face_mean_solvers(case_name: str, level: int):
     from harness.solvers.projected import ProjectedMultigridSystem
     problem, multilevel = problem_with_hierarchy(case_name, level)
     qp = face_mean_qp(load_case(case_name), problem)
-    solver = lambda system=None: GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift, system=system)  # noqa: E731
-    return qp, solver, ProjectedMultigridSystem(qp.K_ngs, multilevel, ContactEdges.of(problem, model=False))
+    solver = lambda system=None: GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift,  # noqa: E731
+                                                         system=system, options=options)
+    return qp, solver, ProjectedMultigridSystem(qp.K_ngs, multilevel, ContactEdges.of(problem, model=False), options)
 
 
 @pytest.mark.parametrize("case_name", ["transition-line-3d", "transition-circle-3d", "elastic-transition-3d"])
@@ -218,7 +220,7 @@ def test_constrained_vcycle_keeps_the_face_rows_and_costs_about_a_pinned_solve()
     iterations = {}
     for name, chosen in (("faces", rows), ("pins", bounds)):
         system.cg_iterations, system._last = 0, None
-        system.solve(general_solver, chosen, None, 0.1 * general_solver.tol * general_solver.load_scale)
+        system.solve(general_solver, chosen, None, 0.1 * general_solver.options.tolerance * general_solver.load_scale)
         iterations[name] = system.cg_iterations
     assert iterations["faces"] <= 1.5 * iterations["pins"], iterations
 
@@ -229,15 +231,13 @@ def _pins(qp, general_solver, bounds):
     return pinned
 
 
-def test_inexact_face_mean_steps_reach_the_exact_steps_solution(monkeypatch):
-    """The general-constraint active set method with loose solves of new sets (FORCING) and
-    with every set solved to the full depth (FORCING = 0) find the same KKT point on
+def test_inexact_face_mean_steps_reach_the_exact_steps_solution():
+    """The general-constraint active set method with loose solves of new sets (``forcing``) and
+    with every set solved to the full depth (forcing = 0) find the same KKT point on
     transition-line-3d's level 1, the loose one with no more CG iterations."""
-    import harness.solvers.active_set as active_set
     found = {}
-    for name, forcing in (("loose", active_set.FORCING), ("exact", 0.0)):
-        monkeypatch.setattr(active_set, "FORCING", forcing)
-        qp, solver, system = _face_mean_solvers("transition-line-3d", 1)
+    for name, options in (("loose", SolverOptions()), ("exact", SolverOptions(forcing=0.0))):
+        qp, solver, system = _face_mean_solvers("transition-line-3d", 1, options)
         found[name] = solver(system).solve()
     loose, exact = found["loose"], found["exact"]
     assert loose.status == exact.status == "converged" and max(loose.residual, exact.residual) <= 1e-10

@@ -1,4 +1,6 @@
 """The contact solver returns the exact solution of each discrete inequality (3.6), (5.1)."""
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -9,6 +11,7 @@ from harness.fem.cones import contact_qp
 from harness.methods import METHODS
 from harness.problem.case import load_case
 from harness.solvers.active_set import ActiveSetSolver, solve_contact_qp
+from harness.solvers.options import SolverOptions
 
 CROSS_CHECK_LEVELS = [0, 1, 2]   # 165, 609, 2337 dofs: all <= 3000
 
@@ -144,12 +147,11 @@ def test_a_tolerance_below_the_round_off_floor_ends_converged_at_round_off_not_s
     """The floor of the relative KKT residual grows like eps cond(K); asking 1e-14 on 1.2e4 P1
     dofs (floor about 5e-12) is the stall of a 7.9e5-dof reference, small. The solve ends
     converged, the normwise backward error of its forces at round-off, primal feasibility exact."""
-    from harness.solvers.active_set import ROUNDOFF_BACKWARD_ERROR
     qp, multilevel = _p1_qp("tests/data/square_sine.py", 5)
-    solution = solve_contact_qp(qp, tol=1e-14, multilevel=multilevel)
+    solution = solve_contact_qp(qp, multilevel=multilevel, options=SolverOptions(tolerance=1e-14))
     assert solution.status == "converged"
     assert solution.kkt.residual > 1e-14                      # the relative residual cannot get there
-    assert solution.kkt.backward <= ROUNDOFF_BACKWARD_ERROR
+    assert solution.kkt.backward <= SolverOptions().roundoff_backward_error
     assert solution.kkt.primal <= 1e-14
     # the same active set as at the usual tolerance
     assert (solution.active == solve_contact_qp(qp, multilevel=multilevel).active).all()
@@ -175,21 +177,45 @@ def test_row_norm_is_the_infinity_norm_of_the_chosen_rows(chunk, rng):
 
 
 @pytest.mark.parametrize("method_name", CONE_NAMES)
-def test_loose_solves_of_new_active_sets_reach_the_same_kkt_point_with_fewer_cg_iterations(method_name, monkeypatch):
+def test_loose_solves_of_new_active_sets_reach_the_same_kkt_point_with_fewer_cg_iterations(method_name):
     """Inexact active-set steps (``loose_depth``): from a poor prediction (every constraint
     active) the sets that are to change are solved to 1e-3 of the residual only; the answer is
     the KKT point of the all-full-depth run, to the tolerance, in fewer CG iterations."""
-    import harness.solvers.active_set as active_set
     case = load_case("transition-r32")
     method = METHODS[method_name]
     problem, multilevel = problem_with_hierarchy("transition-r32", 3, method.order)
     qp = contact_qp(case, problem, method.cone)
     everything = np.ones(len(qp.C), bool)
     loose = solve_contact_qp(qp, initial_active=everything, multilevel=multilevel)
-    monkeypatch.setattr(active_set, "FORCING", 0.0)        # every solve to the full depth
-    full = solve_contact_qp(qp, initial_active=everything, multilevel=multilevel)
+    full = solve_contact_qp(qp, initial_active=everything, multilevel=multilevel,
+                            options=SolverOptions(forcing=0.0))        # every solve to the full depth
     assert loose.status == full.status == "converged"
     assert loose.kkt.residual <= 1e-10
     assert (loose.active == full.active).all()
     assert np.abs(loose.z - full.z).max() <= 1e-10 * np.abs(full.z).max()
     assert loose.work["cg_iterations"] < full.work["cg_iterations"]
+
+
+def test_solver_options_are_plain_data_with_the_harness_defaults():
+    """``SolverOptions``: today's constants as defaults, plain numbers for provenance, a frozen
+    value equal to itself rebuilt from its dict, and nonsense refused in one line."""
+    values = SolverOptions().as_dict()
+    assert (values["tolerance"], values["forcing"], values["loose_gain"], values["stall_steps"]) == (1e-10, 1e-3, 1e3, 12)
+    assert all(type(value) in (float, int) for value in values.values())
+    assert SolverOptions(**values) == SolverOptions() and SolverOptions(forcing=0) == SolverOptions(forcing=0.0)
+    with pytest.raises(ValueError, match="active_set_iterations"):
+        SolverOptions(active_set_iterations=0)
+    with pytest.raises(ValueError, match="forcing"):
+        SolverOptions(forcing=-1.0)
+
+
+def test_a_methods_solver_options_reach_its_solver():
+    """``Method.solver`` is part of the method (compared) and is what its solve uses: one active
+    set allowed from a cold start ends "not converged" after that set."""
+    case, method = load_case("transition-r32"), METHODS["nodal"]
+    problem, multilevel = problem_with_hierarchy("transition-r32", 2, method.order)
+    capped = replace(method, solver=SolverOptions(active_set_iterations=1))
+    assert capped != method and capped.solver.active_set_iterations == 1
+    fields = capped.solve(case, problem, None, multilevel).fields
+    assert fields["status"] == "not converged in 1 iterations" and fields["solver_iterations"] == 1
+    assert method.solve(case, problem, None, multilevel).fields["status"] == "converged"

@@ -12,6 +12,7 @@ from harness.mesh.points import evaluate
 from harness.methods import METHODS, get_method, methods_named
 from harness.problem.case import load_case
 from harness.solvers.newton import solve_semismooth_newton
+from harness.solvers.options import SolverOptions
 
 # a straight horizontal Gamma_C; a slanted one with a gap; contact loads g_C
 CASES = ["transition-r32", "tests/data/gap_case.py", "wedge-r23"]
@@ -144,44 +145,40 @@ def test_newton_below_the_round_off_floor_ends_converged_at_round_off(method_nam
     the CG of a repeated set went on from where it stopped, which reached 9.7e-16 once): once the
     set of active Gauss points repeats, Newton stops with the backward error of J u = r at
     round-off instead of running its 60 steps."""
-    from harness.solvers.active_set import ROUNDOFF_BACKWARD_ERROR
     case, method = load_case("transition-r32"), METHODS[method_name]
     problem, multilevel = problem_with_hierarchy("transition-r32", 4, method.order)
     system = weak_contact_system(case, problem, method.gamma0, method.theta, method.flux)
-    solution = solve_semismooth_newton(system, multilevel=multilevel, tol=1e-17)
+    solution = solve_semismooth_newton(system, multilevel=multilevel, options=SolverOptions(tolerance=1e-17))
     assert solution.status == "converged" and solution.residual > 1e-17
-    assert solution.backward <= ROUNDOFF_BACKWARD_ERROR and solution.iterations < 20
+    assert solution.backward <= SolverOptions().roundoff_backward_error and solution.iterations < 20
 
 
-def test_nitsche_without_a_solution_stops_as_stalled_where_sixty_steps_would_not_converge(monkeypatch):
+def test_nitsche_without_a_solution_stops_as_stalled_where_sixty_steps_would_not_converge():
     """theta = 1, gamma0 = 3 (far past the coercivity bound): max |F| stops falling; Newton stops
-    STALL_STEPS after its best residual, and running on to 60 steps would not have converged."""
-    import harness.solvers.newton as newton
+    ``stall_steps`` after its best residual, and running on to 60 steps would not have converged."""
     case = load_case("corner-r12")
     problem, multilevel = problem_with_hierarchy("corner-r12", 2, 2)
     stalled = solve_semismooth_newton(weak_contact_system(case, problem, 3.0, 1.0, 1.0), multilevel=multilevel)
     assert stalled.status.startswith("stalled: max |F| not below its best") and stalled.iterations < 30
     assert stalled.residual > 1e-10
-    monkeypatch.setattr(newton, "STALL_STEPS", 1000)
-    wandering = solve_semismooth_newton(weak_contact_system(case, problem, 3.0, 1.0, 1.0), multilevel=multilevel)
+    wandering = solve_semismooth_newton(weak_contact_system(case, problem, 3.0, 1.0, 1.0), multilevel=multilevel,
+                                        options=SolverOptions(stall_steps=1000))
     assert wandering.status == "not converged in 60 iterations"
 
 
 @pytest.mark.parametrize("method_name", WEAK_NAMES)
-def test_loose_newton_steps_on_new_sets_reach_the_same_solution_with_fewer_cg_iterations(method_name, monkeypatch):
-    """Inexact semismooth Newton (``active_set.loose_depth``): from the zero start, the steps
+def test_loose_newton_steps_on_new_sets_reach_the_same_solution_with_fewer_cg_iterations(method_name):
+    """Inexact semismooth Newton (``pdas.loose_depth``): from the zero start, the steps
     whose set is new are solved to 1e-3 of the residual; the solution is the all-full-depth
     run's, to the tolerance, in fewer CG iterations."""
-    import harness.solvers.active_set as active_set
     case, method = load_case("transition-r32"), METHODS[method_name]
     problem, multilevel = problem_with_hierarchy("transition-r32", 3, method.order)
 
-    def solve():
+    def solve(options=SolverOptions()):
         return solve_semismooth_newton(weak_contact_system(case, problem, method.gamma0, method.theta, method.flux),
-                                       multilevel=multilevel)
+                                       multilevel=multilevel, options=options)
     loose = solve()
-    monkeypatch.setattr(active_set, "FORCING", 0.0)        # every step to the full depth
-    full = solve()
+    full = solve(SolverOptions(forcing=0.0))        # every step to the full depth
     assert loose.status == full.status == "converged"
     assert loose.residual <= 1e-10
     assert np.abs(loose.u - full.u).max() <= 1e-9 * np.abs(full.u).max()

@@ -20,6 +20,8 @@ Exact and robust:
   equivalent sets whose KKT residual is already at round-off (docs/mathematics.md §5);
 * if an active set repeats while the residual is still large, it switches to Murty's
   least-index principal pivoting, finite for the positive definite Schur complement of K on C.
+The iteration is ``pdas.primal_dual_active_set``, shared with ``general_constraints``: this
+module gives it the bounds (``ActiveSetSolver``, a ``pdas.ConstraintKind``) and their systems.
 
 Fast: an active constraint is a Dirichlet condition on its variable, so each iteration is a
 linear solve with some dofs pinned, done by one of two systems:
@@ -42,55 +44,12 @@ import numpy as np
 import scipy.sparse as sp
 
 from .multigrid import ContactEdges, TruncatedVCycle, pcg
+from .options import SolverOptions
+from .pdas import KKT, primal_dual_active_set
 
-DEFAULT_TOLERANCE = 1e-10
-# a stationarity residual this small relative to ||K|| ||z|| + ||b|| is round-off (``KKT.converged``)
-ROUNDOFF_BACKWARD_ERROR = 1e-13
-DEFAULT_REFACTOR_ABOVE = 24  # ~ the cost of a factorisation in solves, at 1e5-1e6 dofs
-# the forcing term: a set that is new is solved to this fraction of the current residual
-# (``ActiveSetSolver.solve``; Newton's steps alike), when that is at least LOOSE_GAIN times
-# shallower than the full depth (about 7 CG iterations saved, more than an extra step costs)
-FORCING = 1e-3
-LOOSE_GAIN = 1e3
-
-
-def loose_depth(residual: float, full: float, gain: float = LOOSE_GAIN) -> float:
-    """The depth of the solve of a new set, from the current relative residual: FORCING times
-    it, when that is at least ``gain`` times shallower than the full depth."""
-    depth = FORCING * residual
-    return depth if depth >= gain * full else full
-
-
-@dataclass(frozen=True)
-class KKT:
-    """Relative KKT residuals of a candidate solution (each dimensionless), and the normwise
-    backward error of its stationarity."""
-
-    primal: float           # max (alpha - z_C)^+ / max(|z_C|, |alpha|)
-    dual: float             # max (-lambda)^+ on the active set / |b - K u_D|
-    complementarity: float  # max |lambda_i (z_i - alpha_i)| / (|b - K u_D| max(|z_C|, |alpha|))
-    stationarity: float     # max |K z - b| on free dofs off the active set / |b - K u_D|
-    backward: float = 0.0   # the three force parts (dual, complementarity, stationarity), unscaled,
-                            # over ||K||_inf ||z||_inf + ||b||_inf: a normwise backward error
-
-    @property
-    def residual(self) -> float:
-        return max(self.primal, self.dual, self.complementarity, self.stationarity)
-
-    def converged(self, tol: float) -> bool:
-        """``residual`` <= tol; or, where tol times the load lies below what double precision
-        resolves in K z - b, primal feasibility <= tol and the force parts at round-off.
-
-        The relative stationarity has a floor: K z - b is computed with an error of about
-        eps ||K|| ||z||, while the load |b| ~ h^d |f| shrinks under refinement, so the floor
-        grows like eps cond(K) ~ eps h^-2 (measured on a P1 problem: 4.5e-12, 6.5e-12, 2.8e-11,
-        1.3e-10 on 1.2e4 ... 7.9e5 dofs; a direct solve on the same active set gives 3.8e-9, a
-        tighter CG 1.7e-10). No polishing goes below it. What double precision can certify is
-        the normwise backward error (Rigal & Gaches 1967; Higham, Accuracy and Stability of
-        Numerical Algorithms, 2002, Theorem 7.1): z solves the system of a K and b perturbed by
-        that relative amount. The multipliers and the complementarity are forces of the same
-        K z - b and share its floor. ``ROUNDOFF_BACKWARD_ERROR`` = 1e-13, about 450 eps."""
-        return self.residual <= tol or (self.primal <= tol and self.backward <= ROUNDOFF_BACKWARD_ERROR)
+_DEFAULT = SolverOptions()
+# the default KKT tolerance, for the benchmarks (``bench``), which scale their linear solves by it
+DEFAULT_TOLERANCE = _DEFAULT.tolerance
 
 
 @dataclass
@@ -142,10 +101,11 @@ class FactorisedSystem:
     that differ from its own in a few dofs (a bordered system, each new dof one extra solve).
 
     ``refactor_above``: a pin set needing more than this many new bordered columns is
-    refactorised instead; 0 gives the textbook method (refactorise at every iteration).
+    refactorised instead (``SolverOptions.refactor_above``); 0 gives the textbook method
+    (refactorise at every iteration).
     """
 
-    def __init__(self, K: sp.csr_matrix, K_ngs, b: np.ndarray, refactor_above: int = DEFAULT_REFACTOR_ABOVE):
+    def __init__(self, K: sp.csr_matrix, K_ngs, b: np.ndarray, refactor_above: int = _DEFAULT.refactor_above):
         self.K, self.K_ngs, self.b, self.refactor_above = K, K_ngs, b, refactor_above
         self._factored: _Factored | None = None
         self.factorizations = 0
@@ -221,9 +181,11 @@ class MultigridSystem:
 
     iterative = True            # its solves are as deep as asked: loose ones cost less
 
-    def __init__(self, K_ngs, b: np.ndarray, multilevel, edges: ContactEdges, stiff_vertices=None):
+    def __init__(self, K_ngs, b: np.ndarray, multilevel, edges: ContactEdges, stiff_vertices=None,
+                 options: SolverOptions = _DEFAULT):
         self.K_ngs, self.b, self.multilevel, self.edges = K_ngs, b, multilevel, edges
         self.stiff_vertices = stiff_vertices        # see ``multigrid.TruncatedVCycle``
+        self.max_cg_iterations = options.cg_iterations
         self.cg_iterations = 0
         self.preconditioners = 0
         self._last = None           # (pins, V-cycle) of the last solve
@@ -238,7 +200,7 @@ class MultigridSystem:
             self._last = key, TruncatedVCycle(self.multilevel, self.K_ngs, free, self.edges, self.stiff_vertices)
             self.preconditioners += 1
         preconditioner = self._last[1]
-        z, iterations = pcg(self.K_ngs, preconditioner, self.b, z, free, tol)
+        z, iterations = pcg(self.K_ngs, preconditioner, self.b, z, free, tol, self.max_cg_iterations)
         self.cg_iterations += iterations
         return z
 
@@ -247,20 +209,20 @@ class MultigridSystem:
 
 
 class ActiveSetSolver:
-    """Primal-dual active set solver for min 1/2 z'Kz - b'z, z[~free] = lift[~free], z[C] >= alpha.
+    """Primal-dual active set solver for min 1/2 z'Kz - b'z, z[~free] = lift[~free], z[C] >= alpha:
+    the bounds as a ``pdas.ConstraintKind``.
 
     ``system`` solves the linear problem of one active set (a ``FactorisedSystem`` by default).
     """
 
-    def __init__(self, K, b, free, C, alpha, K_ngs=None, lift=None, tol: float = DEFAULT_TOLERANCE,
-                 max_iterations: int = 500, system=None):
+    def __init__(self, K, b, free, C, alpha, K_ngs=None, lift=None, system=None, options: SolverOptions = _DEFAULT):
         self.K = sp.csr_matrix(K)
         self.b = np.asarray(b, float)
         self.free = np.asarray(free, bool)
         self.C = np.asarray(C, np.int64)
         self.alpha = np.asarray(alpha, float)
         self.lift = np.zeros(len(self.b)) if lift is None else np.where(self.free, 0.0, lift)
-        self.tol, self.max_iterations = tol, max_iterations
+        self.options = options
         if not self.free[self.C].all():
             raise ValueError("a constrained dof lies on the Dirichlet boundary")
         # the scale of the forces: the loads, and the force that holds the constrained dofs at
@@ -273,13 +235,19 @@ class ActiveSetSolver:
         self.K_norm = row_norm(self.K, self.free)
         self.b_norm = float(np.abs(self.b[self.free]).max(initial=0.0))
         if system is None:
-            system = FactorisedSystem(self.K, ngsolve_matrix(self.K) if K_ngs is None else K_ngs, self.b)
+            system = FactorisedSystem(self.K, ngsolve_matrix(self.K) if K_ngs is None else K_ngs, self.b,
+                                      options.refactor_above)
         self.system = system
+
+    def slack(self, z: np.ndarray) -> tuple[np.ndarray, float]:
+        """z_C - alpha, and the scale of the constraint values, max(|z_C|, |alpha|)."""
+        return z[self.C] - self.alpha, max(np.abs(z[self.C]).max(initial=0.0), np.abs(self.alpha).max(initial=0.0),
+                                           np.finfo(float).tiny)
 
     def kkt(self, z: np.ndarray, active: np.ndarray) -> tuple[KKT, np.ndarray]:
         g = np.where(self.free, self.K @ z - self.b, 0.0)
-        lam, slack = g[self.C], z[self.C] - self.alpha
-        scale_z = max(np.abs(z[self.C]).max(initial=0.0), np.abs(self.alpha).max(initial=0.0), np.finfo(float).tiny)
+        lam = g[self.C]
+        slack, scale_z = self.slack(z)
         off_active = g.copy()
         off_active[self.C[active]] = 0.0
         return KKT(
@@ -292,83 +260,42 @@ class ActiveSetSolver:
                            / max(self.K_norm * np.abs(z).max(initial=0.0) + self.b_norm, np.finfo(float).tiny)),
         ), lam
 
-    def _solve_active(self, active: np.ndarray, start: np.ndarray | None, depth: float) -> np.ndarray:
+    def start_residual(self, z: np.ndarray, active: np.ndarray) -> float:
+        """The KKT residual of a start with the set ``active``."""
+        return self.kkt(z, active)[0].residual
+
+    def solve_set(self, active: np.ndarray, start: np.ndarray | None, tol: float) -> tuple[np.ndarray, np.ndarray, KKT]:
         """The active constraints as pins z_i = alpha_i, beside the Dirichlet pins, solved to
-        max |K z - b| <= depth * load_scale off the pins."""
+        max |K z - b| <= tol off the pins; its multipliers and KKT residuals."""
         pinned = ~self.free.copy()
         pinned[self.C[active]] = True
         values = self.lift.copy()
         values[self.C[active]] = self.alpha[active]
-        return self.system.solve(pinned, values, start, tol=depth * self.load_scale)
+        z = self.system.solve(pinned, values, start, tol=tol)
+        kkt, lam = self.kkt(z, active)
+        return z, lam, kkt
 
     # -- the active set iteration ---------------------------------------------------------
     def solve(self, initial_active: np.ndarray | None = None, start: np.ndarray | None = None) -> QPSolution:
-        """From a predicted active set and, for iterative systems, a start vector (nested iteration).
+        """From a predicted active set and, for iterative systems, a start vector (nested
+        iteration), by ``pdas.primal_dual_active_set`` with the gain ``options.loose_gain``.
 
-        Linear solves go a tenth of the KKT tolerance deep, so that the stationarity they leave
-        never decides the KKT check. With an iterative system, a set that is new is
-        solved only to ``FORCING`` times the current KKT residual, when that is much shallower
-        (``loose_depth``): an inexact semismooth Newton step (the forcing term of Dembo,
-        Eisenstat & Steihaug, SIAM J. Numer. Anal. 19 (1982); the exact method is Hintermueller,
-        Ito & Kunisch 2002). That solve only decides the next set; the set it leaves unchanged
-        is solved again, from there and with the same V-cycle, to the full depth, which decides
-        convergence, and only sets judged on full-depth solves count as seen (for Murty's rule).
-        Same KKT point; the nested iteration's prediction is usually a few rows off, and its
-        full-depth solve was half the CG work (measured: 30% fewer CG iterations on the report's
+        With an iterative system a new set is solved only to ``options.forcing`` times the
+        current KKT residual, when that is much shallower, and the set that solve leaves
+        unchanged again, from there and with the same V-cycle, to the full depth. Same KKT
+        point; the nested iteration's prediction is usually a few rows off, and its full-depth
+        solve was half the CG work (measured: 30% fewer CG iterations on the report's
         seven-level cases, the same rows to 1e-8 relative, every KKT residual <= 1e-10)."""
         clock = time.perf_counter()
         m = len(self.C)
         active = np.zeros(m, dtype=bool) if initial_active is None else np.asarray(initial_active, bool).copy()
-        seen: set[bytes] = set()
-        pivoting = False
-        iterative = getattr(self.system, "iterative", False)
-        full = 0.1 * self.tol
-        initial = self.lift if start is None else start
-        depth = loose_depth(self.kkt(initial, active)[0].residual, full) if iterative else full
-        status = f"not converged in {self.max_iterations} iterations"
-        z = start                   # each solve starts from the previous iterate
-        for iteration in range(1, self.max_iterations + 1):
-            z = self._solve_active(active, z, depth)
-            kkt, lam = self.kkt(z, active)
-            if kkt.converged(self.tol):
-                status = "converged"
-                break
-            # Decisions use a fraction of the solve's depth so that neither round-off nor
-            # a loose solve's residual flips a row.
-            slack = z[self.C] - self.alpha
-            scale_z = max(np.abs(z[self.C]).max(), np.abs(self.alpha).max(initial=0.0), np.finfo(float).tiny)
-            leave = active & (lam < -depth * self.load_scale)
-            enter = ~active & (slack < -depth * scale_z)
-            if not (leave.any() or enter.any()):
-                if depth > full:
-                    depth = full        # the set of a loose solve: solve it to the full depth
-                    continue
-                status = f"stalled: KKT residual {kkt.residual:.2e} with a consistent active set"
-                break
-            if depth <= full:
-                seen.add(active.tobytes())      # sets judged on a full-depth solve only
-            active, pivoting = next_active_set(active, leave, enter, seen, pivoting)
-            depth = loose_depth(kkt.residual, full) if iterative and not pivoting else full
+        options = self.options
+        end = primal_dual_active_set(self, active, start, options, options.loose_gain, options.active_set_iterations)
         return QPSolution(
-            z=z, multipliers=lam, active=active, kkt=kkt, iterations=iteration,
+            z=end.z, multipliers=end.multipliers, active=end.active, kkt=end.kkt, iterations=end.iterations,
             work=self.system.work(),
-            seconds=time.perf_counter() - clock, status=status,
+            seconds=time.perf_counter() - clock, status=end.status,
         )
-
-
-def next_active_set(active: np.ndarray, leave: np.ndarray, enter: np.ndarray, seen: set,
-                    pivoting: bool) -> tuple[np.ndarray, bool]:
-    """(the next active set, whether pivoting): the primal-dual update (the rows that ``leave``
-    out, those that ``enter`` in), or, once a set would repeat (or already when ``pivoting``),
-    Murty's least-index rule: flip only the first violated row. Shared by the bound solver and
-    ``general_constraints``."""
-    candidate = (active & ~leave) | enter
-    if pivoting or candidate.tobytes() in seen:
-        first = int(np.flatnonzero(leave | enter)[0])
-        candidate = active.copy()
-        candidate[first] = not active[first]
-        return candidate, True
-    return candidate, False
 
 
 def row_norm(K: sp.csr_matrix, rows: np.ndarray, chunk: int = 1 << 22) -> float:
@@ -394,8 +321,8 @@ def _columns(n: int, columns: list) -> np.ndarray:
     return np.column_stack(columns) if columns else np.zeros((n, 0))
 
 
-def solve_contact_qp(qp, initial_active=None, textbook: bool = False, tol: float = DEFAULT_TOLERANCE,
-                     multilevel=None, start=None) -> QPSolution:
+def solve_contact_qp(qp, initial_active=None, textbook: bool = False, multilevel=None, start=None,
+                     options: SolverOptions = _DEFAULT) -> QPSolution:
     """The harness's solver on a ``models.ContactQP``: multigrid-preconditioned CG when the
     mesh hierarchy's ``multilevel`` is given, else sparse Cholesky; ``textbook=True`` gives the
     reference PDAS (cold start, refactorisation at every iteration) used by the benchmark and
@@ -405,10 +332,10 @@ def solve_contact_qp(qp, initial_active=None, textbook: bool = False, tol: float
     elif multilevel is not None:
         if multilevel.ndof != qp.problem.mesh.nv * qp.problem.physics.components:
             raise ValueError("the multilevel hierarchy does not end at this problem's mesh (refined() missed?)")
-        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
+        system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem), options=options)
     else:
-        system = FactorisedSystem(qp.K, qp.K_ngs, qp.b)
-    solver = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, tol=tol, system=system)
+        system = FactorisedSystem(qp.K, qp.K_ngs, qp.b, options.refactor_above)
+    solver = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system, options=options)
     if textbook:
         return solver.solve()
     return solver.solve(initial_active, start)

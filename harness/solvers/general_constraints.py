@@ -14,12 +14,13 @@ each step solves the equality-constrained problem of the current active set A by
     [ K_FF   B_AF^T ] [  z_F ]   [ b_F - K_FP z_P ]
     [ B_AF   -d I   ] [ -l_A ] = [ g_A - B_AP z_P ],
 
-d a regularisation at round-off (``REGULARISATION`` times the block's scale): active rows may be
+d a regularisation at round-off (``SolverOptions.regularisation`` times the block's scale): active rows may be
 linearly dependent -- the face means of the triangles at the boundary of Gamma_C whose midpoints
 are Dirichlet dofs, where lambda is not unique but z is -- and then sets
 A = {i : lambda_i + c (g - B z)_i > 0}. It stops on the KKT residual (relative, as the bound
 solver's ``active_set.KKT``), never on a repeated set alone; a set that repeats switches to
-flipping the first violated row only (Murty's least-index rule, as in ``active_set``).
+flipping the first violated row only (Murty's least-index rule, as in ``active_set``): the
+iteration is ``pdas.primal_dual_active_set``, this module gives it the rows.
 
 Linear algebra, one of two systems for the equality-constrained problem of a set:
 * ``SaddleSystem``: scipy's SuperLU of the saddle matrix, once per active set. The reference --
@@ -38,17 +39,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .active_set import DEFAULT_TOLERANCE, KKT, loose_depth, next_active_set, row_norm
+from .active_set import row_norm
+from .options import SolverOptions
+from .pdas import KKT, primal_dual_active_set
 
-REGULARISATION = 1e-14
-# steps of iterative refinement of each saddle solve (``SaddleSystem``)
-REFINEMENT_STEPS = 2
-# An iterative system's new set is solved to FORCING times the current residual whenever that
-# is shallower than the full depth (the bound solver asks 3 decades, ``active_set.LOOSE_GAIN``):
-# here a set costs an exact factorisation of Gamma_C's block (``projected``), and a full-depth
-# solve of a set that then changes is wasted. Measured on transition-line-3d's `mean` at 1.0e6
-# dofs: 5 sets and 47 CG iterations (9.4 s) against 6 and 60 (12.0 s); the same KKT point.
-LOOSE_GAIN_GENERAL = 1.0
+_DEFAULT = SolverOptions()
 
 
 @dataclass
@@ -72,16 +67,16 @@ class GeneralQPSolution:
 
 class GeneralConstraintSolver:
     """The QP above: ``K`` (n x n, symmetric positive definite on the free dofs), ``b``, ``free``
-    (bool, n), ``lift`` (the values of the pinned dofs), ``B`` (m x n), ``g`` (m)."""
+    (bool, n), ``lift`` (the values of the pinned dofs), ``B`` (m x n), ``g`` (m). The rows as a
+    ``pdas.ConstraintKind``."""
 
-    def __init__(self, K, b, free, B, g, lift=None, tol: float = DEFAULT_TOLERANCE, max_iterations: int = 200,
-                 system=None):
+    def __init__(self, K, b, free, B, g, lift=None, system=None, options: SolverOptions = _DEFAULT):
         self.K, self.B = sp.csr_matrix(K), sp.csr_matrix(B)
         self.b, self.g = np.asarray(b, float), np.asarray(g, float)
         self.free = np.asarray(free, bool)
         n = len(self.b)
         self.lift = np.zeros(n) if lift is None else np.where(self.free, 0.0, np.asarray(lift, float))
-        self.tol, self.max_iterations = tol, max_iterations
+        self.options = options
         self.F = np.flatnonzero(self.free)
         # what the pinned dofs contribute to the free rows and to the constraints
         self.rhs_F = (self.b - self.K @ self.lift)[self.F]
@@ -93,7 +88,7 @@ class GeneralConstraintSolver:
         # ||K||_inf and ||b||_inf over the free rows: the scale of the normwise backward error
         self.K_norm = row_norm(self.K, self.free)
         self.b_norm = float(np.abs(self.b[self.F]).max(initial=0.0))
-        self.system = SaddleSystem() if system is None else system
+        self.system = SaddleSystem(options) if system is None else system
 
     def slack(self, z: np.ndarray) -> tuple[np.ndarray, float]:
         """B z - g, and the scale of the constraint values, max(|B z|, |g|)."""
@@ -115,65 +110,49 @@ class GeneralConstraintSolver:
                            / max(self.K_norm * np.abs(z).max(initial=0.0) + self.b_norm, np.finfo(float).tiny)),
         )
 
+    def start_residual(self, z: np.ndarray, active: np.ndarray) -> float:
+        """max |K z - b| on the free dofs over the load scale: how far a start is (its
+        multipliers are not known yet)."""
+        return float(np.abs((self.K @ z - self.b)[self.F]).max(initial=0.0) / self.load_scale)
+
+    def solve_set(self, active: np.ndarray, start, tol: float) -> tuple[np.ndarray, np.ndarray, KKT]:
+        """The equality-constrained problem of the rows ``active`` by the system, to tol; its
+        multipliers and KKT residuals."""
+        z, lam = self.system.solve(self, np.flatnonzero(active), start, tol)
+        return z, lam, self.kkt(z, lam)
+
     def solve(self, initial_active: np.ndarray | None = None, start: np.ndarray | None = None) -> GeneralQPSolution:
         """From a predicted active set and, for iterative systems, a start vector (nested
-        iteration). It stops on the KKT residual (``KKT.converged``: <= tol, or feasible with
-        the force parts at round-off), never on a repeated set alone. With an iterative system
-        the steps are inexact as in ``active_set.ActiveSetSolver.solve``: a new set is solved to
-        ``FORCING`` times the current residual (the first to that of the start's stationarity;
-        whenever that is shallower than the full depth, ``LOOSE_GAIN_GENERAL``),
-        the set such a solve leaves unchanged again to the full depth, and only sets judged on
-        full-depth solves count as seen (Murty's rule)."""
+        iteration), by ``pdas.primal_dual_active_set``. It stops on the KKT residual
+        (``KKT.converged``: <= tol, or feasible with the force parts at round-off), never on a
+        repeated set alone. With an iterative system the steps are inexact as in
+        ``active_set.ActiveSetSolver.solve``: a new set is solved to ``options.forcing`` times
+        the current residual (the first to that of the start's stationarity; whenever that is
+        shallower than the full depth, ``options.loose_gain_general``), the set such a solve
+        leaves unchanged again to the full depth, and only sets judged on full-depth solves
+        count as seen (Murty's rule)."""
         clock = time.perf_counter()
         active = np.zeros(len(self.g), bool) if initial_active is None else np.asarray(initial_active, bool).copy()
-        seen: set[bytes] = set()
-        pivoting = False
-        status = f"not converged in {self.max_iterations} iterations"
-        iterative = getattr(self.system, "iterative", False)
-        full = 0.1 * self.tol
-        depth = loose_depth(self._stationarity(self.lift if start is None else start), full,
-                            LOOSE_GAIN_GENERAL) if iterative else full
-        z = start
-        for iteration in range(1, self.max_iterations + 1):
-            z, lam = self.system.solve(self, np.flatnonzero(active), z, depth * self.load_scale)
-            kkt = self.kkt(z, lam)
-            if kkt.converged(self.tol):
-                status = "converged"
-                break
-            # decisions at a fraction of the solve's depth, so that neither round-off nor a
-            # loose solve's residual flips a row
-            slack, scale_z = self.slack(z)
-            leave = active & (lam < -depth * self.load_scale)
-            enter = ~active & (slack < -depth * scale_z)
-            if not (leave.any() or enter.any()):
-                if depth > full:
-                    depth = full        # the set of a loose solve: solve it to the full depth
-                    continue
-                status = f"stalled: KKT residual {kkt.residual:.2e} with a consistent active set"
-                break
-            if depth <= full:
-                seen.add(active.tobytes())
-            active, pivoting = next_active_set(active, leave, enter, seen, pivoting)
-            depth = loose_depth(kkt.residual, full, LOOSE_GAIN_GENERAL) if iterative and not pivoting else full
-        return GeneralQPSolution(z=z, multipliers=lam, active=active, kkt=kkt, iterations=iteration,
-                                 work=self.system.work(), seconds=time.perf_counter() - clock, status=status)
-
-    def _stationarity(self, z: np.ndarray) -> float:
-        """max |K z - b| on the free dofs over the load scale: how far a start is."""
-        return float(np.abs((self.K @ z - self.b)[self.F]).max(initial=0.0) / self.load_scale)
+        options = self.options
+        end = primal_dual_active_set(self, active, start, options, options.loose_gain_general, options.general_iterations)
+        return GeneralQPSolution(z=end.z, multipliers=end.multipliers, active=end.active, kkt=end.kkt,
+                                 iterations=end.iterations, work=self.system.work(),
+                                 seconds=time.perf_counter() - clock, status=end.status)
 
 
 class SaddleSystem:
-    """The equality-constrained problem of a set by SuperLU of its saddle matrix (above)."""
+    """The equality-constrained problem of a set by SuperLU of its saddle matrix (above), with
+    ``options.regularisation`` and ``options.refinement_steps``."""
 
-    def __init__(self):
+    def __init__(self, options: SolverOptions = _DEFAULT):
+        self.regularisation, self.refinement_steps = options.regularisation, options.refinement_steps
         self.factorizations = 0
         self._blocks = None         # K[F, F], B[:, F] and the regularisation, made at the first solve
 
     def solve(self, qp: GeneralConstraintSolver, rows: np.ndarray, start, tol: float) -> tuple[np.ndarray, np.ndarray]:
         if self._blocks is None:
             K_FF = qp.K[qp.F][:, qp.F].tocsc()
-            self._blocks = K_FF, qp.B[:, qp.F].tocsr(), REGULARISATION * float(np.abs(K_FF.diagonal()).max(initial=1.0))
+            self._blocks = K_FF, qp.B[:, qp.F].tocsr(), self.regularisation * float(np.abs(K_FF.diagonal()).max(initial=1.0))
         K_FF, B_F, d = self._blocks
         B_A = B_F[rows]
         saddle = sp.bmat([[K_FF, B_A.T], [B_A, -d * sp.identity(len(rows))]], format="csc")
@@ -185,7 +164,7 @@ class SaddleSystem:
         # junction) made 1e-9 of the load; the same factorisation corrects it (where rows are
         # dependent the correction keeps z and leaves lambda's null-space part alone)
         n = len(qp.F)
-        for _ in range(REFINEMENT_STEPS):
+        for _ in range(self.refinement_steps):
             z_F, l_A = solution[:n], solution[n:]
             residual = np.concatenate([qp.rhs_F - K_FF @ z_F - B_A.T @ l_A, qp.g_F[rows] - B_A @ z_F])
             solution += factor.solve(residual)

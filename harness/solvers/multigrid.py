@@ -301,24 +301,39 @@ class TruncatedVCycle:
         return x_np.copy()
 
     def apply(self, r, out) -> None:
-        """out = B r for NGSolve vectors (r vanishes on the pins; so does out)."""
+        """out = B r for NGSolve vectors (r vanishes on the pins; so does out): smoothing on K,
+        the hooks of a subclass's exact subspace steps before and after the coarse correction
+        (none here; ``projected.ConstrainedVCycle``'s Gamma_C block), smoothing back."""
+        if self.fine_is_p1:
+            self._apply_p1(r, out)
+            return
         (x, x_np), (d, d_np) = self._x, self._d
         top = len(self.multilevel.matrices) - 1
-        if self.fine_is_p1:
-            # K is the top P1 matrix (S = I for P1) with the same pins: one P1 V-cycle
-            x_np[:] = self._p1_cycle(top, r.FV().NumPy() * self.keep[top])
-            out.data = x
-            out.FV().NumPy()[:] *= self.free
-            return
         x_np[:] = 0.0
         self.smoother.Smooth(x, r)
         d.data = r - self.K * x
         d_np *= self.free
+        self._before_coarse(x_np, d_np)
         correction = self._p1_cycle(top, self.edges.restrict(d_np, self.nv) * self.keep[top])
         self.edges.prolongate(correction, x_np)
+        self._after_coarse(x_np, r)
         self.smoother.SmoothBack(x, r)
         out.data = x
         out.FV().NumPy()[:] *= self.free
+
+    def _apply_p1(self, r, out) -> None:
+        """K is the top P1 matrix (S = I for P1) with the same pins: one P1 V-cycle."""
+        x, x_np = self._x
+        top = len(self.multilevel.matrices) - 1
+        x_np[:] = self._p1_cycle(top, r.FV().NumPy() * self.keep[top])
+        out.data = x
+        out.FV().NumPy()[:] *= self.free
+
+    def _before_coarse(self, x_np: np.ndarray, d_np: np.ndarray) -> None:
+        """A step between the smoothing and the coarse correction: x and its residual d in place."""
+
+    def _after_coarse(self, x_np: np.ndarray, r) -> None:
+        """A step between the coarse correction and the smoothing back (x in place; r the input)."""
 
 
 def _vectors(matrix, count: int) -> list[tuple]:

@@ -8,17 +8,18 @@ linear solver's tolerance -- as soon as the set no longer changes: like the acti
 of the cones, whose nested iteration (a start interpolated from the coarser level) it shares.
 
 Stopping test: the relative residual max |F(u)| / max |b - A u_D| over the free dofs <= 1e-10
-(the stationarity part of the cones' KKT residual; F = 0 is the whole discrete problem), or,
-once u solved the affine system of its own set, the normwise backward error of that system at
-round-off (<= 1e-13: the relative residual's floor grows like eps cond(J) on fine meshes;
-``active_set.KKT.converged``).
+(``SolverOptions.tolerance``; the stationarity part of the cones' KKT residual; F = 0 is the
+whole discrete problem), or, once u solved the affine system of its own set, the normwise
+backward error of that system at round-off (<= 1e-13, ``SolverOptions.roundoff_backward_error``:
+the relative residual's floor grows like eps cond(J) on fine meshes; ``pdas.KKT.converged``).
 No silent failure: a status "converged" or why not. A repeated set without convergence
 switches to damped steps (halving on max |F|), which ends cycling of the full steps; a run
-whose max |F| has not fallen below its best for ``STALL_STEPS`` steps stops as "stalled" (past
-Nitsche's coercivity bound, theta = 1, J is indefinite and the discrete problem may have no
-solution: such runs wandered for all their 60 steps, half of the report's sweep time). With 12,
-every run of the report's sweeps that converges in 60 steps still converges, in the same steps,
-and the 16 others stop after 13-25 steps: 32 s of their solves became 9 s (measured 2026-11-26).
+whose max |F| has not fallen below its best for ``SolverOptions.stall_steps`` steps stops as
+"stalled" (past Nitsche's coercivity bound, theta = 1, J is indefinite and the discrete problem
+may have no solution: such runs wandered for all their 60 steps, half of the report's sweep
+time). With 12, every run of the report's sweeps that converges in 60 steps still converges, in
+the same steps, and the 16 others stop after 13-25 steps: 32 s of their solves became 9 s
+(measured 2026-11-26).
 
 Linear solves: J is A with the rows of the triangles along Gamma_C changed. Symmetric J
 (penalty; Nitsche with theta = 1) goes to the cones' multigrid CG (``solver.MultigridSystem``:
@@ -38,11 +39,12 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .active_set import ROUNDOFF_BACKWARD_ERROR, MultigridSystem, loose_depth, row_norm
+from .active_set import MultigridSystem, row_norm
 from .multigrid import HIERARCHICAL
+from .options import SolverOptions
+from .pdas import loose_depth
 
-DEFAULT_TOLERANCE = 1e-10
-STALL_STEPS = 12
+_DEFAULT = SolverOptions()
 
 
 @dataclass
@@ -107,35 +109,84 @@ def _apply(matrix, z: np.ndarray) -> np.ndarray:
     return y.FV().NumPy().copy()
 
 
+class _AffineSolves:
+    """The linear solves of the Newton steps, J u_new = r of the step's set: multigrid CG while J
+    is symmetric, a hierarchy is given and CG converges, else a factorisation kept across the
+    steps (the module's note). ``iterations``: CG iterations, or factorisations."""
+
+    def __init__(self, system, multilevel, options: SolverOptions):
+        self.system, self.multilevel, self.options = system, multilevel, options
+        self.direct = multilevel is None or not system.symmetric
+        self.factored = None        # the factorisation of J, updated step by step once direct
+        self.linear = None          # the multigrid system of the current set
+        self.rhs, self.step_set = None, None
+        self.iterations = 0
+
+    def new_set(self, step_set: np.ndarray) -> None:
+        """The Newton step as the affine system of this set, J u_new = r (= J u - F(u) for the
+        set of u); the linear solver starts from u."""
+        self.system.set_jacobian(step_set)
+        self.rhs = self.system.affine_rhs(step_set)
+        self.linear, self.step_set = None, step_set
+
+    def solve(self, u: np.ndarray, tol: float, direct_tol: float) -> np.ndarray:
+        """u_new to max |J u_new - r| <= tol by CG from u (``direct_tol`` for a factorisation)."""
+        if not self.direct:
+            candidate = self._multigrid(u, tol)
+            # CG did not converge: J is not positive definite (Nitsche theta = 1 with gamma0 past
+            # its coercivity bound); a factorisation solves what CG cannot, from now on
+            self.direct = not _linear_residual(self.system, candidate, self.rhs) <= 10 * tol
+        if self.direct:
+            candidate = self._factorised(direct_tol)
+        return candidate
+
+    def _multigrid(self, u: np.ndarray, tol: float) -> np.ndarray:
+        # the same set again: the same J, r and V-cycle; CG goes on from u
+        system, problem = self.system, self.system.problem
+        self.linear = self.linear or MultigridSystem(
+            system.J_ngs, self.rhs, self.multilevel, HIERARCHICAL,
+            stiff_vertices=system.stiff_vertices(self.step_set, self.multilevel.nvertices), options=self.options)
+        before = self.linear.cg_iterations
+        candidate = self.linear.solve(~problem.free, problem.lift, start=u, tol=tol)
+        self.iterations += self.linear.cg_iterations - before
+        return candidate
+
+    def _factorised(self, tol: float) -> np.ndarray:
+        system, problem = self.system, self.system.problem
+        self.factored = (self.factored or _DirectSystem(system.J_ngs, self.rhs, system.symmetric)).for_step(self.rhs)
+        before = self.factored.factorizations
+        candidate = self.factored.solve(~problem.free, problem.lift, tol=tol)
+        self.iterations += self.factored.factorizations - before
+        return candidate
+
+
 def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=None,
-                            tol: float = DEFAULT_TOLERANCE, max_iterations: int = 60,
-                            predicted: np.ndarray | None = None) -> NewtonSolution:
+                            predicted: np.ndarray | None = None, options: SolverOptions = _DEFAULT) -> NewtonSolution:
     """F(u) = 0 for a ``weak_contact.WeakContactSystem``, from ``start`` (Dirichlet values are
     imposed on it), with multigrid CG when ``multilevel`` is given and J is symmetric.
     ``predicted``: the active Gauss points of the first step (nested iteration), instead of
     those of ``start``."""
     clock = time.perf_counter()
     problem = system.problem
-    pinned = ~problem.free
-    u = np.where(pinned, problem.lift, 0.0 if start is None else start)
+    u = np.where(~problem.free, problem.lift, 0.0 if start is None else start)
     scale = load_scale(system)
-    linear_iterations, seen, damped = 0, set(), False
-    direct = multilevel is None or not system.symmetric
-    factored = None             # the factorisation of J, updated step by step once direct
-    status = f"not converged in {max_iterations} iterations"
-    residual, step_set, previous_set, linear = np.inf, None, None, None
+    full = options.linear_depth * options.tolerance
+    solves = _AffineSolves(system, multilevel, options)
+    seen, damped = set(), False
+    status = f"not converged in {options.newton_iterations} iterations"
+    step_set, previous_set = None, None
     best, best_iteration = np.inf, 0
-    for iteration in range(max_iterations + 1):
+    for iteration in range(options.newton_iterations + 1):
         F = system.residual(u)
         residual = float(np.abs(F).max(initial=0.0) / scale)
         active = system.bracket(u) > 0
-        if residual <= tol:
+        if residual <= options.tolerance:
             status = "converged"
             break
         if step_set is not None and np.array_equal(active, step_set):
             # u solved the affine system of its own set: what is left of F is the linear solve's,
-            # at the round-off floor when its backward error is (``active_set.KKT.converged``)
-            if backward_error(system, u, F) <= ROUNDOFF_BACKWARD_ERROR:
+            # at the round-off floor when its backward error is (``pdas.KKT.converged``)
+            if backward_error(system, u, F) <= options.roundoff_backward_error:
                 status = "converged"
                 break
         if not np.isfinite(residual):
@@ -144,50 +195,33 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
         # after the round-off and divergence tests: a stall is what is left
         if residual < best:
             best, best_iteration = residual, iteration
-        elif iteration - best_iteration >= STALL_STEPS:
-            status = f"stalled: max |F| not below its best ({best:.1e}) in {STALL_STEPS} steps"
+        elif iteration - best_iteration >= options.stall_steps:
+            status = f"stalled: max |F| not below its best ({best:.1e}) in {options.stall_steps} steps"
             break
-        if iteration == max_iterations:
+        if iteration == options.newton_iterations:
             break
         step_set = predicted if iteration == 0 and predicted is not None else active
         key = step_set.tobytes()
         damped = damped or key in seen
-        # A set that differs from the last step's is solved to ``FORCING`` times the residual
-        # when that is much shallower (``active_set.loose_depth``; inexact semismooth Newton:
-        # such a step decides the next set); a set a step leaves unchanged is solved a tenth of
-        # the tolerance deep, which decides convergence, keeping J, r and the V-cycle.
+        # A set that differs from the last step's is solved to ``options.forcing`` times the
+        # residual when that is much shallower (``pdas.loose_depth``; inexact semismooth Newton:
+        # such a step decides the next set); a set a step leaves unchanged is solved to the full
+        # depth (``options.linear_depth`` of the tolerance), which decides convergence, keeping
+        # J, r and the V-cycle.
         new_set = previous_set is None or not np.array_equal(step_set, previous_set)
-        depth = loose_depth(residual, 0.1 * tol) if new_set and not (direct or damped) else 0.1 * tol
-        if depth <= 0.1 * tol:
+        loose = new_set and not (solves.direct or damped)
+        depth = loose_depth(residual, full, options.forcing, options.loose_gain) if loose else full
+        if depth <= full:
             seen.add(key)           # sets of full-depth steps only: a loose one is solved again
         previous_set = step_set
         if new_set:
-            system.set_jacobian(step_set)
-            # The Newton step as the affine system of this set, J u_new = r (= J u - F(u) for
-            # the set of u); the linear solver starts from u.
-            rhs = system.affine_rhs(step_set)
-            linear = None
-        depth *= scale
-        if not direct:
-            # the same set again: the same J, r and V-cycle; CG goes on from u
-            linear = linear or MultigridSystem(system.J_ngs, rhs, multilevel, HIERARCHICAL,
-                                               stiff_vertices=system.stiff_vertices(step_set, multilevel.nvertices))
-            before = linear.cg_iterations
-            candidate = linear.solve(pinned, problem.lift, start=u, tol=depth)
-            linear_iterations += linear.cg_iterations - before
-            # CG did not converge: J is not positive definite (Nitsche theta = 1 with gamma0 past
-            # its coercivity bound); a factorisation solves what CG cannot, from now on
-            direct = not _linear_residual(system, candidate, rhs) <= 10 * depth
-        if direct:
-            factored = (factored or _DirectSystem(system.J_ngs, rhs, system.symmetric)).for_step(rhs)
-            before = factored.factorizations
-            candidate = factored.solve(pinned, problem.lift, tol=0.1 * tol * scale)
-            linear_iterations += factored.factorizations - before
+            solves.new_set(step_set)
+        candidate = solves.solve(u, depth * scale, full * scale)
         if damped:
             candidate = _damped(system, u, candidate, residual * scale)
         u = candidate
     backward = backward_error(system, u, F)
-    return NewtonSolution(u, active, residual, iteration, linear_iterations, time.perf_counter() - clock, status, backward)
+    return NewtonSolution(u, active, residual, iteration, solves.iterations, time.perf_counter() - clock, status, backward)
 
 
 def backward_error(system, u: np.ndarray, F: np.ndarray) -> float:

@@ -28,9 +28,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .general_constraints import REGULARISATION
 from .multigrid import HIERARCHICAL, ContactEdges, TruncatedVCycle, pcg
+from .options import SolverOptions
 from .projection import RowProjection
+
+_DEFAULT = SolverOptions()
 
 
 class ConstrainedVCycle(TruncatedVCycle):
@@ -48,8 +50,9 @@ class ConstrainedVCycle(TruncatedVCycle):
     (regularised as in ``general_constraints.SaddleSystem``: the rows may be dependent)."""
 
     def __init__(self, multilevel, K_ngs, K_rows: sp.csr_matrix, free: np.ndarray, surface: np.ndarray,
-                 rows: sp.csr_matrix, edges: ContactEdges = HIERARCHICAL):
-        """``K_rows``: K's rows at ``surface`` (Gamma_C's dofs, pinned or not; made once per QP)."""
+                 rows: sp.csr_matrix, edges: ContactEdges = HIERARCHICAL, regularisation: float = _DEFAULT.regularisation):
+        """``K_rows``: K's rows at ``surface`` (Gamma_C's dofs, pinned or not; made once per QP);
+        ``regularisation``: the saddle block's, times its scale (``SolverOptions``)."""
         seen = np.zeros(len(free), bool)
         seen[rows.indices] = True
         stiff = edges.touched(seen, multilevel.ndof)       # the P1 dofs of the active rows' vertices
@@ -65,7 +68,7 @@ class ConstrainedVCycle(TruncatedVCycle):
         self._reached_free = self.free[self._reached]
         self._K_reached = self.K_surface[:, self._reached].T.tocsr()
         B_S = rows[:, self.surface]
-        d = REGULARISATION * float(np.abs(block.diagonal()).max(initial=1.0))
+        d = regularisation * float(np.abs(block.diagonal()).max(initial=1.0))
         saddle = sp.bmat([[block, B_S.T], [B_S, -d * sp.identity(B_S.shape[0])]], format="csc")
         # threshold pivoting (a pivot within a tenth of its column's largest): the same
         # residuals as partial pivoting on this quasi-definite matrix, with less fill (at 1e6
@@ -82,23 +85,15 @@ class ConstrainedVCycle(TruncatedVCycle):
         x_np[self.surface] += delta
         return delta
 
-    def apply(self, r, out) -> None:
-        (x, x_np), (d, d_np) = self._x, self._d
-        top = len(self.multilevel.matrices) - 1
-        x_np[:] = 0.0
-        self.smoother.Smooth(x, r)
-        d.data = r - self.K * x
-        d_np *= self.free
+    def _before_coarse(self, x_np: np.ndarray, d_np: np.ndarray) -> None:
+        """The first block step, and the residual after it for the coarse level: changed only
+        where K reaches."""
         delta = self._block_step(x_np, d_np[self.surface])
-        # the residual after the block, for the coarse level: changed only where K reaches
         d_np[self._reached] -= (self._K_reached @ delta) * self._reached_free
-        correction = self._p1_cycle(top, self.edges.restrict(d_np, self.nv) * self.keep[top])
-        self.edges.prolongate(correction, x_np)
-        # the second block needs the residual on its own rows only: K's rows there
+
+    def _after_coarse(self, x_np: np.ndarray, r) -> None:
+        """The second block step: it needs the residual on its own rows only, K's rows there."""
         self._block_step(x_np, r.FV().NumPy()[self.surface] - self.K_surface @ x_np)
-        self.smoother.SmoothBack(x, r)
-        out.data = x
-        out.FV().NumPy()[:] *= self.free
 
 
 class ProjectedMultigridSystem:
@@ -107,8 +102,8 @@ class ProjectedMultigridSystem:
 
     iterative = True
 
-    def __init__(self, K_ngs, multilevel, edges: ContactEdges = HIERARCHICAL):
-        self.K_ngs, self.multilevel, self.edges = K_ngs, multilevel, edges
+    def __init__(self, K_ngs, multilevel, edges: ContactEdges = HIERARCHICAL, options: SolverOptions = _DEFAULT):
+        self.K_ngs, self.multilevel, self.edges, self.options = K_ngs, multilevel, edges, options
         self.cg_iterations = 0
         self.preconditioners = 0
         self._last = None           # (key, V-cycle, projection) of the last set
@@ -128,11 +123,14 @@ class ProjectedMultigridSystem:
                 surface = np.unique(qp.B.indices)                # every dof a row of B sees: Gamma_C's
                 self._surface = surface, qp.K[surface].tocsr()
             surface, K_rows = self._surface
+            options = self.options
             if len(general):
-                vcycle = ConstrainedVCycle(self.multilevel, self.K_ngs, K_rows, free, surface, rows, self.edges)
+                vcycle = ConstrainedVCycle(self.multilevel, self.K_ngs, K_rows, free, surface, rows, self.edges,
+                                           options.regularisation)
+                projection = RowProjection(rows, options.projection_shift, options.projection_refinements)
             else:
-                vcycle = TruncatedVCycle(self.multilevel, self.K_ngs, free, self.edges)
-            self._last = key, vcycle, RowProjection(rows) if len(general) else None
+                vcycle, projection = TruncatedVCycle(self.multilevel, self.K_ngs, free, self.edges), None
+            self._last = key, vcycle, projection
             self.preconditioners += 1
         return self._last[1], self._last[2]
 
@@ -152,7 +150,7 @@ class ProjectedMultigridSystem:
             # a start on the affine space: the nearest point whose active face means are g_A
             pinned_part = B[general] @ np.where(pinned, z, 0.0)
             z = projection.onto(z, qp.g[general] - pinned_part)
-        z, iterations = pcg(self.K_ngs, vcycle, qp.b, z, ~pinned, tol, projection=projection)
+        z, iterations = pcg(self.K_ngs, vcycle, qp.b, z, ~pinned, tol, self.options.cg_iterations, projection=projection)
         self.cg_iterations += iterations
         force = np.where(qp.free, qp.K @ z - qp.b, 0.0)
         lam = np.zeros(len(qp.g))

@@ -22,26 +22,30 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-SHIFT = 1e-10
-REFINEMENTS = 2
+from .options import SolverOptions
+
+_DEFAULT = SolverOptions()
 
 
 class RowProjection:
-    """P = I - B^T (B B^T)^{-1} B for ``rows`` (m x n CSR, zero on the pinned columns)."""
+    """P = I - B^T (B B^T)^{-1} B for ``rows`` (m x n CSR, zero on the pinned columns); ``shift``
+    (d, relative to B B^T's diagonal) and ``refinements``: the module's note."""
 
-    def __init__(self, rows: sp.csr_matrix):
+    def __init__(self, rows: sp.csr_matrix, shift: float = _DEFAULT.projection_shift,
+                 refinements: int = _DEFAULT.projection_refinements):
         rows = sp.csr_matrix(rows)
         self.columns = np.unique(rows.indices)
         self.B = rows[:, self.columns].tocsr()
         self.BT = self.B.T.tocsr()
         gram = (self.B @ self.BT).tocsc()
         self.gram = gram
-        shift = SHIFT * float(np.abs(gram.diagonal()).max(initial=1.0))
+        self.refinements = refinements
+        d = shift * float(np.abs(gram.diagonal()).max(initial=1.0))
         # B B^T + d I is symmetric positive definite: a symmetric fill-reducing order and no
         # pivoting (stable for SPD matrices, as Cholesky is); at 1e6 dofs on transition-line-3d
         # its factorisation 0.01 s against 0.05-0.25 s by SuperLU's default (COLAMD, partial
         # pivoting), a solve 0.24 ms against 0.4-0.5 ms
-        self._factor = splu((gram + shift * sp.identity(gram.shape[0], format="csc")).tocsc(),
+        self._factor = splu((gram + d * sp.identity(gram.shape[0], format="csc")).tocsc(),
                             permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                             options={"SymmetricMode": True}) if gram.shape[0] else None
 
@@ -50,7 +54,7 @@ class RowProjection:
         if self._factor is None:
             return np.zeros(0)
         y = self._factor.solve(rhs)
-        for _ in range(REFINEMENTS):
+        for _ in range(self.refinements):
             y += self._factor.solve(rhs - self.gram @ y)
         return y
 
