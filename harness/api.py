@@ -3,13 +3,15 @@
     >>> import harness
     >>> df = harness.run(["transition-r32"], methods="all", levels=5)
     >>> harness.cases(), harness.method_table()
+    >>> from harness.report.build import make_report     # a method object of your own in the report too
+    >>> make_report(case_names=["transition-r32"], methods=[my_method, "paper"], levels=3)
 """
 from __future__ import annotations
 
 import pandas as pd
 
 from .mesh.strategies import parse_meshes
-from .methods import METHODS, methods_named
+from .methods import METHODS, PAPER, methods_named, role_names
 from .problem.case import Case, fraction, load_case, registered_cases
 from .study import run_study
 
@@ -29,7 +31,7 @@ def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_le
     if isinstance(cases, (str, Case)):
         cases = [cases]
     if models is not None:
-        methods = "paper" if models == "all" else models
+        methods = role_names(PAPER) if models == "all" else models
     loaded = [c if isinstance(c, Case) else load_case(c) for c in cases]
     strategies = parse_meshes(list(meshes) if isinstance(meshes, (list, tuple)) else [meshes])
     return run_study(loaded, methods_named(methods), levels, show_progress=show_progress, on_level=on_level,

@@ -52,11 +52,12 @@ def cmd_methods(args) -> int:
 
 
 def selected_methods(args) -> list:
-    """--method (repeatable: a name, 'paper' or 'all'), or the old --model ('all' = paper)."""
-    from .methods import methods_named
+    """--method (repeatable: a name, a group or 'all'), or the old --model ('all' = the methods
+    that declare the role PAPER)."""
+    from .methods import PAPER, methods_named, role_names
     names = list(args.method or [])
     if args.model:
-        names.append("paper" if args.model == "all" else args.model)
+        names += role_names(PAPER) if args.model == "all" else [args.model]
     return methods_named(names or ["all"])
 
 
@@ -319,14 +320,25 @@ def _method_names() -> list[str]:
     return list(METHODS)
 
 
+def _parameter_example() -> str:
+    """A registered method with parameters, as --method takes it (the one with the most
+    parameters: its first 0.1, the next -1)."""
+    from .methods import METHODS
+    with_parameters = [m for m in METHODS.values() if m.parameters]
+    if not with_parameters:
+        return "name:parameter=value"
+    method = max(with_parameters, key=lambda m: len(m.parameters))
+    return f"{method.name}:" + ",".join(f"{key}={value:g}" for key, value in zip(method.parameters, (0.1, -1.0)))
+
+
 def add_method_options(p) -> None:
-    from .methods import GROUPS, METHODS
+    from .methods import GROUPS, METHODS, PAPER, role_names
     p.add_argument("--method", action="append", type=_method_spec, metavar="METHOD",
                    help=f"a method ({', '.join(METHODS)}), a group ({', '.join(GROUPS)}) or 'all' (the default), a "
-                        f"method with parameters, e.g. nitsche:gamma0=0.1,theta=-1, or one of your own: path/to/file.py[:name], "
+                        f"method with parameters, e.g. {_parameter_example()}, or one of your own: path/to/file.py[:name], "
                         f"package.module[:name] or an installed one's name; repeat for several")
-    p.add_argument("--model", choices=["mean", "nodal", "all"],
-                   help="the paper's models, as before the method axis ('all' = paper)")
+    p.add_argument("--model", choices=[*role_names(PAPER), "all"],
+                   help="the paper's models, as before the method axis ('all' = both)")
 
 
 def add_engine_options(p) -> None:
@@ -372,16 +384,19 @@ def build_parser() -> argparse.ArgumentParser:
     add_engine_options(p)
     p.set_defaults(func=cmd_run)
 
-    from .study.sweep import SWEEP_VALUES
+    from .measure.reference import REFERENCE_METHOD as reference
+    from .methods import PAPER, role_names
+    from .study.sweep import REPORT_SWEEP, SWEEP_VALUES
     p = sub.add_parser("sweep", help="a penalty/Nitsche method over values of its parameter, at one level of one case")
     p.add_argument("--case", required=True, metavar="NAME|PATH")
     p.add_argument("--method", action="append", type=_method_spec, required=True, metavar="METHOD",
-                   help="a penalty or Nitsche method, e.g. nitsche, nitsche:theta=-1, penalty-p1; repeat for several")
+                   help=f"a method with a parameter (penalty, Nitsche), e.g. {', '.join(REPORT_SWEEP['methods'])}; "
+                        "repeat for several")
     p.add_argument("--values", type=_values, default=list(SWEEP_VALUES), metavar="V1,V2,...",
                    help="values of its first parameter (gamma0 or epsilon0; default: %(default)s)")
     p.add_argument("--level", type=_non_negative_int, default=4, help="the P2 level (P1: the level with as many dofs)")
-    p.add_argument("--reference", default="nodal", type=lambda t: t if t == "none" else _method_spec(t),
-                   help="a method drawn as the reference line (default nodal), or 'none'")
+    p.add_argument("--reference", default=reference, type=lambda t: t if t == "none" else _method_spec(t),
+                   help="a method drawn as the reference line (default %(default)s), or 'none'")
     p.add_argument("--out", default="results/sweep", metavar="DIR")
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=cmd_sweep)
@@ -411,9 +426,12 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("bench", help="contact solve vs one linear solve, textbook PDAS and Clarabel")
     p.add_argument("--sizes", type=_sizes, default=None, metavar="MAXH:LEVEL,...",
                    help="coarse mesh size and level of each problem (default: 9e3 to 4.2e6 dofs)")
+    from .bench.command import bench_names
+    paper = role_names(PAPER)
     p.add_argument("--method", action="append", choices=_method_names(),
-                   help="default: mean and nodal; nitsche and penalty add their rows (one solve against one nodal solve)")
-    p.add_argument("--only", choices=["study", "solver", "elastic", "3d", "adaptive", "mortar", "load", "report"],
+                   help=f"default: {' and '.join(paper)} (the paper's); a penalty or Nitsche method adds its rows (one "
+                        f"solve against one {reference} solve)")
+    p.add_argument("--only", choices=bench_names(),
                    help="only the study row, only the solver table, only the elastic rows, only the 3D rows, only the "
                         "adaptive rows, only the two-body (mortar) rows, only the runs beside a busy process (load), or "
                         "only the report's profile (not part of the default run: a whole `make report` per variant)")

@@ -65,7 +65,11 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
             "cost_exponent": exponent, "multigrid_levels": f"{stored} of {sweeps} bisection sweeps"}
 
 
-def run_adaptive_bench(methods=("mean", "nodal", "p1"), levels: int = ADAPTIVE_LEVELS, progress=print) -> pd.DataFrame:
+def run_adaptive_bench(methods=None, levels: int = ADAPTIVE_LEVELS, progress=print) -> pd.DataFrame:
+    """Each method's row (default: the paper's and the P1 baseline, the methods that declare
+    the roles PAPER and BASELINE)."""
+    from ..methods import BASELINE, PAPER, role_names
+    methods = methods or [*role_names(PAPER), *role_names(BASELINE)]
     rows = []
     for name in methods:
         rows.append(_adaptive_row(name, levels))

@@ -56,8 +56,11 @@ def _measure_elastic(model_name: str, size: tuple, connection):
     connection.close()
 
 
-def run_elastic_bench(sizes=ELASTIC_SIZES, models=("mean", "nodal"), progress=print) -> pd.DataFrame:
-    """Each (model, size) in its own fresh process, like ``run_bench``."""
+def run_elastic_bench(sizes=ELASTIC_SIZES, models=None, progress=print) -> pd.DataFrame:
+    """Each (model, size) in its own fresh process, like ``run_bench`` (default: the paper's
+    models, the methods that declare the role PAPER)."""
+    from ..methods import PAPER, role_names
+    models = models or role_names(PAPER)
     return fresh_rows(_measure_elastic, "elastic", "multigrid CG", sizes, models, progress, ELASTIC_COLUMNS)
 
 

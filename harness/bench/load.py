@@ -14,10 +14,17 @@ from pathlib import Path
 
 import pandas as pd
 
-# (label, the run's arguments): a two-level study (every level below the serial threshold) and
-# one to 5.7e5 dofs (two levels above it)
-LOAD_RUNS = (("2 levels (609 dofs)", ["--case", "transition-r32", "--levels", "2"]),
-             ("7 levels (5.7e5 dofs)", ["--case", "transition-r32", "--method", "nodal", "--method", "p1", "--levels", "7"]))
+
+def load_runs() -> tuple:
+    """(label, the run's arguments): a two-level study (every level below the serial threshold)
+    and one to 5.7e5 dofs (two levels above it) of the reference method and the P1 baseline (the
+    methods that declare the roles REFERENCE and BASELINE)."""
+    from ..measure.reference import REFERENCE_METHOD
+    from ..methods import BASELINE, role_names
+    pair = [arg for name in (REFERENCE_METHOD, *role_names(BASELINE)[:1]) for arg in ("--method", name)]
+    return (("2 levels (609 dofs)", ["--case", "transition-r32", "--levels", "2"]),
+            ("7 levels (5.7e5 dofs)", ["--case", "transition-r32", *pair, "--levels", "7"]))
+
 
 LOAD_COLUMNS = ["run", "threads", "load", "seconds"]
 
@@ -40,10 +47,11 @@ def _timed_run(arguments: list[str], threads: str, folder: Path) -> float:
 LOAD_REPEATS = {"2 levels (609 dofs)": 3, "7 levels (5.7e5 dofs)": 2}
 
 
-def run_load_bench(runs=LOAD_RUNS, progress=print) -> pd.DataFrame:
-    """Every run of ``runs`` with each thread setting, idle and beside one busy process; each the
-    fastest of its ``LOAD_REPEATS``, the settings interleaved."""
+def run_load_bench(runs=None, progress=print) -> pd.DataFrame:
+    """Every run of ``runs`` (default ``load_runs()``) with each thread setting, idle and beside
+    one busy process; each the fastest of its ``LOAD_REPEATS``, the settings interleaved."""
     from ..study.threads import usable_cpus
+    runs = runs or load_runs()
     settings = ["auto", "1", str(usable_cpus())]
     best: dict = {}
     with tempfile.TemporaryDirectory(prefix="harness-bench-load-") as folder:

@@ -15,7 +15,14 @@ from .common import fresh_rows, timed
 MORTAR_CASE = "two-body-transition-r32"
 # levels of the two-body hierarchy: 1.3e5, 5.1e5 and 2.0e6 dofs (both bodies)
 MORTAR_LEVELS = (4, 5, 6)
-MORTAR_METHODS = ("mortar-nodal", "mortar-mean", "mortar-p1")
+
+
+def mortar_methods() -> tuple:
+    """The registered two-body methods with dual multipliers (bounds after the dual change of
+    variables: ``_mortar.Mortar``), in registry order."""
+    from ..methods import METHODS
+    return tuple(m.name for m in METHODS.values() if 2 in m.bodies and getattr(m, "multipliers", None) == "dual")
+
 
 MORTAR_COLUMNS = ["case", "method", "ndof", "t_contact", "t_setup", "t_linear", "ratio_linear", "iterations", "factorizations",
                   "kkt_residual", "peak_rss_mb"]
@@ -69,9 +76,10 @@ def _measure_mortar(method_name: str, level: int, connection):
     connection.close()
 
 
-def run_mortar_bench(levels=MORTAR_LEVELS, methods=MORTAR_METHODS, progress=print) -> pd.DataFrame:
-    """Each (method, level) in its own fresh process, like ``run_bench``."""
-    return fresh_rows(_measure_mortar, "two bodies", "Cholesky", levels, methods, progress, MORTAR_COLUMNS)
+def run_mortar_bench(levels=MORTAR_LEVELS, methods=None, progress=print) -> pd.DataFrame:
+    """Each (method, level) in its own fresh process, like ``run_bench`` (default:
+    ``mortar_methods()``)."""
+    return fresh_rows(_measure_mortar, "two bodies", "Cholesky", levels, methods or mortar_methods(), progress, MORTAR_COLUMNS)
 
 
 def mortar_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:

@@ -240,9 +240,12 @@ def measure(method: str, model_name: str, level: int, coarse_maxh=None) -> dict:
     return in_fresh_process(_measure, (method, model_name, level, coarse_maxh), f"{method}/{model_name}/level {level}")
 
 
-def run_bench(sizes=DEFAULT_SIZES, models=("mean", "nodal"), qp_max_ndof=QP_MAX_NDOF,
+def run_bench(sizes=DEFAULT_SIZES, models=None, qp_max_ndof=QP_MAX_NDOF,
               textbook_max_ndof=TEXTBOOK_MAX_NDOF, progress=print) -> pd.DataFrame:
-    from ..methods import BoundConstrained, get_method
+    """Each (model, size)'s row (default: the paper's models, the methods that declare the role
+    PAPER)."""
+    from ..methods import PAPER, BoundConstrained, get_method, role_names
+    models = models or role_names(PAPER)
     rows = []
     for coarse_maxh, level in sizes:
         for model in models:
@@ -282,11 +285,12 @@ def run_bench(sizes=DEFAULT_SIZES, models=("mean", "nodal"), qp_max_ndof=QP_MAX_
 
 def goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
     """The goals of the fast-solver issue, each with the measured figure."""
-    from ..methods import GROUPS
+    from ..measure.reference import REFERENCE_METHOD
     out = []
+    cones = frame.method.map(_is_cone)
     big = frame[frame.ndof >= 1_000_000]
-    weak = big[~big.method.isin(GROUPS["cones"])]
-    big = big[big.method.isin(GROUPS["cones"])]      # the goals of the fast-solver issue are the cones'
+    weak = big[~cones.loc[big.index]]
+    big = big[cones.loc[big.index]]      # the goals of the fast-solver issue are the cones'
     if len(weak):
         out.append(("penalty/Nitsche solve / one linear solve at >= 1M dofs (shown)", True,
                     ", ".join(f"{m} {r:.2f}" for m, r in zip(weak.method, weak.ratio_linear))))
@@ -311,14 +315,22 @@ def goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
                 f"{spread(frame.t_linear_multigrid):.2f}x, cholesky {spread(frame.t_linear_cholesky):.2f}x)"))
     out.append(("KKT (cones) / Newton (weak) residual <= 1e-10 at every size", bool((frame.kkt_residual <= 1e-10).all()),
                 f"max {frame.kkt_residual.max():.1e}"))
-    out += fair_goals(frame[frame.method.isin(GROUPS["cones"])], "2D")
-    out += relative_to("nodal", frame)
+    out += fair_goals(frame[cones], "2D")
+    out += relative_to(REFERENCE_METHOD, frame)
     return out
+
+
+def _is_cone(name: str) -> bool:
+    """Whether the method ``name`` is a cone of bounds (``BoundConstrained``: its solve is the
+    active set method the fast-solver issue set its goals for)."""
+    from ..methods import BoundConstrained, get_method
+    return isinstance(get_method(name), BoundConstrained)
 
 
 def relative_to(reference: str, frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
     """One solve of each other method over one solve of ``reference`` at the same size (shown,
-    not judged): the cost of penalty and Nitsche against the paper's nodal model."""
+    not judged): the cost of penalty and Nitsche against the paper's nodal model (the reference
+    method)."""
     ref = frame[frame.method == reference].set_index("ndof").t_contact
     out = []
     for method, group in frame[frame.method != reference].groupby("method", sort=False):

@@ -10,9 +10,9 @@ from .common import in_fresh_process
 
 
 def _measure_study(methods: str, connection):
-    """The default profile's study of every registered 2D case with ``methods`` ('paper' or 'all',
-    as `make report` runs it), without the report: wall time, the sum of its contact solves,
-    where the rest goes."""
+    """The default profile's study of every registered 2D case with ``methods`` (the paper's
+    group, PAPER, or 'all', as `make report` runs it), without the report: wall time, the sum
+    of its contact solves, where the rest goes."""
     from ..methods import methods_named
     from ..problem.case import registered_cases
     from ..study import run_study
@@ -43,8 +43,9 @@ def measure_study() -> pd.DataFrame:
     study-pipeline issue) and with every method (`make report`), each in a fresh process. The
     contact solves are all of them, the reference chains' included (``reference_solve_seconds``;
     until harness 0.3.0 they counted as overhead)."""
+    from ..methods import PAPER
     return pd.DataFrame([in_fresh_process(_measure_study, (methods,), f"the default study ({methods})")
-                         for methods in ("paper", "all")])
+                         for methods in (PAPER, "all")])
 
 
 def study_goals(study: pd.DataFrame) -> list[tuple[str, bool, str]]:
@@ -52,12 +53,13 @@ def study_goals(study: pd.DataFrame) -> list[tuple[str, bool, str]]:
     most 2.5x its contact solves (the study-pipeline issue asked 3x). With P1 the ratio is
     shown, not judged: P1's extra level is a mesh four times larger, whose refinement, assembly
     and error integration cost per element while its solve is cheap."""
+    from ..methods import PAPER
     out = []
     for row in study.to_dict("records"):
         shares = ", ".join(f"{k[len('share_'):]} {v:.0%}" for k, v in row.items() if k.startswith("share_"))
         figure = (f"{row['wall_seconds']:.1f} s / {row['solve_seconds']:.1f} s = {row['ratio']:.2f}x "
                   f"(of the solves {row.get('reference_solve_seconds', 0.0):.1f} s in reference chains; {shares})")
-        if row["methods"] == "paper":
+        if row["methods"] == PAPER:
             out.append(("default study, paper methods: wall <= 2.5x the sum of its contact solves", row["ratio"] <= 2.5, figure))
         else:
             out.append((f"default study, methods {row['methods']}: wall / contact solves (shown)", True, figure))

@@ -29,9 +29,10 @@ THREE_D_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_lin
                    "cg_iterations", "linear_cg_iterations", "kkt_residual", "peak_rss_mb"]
 
 
-def face_mean_problem(level: int, case_name: str = THREE_D_CASE):
+def face_mean_problem(level: int, case_name: str = THREE_D_CASE, model_name: str | None = None):
     """The 3D `mean`'s face-mean QP of ``level`` on the study's hierarchy, with what nested
-    iteration brings from ``level - 1`` (solved by the method itself): predicted set, start."""
+    iteration brings from ``level - 1`` (solved by the method ``model_name``, by default the
+    registered ``CellMean``): predicted set, start."""
     from ..fem.assembly import discretise
     from ..fem.face_means import face_mean_qp
     from ..mesh.levels import UniformRefinement
@@ -39,7 +40,7 @@ def face_mean_problem(level: int, case_name: str = THREE_D_CASE):
     from ..problem.case import load_case
     from ..solvers.multigrid import ContactEdges, Multilevel, nested_start
 
-    case, method = load_case(case_name), get_method("mean")
+    case, method = load_case(case_name), get_method(model_name or _cell_means()[0])
     multilevel, carry = None, None
     for lev, mesh in ((step.index, step.mesh) for step in UniformRefinement(case).levels(level + 1)):
         multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
@@ -75,7 +76,7 @@ def solve_row(model_name: str, level: int, case_name: str = THREE_D_CASE, coarse
     ``solvers.projected``), every other method a cone of bounds."""
     from ..problem.case import load_case
     from ..solvers.active_set import solve_contact_qp
-    if model_name != "mean" or load_case(case_name).dimension != 3:
+    if model_name not in _cell_means() or load_case(case_name).dimension != 3:
         qp, predicted, multilevel, start = cone_problem(model_name, level, coarse_maxh, case_name)
         linear = [linear_multigrid_seconds(qp, multilevel, s) for s in (None, start)]
         t_contact, solution = fastest(lambda: own_seconds(solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)))
@@ -84,7 +85,7 @@ def solve_row(model_name: str, level: int, case_name: str = THREE_D_CASE, coarse
     from ..solvers.general_constraints import GeneralConstraintSolver
     from ..solvers.multigrid import ContactEdges
     from ..solvers.projected import ProjectedMultigridSystem
-    qp, predicted, multilevel, start = face_mean_problem(level, case_name)
+    qp, predicted, multilevel, start = face_mean_problem(level, case_name, model_name)
     embedding = ContactEdges.of(qp.problem, model=False)
 
     def contact():
@@ -115,9 +116,24 @@ def _measure_3d(model_name: str, level: int, connection):
     connection.close()
 
 
-def run_3d_bench(levels=THREE_D_LEVELS, models=("mean", "mean-edges", "nodal", "p1"), progress=print) -> pd.DataFrame:
-    """Each (model, level) in its own fresh process, like ``run_bench``."""
-    return fresh_rows(_measure_3d, "3D", "multigrid CG", levels, models, progress, THREE_D_COLUMNS)
+def _cell_means() -> list[str]:
+    """The registered methods whose 3D cone is the triangle means (``methods.base.CellMean``:
+    general rows, not bounds)."""
+    from ..methods import METHODS
+    from ..methods.base import CellMean
+    return [name for name, m in METHODS.items() if isinstance(m, CellMean)]
+
+
+def three_d_methods() -> tuple:
+    """The registered one-body methods that discretise 3D scalar contact, in registry order."""
+    from ..methods import METHODS
+    return tuple(m.name for m in METHODS.values() if 3 in m.dimensions and 1 in m.bodies and "scalar" in m.physics)
+
+
+def run_3d_bench(levels=THREE_D_LEVELS, models=None, progress=print) -> pd.DataFrame:
+    """Each (model, level) in its own fresh process, like ``run_bench`` (default:
+    ``three_d_methods()``)."""
+    return fresh_rows(_measure_3d, "3D", "multigrid CG", levels, models or three_d_methods(), progress, THREE_D_COLUMNS)
 
 
 def three_d_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:

@@ -35,13 +35,13 @@ _GL_T, _GL_W = 0.5 * (_GL_T + 1.0), 0.5 * _GL_W
 
 # Each edge functional as a rule sum_k w_k v(t_k) on [0, 1], exact for quadratics: the midpoint
 # value, or Simpson's rule for the edge mean.
-EDGE_RULES = {"midpoint": ((0.5, 1.0),), "mean": ((0.0, 1 / 6), (0.5, 4 / 6), (1.0, 1 / 6))}
+EDGE_RULES = {"midpoint": ((0.5, 1.0),), "edge-mean": ((0.0, 1 / 6), (0.5, 4 / 6), (1.0, 1 / 6))}
 
 
 @dataclass(frozen=True)
 class ContactModel:
-    """v_h >= alpha at the vertices of Gamma_C and, if ``edge_functional`` is given ("mean" or
-    "midpoint"), that functional of v_h >= the same of alpha on every contact edge."""
+    """v_h >= alpha at the vertices of Gamma_C and, if ``edge_functional`` is given ("edge-mean"
+    or "midpoint"), that functional of v_h >= the same of alpha on every contact edge."""
 
     edge_functional: str | None = None
 
@@ -113,7 +113,7 @@ class ContactModel:
         at_vertices = evaluate(gap, mesh, trace.vertex_points)
         if self.edge_functional == "midpoint":
             on_edges = evaluate(gap, mesh, trace.midpoints)
-        elif self.edge_functional == "mean":
+        elif self.edge_functional == "edge-mean":
             on_edges = evaluate(gap, mesh, trace.points(_GL_T)) @ _GL_W
         else:
             on_edges = np.zeros(0)

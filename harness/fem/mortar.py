@@ -33,7 +33,7 @@ edge midpoints):
   after a local change of variables the constraint is a bound, and on matching meshes the
   condition is the one-body nodal one (for P1 `p1`'s, for P2 `nodal`'s K~_h).
 
-``edge_functional="mean"`` (P2 only) is `mean`'s counterpart: with Pi the dual mortar projection
+``edge_functional="edge-mean"`` (P2 only) is `mean`'s counterpart: with Pi the dual mortar projection
 onto the slave's P2 trace (Pi w = sum_j (int psi_j w / D_jj) phi_j), Pi(c_1 + c_2) >= 2 obstacle
 at the slave's vertices (the dual rows of the vertices) and its mean over each slave edge
 (Simpson's rule on Pi, exact: 1/6, 2/3, 1/6 of the vertex, midpoint, vertex rows over D) >= that
@@ -165,13 +165,13 @@ def mortar_coupling(slave: DiscreteProblem, master: DiscreteProblem, obstacle=No
 
     ``obstacle`` (a CoefficientFunction of the slave's frame, or None for 0) is evaluated on the
     slave mesh. ``edge_functional``: "midpoint" (the rows of the multipliers themselves) or
-    "mean" (P2 dual only: vertex rows, then the slave edges' means of the dual projection)."""
+    "edge-mean" (P2 dual only: vertex rows, then the slave edges' means of the dual projection)."""
     if multipliers not in MULTIPLIERS:
         raise ValueError(f"multipliers must be one of {', '.join(MULTIPLIERS)}, got {multipliers!r}")
     order = slave.order
     if master.order != order:
         raise ValueError("the two bodies must have the same finite element order")
-    if edge_functional == "mean" and (order != 2 or multipliers != "dual"):
+    if edge_functional == "edge-mean" and (order != 2 or multipliers != "dual"):
         raise ValueError("the edge-mean mortar condition is for P2 with dual multipliers")
     mine, theirs = TraceElements.of(slave), TraceElements.of(master)
     segments = intersection(mine, theirs)

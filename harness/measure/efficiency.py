@@ -17,6 +17,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ..methods import BASELINE, names_with_role
+
 COLUMNS = ["case", "method", "order", "target_err_h1", "target_fraction", "ndof", "solve_seconds", "total_seconds",
            "p1_over_ndof", "p1_over_seconds", "err_ratio_at_equal_ndof"]
 
@@ -52,10 +54,20 @@ def equal_ndof_ratio(baseline: pd.DataFrame, group: pd.DataFrame) -> float:
     return error_at_ndof(baseline, ndof) / error_at_ndof(group, ndof)
 
 
-def efficiency_table(results: pd.DataFrame, baseline: str = "p1") -> pd.DataFrame:
+def baseline_name(names, methods=()) -> str | None:
+    """The P1 baseline among the method names ``names``: the first whose method declares the
+    role BASELINE (``Method.roles``; looked up among ``methods``, Method objects, then by name:
+    ``methods.names_with_role``); None if none does."""
+    return next(iter(names_with_role(BASELINE, names, methods)), None)
+
+
+def efficiency_table(results: pd.DataFrame, baseline: str | None = None, methods=()) -> pd.DataFrame:
     """One row per (case, method): the cost of reaching the case's target error; for the other
     methods, ``baseline``'s cost over theirs (> 1: they are cheaper) and ``baseline``'s error
-    over theirs at equal ndof (``equal_ndof_ratio``)."""
+    over theirs at equal ndof (``equal_ndof_ratio``). ``baseline``: a method name, by default
+    the method that declares the role BASELINE (``baseline_name``; ``methods``: Method objects
+    to look roles up in besides the registered ones)."""
+    baseline = baseline or baseline_name(results.method, methods)
     tables = []
     for case, frame in results.groupby("case", sort=False):
         groups = {m: g.sort_values("level") for m, g in frame.groupby("method", sort=False)}
@@ -77,9 +89,11 @@ def efficiency_table(results: pd.DataFrame, baseline: str = "p1") -> pd.DataFram
     return pd.concat(tables, ignore_index=True).reindex(columns=COLUMNS)
 
 
-def verdicts(table: pd.DataFrame, rates: pd.DataFrame, baseline: str = "p1") -> dict[str, str]:
-    """Per case, one sentence: does the best P2 method beat ``baseline`` at the target, by how
-    much, and what the rates say."""
+def verdicts(table: pd.DataFrame, rates: pd.DataFrame, baseline: str | None = None, methods=()) -> dict[str, str]:
+    """Per case, one sentence: does the best P2 method beat ``baseline`` (by default the method
+    that declares the role BASELINE, ``baseline_name``) at the target, by how much, and what the
+    rates say."""
+    baseline = baseline or baseline_name(table.method, methods)
     out = {}
     for case, t in table.groupby("case", sort=False):
         if baseline not in set(t.method) or not (t.order == 2).any():

@@ -44,6 +44,7 @@ import scipy.sparse as sp
 from ..fem.contact_quadrature import contact_quadrature
 from ..fem.sparse import csr_view
 from ..mesh.points import TRIANGLE_EDGES, cells, mesh_points
+from ..methods import METHODS, REFERENCE, with_role
 from .errors import CONTACT_ERROR_POINTS, DiscretePressure
 
 
@@ -192,10 +193,21 @@ def norm_matrices(mesh: ngs.Mesh, order: int, stiffness: sp.csr_matrix | None = 
     return tuple(matrices)
 
 
-# The method whose solution k levels finer is every method's reference: P2 with the paper's
-# nodal cone (Theorem 4.1 / 5.1), converged to a KKT residual <= 1e-10 like every solve, and
-# discretising every physics and dimension of the harness.
-REFERENCE_METHOD = "nodal"
+def reference_method(case=None, methods=()):
+    """The method whose solution k levels finer is every method's reference on ``case``: the
+    first of ``methods``, then of the registered methods, that declares the role REFERENCE
+    (``Method.roles``), is P2 and discretises ``case`` (without a case: one body). The
+    registered one is P2 with the paper's nodal cone (Theorem 4.1 / 5.1), converged to a KKT
+    residual <= 1e-10 like every solve, and discretising every physics and dimension of the
+    harness."""
+    for method in with_role(REFERENCE, [*methods, *METHODS.values()]):
+        if method.order == 2 and (method.supports(case) if case is not None else 1 in method.bodies):
+            return method
+    raise ValueError(f"no P2 method declares the role {REFERENCE!r} for {getattr(case, 'name', 'one body')}")
+
+
+# The name of the registered reference method of one body (``reference_method``).
+REFERENCE_METHOD = reference_method().name
 
 
 def embed(vector: np.ndarray, numbering: LevelNumbering, order: int) -> np.ndarray:

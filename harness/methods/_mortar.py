@@ -51,7 +51,7 @@ def predicted_active(carry, points: np.ndarray) -> np.ndarray | None:
 @dataclass(frozen=True)
 class Mortar(Method):
     """Mortar contact of two bodies: ``multipliers`` "dual" or "standard" (``fem.mortar``),
-    ``edge_functional`` "midpoint" (a row per multiplier) or "mean" (P2 dual: `mean`'s edge
+    ``edge_functional`` "midpoint" (a row per multiplier) or "edge-mean" (P2 dual: `mean`'s edge
     means of the dual projection)."""
 
     multipliers: str = "dual"
@@ -75,15 +75,16 @@ class Mortar(Method):
             if dual and not general:
                 weight = ContactModel(self.edge_functional).weight if problem.order == 2 else None
                 qp = dual_bound_qp(problem, coupling, weight)
-                system = FactorisedSystem(qp.K, ngsolve_matrix(qp.K), qp.b)
+                system = FactorisedSystem(qp.K, ngsolve_matrix(qp.K), qp.b, self.solver.refactor_above)
         with timed("solve"):
             if dual and not general:
-                solution = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).solve(predicted)
+                solution = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system,
+                                           options=self.solver).solve(predicted)
                 u = qp.to_u(solution.z)
                 # the bound's multiplier is the force on its variable: D_i times the row's
                 forces = solution.multipliers
             else:
-                solution = _general(problem, coupling, predicted)
+                solution = _general(problem, coupling, predicted, self.solver)
                 u = solution.z
                 # dual rows: int lambda_h phi_i = lambda_i D_i (standard ones: an approximation)
                 forces = solution.multipliers * coupling.D
@@ -103,9 +104,9 @@ class Mortar(Method):
         return LevelSolve(fields, u, None, pressure, (points, solution.active))
 
 
-def _general(problem: TwoBodyProblem, coupling, predicted):
+def _general(problem: TwoBodyProblem, coupling, predicted, options):
     qp = joint_qp(problem)
-    return GeneralConstraintSolver(qp.K, qp.b, qp.free, coupling.B, coupling.g, lift=qp.lift).solve(predicted)
+    return GeneralConstraintSolver(qp.K, qp.b, qp.free, coupling.B, coupling.g, lift=qp.lift, options=options).solve(predicted)
 
 
 def max_penetration(case, problem: TwoBodyProblem, z: np.ndarray) -> float:

@@ -25,12 +25,25 @@ from ..solvers.active_set import solve_contact_qp
 from ..solvers.general_constraints import GeneralConstraintSolver
 from ..solvers.multigrid import HIERARCHICAL, ContactEdges, nested_start, p1_values
 from ..solvers.newton import solve_semismooth_newton
+from ..solvers.options import SolverOptions
 from ..solvers.projected import ProjectedMultigridSystem
 
 # P1 on level l+1 has about the dofs of P2 on level l (the vertices of level l+1 are those of
 # level l plus one per edge): a study gives order-1 methods one more level, so that every
 # method ends at about the same number of dofs.
 EXTRA_LEVELS = {1: 1, 2: 0}
+
+# What a method may be to the report (``Method.roles``; ``methods.with_role``): the harness names
+# no method outside ``methods/``, it asks for the methods that declare a role, so that a method
+# of your own can take any of them.
+PAPER = "paper"            # the paper's P2 models: compared side by side in the prose and headline tables
+BASELINE = "baseline"      # the P1 baseline of the cost at equal accuracy (efficiency) and of P2's verdicts
+REFERENCE = "reference"    # computes the reference solution of a case without a closed form (the first
+                           # that discretises the case); its solution is the case's picture
+SWEPT = "swept"            # the report sweeps its first parameter (each theta, if it has one)
+MESH_STUDY = "mesh-study"  # the report also runs it on graded and adaptive meshes (the fine profile
+                           # adds the PAPER, BASELINE and SWEPT methods)
+ROLES = (PAPER, BASELINE, REFERENCE, SWEPT, MESH_STUDY)
 
 
 @dataclass(frozen=True)
@@ -69,9 +82,16 @@ class Method:
     bodies: tuple = (1,)                          # the number of bodies it couples (``Case.bodies``)
     # its levels past a study's P2 levels, if not ``EXTRA_LEVELS`` (``with_extra_levels``)
     study_extra_levels: int | None = None
+    # what it is to the report (``ROLES``: PAPER, BASELINE, REFERENCE, SWEPT, MESH_STUDY)
+    roles: frozenset = frozenset()
+    # how its solve's time is estimated (``study.budget``): "active-set" (an exact QP solve by an
+    # active set method), "newton" (semismooth Newton), or a number, its seconds per dof
+    cost_model: str | float = "active-set"
     # the file that defines a method from outside the package (``plugins``): what its
     # checkpoints and cached results depend on besides the harness's code
     source: str | None = field(default=None, compare=False)
+    # the solvers' tolerances, loose-solve gains and iteration caps (``solvers.options``)
+    solver: SolverOptions = field(default=SolverOptions(), compare=True)
 
     def supports(self, case) -> bool:
         return case.physics.name in self.physics and case.dimension in self.dimensions and case.bodies in self.bodies
@@ -133,7 +153,7 @@ class BoundConstrained(Method):
                 start = nested_start(multilevel, coarse_vertex_values, problem)
             predicted = qp.predicted_active(previous)
         with timed("solve"):
-            solution = solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)
+            solution = solve_contact_qp(qp, predicted, multilevel=multilevel, start=start, options=self.solver)
         u = qp.to_u(solution.z)
         trace_u = qp.trace_function(u, solution.active)
         return _exact_level(case, problem, u, trace_u, contact_pressure(problem, solution.multipliers), solution)
@@ -168,10 +188,11 @@ class CellMean(BoundConstrained):
         if problem.trace.faces is None:
             return super().solve(case, problem, carry, multilevel, take_stiffness, phases)
         return solve_general_rows(case, problem, carry, multilevel, phases,
-                                  lambda: face_mean_qp(case, problem, take_stiffness=take_stiffness))
+                                  lambda: face_mean_qp(case, problem, take_stiffness=take_stiffness), self.solver)
 
 
-def solve_general_rows(case, problem, carry, multilevel, phases, make_qp) -> LevelSolve:
+def solve_general_rows(case, problem, carry, multilevel, phases, make_qp,
+                       options: SolverOptions = SolverOptions()) -> LevelSolve:
     """A level of a cone of general rows B u >= g (``make_qp()``: a ``FaceMeanQP`` or an
     ``EdgeFunctionalQP``), solved exactly by the general-constraint active set method, by
     projected multigrid CG on ``multilevel``'s hierarchy (else SuperLU's factorised saddle
@@ -186,8 +207,9 @@ def solve_general_rows(case, problem, carry, multilevel, phases, make_qp) -> Lev
             start = nested_start(multilevel, coarse_vertex_values, problem, embedding)
         predicted = qp.predicted_active(previous)
     with timed("solve"):
-        system = None if multilevel is None else ProjectedMultigridSystem(qp.K_ngs, multilevel, embedding)
-        solution = GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift, system=system).solve(predicted, start)
+        system = None if multilevel is None else ProjectedMultigridSystem(qp.K_ngs, multilevel, embedding, options)
+        solution = GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift, system=system,
+                                           options=options).solve(predicted, start)
     trace_u = qp.trace_function(solution.z, solution.active)
     return _exact_level(case, problem, solution.z, trace_u, qp.pressure(solution.multipliers), solution)
 
@@ -218,7 +240,8 @@ class FunctionalCone(Method):
         # SuperLU's saddle solve takes dependent rows (KKT 1e-16 on the same levels)
         hierarchy = multilevel if len(self.functionals) == 1 else None
         return solve_general_rows(case, problem, carry, hierarchy, phases,
-                                  lambda: edge_functional_qp(case, problem, self.functionals, take_stiffness=take_stiffness))
+                                  lambda: edge_functional_qp(case, problem, self.functionals, take_stiffness=take_stiffness),
+                                  self.solver)
 
 
 # theta: the three members of the family of Chouly, Hild & Renard, Math. Comp. 84 (2015), eq. (10)
@@ -250,6 +273,7 @@ class WeakContact(Method):
     theta: float = 1.0
     gamma0: float = 1.0
     parameter_names: tuple = ("gamma0", "theta")   # the first is the scale of eps
+    cost_model: str | float = "newton"
 
     @property
     def parameters(self) -> dict:
@@ -266,7 +290,9 @@ class WeakContact(Method):
         changed = {keys[name]: check_parameter(self.name, name, keys[name], value) for name, value in values.items()}
         base = self.name.split(":")[0]
         label = ",".join(f"{name}={_number(float(values[name]))}" for name in self.parameter_names if name in values)
-        return replace(self, name=f"{base}:{label}" if label else base, **changed)
+        # other parameter values make another method: it takes none of this one's roles
+        return replace(self, name=f"{base}:{label}" if label else base, roles=self.roles if not label else frozenset(),
+                       **changed)
 
     def system(self, case, problem, take_stiffness: bool = False):
         return weak_contact_system(case, problem, self.gamma0, self.theta, self.flux, take_stiffness)
@@ -287,7 +313,7 @@ class WeakContact(Method):
             system = self.system(case, problem, take_stiffness)
             start, predicted = self.nested_guess(system, carry, multilevel)
         with timed("solve"):
-            solution = solve_semismooth_newton(system, start, multilevel, predicted=predicted)
+            solution = solve_semismooth_newton(system, start, multilevel, predicted=predicted, options=self.solver)
         u = solution.u
         trace_u = ContactTraceFunction.of(problem, u)
         pressure = system.quadrature.edge_means(system.pressure(u))

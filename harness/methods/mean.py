@@ -5,7 +5,7 @@ triangle the P2 mean is the average of the three edge-midpoint values, so its ro
 ``base.CellMean``). Rates: Theorems 4.1 and 4.2 (and Remark 4.9), declared by each case; in 3D
 no theorem covers it (the 2D rate is the expectation)."""
 from ..fem.cones import ContactModel
-from .base import CellMean, drouet_hild_for, paper_theorem
+from .base import PAPER, CellMean, drouet_hild_for, paper_theorem
 
 method = CellMean(
     name="mean",
@@ -14,5 +14,6 @@ method = CellMean(
     reference="Belhachmi & Ben Belgacem 2003, Section 3",
     expected=paper_theorem,
     sharper_theory=drouet_hild_for(2),
-    cone=ContactModel(edge_functional="mean"),
+    cone=ContactModel(edge_functional="edge-mean"),
+    roles=frozenset({PAPER}),
 )

@@ -15,5 +15,5 @@ method = BoundConstrained(
     reference="the 2D K_h of Belhachmi & Ben Belgacem 2003 applied edge by edge",
     expected=paper_theorem,
     dimensions=(3,),
-    cone=ContactModel(edge_functional="mean"),
+    cone=ContactModel(edge_functional="edge-mean"),
 )

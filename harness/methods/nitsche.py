@@ -17,7 +17,7 @@ reachable from this sandbox.)
 """
 import math
 
-from .base import Expectation, WeakContact
+from .base import MESH_STUDY, SWEPT, Expectation, WeakContact
 
 REFERENCE = "Chouly & Hild 2013 (SINUM 51); Chouly, Hild & Renard 2015 (Math. Comp. 84), Thm 3.8"
 GAMMA0 = 0.05
@@ -38,4 +38,5 @@ method = WeakContact(
     reference="Chouly & Hild 2013; Chouly, Hild & Renard 2015",
     expected=expected_for(2),
     flux=1.0, theta=1.0, gamma0=GAMMA0,
+    roles=frozenset({SWEPT, MESH_STUDY}),
 )

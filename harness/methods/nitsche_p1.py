@@ -5,4 +5,4 @@ from dataclasses import replace
 from . import nitsche
 
 method = replace(nitsche.method, name="nitsche-p1", order=1, contact="Nitsche, as `nitsche`, on P1",
-                 expected=nitsche.expected_for(1))
+                 expected=nitsche.expected_for(1), roles=frozenset())

@@ -13,7 +13,7 @@ whatever the order of the elements (Gustafsson & Stenberg, J. Struct. Mech. 58 (
 """
 import math
 
-from .base import Expectation, WeakContact
+from .base import SWEPT, Expectation, WeakContact
 
 REFERENCE = "Chouly & Hild 2013 (Appl. Numer. Math. 65), eps = eps0 h"
 EPS0 = 0.05
@@ -32,4 +32,5 @@ method = WeakContact(
     reference="Chouly & Hild 2013 (Appl. Numer. Math.)",
     expected=expected,
     flux=0.0, gamma0=EPS0, parameter_names=("epsilon0",),
+    roles=frozenset({SWEPT}),
 )

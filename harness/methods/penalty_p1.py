@@ -3,4 +3,5 @@ from dataclasses import replace
 
 from . import penalty
 
-method = replace(penalty.method, name="penalty-p1", order=1, contact="penalty, as `penalty`, on P1")
+method = replace(penalty.method, name="penalty-p1", order=1, contact="penalty, as `penalty`, on P1",
+                 roles=frozenset())

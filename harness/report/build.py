@@ -6,6 +6,7 @@ sentences of ``prose``.
 from __future__ import annotations
 
 import datetime
+import hashlib
 import json
 import sys
 import time
@@ -14,28 +15,52 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..problem.case import REPORT_PROFILES, Case, bound_text, fraction, registered_cases
-from .document import Document, anchor
 from ..measure.efficiency import efficiency_table, verdicts
+from ..measure.rates import rate_table
+from ..methods import METHODS, SWEPT, methods_named, with_role
+from ..methods import known as known_methods
+from ..problem.case import REPORT_PROFILES, Case, fraction, registered_cases
 from ..study import InProcess
-from .figure_jobs import FIGURE_WORKERS, FigurePool
-from .latex import write_tables
-from .mesh_section import add_mesh_section, mesh_rows
-from .plots import theorem_label, verdict_cells
-from ..methods import methods_named
-from ..measure.rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
 from ..study.cache import case_settings, compute, provenance
+from ..study.chain import PROFILES
 from ..study.files import ensure_writable, write_atomic, write_csv
 from ..study.folder import all_owned
 from ..study.merge import merge_rows, read_rows
-from ..study.chain import PROFILES
 from ..study.mesh_study import PICTURE_METHOD
 from ..study.timing import Timings
-from .prose import (EFFICIENCY_NOTE, ELASTICITY_NOTE, GAMMA_C_NOTE, INTRO, MATRIX_NOTE, RATES_NOTE, REGULARITY_NOTE, SWEEP_NOTE,
-                    THREE_D_NOTE, TWO_BODY_NOTE, belief_finding, reference_sentence, which_bound)
+from .document import Document, anchor
+from .figure_jobs import FIGURE_WORKERS, FigurePool
+from .latex import write_tables
+from .mesh_section import add_mesh_section, mesh_rows
+from .plots import method_styles, theorem_label, verdict_cells
+from .prose import (
+    EFFICIENCY_NOTE,
+    ELASTICITY_NOTE,
+    GAMMA_C_NOTE,
+    INTRO,
+    MATRIX_NOTE,
+    RATES_NOTE,
+    REGULARITY_NOTE,
+    SWEEP_NOTE,
+    THREE_D_NOTE,
+    TWO_BODY_NOTE,
+    belief_finding,
+    reference_sentence,
+    which_bound,
+)
+from .tables import (
+    efficiency_view,
+    elasticity_view,
+    gamma_c_view,
+    level_table,
+    normalised_view,
+    regularity_view,
+    summary_table,
+    sweep_view,
+    three_d_view,
+    two_body_view,
+)
 from .vtk import VtkWriter
-from .tables import (efficiency_view, elasticity_view, gamma_c_view, level_table, normalised_view, regularity_view,
-                     summary_table, sweep_view, three_d_view, two_body_view)
 
 
 def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame, efficiency: pd.DataFrame,
@@ -57,9 +82,13 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         doc.figures([(figs["summary"]["matrix"]["png"], "Fitted / expected H¹ rate, coloured by verdict.")], wide=True)
     doc.heading("Problem and methods")
     doc.paragraph(INTRO)
+    methods = methods_named(settings["methods"])
+    own = own_methods_sentence(methods)
+    if own:
+        doc.paragraph(own)
     doc.table(pd.DataFrame([{"method": m.name, "order": m.order, "contact condition": m.contact,
                              "parameters": m.parameter_text, "reference": m.reference}
-                            for m in methods_named(settings["methods"])]))
+                            for m in methods]))
     doc.heading("Summary: fitted against expected rates")
     doc.paragraph(RATES_NOTE)
     doc.figures([(figs["summary"]["rates"]["png"], "Fitted against theory rates; grey band: ±0.1; the points outside it named.")],
@@ -73,7 +102,7 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         doc.table(regularity_view(rates, results), verdict_column="verdict")
         doc.heading("Errors on Γ_C")
         doc.paragraph(GAMMA_C_NOTE)
-    claims = verdicts(efficiency, rates)
+    claims = verdicts(efficiency, rates, methods=methods)
     if claims:
         doc.heading("Is P2 worth it? Cost at equal accuracy")
         doc.paragraph(EFFICIENCY_NOTE)
@@ -114,6 +143,19 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
                          verdict_counts(rates[rates.case == case.name]), listed=case.name):
             _case_section(doc, case, results, rates, figs)
     return doc
+
+
+def own_methods_sentence(methods) -> str:
+    """A sentence naming the methods of the report that are not the harness's own (from a file,
+    a module, an installed package or Python), and where each comes from; "" if none."""
+    own = [m for m in methods if METHODS.get(m.name.split(":")[0]) is None]
+    if not own:
+        return ""
+    described = "; ".join(f"`{m.name}` (P{m.order}: {m.contact}; {m.reference}"
+                          + (f"; from {m.source}" if m.source else "") + ")" for m in own)
+    return (f"Beside the harness's methods, this report studies {'a method' if len(own) == 1 else 'methods'} "
+            f"of your own: {described}. Every table, figure and verdict below treats "
+            f"{'it' if len(own) == 1 else 'them'} as the harness's own.")
 
 
 def in_profile(cases, profile: str) -> list[Case]:
@@ -245,15 +287,30 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     known = registered_cases()
     cases = (in_profile(known.values(), profile) if not case_names
              else [known[n] if n in known else _unknown(n, known) for n in case_names])
-    methods = [m if isinstance(m, str) else m.name for m in methods]
-    settings = {"profile": profile, "methods": [m.name for m in methods_named(methods)], **PROFILES[profile]}
+    methods = methods_named(methods)                # names, groups, files, modules, Method objects
+    settings = {"profile": profile, "methods": [m.name for m in methods], **PROFILES[profile]}
+    files = method_files(methods)
+    if files:
+        settings["method_files"] = files         # a method of your own: its results change with its file
     if levels is not None:
         settings["levels"], settings["stop_when_asymptotic"] = levels, False
         settings["mesh_levels"] = min(settings["mesh_levels"], levels)
     results_dir, report_dir = Path(results_dir), Path(report_dir)
     with all_owned([results_dir, report_dir]):
         read_rows(results_dir / "results.csv")      # refused before the study if it is not a results CSV
-        return _build(cases, known, settings, results_dir, report_dir, show_progress, engine, check_memory, vtk)
+        with known_methods(methods):                # the study and the document find them by name
+            return _build(cases, known, settings, results_dir, report_dir, show_progress, engine, check_memory, vtk)
+
+
+def method_files(methods) -> dict[str, str]:
+    """{name: sha256 of its file} of the methods defined outside the package (``Method.source``):
+    in the settings, whose hash keys the cached results (``study.cache``), so that a changed file
+    runs its method again."""
+    files = {}
+    for m in methods:
+        if m.source and Path(m.source).is_file():
+            files[m.name] = hashlib.sha256(Path(m.source).read_bytes()).hexdigest()
+    return files
 
 
 def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_progress, engine, check_memory, vtk) -> Path:
@@ -262,15 +319,16 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
     timings = Timings()
     start = time.perf_counter()
     run_started = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
-    sweep_cases = cases if _has_weak(settings["methods"]) else []
+    methods = methods_named(settings["methods"])
+    sweep_cases = cases if with_role(SWEPT, methods) else []
     writer = VtkWriter(results_dir / "vtk") if vtk else None
     # the figures are drawn as the cases are stored, on the cores the study leaves free
-    with FigurePool(settings["methods"], Path(report_dir) / "figures", store=results_dir / "cases") as pool:
+    with FigurePool(method_styles(methods), Path(report_dir) / "figures", store=results_dir / "cases") as pool:
         results, sweeps, meshes = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory,
                                           timings, writer, listener=pool)
         with timings("rates"):
             rates = rate_table(results)
-            efficiency = efficiency_table(results)
+            efficiency = efficiency_table(results, methods=methods)
         with timings("writing", "results"):
             merged = merge_rows(read_rows(results_dir / "results.csv"), results)
             write_csv(merged.frame, results_dir / "results.csv")
@@ -304,11 +362,6 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
     timings.add("total", "wall", "", time.perf_counter() - start)
     write_csv(timings.frame(), results_dir / "report_profile.csv")
     return html_path
-
-
-def _has_weak(names) -> bool:
-    from ..methods import WeakContact
-    return any(isinstance(m, WeakContact) for m in methods_named(names))
 
 
 def _unknown(name, known):

@@ -8,7 +8,8 @@ stored (``study.cache.compute``'s listener), but drawn only on cores the study l
 process, once the study is done). Drawing them beside the running study, on cores it used,
 slowed the study more than it saved, at normal and at the lowest priority alike (375-384 s
 against about 360 s). Workers are spawned, not forked: the parent runs NGSolve's threads. Every
-figure is drawn with the same colour per method in every process (``figures.register_methods``).
+figure is drawn with the same colour per method in every process: the parent assigns them
+(``plots.method_styles``, from the methods' declared roles) and sends them to every figure.
 """
 from __future__ import annotations
 
@@ -24,19 +25,19 @@ import pandas as pd
 FIGURE_WORKERS = 2
 
 
-def _timed(draw, methods, *args) -> tuple[dict, float]:
+def _timed(draw, styles, *args) -> tuple[dict, float]:
     from . import figures
     clock = time.perf_counter()
-    figures.register_methods(methods)
+    figures.register_methods(styles)
     return draw(*args), time.perf_counter() - clock
 
 
 def _case_figures(source: str, store: str, folder: str) -> dict:
     """The figures of one case from its stored rows (``report_cache``) and snapshots."""
-    from . import figures
-    from ..problem.case import load_case
     from ..measure.efficiency import efficiency_table
+    from ..problem.case import load_case
     from ..study.snapshots import load_snapshots
+    from . import figures
     case, store, folder = load_case(source), Path(store), Path(folder)
     frame = pd.read_csv(store / f"{case.name}.csv")
     contact, domain = load_snapshots(store / f"{case.name}.npz")
@@ -51,9 +52,9 @@ def _case_figures(source: str, store: str, folder: str) -> dict:
 
 def _mesh_figures(source: str, frame: pd.DataFrame, mesh_file: str, method: str, folder: str) -> dict:
     """The mesh study's figures of one case (``report.mesh_figures``)."""
-    from . import mesh_figures
     from ..problem.case import load_case
     from ..study.mesh_study import load_finest_mesh
+    from . import mesh_figures
     case, folder = load_case(source), Path(folder)
     finest = load_finest_mesh(Path(mesh_file))
     return {"errors": mesh_figures.error_against_ndof(case, frame, folder),
@@ -66,8 +67,8 @@ def _summary(rates: pd.DataFrame, folder: str) -> dict:
 
 
 def _sweep(source: str, frame: pd.DataFrame, folder: str) -> dict:
-    from . import figures
     from ..problem.case import load_case
+    from . import figures
     return figures.sweep(load_case(source), frame, Path(folder))
 
 
@@ -75,10 +76,14 @@ class FigurePool:
     """Figures drawn in ``workers`` processes, at most ``cores_free(n)`` at once (none until told:
     the study may still use every core); ``collect`` lets all workers draw, waits, and gives them
     by name (a case's name, "summary", "sweeps") with the seconds each took in its worker. It is
-    the listener of ``study.cache.compute``: a stored case's figures are queued at once."""
+    the listener of ``study.cache.compute``: a stored case's figures are queued at once.
+    ``methods``: the study's methods (Method objects or names), or their styles
+    (``plots.method_styles``)."""
 
     def __init__(self, methods, folder: Path, workers: int = FIGURE_WORKERS, store: Path | None = None):
-        self.methods, self.folder, self.workers, self.store = list(methods), str(folder), workers, store
+        from .plots import method_styles
+        self.styles = dict(methods) if isinstance(methods, dict) else method_styles(methods)
+        self.folder, self.workers, self.store = str(folder), workers, store
         self.pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
         self.futures: dict[str, Future] = {}
         self.sweeps: dict[str, Future] = {}
@@ -138,7 +143,7 @@ class FigurePool:
     def _submit(self, draw, *args) -> Future:
         outer: Future = Future()
         with self._changed:
-            self._queue.append((outer, (draw, self.methods, *args, self.folder)))
+            self._queue.append((outer, (draw, self.styles, *args, self.folder)))
             self._changed.notify_all()
         return outer
 

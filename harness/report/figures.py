@@ -11,18 +11,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.tri as mtri  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..problem.case import fraction
 from ..study.files import write_atomic
 from . import plots
 from .document import save_compact
-from .plots import OTHER_COLORS, style
-
-def register_methods(methods) -> None:
-    """Give ``methods`` their styles in this order, so that every process that draws a figure
-    of the same study draws each method in the same colour."""
-    for method in methods:
-        style(method)
-
+from .plots import OTHER_COLORS, register_methods, style  # noqa: F401  (register_methods: figure_jobs's)
 
 FORMATS = ("png", "pdf")
 
@@ -137,8 +129,14 @@ def domain(case, snapshot: dict, folder: Path) -> dict[str, Path] | None:
     ax.tricontour(tri, snapshot["values"], levels=12, colors="k", linewidths=0.3)
     fig.colorbar(shading, ax=ax, shrink=0.85)
     ax.set_aspect("equal")
-    ax.set_title(f"{case.name}: $u_h$ ({snapshot.get('method', 'nodal')})", fontsize=10)
+    ax.set_title(f"{case.name}: $u_h${_whose(snapshot)}", fontsize=10)
     return save(fig, folder, f"{case.name}_solution")
+
+
+def _whose(snapshot: dict) -> str:
+    """" (nodal)": the method whose solution a domain picture shows (``snapshots.SnapshotHook``)."""
+    method = snapshot.get("method")
+    return "" if method is None else f" ({method})"
 
 
 def interface(case, snapshot: dict | None, folder: Path) -> dict[str, Path] | None:
@@ -179,7 +177,7 @@ def deformed(case, snapshot: dict, folder: Path) -> dict[str, Path]:
     ax.axhline(points[:, 1].min(), color="0.3", lw=1.2, ls="-")         # the foundation's surface
     fig.colorbar(shading, ax=ax, shrink=0.85, label=r"$|u_h|$")
     ax.set_aspect("equal")
-    ax.set_title(f"{case.name}: deformed shape, displacement x{scale:.3g} ({snapshot.get('method', 'nodal')})", fontsize=10)
+    ax.set_title(f"{case.name}: deformed shape, displacement x{scale:.3g}{_whose(snapshot)}", fontsize=10)
     return save(fig, folder, f"{case.name}_solution")
 
 

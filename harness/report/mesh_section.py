@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..measure.efficiency import efficiency_table
+from ..measure.efficiency import baseline_name, efficiency_table
 from ..measure.rates import rate_table
 from .tables import _fmt, efficiency_view
 
@@ -84,7 +84,7 @@ def add_mesh_section(doc, results: pd.DataFrame, meshes: pd.DataFrame, figs: dic
     doc.heading("Effectivity of the estimator, level by level", level=3)
     doc.table(effectivity_view(frame))
     adaptive = frame[frame.mesh.astype(str).str.startswith("adaptive")]
-    if not adaptive.empty and "p1" in set(adaptive.method):
+    if not adaptive.empty and baseline_name(adaptive.method) is not None:      # the P1 baseline ran adaptively
         doc.heading("Is P2 worth it? On adaptive meshes", level=3)
         doc.paragraph("The cost at equal accuracy as above (target: the largest of the finest errors), each method "
                       "on its own adaptive meshes, where no method is held back by the singular point.")

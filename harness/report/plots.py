@@ -11,6 +11,10 @@
 Each returns a matplotlib Figure (or draws into ``ax``) and needs nothing but the results'
 columns (``harness.run``'s rows, ``rate_table``'s rows): the theories' rates are in them.
 Nothing here chooses a backend or writes a file (``figures`` saves the report's PNG and PDF).
+
+Colours are assigned, not listed: each method takes the next colour and marker of ``PALETTE``
+and ``MARKERS``, the methods that declare the roles PAPER and BASELINE (``Method.roles``) first,
+so that the paper's models and the P1 baseline look the same in every figure (``method_styles``).
 """
 from __future__ import annotations
 
@@ -21,19 +25,65 @@ import numpy as np
 import pandas as pd
 from matplotlib.ticker import LogFormatterSciNotation
 
+from ..methods import BASELINE, METHODS, PAPER, Method, MethodError, get_method, with_role
 from ..problem.case import fraction
 
-METHOD_STYLE = {"mean": dict(color="tab:blue", marker="o"), "nodal": dict(color="tab:orange", marker="s"),
-                "p1": dict(color="tab:green", marker="^"), "mean-edges": dict(color="tab:cyan", marker="v")}
+# the colours and markers methods take in turn (``method_styles``)
+PALETTE = ("tab:blue", "tab:orange", "tab:green", "tab:cyan", "tab:red", "tab:purple", "tab:brown", "tab:pink",
+           "tab:olive", "tab:gray", "black", "darkgoldenrod", "navy", "limegreen", "teal", "maroon")
+MARKERS = ("o", "s", "^", "v", "D")           # the last for every later method (the colours tell them apart)
+# every method's style so far in this process, by name (``style``, ``register_methods``)
+METHOD_STYLE: dict[str, dict] = {}
+# the sweep figure's colours, one per swept method (``figures.sweep``)
 OTHER_COLORS = ["tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
 # the verdicts' colours: the HTML table's and the figure's
 VERDICT_COLORS = {"meets": "#cdeccf", "above": "#cfe0f5", "below": "#f6cdcd", "no theory": "#ececec"}
 
 
+def _slot(k: int) -> dict:
+    return dict(color=PALETTE[k % len(PALETTE)], marker=MARKERS[min(k, len(MARKERS) - 1)])
+
+
+def _method(item):
+    """A Method for a Method or a name (None for a name this process does not know)."""
+    if isinstance(item, Method):
+        return item
+    try:
+        return get_method(item)
+    except (MethodError, ValueError):
+        return None
+
+
+def method_styles(methods=()) -> dict[str, dict]:
+    """{name: dict(color, marker)} for ``methods`` (Method objects or names): the k-th of the
+    palette for the k-th method, counted over the methods that declare the role PAPER (the
+    registered ones and any of ``methods``), then those that declare BASELINE, then the rest of
+    ``methods`` in their order. The registered PAPER and BASELINE methods always take the first
+    places, present or not: `mean`'s colour is the same in every report."""
+    given = [m for m in (_method(item) for item in methods) if m is not None]
+    known = [*METHODS.values(), *given]
+    first = [m.name for m in with_role(PAPER, known) + with_role(BASELINE, known)]
+    names = dict.fromkeys([*first, *(m.name if isinstance(m, Method) else m for m in methods)])
+    return {name: _slot(k) for k, name in enumerate(names)}
+
+
+def register_methods(methods) -> None:
+    """Give every method of a figure its style: ``methods`` (Method objects or names, the styles
+    then ``method_styles``'), or a {name: style} of ``method_styles`` (what a figure worker is
+    sent, so that every process that draws a figure of the same study draws each method in the
+    same colour). Replaces the styles given before."""
+    styles = methods if isinstance(methods, dict) else method_styles(methods)
+    METHOD_STYLE.clear()
+    METHOD_STYLE.update({name: dict(value) for name, value in styles.items()})
+
+
 def style(method: str) -> dict:
-    """A fixed colour and marker per method (methods added later get the next free colour)."""
+    """A fixed colour and marker per method: the registered one's (``register_methods``), or the
+    next free place of the palette after the roles' methods (``method_styles``)."""
+    if not METHOD_STYLE:
+        register_methods(())
     if method not in METHOD_STYLE:
-        METHOD_STYLE[method] = dict(color=OTHER_COLORS[(len(METHOD_STYLE) - 4) % len(OTHER_COLORS)], marker="D")
+        METHOD_STYLE[method] = _slot(len(METHOD_STYLE))
     return METHOD_STYLE[method]
 
 

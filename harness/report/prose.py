@@ -2,25 +2,12 @@
 measured rates (which bound the errors follow, what a reference or a belief shows)."""
 from __future__ import annotations
 
-import json
-import time
-from pathlib import Path
-
 import numpy as np
 import pandas as pd
 
-from ..problem.case import Case, bound_text, fraction, registered_cases
-from .document import Document
-from ..measure.efficiency import efficiency_table, verdicts
-from ..study import InProcess
-from .figure_jobs import FigurePool
-from ..methods import methods_named
-from ..measure.rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
-from ..study.cache import compute, provenance
-from ..study.files import ensure_writable, write_atomic, write_csv
-from ..study.chain import PROFILES
-from ..study.timing import Timings
-
+from ..measure.rates import TOLERANCE, normalised_errors
+from ..methods import PAPER, REFERENCE, names_with_role
+from ..problem.case import bound_text
 
 REGULARITY_NOTE = (
     "Does each case have the regularity ν it declares? The Ritz projection R_h u (the Galerkin "
@@ -111,9 +98,18 @@ THREE_D_NOTE = (
 )
 
 
+def paper_methods(names) -> list[str]:
+    """Those of the method names ``names`` whose methods declare the role PAPER: the paper's P2
+    models, compared side by side (``methods.names_with_role``)."""
+    return names_with_role(PAPER, names)
+
+
 def which_bound(case, rates: pd.DataFrame, results: pd.DataFrame) -> str:
-    """Two sentences: which of the two bounds the P2 cones' errors follow."""
-    r = rates[(rates.case == case.name) & rates.method.isin(["mean", "nodal"])]
+    """Two sentences: which of the two bounds the P2 cones' errors follow (the cones: the
+    methods that declare the role PAPER)."""
+    mine = rates[rates.case == case.name]
+    cones = paper_methods(mine.method)
+    r = mine[mine.method.isin(cones)]
     if r.empty:
         return ""
     fitted = ", ".join(f"{m} {p:.2f}" for m, p in zip(r.method, r.fitted_rate))
@@ -132,11 +128,14 @@ def which_bound(case, rates: pd.DataFrame, results: pd.DataFrame) -> str:
         return text + (f" The data {follows} the paper's {paper} (Remark 4.9, under its finite-transition "
                        f"assumption), beyond Drouet & Hild's {dh}, whose estimate stops at the H^(5/2) "
                        f"regularity of Signorini solutions.")
-    # a log factor in the paper's bound: which normalised error levels off?
-    g = results[(results.case == case.name) & (results.method == "nodal")].sort_values("level")
+    # a log factor in the paper's bound: which normalised error levels off? (for the paper's
+    # method that also computes references, else the last of them)
+    shown = next(iter(names_with_role(REFERENCE, cones)), cones[-1])
+    g = results[(results.case == case.name) & (results.method == shown)].sort_values("level")
     with_log = normalised_errors(g.h, g.err_h1, case.expected_rate, case.expected_log_exponent)[-3:]
     plain = normalised_errors(g.h, g.err_h1, case.expected_rate, 0.0)[-3:]
-    drop = lambda v: 1 - v[-1] / v[-2]
+    def drop(v):
+        return 1 - v[-1] / v[-2]
     level_off = 0.02
     if abs(drop(plain)) <= level_off < abs(drop(with_log)):
         verdict_text = "e/h has levelled off and the data follow Drouet & Hild's h, without the paper's log factor."
@@ -148,7 +147,7 @@ def which_bound(case, rates: pd.DataFrame, results: pd.DataFrame) -> str:
                         "approximation (table above).")
     else:
         verdict_text = "neither has levelled off (both fall by more than 2%)."
-    return text + (f" Over the last level, nodal's e/({paper}) falls by {drop(with_log):.1%} and e/h by "
+    return text + (f" Over the last level, {shown}'s e/({paper}) falls by {drop(with_log):.1%} and e/h by "
                    f"{drop(plain):.1%}: " + verdict_text)
 
 
@@ -178,7 +177,7 @@ def belief_finding(case, rates: pd.DataFrame) -> str:
     belief = bound_text(case.expected_rate, case.expected_log_exponent)
     parts = [f"{m} {p:.3f} (pairwise {pw})" for m, p, pw in zip(r.method, r.fitted_rate, r.pairwise_rates)
              if np.isfinite(case.expected_rate)]
-    cones = r[r.method.isin(["mean", "nodal"])]
+    cones = r[r.method.isin(paper_methods(r.method))]
     if cones.empty:
         return f"The expected rate {belief} is a belief, not a theorem (Theorem {case.theorem}). Measured: " + "; ".join(parts) + "."
     low = cones.fitted_rate.min()

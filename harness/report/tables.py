@@ -2,24 +2,12 @@
 method, rates against the theorems, the Gamma_C errors, elasticity, 3D, sweeps, efficiency)."""
 from __future__ import annotations
 
-import json
-import time
-from pathlib import Path
-
 import numpy as np
 import pandas as pd
 
-from ..problem.case import Case, bound_text, fraction, registered_cases
-from .document import Document
-from ..measure.efficiency import efficiency_table, verdicts
-from ..study import InProcess
-from .figure_jobs import FigurePool
-from ..methods import methods_named
-from ..measure.rates import TOLERANCE, normalised_errors, pairwise_rates, rate_table
-from ..study.cache import compute, provenance
-from ..study.files import ensure_writable, write_atomic, write_csv
-from ..study.chain import PROFILES
-from ..study.timing import Timings
+from ..measure.rates import normalised_errors, pairwise_rates
+from ..methods import PAPER, names_with_role
+from ..problem.case import bound_text, fraction
 
 
 def _fmt(value, spec=".3e"):
@@ -144,10 +132,12 @@ def gamma_c_view(rates: pd.DataFrame, results: pd.DataFrame, case: str) -> pd.Da
     } for m, row in finest.iterrows()])
 
 
-def normalised_view(case, results: pd.DataFrame) -> pd.DataFrame:
-    """e/(h |log h|^q) and e/h level by level, for the P2 cones (the paper's log-factor case)."""
+def normalised_view(case, results: pd.DataFrame, methods=()) -> pd.DataFrame:
+    """e/(h |log h|^q) and e/h level by level, for the paper's P2 cones (the paper's log-factor
+    case): the methods that declare the role PAPER (``methods``: Method objects to look roles up
+    in besides the registered ones)."""
     out = None
-    for method in ("mean", "nodal"):
+    for method in names_with_role(PAPER, results.method[results.case == case.name], methods):
         g = results[(results.case == case.name) & (results.method == method)].sort_values("level")
         if g.empty:
             continue

@@ -28,8 +28,8 @@ import meshio
 import numpy as np
 
 from ..mesh.points import cells, coordinates, evaluate, in_elements
-from ..study.rows import study_levels
 from ..study.files import TEMPORARY_MARK, write_atomic
+from ..study.rows import study_levels
 from ..study.snapshots import problem_vertex_values
 
 # VTK's node order of quadratic cells: the corners, then the midpoints of these corner pairs

@@ -52,9 +52,12 @@ PEAK_PER_DOF_BY_KIND = {(3, "elasticity"): 1150.0}
 # to match elastic-transition-3d's studies, 35 s on 3 levels (one thread) and 5.5 min on 4.
 SHARED_SECONDS_PER_ELEMENT = {(2, "scalar"): 6.2e-6, (2, "elasticity"): 1.8e-5, (3, "scalar"): 1.2e-5,
                               (3, "elasticity"): 1.1e-4}
-SOLVE_SECONDS_PER_DOF = {("cone", "scalar", 2): 1.4e-6, ("weak", "scalar", 2): 2.2e-6,
-                         ("cone", "elasticity", 2): 5.7e-6, ("cone", "scalar", 3): 8.6e-6,
-                         ("cone", "elasticity", 3): 5.1e-5}
+# Keyed by the cost model a method declares (``Method.cost_model``: "active-set", the cones' and
+# the mortar methods' exact QP solves; "newton", penalty and Nitsche), physics and dimension; a
+# method that declares a number is its own seconds per dof.
+SOLVE_SECONDS_PER_DOF = {("active-set", "scalar", 2): 1.4e-6, ("newton", "scalar", 2): 2.2e-6,
+                         ("active-set", "elasticity", 2): 5.7e-6, ("active-set", "scalar", 3): 8.6e-6,
+                         ("active-set", "elasticity", 3): 5.1e-5}
 SWEEP_SECONDS_PER_DOF = 2.5e-5
 # A reference chain's levels past the studied ones (``chain.chain_levels``): the reference
 # solve and the measurement against it (numbering, prolongations, norm matrices, the norms of
@@ -137,8 +140,7 @@ def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, p
     """(case, method, level) -> estimated seconds of that solve with its share of the level's
     shared work: the weights of the progress bar (its ETA is then weighted by the size of each
     level, not by the count of solves). ``per_dof``: the solve's seconds per dof, if not the
-    figure of the method's family (``SOLVE_SECONDS_PER_DOF``)."""
-    from ..methods import WeakContact
+    figure of the method's cost model (``solve_seconds_per_dof``)."""
     methods = chain_methods(case, methods)
     chains = {m.name: chain_levels(case, m, levels) for m in methods}
     sizes = sizes or LevelSizes.of(case, max(chains.values()))
@@ -148,12 +150,21 @@ def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, p
     for level in range(max(chains.values())):
         solving = [m for m in methods if level < chains[m.name]]
         for m in solving:
-            family = "weak" if isinstance(m, WeakContact) else "cone"
-            solve = per_dof or SOLVE_SECONDS_PER_DOF.get((family, physics, dim), max(SOLVE_SECONDS_PER_DOF.values()))
+            solve = per_dof or solve_seconds_per_dof(m, physics, dim)
             ndof = sizes.ndof(level, m.order, components)
             reference = REFERENCE_SECONDS_PER_DOF * ndof if is_reference(case, m) and level >= study_levels(m, levels) else 0.0
             weights[(case.name, m.name, level)] = shared * sizes.triangles[level] / len(solving) + solve * ndof + reference
     return weights
+
+
+def solve_seconds_per_dof(method, physics: str, dimension: int) -> float:
+    """A solve's seconds per dof by the cost model ``method`` declares (``Method.cost_model``):
+    its own number, or the figure of its model, physics and dimension (``SOLVE_SECONDS_PER_DOF``;
+    the largest for a combination not measured)."""
+    model = getattr(method, "cost_model", None)
+    if isinstance(model, (int, float)) and not isinstance(model, bool):
+        return float(model)
+    return SOLVE_SECONDS_PER_DOF.get((model, physics, dimension), max(SOLVE_SECONDS_PER_DOF.values()))
 
 
 def estimate(case, methods, levels: int, sizes: LevelSizes | None = None, per_dof: float | None = None) -> JobEstimate:

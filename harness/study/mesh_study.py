@@ -2,7 +2,9 @@
 adaptive meshes (``mesh.strategies``), beside the uniform rows of the main study; stored per
 (case, mesh) under ``results/meshes`` and reused while code, case file and settings are unchanged.
 
-The finest adaptive mesh of ``PICTURE_METHOD`` is kept (``FinestMesh``) for the report's picture.
+The methods are those that declare the role MESH_STUDY (the fine profile adds the PAPER, BASELINE
+and SWEPT ones: ``Method.roles``). The finest adaptive mesh of ``PICTURE_METHOD`` (the reference
+method, ``measure.reference``) is kept (``FinestMesh``) for the report's picture.
 """
 from __future__ import annotations
 
@@ -12,30 +14,33 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from ..measure.reference import REFERENCE_METHOD
 from ..mesh.points import cells, coordinates
 from ..mesh.strategies import parse_meshes
-from ..methods import methods_named
+from ..methods import BASELINE, MESH_STUDY, PAPER, SWEPT, methods_named
 from .files import write_atomic
 
 MESH_STUDY = {
     # a junction (r^1/2), a transition point (r^3/2), a junction at 3 pi / 4 (r^2/3)
     "cases": ("corner-r12", "transition-r32", "wedge-r23"),
-    # a cone of each order and Nitsche (the fine profile adds mean and penalty)
-    "methods": ("nodal", "p1", "nitsche"),
+    # the methods that declare these roles (``Method.roles``): a cone of each order and Nitsche
+    "roles": (MESH_STUDY,),
     "meshes": ("graded", "adaptive"),
 }
-FINE_METHODS = ("mean", "nodal", "p1", "nitsche", "penalty")
-PICTURE_METHOD = "nodal"
+# the fine profile's: also the paper's, the baseline and the swept methods (mean and penalty)
+FINE_ROLES = (MESH_STUDY, PAPER, BASELINE, SWEPT)
+PICTURE_METHOD = REFERENCE_METHOD
 
 
 def mesh_config(settings: dict) -> dict:
     """What the report runs on graded and adaptive meshes: the profile's ``mesh_levels``
     (the budget of dofs: an adaptive chain stops at the uniform level's number of elements),
-    the methods of ``MESH_STUDY`` the report runs."""
-    chosen = set(settings["methods"])
-    methods = FINE_METHODS if settings.get("profile") == "fine" else MESH_STUDY["methods"]
+    the methods of the report that declare a role of ``MESH_STUDY`` (``FINE_ROLES`` in the fine
+    profile), in the report's order."""
+    roles = set(FINE_ROLES if settings.get("profile") == "fine" else MESH_STUDY["roles"])
+    chosen = methods_named(settings["methods"])
     return {"cases": list(MESH_STUDY["cases"]), "meshes": list(MESH_STUDY["meshes"]),
-            "methods": [m for m in methods if m in chosen], "levels": settings["mesh_levels"]}
+            "methods": [m.name for m in chosen if roles & set(m.roles)], "levels": settings["mesh_levels"]}
 
 
 def mesh_jobs_plan(cases, config: dict):

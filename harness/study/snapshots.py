@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..mesh.points import evaluate
+from ..methods import REFERENCE, with_role
 from .files import write_atomic
 from .rows import study_levels
 
@@ -126,16 +127,19 @@ def two_body_domain_snapshot(case, problem, z: np.ndarray) -> dict:
 
 class SnapshotHook:
     """``on_level`` hook of the study: returns the finest contact snapshot of each (case, method)
-    and the domain picture of each case (method `nodal` if it runs, else the first; level
-    PICTURE_LEVEL or the finest). The study keeps what it returns (in checkpoints too, and back
+    and the domain picture of each case (the first one-body method that declares the role
+    REFERENCE if one runs, else the first; level PICTURE_LEVEL or the finest; two bodies: the
+    same among the two-body methods). The study keeps what it returns (in checkpoints too, and back
     from a worker), so the hook itself holds nothing."""
 
     def __init__(self, levels: int, methods):
         self.finest = {m.name: study_levels(m, levels) - 1 for m in methods}
-        self.picture_method = "nodal" if "nodal" in self.finest else next(iter(self.finest))
-        # two bodies: mortar-nodal if it runs, else the first method that couples two bodies
-        mortar = [m.name for m in methods if 2 in m.bodies]
-        self.two_body_method = "mortar-nodal" if "mortar-nodal" in mortar else next(iter(mortar), None)
+        methods = list(methods)
+        one = [m for m in methods if 1 in m.bodies]
+        self.picture_method = next((m.name for m in with_role(REFERENCE, one)), next(iter(self.finest)))
+        # two bodies: the first two-body method that declares REFERENCE, else the first that couples two bodies
+        two = [m for m in methods if 2 in m.bodies]
+        self.two_body_method = next((m.name for m in with_role(REFERENCE, two) + two), None)
         self.picture_level = min(PICTURE_LEVEL, self.finest[self.picture_method])
 
     def __call__(self, case, method, level, problem, solve) -> dict | None:

@@ -1,13 +1,16 @@
 """Parameter sensitivity: a penalty or Nitsche method over a range of its parameter (eps0 or
-gamma0, the scale of eps = gamma0 h) on one case, at one level, beside a cone method (`nodal`)
-as the reference -- where each is robust, where penalty locks or loses accuracy, where Nitsche
-with theta = 1 loses coercivity."""
+gamma0, the scale of eps = gamma0 h) on one case, at one level, beside a cone method (the
+reference method, ``measure.reference``) as the reference -- where each is robust, where penalty
+locks or loses accuracy, where Nitsche with theta = 1 loses coercivity. The report sweeps the
+methods that declare the role SWEPT (``Method.roles``)."""
 from __future__ import annotations
 
 import numpy as np
 import pandas as pd
 
-from ..methods import Method, methods_named
+from ..measure.reference import REFERENCE_METHOD
+from ..methods import SWEPT, Method, methods_named, with_role
+from ..methods.base import THETAS
 from . import run_study
 from .budget import solve_weights
 from .rows import study_levels
@@ -15,11 +18,24 @@ from .rows import study_levels
 # eps0 / gamma0 values: four decades around the defaults (0.05) and past theta = 1's bound
 # (gamma0 < 0.145 for P2 on every registered case, ``methods/nitsche.py``)
 SWEEP_VALUES = (1e-4, 1e-3, 1e-2, 0.05, 0.1, 0.3, 1.0, 3.0, 10.0)
-# what the report sweeps: every theta of Nitsche and the penalty method, P2, on level 4
-# (about 3.6e4 dofs) of the cases where contact meets a corner singularity and a transition
+
+
+def swept_specs(methods) -> tuple[str, ...]:
+    """What the report sweeps of ``methods``: each that declares the role SWEPT, and, for one
+    with a parameter theta, the same at each other theta of ``base.THETAS``."""
+    specs = []
+    for method in with_role(SWEPT, methods):
+        specs.append(method.name)
+        theta = method.parameters.get("theta")
+        specs += [f"{method.name}:theta={value:g}" for value in THETAS if theta is not None and value != theta]
+    return tuple(specs)
+
+
+# what the report sweeps: every theta of Nitsche and the penalty method (the registered methods
+# that declare SWEPT), P2, on level 4 (about 3.6e4 dofs) of the cases where contact meets a
+# corner singularity and a transition, beside the reference method
 REPORT_SWEEP = {"cases": ("transition-r32", "corner-r12"), "level": 4,
-                "methods": ("nitsche", "nitsche:theta=0", "nitsche:theta=-1", "penalty"),
-                "values": SWEEP_VALUES, "reference": ("nodal",)}
+                "methods": swept_specs(None), "values": SWEEP_VALUES, "reference": (REFERENCE_METHOD,)}
 SWEEP_COLUMNS = ["sweep_method", "sweep_parameter", "sweep_value"]
 
 
@@ -36,7 +52,7 @@ def swept(spec: str, values) -> list[tuple[Method, str, float]]:
     return [(method.with_parameters(**given, **{name: float(v)}), name, float(v)) for v in values]
 
 
-def sweep_plan(specs, values, reference=("nodal",)) -> tuple[list, list]:
+def sweep_plan(specs, values, reference=(REFERENCE_METHOD,)) -> tuple[list, list]:
     """(runs, methods) of a sweep: ``runs`` = (method, spec, parameter name, value) of every
     swept value, ``methods`` = those methods and the ``reference`` methods."""
     values = list(values)
@@ -47,12 +63,12 @@ def sweep_plan(specs, values, reference=("nodal",)) -> tuple[list, list]:
     return runs, [m for m, *_ in runs] + references
 
 
-def sweep_weights(case, specs, values, level: int, reference=("nodal",)) -> dict:
+def sweep_weights(case, specs, values, level: int, reference=(REFERENCE_METHOD,)) -> dict:
     """The progress bar's weights of a sweep (``budget.solve_weights``)."""
     return solve_weights(case, sweep_plan(specs, values, reference)[1], level + 1)
 
 
-def run_sweep(case, specs, values, level: int, reference=("nodal",), show_progress: bool = True,
+def run_sweep(case, specs, values, level: int, reference=(REFERENCE_METHOD,), show_progress: bool = True,
               progress=None, engine=None) -> pd.DataFrame:
     """The rows of level ``level`` (P1 methods: their level with about the same dofs) of every
     swept method and of the ``reference`` methods, with the swept parameter and value."""
