@@ -61,8 +61,30 @@ from .contact_quadrature import ContactQuadrature, at_points, contact_quadrature
 from .sparse import csr_positions, csr_view
 
 
+class BoundaryTerms:
+    """What every system of the form F(u) = A u - b + (terms on Gamma_C) shares: its Jacobian
+    J is A with the boundary terms written into A's pattern (``J``, ``delta``, ``positions``),
+    and the multigrid's hint of the Gamma_C vertices an active term stiffens. Used by
+    ``WeakContactSystem`` (penalty, Nitsche) and ``contact_law.LawSystem`` (a user's law)."""
+
+    def stiff_vertices(self, active: np.ndarray, nv: int) -> np.ndarray:
+        """Vertices whose trace carries an active contact term (a multigrid hint)."""
+        touched = np.zeros(nv, bool)
+        rows = self.quadrature.T[np.flatnonzero(active)]
+        touched[rows.indices[rows.indices < nv]] = True
+        return touched
+
+    def write_terms(self, terms: sp.spmatrix) -> None:
+        """J = A + ``terms`` (within ``delta``'s pattern), written into J's memory."""
+        terms = terms.tocoo()
+        values = np.zeros(self.delta.nnz)
+        np.add.at(values, _index_in(self.delta, terms.row, terms.col), terms.data)
+        self.J.data[self.positions] += values - self.delta.data
+        self.delta.data[:] = values
+
+
 @dataclass
-class WeakContactSystem:
+class WeakContactSystem(BoundaryTerms):
     """F(u) and J of a penalty (``flux`` = 0) or Nitsche (``flux`` = 1) method on one level."""
 
     problem: DiscreteProblem
@@ -106,24 +128,13 @@ class WeakContactSystem:
         W = self.quadrature.weights
         return self.rhs - self.Btheta.T @ (W * active * self.shift / self.eps)
 
-    def stiff_vertices(self, active: np.ndarray, nv: int) -> np.ndarray:
-        """Vertices whose trace carries an active contact term (a multigrid hint)."""
-        touched = np.zeros(nv, bool)
-        rows = self.quadrature.T[np.flatnonzero(active)]
-        touched[rows.indices[rows.indices < nv]] = True
-        return touched
-
     def set_jacobian(self, active: np.ndarray) -> None:
         """J for the Gauss points ``active`` (where P(u) > 0), written into J's memory."""
         W, N = self.quadrature.weights, self.quadrature.N
         terms = self.Btheta.T @ sp.diags(W * active / self.eps) @ self.B1
         if self.flux and self.theta:
             terms = terms - self.theta * (N.T @ sp.diags(W * self.eps) @ N)
-        terms = terms.tocoo()
-        values = np.zeros(self.delta.nnz)
-        np.add.at(values, _index_in(self.delta, terms.row, terms.col), terms.data)
-        self.J.data[self.positions] += values - self.delta.data
-        self.delta.data[:] = values
+        self.write_terms(terms)
 
 
 def _index_in(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
@@ -150,7 +161,19 @@ def weak_contact_system(case, problem: DiscreteProblem, gamma0: float, theta: fl
     if flux and theta:
         rhs -= theta * (N.T @ (quadrature.weights * eps * load))
     # every entry a boundary term can touch: the pattern of B_theta^T B_1 and N^T N
-    delta = (abs(Btheta).T @ abs(B1) + abs(N).T @ abs(N)).tocsr()
+    J, J_ngs, delta, positions = boundary_jacobian(problem, abs(Btheta).T @ abs(B1) + abs(N).T @ abs(N), take_stiffness)
+    system = WeakContactSystem(problem, quadrature, eps, theta, flux, alpha - flux * eps * load, B1, Btheta, rhs,
+                               J, J_ngs, delta, positions, obstacle_force(case, problem, J))
+    system.set_jacobian(np.zeros(len(eps), bool))
+    return system
+
+
+def boundary_jacobian(problem: DiscreteProblem, pattern: sp.spmatrix, take_stiffness: bool):
+    """(J, J_ngs, delta, positions): J a copy of A (or A itself: ``take_stiffness``, the level's
+    last method of its order), delta a zero matrix on ``pattern`` (every entry a boundary term
+    can touch, inside A's pattern: each Gauss point lies in one triangle) and where its entries
+    sit in J.data."""
+    delta = pattern.tocsr()
     delta.sum_duplicates()
     delta.sort_indices()
     delta.data[:] = 0.0
@@ -160,16 +183,17 @@ def weak_contact_system(case, problem: DiscreteProblem, gamma0: float, theta: fl
         J_ngs = problem.A_ngs.CreateMatrix()
         J = csr_view(J_ngs)
     coo = delta.tocoo()
-    positions = csr_positions(J, coo.row.astype(np.int64), coo.col.astype(np.int64))
-    # the force that holds Gamma_C at the obstacle: a scale of F beside the loads (``newton``)
+    return J, J_ngs, delta, csr_positions(J, coo.row.astype(np.int64), coo.col.astype(np.int64))
+
+
+def obstacle_force(case, problem: DiscreteProblem, J: sp.csr_matrix) -> float:
+    """max |A w| over the free dofs, w = alpha at the Gamma_C vertices: the force that holds
+    Gamma_C at the obstacle, a scale of F beside the loads (``newton.load_scale``). J's values
+    off Gamma_C's triangles are A's, and w lives on Gamma_C's vertices; set before any term."""
     obstacle = np.zeros(problem.ndof)
     if case.gap is not None:
         obstacle[problem.vertex_dofs] = evaluate(case.gap, problem.mesh, problem.trace.vertex_points)
-    obstacle_force = float(np.abs((J @ obstacle)[problem.free]).max(initial=0.0))
-    system = WeakContactSystem(problem, quadrature, eps, theta, flux, alpha - flux * eps * load, B1, Btheta, rhs,
-                               J, J_ngs, delta, positions, obstacle_force)
-    system.set_jacobian(np.zeros(len(eps), bool))
-    return system
+    return float(np.abs((J @ obstacle)[problem.free]).max(initial=0.0))
 
 
 def predicted_active(coarse_points: np.ndarray, coarse_active: np.ndarray, points: np.ndarray) -> np.ndarray:

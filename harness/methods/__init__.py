@@ -11,14 +11,30 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+from contextlib import contextmanager
 
+from ..fem.contact_law import ContactLaw, GammaPoints, LawError
 from ..mesh.plugins import is_external
-from .base import BoundConstrained, Expectation, FunctionalCone, LevelSolve, Method, WeakContact
+from .base import (
+    BASELINE,
+    MESH_STUDY,
+    PAPER,
+    REFERENCE,
+    ROLES,
+    SWEPT,
+    BoundConstrained,
+    Expectation,
+    FunctionalCone,
+    LevelSolve,
+    Method,
+    WeakContact,
+)
 from .plugins import MethodError, check_method, installed_methods, load_external
+from .protocol import ContactLawMethod, ContactPoints, LevelProblem, OwnSolution, OwnSolve
 
 # Named groups besides the method names themselves.
 GROUPS = {
-    "paper": ("mean", "nodal"),
+    PAPER: (),              # the methods that declare the role PAPER: mean, nodal (``with_role``, below)
     "cones": ("mean", "nodal", "p1"),                                   # exact discrete inequalities
     "weak": ("nitsche", "penalty", "nitsche-p1", "penalty-p1"),         # contact by a Gamma_C term
     "mortar": ("mortar-mean", "mortar-nodal", "mortar-standard", "mortar-p1"),             # two bodies, non-matching meshes
@@ -28,7 +44,7 @@ GROUPS = {
 def _discover() -> dict[str, Method]:
     found = []
     for info in pkgutil.iter_modules(__path__):
-        if info.name in ("base", "plugins") or info.name.startswith("_"):
+        if info.name in ("base", "plugins", "protocol") or info.name.startswith("_"):
             continue
         module = importlib.import_module(f"{__name__}.{info.name}")
         found.append(check_method(getattr(module, "method", None), f"harness/methods/{info.name}.py (its `method`)"))
@@ -37,6 +53,58 @@ def _discover() -> dict[str, Method]:
 
 
 METHODS = _discover()
+
+# Methods this process was given as objects (``known``): found by name like the registered ones.
+_GIVEN: dict[str, Method] = {}
+
+
+def with_role(role: str, methods=None) -> list[Method]:
+    """Those of ``methods`` (default: the registered ones, in registry order) that declare
+    ``role`` (``base.ROLES``: PAPER, BASELINE, REFERENCE, SWEPT, MESH_STUDY), in their order.
+    Nothing outside ``methods/`` names a method: it asks for a role, which a method of your own
+    may declare too (``Method.roles``)."""
+    methods = METHODS.values() if methods is None else methods
+    return [m for m in methods if isinstance(m, Method) and role in m.roles]
+
+
+def role_names(role: str, methods=None) -> list[str]:
+    """The names of ``with_role(role, methods)``."""
+    return [m.name for m in with_role(role, methods)]
+
+
+GROUPS[PAPER] = tuple(role_names(PAPER))
+
+
+def names_with_role(role: str, names, methods=()) -> list[str]:
+    """Those of ``names`` (method names: a results column, say) whose method declares ``role``,
+    once each in their order: each looked up among ``methods`` (Method objects), then by name
+    (``get_method``: the registered methods, those of ``known`` and the installed ones); a name
+    this process does not know declares none."""
+    given = {m.name: m for m in methods if isinstance(m, Method)}
+    out = []
+    for name in dict.fromkeys(names):
+        try:
+            method = given[name] if name in given else get_method(name)
+        except ValueError:               # MethodError too: a method this process does not know
+            continue
+        if with_role(role, [method]):
+            out.append(name)
+    return out
+
+
+@contextmanager
+def known(methods):
+    """Within the block, ``get_method`` and ``methods_named`` find each of ``methods`` (Method
+    objects: a method of your own from a file, a module or Python) by its name, as the report's
+    study finds the methods of its settings (which hold names)."""
+    given = [m for m in methods if isinstance(m, Method) and METHODS.get(m.name) is not m]
+    before = dict(_GIVEN)
+    _GIVEN.update({m.name: m for m in given})
+    try:
+        yield
+    finally:
+        _GIVEN.clear()
+        _GIVEN.update(before)
 
 
 def method_choices() -> list[str]:
@@ -61,6 +129,8 @@ def methods_named(names) -> list[Method]:
         elif name in METHODS:
             wanted.add(name)
             continue
+        elif name in _GIVEN:
+            found = [_GIVEN[name]]
         else:
             external = is_external(name) and name not in installed_methods()
             found = load_external(name) if external else [get_method(name)]
@@ -83,6 +153,8 @@ def get_method(name: str) -> Method:
         return parse_method(name)
     if name in METHODS:
         return METHODS[name]
+    if name in _GIVEN:
+        return _GIVEN[name]
     if name in installed_methods():
         return installed_methods()[name]
     raise MethodError(f"unknown method {name!r}; expected one of: {', '.join(method_choices())}, "
@@ -107,5 +179,7 @@ def parse_method(spec: str) -> Method:
     return method.with_parameters(**values)
 
 
-__all__ = ["METHODS", "GROUPS", "BoundConstrained", "Expectation", "FunctionalCone", "LevelSolve", "Method", "MethodError", "WeakContact",
+__all__ = ["METHODS", "GROUPS", "BASELINE", "MESH_STUDY", "PAPER", "REFERENCE", "ROLES", "SWEPT", "known", "names_with_role",
+           "role_names", "with_role", "BoundConstrained", "ContactLaw", "ContactLawMethod", "ContactPoints", "GammaPoints", "LawError",
+           "LevelProblem", "OwnSolution", "OwnSolve", "Expectation", "FunctionalCone", "LevelSolve", "Method", "MethodError", "WeakContact",
            "check_method", "get_method", "method_choices", "methods_for", "methods_named", "parse_method"]

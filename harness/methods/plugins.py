@@ -23,8 +23,10 @@ import re
 from dataclasses import replace
 from pathlib import Path
 
+from ..fem.contact_law import ContactLaw
 from ..mesh.plugins import PluginError, entry_point_objects, load_spec
 from .base import Method
+from .protocol import ContactLawMethod, OwnSolve, no_theory
 
 ENTRY_POINTS = "signorini_harness.methods"
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.+-]*$")
@@ -45,13 +47,19 @@ def check_method(obj, where: str) -> Method:
         problems.append(f"name {obj.name!r} is not letters, digits and _.+- (no spaces, ':' or ',')")
     if obj.order not in (1, 2):
         problems.append(f"order {obj.order!r} is not 1 or 2")
+    if obj.expected is None:
+        obj = replace(obj, expected=no_theory)
     if not callable(obj.expected):
         problems.append("expected (case -> Expectation, or None for no theory) is not callable")
     for field in ("physics", "dimensions", "bodies"):
         if not isinstance(getattr(obj, field), tuple) or not getattr(obj, field):
             problems.append(f"{field} is not a non-empty tuple")
     if type(obj).solve is Method.solve:
-        problems.append("it has no solve (subclass BoundConstrained or WeakContact, or define solve)")
+        problems.append("it has no solve (use FunctionalCone, ContactLawMethod or OwnSolve, or define solve)")
+    if isinstance(obj, ContactLawMethod) and not isinstance(obj.law, ContactLaw):
+        problems.append("its law has no branch, term and derivative (harness.methods.ContactLaw)")
+    if isinstance(obj, OwnSolve) and not callable(obj.solve_level):
+        problems.append("its solve_level (LevelProblem -> OwnSolution) is not callable")
     if problems:
         raise MethodError(f"{where}: method {getattr(obj, 'name', obj)!r} is malformed: {'; '.join(problems)}")
     return obj

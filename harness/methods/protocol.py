@@ -1,0 +1,182 @@
+"""The method protocol's second and third levels: a method of your own that the harness measures
+as it measures its own (rows, errors, rates, verdicts, cost, report), without touching its
+internals. Pick the level that fits what you bring:
+
+1. a **cone** given only by its constraint functionals on Gamma_C: ``FunctionalCone``
+   (``base``), solved exactly by the harness's active set method with its multigrid;
+2. a **weak method** given by its contact law on Gamma_C (a pressure term and a flux term, and
+   their derivative): ``ContactLawMethod`` below, solved by the harness's semismooth Newton
+   method, its residual recorded (``fem.contact_law`` has the law's protocol and checks);
+3. a **solve of your own**: ``OwnSolve`` below; the harness hands you the level
+   (``LevelProblem``: stiffness, load, free dofs, Gamma_C's quadrature, the coarser level's
+   solution interpolated, the multigrid hierarchy) and takes back ``OwnSolution`` (u_h, your
+   residual, iterations, status, optionally your pressure); it checks feasibility (the largest
+   penetration of the row) and records your residual in the row's ``kkt_residual``.
+
+Each declares its expected rate (``expected``: case -> ``Expectation``) or None: "no theory",
+grey in the verdict matrix. ``examples/methods/`` has one method at each level.
+"""
+from __future__ import annotations
+
+import math
+import time
+from contextlib import nullcontext
+from dataclasses import dataclass, fields, is_dataclass, replace
+from typing import Callable
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..fem.assembly import ContactTraceFunction
+from ..fem.cones import contact_pressure
+from ..fem.contact_law import law_system
+from ..fem.contact_quadrature import at_points, contact_quadrature
+from ..fem.penetration import max_penetration
+from ..mesh.points import evaluate
+from ..solvers.multigrid import HIERARCHICAL, nested_start
+from .base import Expectation, LevelSolve, Method, WeakContact
+
+
+def no_theory(case) -> Expectation:
+    """The expectation of a method that declares none: no rate to compare with (grey)."""
+    return Expectation(math.nan, 0.0, "no theory declared")
+
+
+@dataclass(frozen=True)
+class ContactLawMethod(WeakContact):
+    """A weak method given by its contact law (``fem.contact_law.ContactLaw``): F(u) = A u - b -
+    int p v + int f d_n v, solved by the semismooth Newton method of the built-in penalty and
+    Nitsche methods (nested iteration, multigrid CG when the law's Jacobian is symmetric, a
+    factorisation else), to the same relative residual. The law's parameters, if it is a
+    dataclass, are the method's (``nitsche-law:gamma0=0.1`` on the command line)."""
+
+    law: object = None
+
+    def system(self, case, problem, take_stiffness: bool = False):
+        return law_system(case, problem, self.law, take_stiffness)
+
+    @property
+    def parameters(self) -> dict:
+        return {f.name: getattr(self.law, f.name) for f in fields(self.law)} if is_dataclass(self.law) else {}
+
+    def with_parameters(self, **values) -> "ContactLawMethod":
+        unknown = set(values) - set(self.parameters)
+        if unknown:
+            raise ValueError(f"method {self.name!r} has parameters {', '.join(self.parameters) or 'none'}, not {', '.join(sorted(unknown))}")
+        label = ",".join(f"{name}={float(values[name]):g}" for name in self.parameters if name in values)
+        return replace(self, name=f"{self.name.split(':')[0]}:{label}", law=replace(self.law, **{k: float(v) for k, v in values.items()}))
+
+
+@dataclass(frozen=True)
+class ContactPoints:
+    """Gamma_C's Gauss points as a user's solve sees them: ``T @ u`` is u_h there, ``N @ u``
+    its normal derivative (2D scalar problems; None else), ``weights`` integrate over Gamma_C."""
+
+    x: np.ndarray               # (q, dim)
+    weights: np.ndarray         # (q,)
+    h: np.ndarray               # (q,) size of the point's cell
+    cell: np.ndarray            # (q,) the point's contact cell
+    T: sp.csr_matrix            # (q, ndof)
+    N: sp.csr_matrix | None     # (q, ndof)
+    gap: np.ndarray             # (q,) alpha
+    load: np.ndarray            # (q,) g_C
+
+
+@dataclass(frozen=True)
+class LevelProblem:
+    """One level, as a method with its own solve receives it. Vectors are over the level's
+    dofs (NGSolve's numbering of the P_k space of ``order``); u_h must equal ``lift`` where
+    ``free`` is False (Gamma_u). Read-only: the harness's matrices are shared."""
+
+    case: object                # the case (its ``gap``, ``nu``, ... if a solver wants them)
+    A: sp.csr_matrix            # stiffness a(phi_j, phi_i), all dofs
+    b: np.ndarray               # load L(phi_i)
+    free: np.ndarray            # bool: dofs not on Gamma_u
+    lift: np.ndarray            # Dirichlet values on Gamma_u, zero elsewhere
+    vertex_dofs: np.ndarray     # the dofs of Gamma_C's vertices (u_h there is the trace's value)
+    edge_dofs: np.ndarray       # the bubble dof of each contact edge (empty for P1)
+    gap_at_vertices: np.ndarray  # alpha at Gamma_C's vertices
+    contact: ContactPoints
+    start: np.ndarray | None    # the coarser level's u_h interpolated (nested iteration), or None
+    hierarchy: object = None    # the multigrid hierarchy (``solvers.multigrid.Multilevel``), or None
+
+    @property
+    def ndof(self) -> int:
+        return len(self.b)
+
+
+@dataclass
+class OwnSolution:
+    """What a method's own solve gives back. ``residual``: its own measure of how well u solves
+    its discrete problem, relative (the row's ``kkt_residual``); ``pressure``: its contact
+    pressure at ``contact.x`` if it has one (else the harness takes the discrete contact force
+    a(u_h, phi_i) - L(phi_i) of Gamma_C's vertex hats)."""
+
+    u: np.ndarray
+    residual: float
+    iterations: int = 0
+    status: str = "converged"
+    pressure: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class OwnSolve(Method):
+    """A method with its own solve: ``solve_level(level: LevelProblem) -> OwnSolution``."""
+
+    solve_level: Callable | None = None
+
+    def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
+        timed = phases or (lambda phase: nullcontext())
+        with timed("setup"):
+            level = level_problem(case, problem, carry, multilevel)
+        with timed("solve"):
+            clock = time.perf_counter()
+            solution = self.solve_level(level)
+            seconds = time.perf_counter() - clock
+        u = checked_solution(self.name, solution, level)
+        trace_u = ContactTraceFunction.of(problem, u)
+        if solution.pressure is not None:
+            pressure = contact_quadrature(problem).edge_means(np.asarray(solution.pressure, float))
+        else:
+            force = np.concatenate([problem.contact_residual(u)[:len(problem.vertex_dofs)], np.zeros(len(problem.edge_dofs))])
+            pressure = contact_pressure(problem, force)
+        fields = {
+            "n_contact_constraints": 0,
+            "max_penetration": max_penetration(case, problem.mesh, trace_u),
+            "min_pressure": float(pressure.min()),
+            "active_constraints": 0,
+            "solver_iterations": int(solution.iterations),
+            "linear_iterations": 0,
+            "kkt_residual": float(solution.residual), "backward_error": math.nan,
+            "solve_seconds": seconds,
+            "status": str(solution.status),
+        }
+        return LevelSolve(fields, u, trace_u, pressure, (u[:problem.mesh.nv].copy(),))
+
+
+def level_problem(case, problem, carry, multilevel) -> LevelProblem:
+    """The level as ``OwnSolve`` hands it over, with the coarser level's u_h interpolated."""
+    quadrature = contact_quadrature(problem)
+    mesh = problem.mesh
+    contact = ContactPoints(quadrature.points, quadrature.weights, quadrature.h, quadrature.edge, quadrature.T,
+                            quadrature.N, at_points(case.gap, mesh, quadrature), at_points(case.contact_load, mesh, quadrature))
+    start = None
+    if carry is not None and multilevel is not None:
+        start = nested_start(multilevel, carry[0], problem, HIERARCHICAL)
+    gap = np.zeros(len(problem.vertex_dofs)) if case.gap is None else evaluate(case.gap, mesh, problem.trace.vertex_points)
+    return LevelProblem(case, problem.A, problem.b, problem.free, problem.lift, problem.vertex_dofs, problem.edge_dofs, gap,
+                        contact, start, multilevel)
+
+
+def checked_solution(name: str, solution, level: LevelProblem) -> np.ndarray:
+    """u_h of a user's ``OwnSolution``: a finite vector of the level's dofs, with the Dirichlet
+    values on Gamma_u; a one-line ValueError naming the method else."""
+    if not isinstance(solution, OwnSolution):
+        raise ValueError(f"method {name!r}: its solver returned {type(solution).__name__}, not an OwnSolution")
+    u = np.asarray(solution.u, float)
+    if u.shape != (level.ndof,) or not np.all(np.isfinite(u)):
+        raise ValueError(f"method {name!r}: u has shape {u.shape} or non-finite values; the level has {level.ndof} dofs")
+    pinned = ~level.free
+    if not np.allclose(u[pinned], level.lift[pinned], rtol=1e-12, atol=1e-12 * max(np.abs(level.lift).max(initial=0.0), 1.0)):
+        raise ValueError(f"method {name!r}: u does not take the Dirichlet values on Gamma_u (level.lift where not level.free)")
+    return u

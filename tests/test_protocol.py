@@ -1,0 +1,152 @@
+"""The method protocol's second and third levels (issue 51): a weak method given by its contact
+law, solved by the harness's semismooth Newton method, and a method with a solve of its own.
+Each example of ``examples/methods`` is checked against the built-in method it re-expresses
+(the protocol adds nothing of its own), and a law or a solve that breaks its promises is
+refused in one line."""
+import importlib.util
+import math
+import shutil
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import harness
+from harness.measure.rates import rate_table
+from harness.methods import LawError, MethodError, OwnSolution, check_method, methods_named
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples" / "methods"
+
+
+def example(name: str):
+    spec = importlib.util.spec_from_file_location(f"example_{name}", EXAMPLES / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def laws():
+    return example("contact_laws")
+
+
+@pytest.fixture(scope="module")
+def own():
+    return example("own_newton")
+
+
+def study(methods, case="transition-r32", levels=3, **options) -> pd.DataFrame:
+    rows = harness.run([case], methods, levels=levels, show_progress=False, **options)
+    return rows.set_index(["method", "level"]).sort_index()
+
+
+def assert_same_rows(rows: pd.DataFrame, mine: str, builtin: str, rtol: float):
+    a, b = rows.loc[mine], rows.loc[builtin]
+    assert (a.ndof == b.ndof).all()
+    np.testing.assert_allclose(a.err_h1, b.err_h1, rtol=rtol)
+    np.testing.assert_allclose(a.max_penetration, b.max_penetration, rtol=rtol, atol=1e-14)
+
+
+@pytest.mark.parametrize("case", ["transition-r32", "corner-r12"])
+def test_nitsche_written_as_a_contact_law_gives_the_builtin_nitsche_rows(laws, case):
+    rows = study([laws.nitsche_law, "nitsche"], case)
+    assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
+    # the same discrete problem solved by the same Newton method: equal to the solver's tolerance
+    assert_same_rows(rows, "nitsche-law", "nitsche", rtol=1e-8)
+    assert (rows.loc["nitsche-law"].solver_iterations == rows.loc["nitsche"].solver_iterations).all()
+
+
+def test_a_method_with_its_own_solve_gives_the_builtin_penalty_rows(own):
+    rows = study([own.method, "penalty"])
+    assert (rows.status == "converged").all()
+    mine = rows.loc["penalty-own-newton"]
+    assert (mine.kkt_residual <= 1e-10).all()              # its own residual, recorded
+    assert (mine.max_penetration > 0).all()                # the harness's own feasibility measure
+    assert_same_rows(rows, "penalty-own-newton", "penalty", rtol=1e-8)
+
+
+def test_a_law_without_a_declared_theory_is_measured_with_no_expected_rate(laws):
+    rows = study([laws.penalty_h2], levels=4)
+    assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
+    assert rows.expected_rate.isna().all() and (rows.reference == "no theory declared").all()
+    rates = rate_table(rows.reset_index())
+    assert rates.verdict.eq("no theory").all(), rates.verdict.tolist()
+
+
+def test_a_law_parameter_is_set_by_name_and_names_the_method(laws):
+    stiffer = laws.penalty_h2.with_parameters(epsilon0=0.01)
+    assert stiffer.name == "penalty-h2:epsilon0=0.01" and stiffer.law.epsilon0 == 0.01
+    with pytest.raises(ValueError, match="has parameters epsilon0"):
+        laws.penalty_h2.with_parameters(gamma0=1)
+
+
+class WrongSlope:
+    """A penalty whose derivative is not its term's (a sign error a user might make)."""
+
+    def branch(self, at):
+        return at.gap - at.u > 0
+
+    def term(self, at, branch):
+        return np.where(branch, (at.gap - at.u) / at.h, 0.0), 0.0
+
+    def derivative(self, at, branch):
+        return np.where(branch, 1.0 / at.h, 0.0), 0.0, 0.0, 0.0
+
+
+class NotAffine(WrongSlope):
+    def term(self, at, branch):
+        return np.where(branch, (at.gap - at.u) ** 3, 0.0), 0.0
+
+
+@pytest.mark.parametrize("law, broken", [(WrongSlope(), "pressure on the branch 'in contact' is not affine"),
+                                         (NotAffine(), "not affine")])
+def test_a_law_that_breaks_its_promises_is_refused_in_one_line(laws, law, broken):
+    with pytest.raises(LawError, match=broken) as refused:
+        study([replace(laws.penalty_h2, name="broken", law=law)], levels=1)
+    assert "\n" not in str(refused.value)
+
+
+def test_a_law_or_a_solve_that_is_not_one_is_refused_when_checked(laws, own):
+    with pytest.raises(MethodError, match="no branch, term and derivative"):
+        check_method(replace(laws.penalty_h2, law=object()), "here")
+    with pytest.raises(MethodError, match="solve_level"):
+        check_method(replace(own.method, solve_level=None), "here")
+
+
+@pytest.mark.parametrize("answer, refusal", [
+    (lambda level: np.zeros(3), "not an OwnSolution"),
+    (lambda level: OwnSolution(np.zeros(3), 0.0), "the level has"),
+    (lambda level: OwnSolution(np.full(level.ndof, math.nan), 0.0), "non-finite"),
+    (lambda level: OwnSolution(np.where(level.free, 0.0, level.lift + 1.0), 0.0), "Dirichlet values"),
+])
+def test_an_own_solve_returning_no_solution_of_the_level_is_refused_in_one_line(own, answer, refusal):
+    with pytest.raises(ValueError, match=refusal) as refused:
+        study([replace(own.method, solve_level=answer)], levels=1)
+    assert "\n" not in str(refused.value)
+
+
+@pytest.mark.parametrize("spec", ["contact_laws.py:penalty_h2", "own_newton.py"])
+def test_the_protocol_examples_run_from_outside_on_every_mesh_and_two_workers(tmp_path, spec):
+    for path in EXAMPLES.glob("*.py"):
+        shutil.copy(path, tmp_path / path.name)
+    from tests.test_plugins import harness_cli
+    done = harness_cli("run", "--case", "corner-r12", "--method", spec, "--mesh", "all", "--levels", "3",
+                       "--workers", "2", "--out", "out", "--quiet", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    rows = pd.read_csv(tmp_path / "out" / "results.csv")
+    assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
+    assert set(rows["mesh"]) == {"uniform", "graded", "adaptive"} and len(set(rows.method)) == 1
+    assert methods_named([str(tmp_path / spec)])[0].name == rows.method.iloc[0]
+
+
+def test_the_case_example_runs_by_path_and_its_cones_meet_the_paper_rate():
+    """`examples/cases/transition_off_vertex.py`: a transition inside a contact edge on every
+    level; the paper's theorems do not ask for a vertex there, and the rates meet them."""
+    rows = harness.run([str(ROOT / "examples" / "cases" / "transition_off_vertex.py")], ["paper", "p1"], levels=5,
+                       show_progress=False)
+    assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
+    rates = rate_table(rows).set_index("method")
+    assert rates.verdict.eq("meets").all(), rates[["fitted_rate", "verdict"]]
