@@ -361,13 +361,16 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--debug", action="store_true",
                         help="let an error through with its traceback (accepted anywhere on the line)")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-
     p = sub.add_parser("cases", help="list the registered cases with regularity and expected rate")
     p.set_defaults(func=cmd_cases)
-
     p = sub.add_parser("methods", help="list the discretisations: order, contact condition, reference")
     p.set_defaults(func=cmd_methods)
+    for add in (_add_run, _add_sweep, _add_rates, _add_report, _add_bench):
+        add(sub)
+    return parser
 
+
+def _add_run(sub) -> None:
     p = sub.add_parser("run", help="run a convergence study and write DIR/results.csv")
     p.add_argument("--case", action="append", required=True, metavar="NAME|PATH",
                    help="a registered case name or a case file; repeat for several")
@@ -384,8 +387,9 @@ def build_parser() -> argparse.ArgumentParser:
     add_engine_options(p)
     p.set_defaults(func=cmd_run)
 
+
+def _add_sweep(sub) -> None:
     from .measure.reference import REFERENCE_METHOD as reference
-    from .methods import PAPER, role_names
     from .study.sweep import REPORT_SWEEP, SWEEP_VALUES
     p = sub.add_parser("sweep", help="a penalty/Nitsche method over values of its parameter, at one level of one case")
     p.add_argument("--case", required=True, metavar="NAME|PATH")
@@ -401,6 +405,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=cmd_sweep)
 
+
+def _add_rates(sub) -> None:
     p = sub.add_parser("rates", help="fit rates of a results CSV; writes rates.csv beside it")
     p.add_argument("results", metavar="RESULTS.csv")
     p.add_argument("--fit-levels", type=_positive_int, default=3, help="levels in the asymptotic fit (>= 3)")
@@ -410,6 +416,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="print booktabs LaTeX tables (the rates, then each case's levels) instead of text")
     p.set_defaults(func=cmd_rates)
 
+
+def _add_report(sub) -> None:
     p = sub.add_parser("report", help="run the study (reusing unchanged results) and render the report")
     p.add_argument("--profile", default="default", choices=["default", "fine"])
     p.add_argument("--levels", type=_positive_int, help="override the profile's number of levels")
@@ -423,13 +431,16 @@ def build_parser() -> argparse.ArgumentParser:
     add_engine_options(p)
     p.set_defaults(func=cmd_report)
 
+
+def _add_bench(sub) -> None:
+    from .bench.command import bench_names
+    from .measure.reference import REFERENCE_METHOD as reference
+    from .methods import PAPER, role_names
     p = sub.add_parser("bench", help="contact solve vs one linear solve, textbook PDAS and Clarabel")
     p.add_argument("--sizes", type=_sizes, default=None, metavar="MAXH:LEVEL,...",
                    help="coarse mesh size and level of each problem (default: 9e3 to 4.2e6 dofs)")
-    from .bench.command import bench_names
-    paper = role_names(PAPER)
     p.add_argument("--method", action="append", choices=_method_names(),
-                   help=f"default: {' and '.join(paper)} (the paper's); a penalty or Nitsche method adds its rows (one "
+                   help=f"default: {' and '.join(role_names(PAPER))} (the paper's); a penalty or Nitsche method adds its rows (one "
                         f"solve against one {reference} solve)")
     p.add_argument("--only", choices=bench_names(),
                    help="only the study row, only the solver table, only the elastic rows, only the 3D rows, only the "
@@ -441,7 +452,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", default="results/bench.csv", metavar="CSV",
                    help="the solver table; the study row goes beside it, as <name>_study.csv")
     p.set_defaults(func=cmd_bench)
-    return parser
 
 
 def main(argv=None) -> int:

@@ -130,6 +130,17 @@ def test_a_reference_case_run_without_nodal_solves_nodal_for_its_reference_alone
     assert frame.err_h1.notna().all() and (frame.reference_kkt_residual <= 1e-10).all()
 
 
+def test_a_method_of_your_own_that_declares_the_reference_role_solves_the_reference():
+    """A user's P2 method declaring REFERENCE (here `mean` renamed) takes the role from the
+    registered one: its chain runs k levels further and every row is measured against it."""
+    from harness.methods import METHODS, REFERENCE
+    mine = dataclasses.replace(METHODS["mean"], name="my-reference", roles=frozenset({REFERENCE}))
+    frame = run("smooth-obstacle", methods=["p1", mine], levels=2, show_progress=False)
+    assert set(frame.method) == {"p1", "my-reference"}
+    assert (frame.reference_method == "my-reference").all() and (frame.reference_level == 1 + 2).all()
+    assert frame.err_h1.notna().all() and (frame.reference_kkt_residual <= 1e-10).all()
+
+
 @pytest.mark.parametrize("case_name", REFERENCE_CASES)
 def test_reference_case_rows_are_measured_against_a_converged_reference(case_name):
     frame = run(case_name, methods="paper", levels=4, show_progress=False)

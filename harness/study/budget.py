@@ -142,7 +142,7 @@ def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, p
     level, not by the count of solves). ``per_dof``: the solve's seconds per dof, if not the
     figure of the method's cost model (``solve_seconds_per_dof``)."""
     methods = chain_methods(case, methods)
-    chains = {m.name: chain_levels(case, m, levels) for m in methods}
+    chains = {m.name: chain_levels(case, m, levels, methods) for m in methods}
     sizes = sizes or LevelSizes.of(case, max(chains.values()))
     physics, dim, components = case.physics.name, case.dimension, case.physics.components
     shared = SHARED_SECONDS_PER_ELEMENT.get((dim, physics), max(SHARED_SECONDS_PER_ELEMENT.values()))
@@ -152,7 +152,7 @@ def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, p
         for m in solving:
             solve = per_dof or solve_seconds_per_dof(m, physics, dim)
             ndof = sizes.ndof(level, m.order, components)
-            reference = REFERENCE_SECONDS_PER_DOF * ndof if is_reference(case, m) and level >= study_levels(m, levels) else 0.0
+            reference = REFERENCE_SECONDS_PER_DOF * ndof if is_reference(case, m, methods) and level >= study_levels(m, levels) else 0.0
             weights[(case.name, m.name, level)] = shared * sizes.triangles[level] / len(solving) + solve * ndof + reference
     return weights
 
@@ -170,7 +170,7 @@ def solve_seconds_per_dof(method, physics: str, dimension: int) -> float:
 def estimate(case, methods, levels: int, sizes: LevelSizes | None = None, per_dof: float | None = None) -> JobEstimate:
     """Peak memory and time of one job: ``methods`` on ``case`` (one process, shared levels)."""
     methods = chain_methods(case, methods)
-    chains = {m.name: chain_levels(case, m, levels) for m in methods}
+    chains = {m.name: chain_levels(case, m, levels, methods) for m in methods}
     last = max(chains.values())
     sizes = sizes or LevelSizes.of(case, last)
     finest = {}                                  # order -> (level, ndof) of its finest problem

@@ -10,10 +10,10 @@ import warnings
 import ngsolve as ngs
 
 from ..measure.errors import ExactErrors
-from ..measure.reference import REFERENCE_METHOD, ReferenceErrors
+from ..measure.reference import ReferenceErrors, reference_method
 from ..mesh.levels import LevelSequence
 from ..mesh.strategies import UNIFORM, MeshStrategy
-from ..methods import Method, get_method, methods_for
+from ..methods import Method, methods_for
 from ..problem.case import Case
 from .one_body import OneBody
 from .rows import COLUMNS, PHASES, ChainOutput, Phases, study_levels  # noqa: F401 (COLUMNS, PHASES: their home was here)
@@ -37,26 +37,35 @@ PROFILES = {
     "fine": {"levels": 8, "levels_3d": 4, "levels_two_body": 6, "mesh_levels": 7, "stop_when_asymptotic": False},
 }
 
-def is_reference(case: Case, method: Method) -> bool:
-    """Whether ``method`` solves ``case``'s reference (a case without u: ``REFERENCE_METHOD``)."""
-    return not case.exact and method.name == REFERENCE_METHOD
+def reference_of(case: Case, methods: list[Method]) -> Method | None:
+    """The method whose solution k levels finer is the reference of a case without u
+    (``measure.reference.reference_method``: the first of ``methods`` that discretise ``case``,
+    then of the registered ones, declaring the role REFERENCE), or None for a case with u."""
+    return None if case.exact else reference_method(case, methods_for(case, methods))
+
+
+def is_reference(case: Case, method: Method, methods: list[Method]) -> bool:
+    """Whether ``method`` solves ``case``'s reference in a study of ``methods``."""
+    reference = reference_of(case, methods)
+    return reference is not None and method.name == reference.name
 
 
 def chain_methods(case: Case, methods: list[Method]) -> list[Method]:
     """The methods a chain of ``case`` solves: those of ``methods`` that discretise it, and for
-    a case measured against a reference, the reference method (``measure.reference``) even if
-    it was not asked for: it then solves its levels for the reference alone, without rows."""
+    a case measured against a reference, the reference method (``reference_of``) even if it
+    was not asked for: it then solves its levels for the reference alone, without rows."""
     own = methods_for(case, methods)
-    if case.exact or any(m.name == REFERENCE_METHOD for m in own):
+    reference = reference_of(case, methods)
+    if reference is None or any(m.name == reference.name for m in own):
         return own
-    return own + [get_method(REFERENCE_METHOD)]
+    return own + [reference]
 
 
-def chain_levels(case: Case, method: Method, levels: int) -> int:
+def chain_levels(case: Case, method: Method, levels: int, methods: list[Method]) -> int:
     """Levels a method solves for a case: its studied levels, and for the method that solves a
     case's reference, k more (nested iteration all the way; the last is the reference, with
     4^k times the dofs of every method's finest studied level)."""
-    return study_levels(method, levels) + (case.reference_levels if is_reference(case, method) else 0)
+    return study_levels(method, levels) + (case.reference_levels if is_reference(case, method, methods) else 0)
 
 
 class _LevelHook_0_1:
@@ -175,8 +184,9 @@ def chain_plan(case: Case, methods: list[Method], requested: set[str], levels: i
         every = {m.name: MAX_ADAPTIVE_LEVELS for m in methods}
         return ChainPlan(every, every)
     studied = {m.name: study_levels(m, levels) if m.name in requested else 0 for m in methods}
-    chain = {m.name: chain_levels(case, m, levels) for m in methods}
-    return ChainPlan(studied, chain, None if case.exact else REFERENCE_METHOD)
+    chain = {m.name: chain_levels(case, m, levels, methods) for m in methods}
+    reference = reference_of(case, methods)
+    return ChainPlan(studied, chain, None if reference is None else reference.name)
 
 
 def error_measure(case: Case, methods: list[Method], plan: ChainPlan, phases: Phases):
@@ -185,4 +195,4 @@ def error_measure(case: Case, methods: list[Method], plan: ChainPlan, phases: Ph
     orders = {m.name: m.order for m in methods}
     if case.exact:
         return ExactErrors(case, phases, orders)
-    return ReferenceErrors(plan.studied, orders, REFERENCE_METHOD, plan.chain[REFERENCE_METHOD] - 1, phases)
+    return ReferenceErrors(plan.studied, orders, plan.reference, plan.chain[plan.reference] - 1, phases)

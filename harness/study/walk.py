@@ -15,7 +15,6 @@ from dataclasses import dataclass, field
 from typing import Protocol
 
 from ..measure.estimator import ResidualEstimator, estimate
-from ..measure.reference import REFERENCE_METHOD
 from ..mesh.levels import Level
 from . import threads
 from .rows import ChainOutput, Phases, keep, level_row
@@ -90,10 +89,10 @@ class LevelProblems:
     estimators: dict = field(default_factory=dict)          # order -> ResidualEstimator
 
 
-def reference_columns(rows: list[dict], level: int, ndof: int, fields: dict) -> None:
+def reference_columns(rows: list[dict], method: str, level: int, ndof: int, fields: dict) -> None:
     """What the rows of a case without u say about the reference they were measured against."""
     for row in rows:
-        row.update({"reference_level": level, "reference_ndof": ndof, "reference_method": REFERENCE_METHOD,
+        row.update({"reference_level": level, "reference_ndof": ndof, "reference_method": method,
                     "reference_kkt_residual": fields["kkt_residual"], "reference_status": fields["status"]})
 
 
@@ -241,7 +240,7 @@ class ChainWalk:
                 row["effectivity"] = row["estimator"] / row["err_energy"]
         if self.reference_fields is not None:
             for rows in self.rows.values():
-                reference_columns(rows, *self.reference_fields)
+                reference_columns(rows, self.plan.reference, *self.reference_fields)
 
     def checkpoint(self, level: int, active: list) -> None:
         """The state of every chain the level changed, made durable."""
