@@ -35,9 +35,12 @@ def test_results_rates_and_provenance_are_written(report):
     rates = pd.read_csv(root / "results" / "rates.csv")
     assert {"fitted_rate", "fitted_rate_se", "pairwise_rates", "verdict"} <= set(rates.columns)
     meta = json.loads((root / "results" / "provenance.json").read_text())
-    for key in ("harness_version", "git_commit", "ngsolve_version", "date", "machine", "settings"):
+    for key in ("harness_version", "git_commit", "ngsolve_version", "date", "machine", "settings", "solver_options"):
         assert key in meta
     assert meta["settings"]["levels"] == 3
+    # the solver settings every registered method solved with (none of them has others)
+    from harness.solvers.options import SolverOptions
+    assert meta["solver_options"] == {"default": SolverOptions().as_dict()}
 
 
 def test_report_has_the_two_body_section_with_both_meshes_at_the_interface(report):

@@ -338,7 +338,7 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
                 write_csv(meshes, results_dir / "meshes.csv")
             write_csv(rates, results_dir / "rates.csv")
             write_csv(efficiency, results_dir / "efficiency.csv")
-        meta = provenance(settings) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
+        meta = provenance(settings, methods) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
                                        "engine": (engine or InProcess()).describe(),
                                        "computed": computed_since(cases, results_dir / "cases", run_started)}
         write_atomic(results_dir / "provenance.json", json.dumps(meta, indent=2))

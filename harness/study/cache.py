@@ -27,6 +27,7 @@ from ..methods import methods_named
 from ..methods.base import EXTRA_LEVELS
 from ..problem.case import Case
 from ..problem.validate import validate_case
+from ..solvers.options import SolverOptions
 from .budget import SWEEP_SECONDS_PER_DOF, solve_weights
 from .chain import BothHooks
 from .checkpoint import CheckpointStore, code_digest
@@ -55,13 +56,18 @@ def git_commit() -> str:
         return "unknown"
 
 
-def provenance(settings: dict) -> dict:
+def provenance(settings: dict, methods=()) -> dict:
+    """What a stored result was computed with: the harness, NGSolve, the machine, the study's
+    settings and the solver settings (``solvers.SolverOptions``: the defaults, and any of
+    ``methods`` that solves with others, by name)."""
+    solver = {"default": SolverOptions().as_dict()} | {m.name: m.solver.as_dict() for m in methods if m.solver != SolverOptions()}
     return {
         "harness_version": __version__, "git_commit": git_commit(), "ngsolve_version": ngs.__version__,
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "machine": {"node": platform.node(), "platform": platform.platform(), "processor": platform.machine(),
                     "cpus": os.cpu_count(), "python": platform.python_version()},
         "settings": settings,
+        "solver_options": solver,
     }
 
 
