@@ -140,3 +140,10 @@ def test_last_model_takes_the_stiffness_matrix_memory(small_problem):
     np.testing.assert_array_equal(taken.K.toarray(), copied.K.toarray())
     with pytest.raises(RuntimeError, match="taken by its last contact QP"):
         problem.A
+
+
+def test_the_03_name_of_the_edge_mean_rule_still_works_with_a_deprecation_warning():
+    from harness.fem.cones import ContactModel
+    with pytest.warns(DeprecationWarning, match="edge-mean"):
+        model = ContactModel("mean")
+    assert model == ContactModel("edge-mean")

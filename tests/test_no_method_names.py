@@ -33,6 +33,8 @@ from harness.study.sweep import REPORT_SWEEP
 
 PACKAGE = Path(__file__).resolve().parent.parent / "harness"
 NAMES = set(METHODS) | set(GROUPS)
+# strings that are method names by coincidence, each with why it may stay
+ALLOWED = {("fem/cones.py", "mean"): "the 0.3 name of the edge-mean rule (ContactModel), deprecated until 0.5"}
 
 
 def outside_methods() -> list[Path]:
@@ -70,7 +72,8 @@ def test_the_scan_finds_what_it_looks_for(tmp_path):
 
 @pytest.mark.parametrize("path", outside_methods(), ids=lambda p: str(p.relative_to(PACKAGE)))
 def test_no_method_or_group_name_is_written_in_the_code_outside_methods(path):
-    assert not method_names_in(path), f"{path.relative_to(PACKAGE.parent)} names methods: use a role (harness.methods.with_role)"
+    where = str(path.relative_to(PACKAGE))
+    assert not [s for s in method_names_in(path) if (where, ast.literal_eval(s.split(": ", 1)[1])) not in ALLOWED], f"{path.relative_to(PACKAGE.parent)} names methods: use a role (harness.methods.with_role)"
 
 
 def test_the_registered_methods_declare_the_roles_the_report_gave_them_by_name():
