@@ -128,18 +128,22 @@ def test_an_own_solve_returning_no_solution_of_the_level_is_refused_in_one_line(
     assert "\n" not in str(refused.value)
 
 
-@pytest.mark.parametrize("spec", ["contact_laws.py:penalty_h2", "own_newton.py"])
-def test_the_protocol_examples_run_from_outside_on_every_mesh_and_two_workers(tmp_path, spec):
+def test_the_protocol_examples_run_from_outside_on_every_mesh_and_two_workers(tmp_path):
+    """A law's method and an own solve, each by its path from a folder outside the repository,
+    on uniform, graded and adaptive meshes, in two worker processes (by value: their classes
+    and functions live in no importable module)."""
     for path in EXAMPLES.glob("*.py"):
         shutil.copy(path, tmp_path / path.name)
     from tests.test_plugins import harness_cli
-    done = harness_cli("run", "--case", "corner-r12", "--method", spec, "--mesh", "all", "--levels", "3",
-                       "--workers", "2", "--out", "out", "--quiet", cwd=tmp_path)
+    specs = ["contact_laws.py:penalty_h2", "own_newton.py"]
+    done = harness_cli("run", "--case", "corner-r12", "--method", specs[0], "--method", specs[1], "--mesh", "all",
+                       "--levels", "3", "--workers", "2", "--out", "out", "--quiet", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     rows = pd.read_csv(tmp_path / "out" / "results.csv")
     assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
-    assert set(rows["mesh"]) == {"uniform", "graded", "adaptive"} and len(set(rows.method)) == 1
-    assert methods_named([str(tmp_path / spec)])[0].name == rows.method.iloc[0]
+    assert set(rows.method) == {methods_named([str(tmp_path / spec)])[0].name for spec in specs}
+    assert set(map(tuple, rows[["method", "mesh"]].drop_duplicates().values)) == \
+        {(m, mesh) for m in set(rows.method) for mesh in ("uniform", "graded", "adaptive")}
 
 
 def test_the_case_example_runs_by_path_and_its_cones_meet_the_paper_rate():
