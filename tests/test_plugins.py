@@ -187,14 +187,3 @@ def test_a_mesh_strategy_that_cannot_be_used_is_refused_in_one_line(tmp_path, so
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and message in err, err
     assert not (tmp_path / "out").exists()
-
-
-def test_the_quarter_point_cone_example_runs_from_outside_on_every_mesh_and_two_workers(outside):
-    """`examples/methods/quarter_points.py` (a cone given by its functionals): by path, uniform,
-    graded and adaptive meshes, two worker processes; every row exact."""
-    done = harness_cli("run", "--case", "corner-r12", "--method", "quarter_points.py", "--mesh", "all", "--levels", "3",
-                       "--workers", "2", "--out", "out", "--quiet", cwd=outside)
-    assert done.returncode == 0, done.stderr
-    rows = rows_of(outside / "out")
-    assert_exact(rows, {"quarter-points"})
-    assert set(rows["mesh"]) == {"uniform", "graded", "adaptive"} and rows.effectivity.notna().all()

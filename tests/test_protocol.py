@@ -129,14 +129,15 @@ def test_an_own_solve_returning_no_solution_of_the_level_is_refused_in_one_line(
 
 
 def test_the_protocol_examples_run_from_outside_on_every_mesh_and_two_workers(tmp_path):
-    """A law's method and an own solve, each by its path from a folder outside the repository,
+    """A method at each protocol level (a cone by its functionals, a law, an own solve), each by
+    its path from a folder outside the repository,
     on uniform, graded and adaptive meshes, in two worker processes (by value: their classes
     and functions live in no importable module)."""
     for path in EXAMPLES.glob("*.py"):
         shutil.copy(path, tmp_path / path.name)
     from tests.test_plugins import harness_cli
-    specs = ["contact_laws.py:penalty_h2", "own_newton.py"]
-    done = harness_cli("run", "--case", "corner-r12", "--method", specs[0], "--method", specs[1], "--mesh", "all",
+    specs = ["quarter_points.py", "contact_laws.py:penalty_h2", "own_newton.py"]
+    done = harness_cli("run", "--case", "corner-r12", *[a for spec in specs for a in ("--method", spec)], "--mesh", "all",
                        "--levels", "3", "--workers", "2", "--out", "out", "--quiet", cwd=tmp_path)
     assert done.returncode == 0, done.stderr
     rows = pd.read_csv(tmp_path / "out" / "results.csv")
@@ -144,6 +145,7 @@ def test_the_protocol_examples_run_from_outside_on_every_mesh_and_two_workers(tm
     assert set(rows.method) == {methods_named([str(tmp_path / spec)])[0].name for spec in specs}
     assert set(map(tuple, rows[["method", "mesh"]].drop_duplicates().values)) == \
         {(m, mesh) for m in set(rows.method) for mesh in ("uniform", "graded", "adaptive")}
+    assert rows.effectivity.notna().all()
 
 
 def test_the_case_example_runs_by_path_and_its_cones_meet_the_paper_rate():
