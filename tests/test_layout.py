@@ -12,7 +12,6 @@ REPOSITORY = PACKAGE.parent
 # the stages in pipeline order: a module imports only from its own stage and earlier ones
 STAGES = ["mesh", "problem", "fem", "solvers", "methods", "measure", "study", "report", "bench"]
 TOP = {"__init__", "__main__", "api", "cli"}                  # the entry points: import anything
-DEPRECATED = {"geometry": "problem", "functions": "problem", "rates": "measure", "execution": "study"}
 
 
 def modules() -> list[Path]:
@@ -47,16 +46,16 @@ def imported(path: Path) -> set[tuple[str, ...]]:
 def test_the_top_level_holds_at_most_eight_modules():
     top = [p.stem for p in PACKAGE.glob("*.py")]
     assert len(top) <= 8, top
-    assert {p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").is_file()} == set(STAGES) | {"execution"}
+    assert {p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").is_file()} == set(STAGES)
 
 
 @pytest.mark.parametrize("path", modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
 def test_imports_run_from_earlier_stages_to_later_ones(path):
     here = list(path.relative_to(PACKAGE).with_suffix("").parts)
-    stage = stage_of(here if len(here) > 1 or here[0] in TOP | set(DEPRECATED) else here)
+    stage = stage_of(here if len(here) > 1 or here[0] in TOP else here)
     if here[0] in TOP:
         return
-    allowed = set(STAGES[:STAGES.index(DEPRECATED.get(here[0], here[0])) + 1])
+    allowed = set(STAGES[:STAGES.index(here[0]) + 1])
     for target in imported(path):
         if not target:              # ``from .. import __version__``: the package's one version
             continue
@@ -116,17 +115,13 @@ def test_every_cited_file_exists():
     assert not missing
 
 
-@pytest.mark.parametrize("old, new, name", [("harness.geometry", "harness.problem.geometry", "contact_strip"),
-                                            ("harness.functions", "harness.problem.functions", "roller_free_mode"),
-                                            ("harness.rates", "harness.measure.rates", "rate_table"),
-                                            ("harness.execution", "harness.study", "DaskEngine")])
-def test_the_import_paths_of_version_0_2_still_work_with_a_deprecation_warning(old, new, name):
+@pytest.mark.parametrize("old", ["harness.geometry", "harness.functions", "harness.rates", "harness.execution"])
+def test_the_import_paths_of_version_0_2_are_gone_as_their_deprecation_said(old):
+    """Deprecated in 0.3.0 (harness.problem.geometry, .problem.functions, .measure.rates,
+    .study), removed in 0.4.0 (CHANGELOG)."""
     import importlib
-    import sys
-    sys.modules.pop(old, None)
-    with pytest.warns(DeprecationWarning, match=new):
-        module = importlib.import_module(old)
-    assert getattr(module, name) is getattr(importlib.import_module(new), name)
+    with pytest.raises(ModuleNotFoundError):
+        importlib.import_module(old)
 
 
 def import_graph() -> dict[str, set[str]]:
