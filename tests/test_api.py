@@ -4,7 +4,6 @@ import re
 import warnings
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 import harness
@@ -59,16 +58,14 @@ def test_the_hook_sees_every_studied_solve_and_keeps_what_it_returns():
     assert seen == [("nodal", 0, "converged"), ("nodal", 1, "converged")] and len(frame) == 2
 
 
-def test_a_hook_of_version_0_1_still_runs_with_a_deprecation_warning():
-    seen = []
-
+def test_a_hook_of_version_0_1_is_refused_in_one_line_since_0_4():
     def old_hook(case, model, level, problem, u, solution, trace_u):
-        seen.append((model.name, level, float(np.abs(u).max()), solution.fields["status"]))
+        raise AssertionError("never called")
 
-    with pytest.warns(DeprecationWarning, match=r"on_level\(case, method, level, problem, solve\)"):
+    with pytest.raises(ValueError, match=r"removed in 0.4.0: write on_level\(case, method, level, problem, solve\)"):
         harness.run("transition-r32", methods="nodal", levels=2, show_progress=False, on_level=old_hook)
-    assert [s[:2] for s in seen] == [("nodal", 0), ("nodal", 1)] and all(s[3] == "converged" for s in seen)
     with warnings.catch_warnings():
         warnings.simplefilter("error")          # the current form warns about nothing
         harness.run("transition-r32", methods="nodal", levels=1, show_progress=False,
                     on_level=lambda case, method, level, problem, solve: None)
+

@@ -5,7 +5,6 @@ for two bodies; what its errors are measured against); ``walk.ChainWalk`` walks 
 from __future__ import annotations
 
 import inspect
-import warnings
 
 import ngsolve as ngs
 
@@ -68,23 +67,10 @@ def chain_levels(case: Case, method: Method, levels: int, methods: list[Method])
     return study_levels(method, levels) + (case.reference_levels if is_reference(case, method, methods) else 0)
 
 
-class _LevelHook_0_1:
-    """A hook written for harness 0.1, ``on_level(case, model, level, problem, u, solution,
-    trace_u)``, called as one of 0.2 on: ``model`` is now the method (it has ``.name``, as the
-    model had), ``solution`` the ``methods.LevelSolve`` (its ``fields`` hold status, iterations
-    and residual), ``u`` and ``trace_u`` as before."""
-
-    def __init__(self, hook):
-        self.hook = hook
-
-    def __call__(self, case, method, level, problem, solve):
-        return self.hook(case, method, level, problem, solve.u, solve, solve.trace_u)
-
-
 def level_hook(on_level):
     """``on_level`` as the study calls it, ``(case, method, level, problem, solve)``; a hook with
-    the seven positional parameters of harness 0.1 is adapted, with a DeprecationWarning (the
-    adapter goes in 0.4)."""
+    the seven positional parameters of harness 0.1 (adapted with a DeprecationWarning until 0.4)
+    is refused in one line before the study starts."""
     if on_level is None:
         return None
     try:
@@ -93,10 +79,8 @@ def level_hook(on_level):
         return on_level
     positional = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD) and p.default is p.empty]
     if len(positional) == 7 and not any(p.kind == p.VAR_POSITIONAL for p in parameters):
-        warnings.warn("on_level(case, model, level, problem, u, solution, trace_u) is the hook of harness 0.1; "
-                      "since 0.2 it is on_level(case, method, level, problem, solve) with solve.u, solve.trace_u, "
-                      "solve.fields (adapted until 0.4)", DeprecationWarning, stacklevel=3)
-        return _LevelHook_0_1(on_level)
+        raise ValueError("on_level(case, model, level, problem, u, solution, trace_u) is the hook of harness 0.1, removed in "
+                         "0.4.0: write on_level(case, method, level, problem, solve) (solve.u, solve.trace_u, solve.fields)")
     return on_level
 
 
