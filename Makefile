@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: test test-full lint report report-fine bench clean distclean
+.PHONY: test test-full lint report report-fine bench docs clean distclean
 
 $(STAMP): pyproject.toml setup.py
 	$(PYTHON) -m venv $(VENV)
@@ -35,6 +35,15 @@ report-fine: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) -m harness bench
+
+# the documentation site (Sphinx + MyST), warnings as errors: docs/_build/html/index.html
+DOCS_STAMP := $(VENV)/.docs-installed
+$(DOCS_STAMP): $(STAMP) pyproject.toml
+	$(PY) -m pip install --quiet -e '.[docs]'
+	touch $(DOCS_STAMP)
+
+docs: $(DOCS_STAMP)
+	$(PY) -m sphinx -W --keep-going -q -b html docs docs/_build/html
 
 clean:
 	rm -rf results report

@@ -178,3 +178,17 @@ def test_no_module_imports_itself_through_others_lazy_imports_included():
 
 def test_the_cycle_check_finds_a_cycle():
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+
+
+@pytest.mark.parametrize("columns, meanings", [("harness.study.rows:COLUMNS", "harness.study.rows:COLUMN_MEANINGS"),
+                                               ("harness.measure.rates:RATE_COLUMNS", "harness.measure.rates:COLUMN_MEANINGS"),
+                                               ("harness.measure.efficiency:COLUMNS", "harness.measure.efficiency:COLUMN_MEANINGS")])
+def test_every_csv_column_has_the_meaning_the_docs_print(columns, meanings):
+    """The docs' tables of results.csv, rates.csv and efficiency.csv are generated from these
+    meanings (docs/_ext/generate.py): a column added without one fails here."""
+    import importlib
+
+    def get(spec):
+        module, _, name = spec.partition(":")
+        return getattr(importlib.import_module(module), name)
+    assert list(get(meanings)) == list(get(columns))

@@ -22,6 +22,19 @@ from ..methods import BASELINE, names_with_role
 COLUMNS = ["case", "method", "order", "target_err_h1", "target_fraction", "ndof", "solve_seconds", "total_seconds",
            "p1_over_ndof", "p1_over_seconds", "err_ratio_at_equal_ndof"]
 
+# What each column of efficiency.csv means (the docs' table is generated from this); the p1_
+# prefix names the BASELINE role's method (p1 among the registered ones)
+COLUMN_MEANINGS = {
+    "case": "the case", "method": "the method", "order": "its order",
+    "target_err_h1": "the case's target H¹ error: the largest of the methods' finest errors",
+    "target_fraction": "the target over the case's coarsest error",
+    "ndof": "the dofs the method needs to reach the target (interpolated in log–log between its levels)",
+    "solve_seconds": "the contact solves' seconds to reach it, its coarser levels included",
+    "total_seconds": "mesh, assembly, set-up and solve seconds to reach it",
+    "p1_over_ndof": "the baseline's dofs over the method's (> 1: the method needs fewer)",
+    "p1_over_seconds": "the baseline's total seconds over the method's",
+    "err_ratio_at_equal_ndof": "the baseline's H¹ error over the method's at the largest N both reach",
+}
 
 def at_target(err: np.ndarray, cost: np.ndarray, target: float) -> float:
     """log cost interpolated linearly in log err at ``target``, between the first level whose

@@ -36,6 +36,28 @@ RATE_COLUMNS = ["case", "mesh", "method", "order", "reference", "expected_rate",
                 # optimal k/2 and its verdict; the estimator's rate and its effectivity on the finest level
                 "fitted_rate_ndof", "uniform_rate_ndof", "optimal_rate_ndof", "ndof_verdict", "pairwise_rates_ndof",
                 "fitted_rate_estimator", "effectivity_finest"]
+# What each column of rates.csv means (the docs' table is generated from this)
+COLUMN_MEANINGS = {
+    "case": "the case", "mesh": "the mesh strategy", "method": "the method", "order": "its order k",
+    "reference": "the theorem of the expected rate", "expected_rate": "the H¹ rate it predicts (NaN: no theory)",
+    "expected_log_exponent": "the power q of |log h| in the bound C h^p |log h|^q",
+    "fitted_rate": "the H¹ rate fitted by least squares over the finest levels (the log factor divided out)",
+    "fitted_rate_se": "its standard error", "pairwise_rates": "the rates between successive levels",
+    "verdict": "`meets` (within ±0.1), `above`, `below` or `no theory`",
+    "sharper_reference": "a second theory (Drouet & Hild 2015 for the cones)", "sharper_rate": "its rate",
+    "sharper_fitted_rate": "the rate fitted with its log power", "sharper_verdict": "the verdict against it",
+    "fitted_rate_l2": "the L² error's fitted rate", "fitted_rate_best": "the best approximation's fitted H¹ rate",
+    "best_expected_rate": "min(ν − 1, k): what the best approximation's rate should be",
+    "best_verdict": "`consistent`, `faster than nu` or `slower than nu`: does the case have its declared regularity",
+    "pairwise_rates_best": "the best approximation's pairwise rates",
+    "fitted_rate_trace": "the L²(Γ_C) error's fitted rate", "fitted_rate_pressure_l2": "the pressure's L² error's fitted rate",
+    "fitted_rate_pressure_h12": "the pressure's H^{-1/2} error's fitted rate", "fitted_rate_energy": "the energy error's fitted rate",
+    "fitted_rate_ndof": "the H¹ error's fitted rate in the number of dofs N (error ~ N^−r)",
+    "uniform_rate_ndof": "the theory's rate in N on uniform meshes, p/d",
+    "optimal_rate_ndof": "the optimal rate in N, k/d", "ndof_verdict": "`optimal` (within 0.1) or `below optimal`",
+    "pairwise_rates_ndof": "the rates in N between successive levels",
+    "fitted_rate_estimator": "the estimator's fitted rate in N", "effectivity_finest": "η / err_energy on the finest level",
+}
 # error column -> its rate column (plain fit, q = 0)
 OTHER_RATES = {"err_l2": "fitted_rate_l2", "err_best_h1": "fitted_rate_best", "err_trace_l2": "fitted_rate_trace",
                "err_pressure_l2": "fitted_rate_pressure_l2", "err_pressure_h12": "fitted_rate_pressure_h12",

@@ -27,6 +27,40 @@ COLUMNS = [
     "sharper_rate", "sharper_log_exponent", "sharper_reference", "case_source",
 ]
 
+# What each column of results.csv means (the docs' table of results.csv is generated from this)
+COLUMN_MEANINGS = {
+    "case": "the case's name", "method": "the method's name (with its parameters: `nitsche:gamma0=0.1`)",
+    "order": "the finite element order k", "parameters": "the method's parameter values, `name=value` separated by spaces",
+    "mesh": "the mesh strategy (`uniform`, `graded`, `adaptive`, or a strategy of your own)",
+    "level": "the level of the chain, from 0", "h": "the largest element diameter", "ndof": "the number of dofs of the level",
+    "n_contact_constraints": "the number of contact constraints (cones; 0 for weak methods)",
+    "err_h1": "‖u − u_h‖ in H¹ (against u, or against the reference: `errors_against`)",
+    "err_h1_semi": "|u − u_h| in the H¹ seminorm", "err_l2": "‖u − u_h‖ in L²", "err_energy": "a(u − u_h, u − u_h)^{1/2}",
+    "err_best_h1": "the H¹ error of the Ritz projection of u (the best approximation in the energy norm)",
+    "err_best_h1_semi": "its seminorm error", "err_best_energy": "its energy error",
+    "err_h1_over_best": "err_h1 / err_best_h1: what the contact condition costs over the best approximation",
+    "err_trace_l2": "‖u − u_h‖ in L²(Γ_C)",
+    "err_pressure_l2": "‖λ − λ_h‖ in L²(Γ_C), λ_h the Riesz representative of the residual a(u_h, ·) − L(·) on the trace space",
+    "err_pressure_h12": "‖h^{1/2}(λ − λ_h)‖ in L²(Γ_C)",
+    "estimator": "the residual a posteriori estimator η of u_h (NaN where it has no terms)",
+    "effectivity": "η / err_energy (cases with u)",
+    "max_penetration": "max over Γ_C of α − u_h, between nodes included",
+    "max_tension": "max(−λ_h) on Γ_C: the flux counterpart of max_penetration",
+    "min_pressure": "the smallest discrete contact pressure (an edge's mean)",
+    "active_constraints": "active constraints (cones) or active Gauss points (weak methods)",
+    "solver_iterations": "active set or Newton iterations", "linear_iterations": "CG iterations, or LU factorisations",
+    "kkt_residual": "the KKT residual (cones), the Newton residual (weak methods) or the method's own residual, relative to the loads",
+    "backward_error": "the same forces over ‖K‖‖u_h‖ + ‖b‖ (normwise backward error)",
+    "solve_seconds": "the contact solve's wall time", "total_seconds": "mesh, assembly, set-up and solve of the level for the method",
+    "status": "`converged`, or why not", "errors_against": "`exact` (u) or `reference`",
+    "reference_level": "the reference's level", "reference_ndof": "its dofs", "reference_kkt_residual": "its KKT residual",
+    "reference_status": "its status", "reference_method": "the method that solved it (the role REFERENCE)",
+    "nu": "the case's regularity ν (u ∈ H^ν)", "expected_rate": "the H¹ rate the method's theory gives for ν (NaN: no theory)",
+    "expected_log_exponent": "the power of |log h| in that bound", "reference": "the theorem it comes from",
+    "sharper_rate": "a second theory's rate", "sharper_log_exponent": "its log power", "sharper_reference": "its theorem",
+    "case_source": "the case file",
+}
+
 # The phases of a study, in the order of the data flow; ``Phases`` sums the wall time of each.
 PHASES = ("mesh", "assembly", "best", "setup", "solve", "errors", "hooks")
 
