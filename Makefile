@@ -25,7 +25,7 @@ test-full: $(STAMP)
 	$(PY) -m pytest -q -m ''
 
 lint: $(STAMP)
-	$(VENV)/bin/ruff check harness cases tests
+	$(VENV)/bin/ruff check harness cases tests docs examples
 
 report: $(STAMP)
 	$(PY) -m harness report --profile default $(ENGINE)
