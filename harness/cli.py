@@ -347,7 +347,7 @@ def add_engine_options(p) -> None:
                        help="run the jobs (one per case, the largest split by order) on N local worker processes "
                             "(until 0.3 a Dask LocalCluster: harness.study.DaskEngine(workers=N) in Python)")
     group.add_argument("--scheduler", metavar="ADDRESS",
-                       help="run the jobs on an existing Dask cluster, e.g. tcp://10.0.0.1:8786 (see README)")
+                       help="run the jobs on an existing Dask cluster, e.g. tcp://10.0.0.1:8786 (docs: Running studies)")
     p.add_argument("--threads", type=_positive_int, metavar="T",
                    help="NGSolve and BLAS threads per process on every level (default: per level, 1 below 4e4 dofs, else "
                         "the usable cores other processes leave free; cores / N with --workers; 1 with --scheduler; "

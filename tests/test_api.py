@@ -1,4 +1,4 @@
-"""The public API README shows (harness 0.3): names and signatures pinned, the hook's two forms."""
+"""The public API the docs show (harness 0.3): names and signatures pinned, the hook's two forms."""
 import inspect
 import re
 import warnings

@@ -1,4 +1,4 @@
-"""The layout promises of README ("How the code is laid out"): the package reads as the
+"""The layout promises of docs/development/architecture.md ("How the code is laid out"): the package reads as the
 pipeline, imports run one way, the physics owns the scalar/elastic differences, and every
 file a docstring cites exists."""
 import ast
