@@ -22,11 +22,17 @@ author = "the signorini-harness authors"
 copyright = "2026, " + author
 release = version = harness.__version__
 
-extensions = ["myst_parser", "sphinxarg.ext"]
+extensions = ["myst_parser", "sphinxarg.ext", "sphinx_gallery.gen_gallery"]
 myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
-source_suffix = {".md": "markdown"}
-exclude_patterns = ["_build", "research_3d_contact_and_mortar.md"]
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+# the tutorials: scripts executed at every build (sphinx-gallery), a failing one fails the build
+sphinx_gallery_conf = {
+    "examples_dirs": "tutorials", "gallery_dirs": "tutorials_generated", "filename_pattern": r"plot_",
+    "abort_on_example_error": True, "download_all_examples": False, "show_memory": False,
+    "remove_config_comments": True, "within_subsection_order": "FileNameSortKey",
+}
+exclude_patterns = ["_build", "research_3d_contact_and_mortar.md", "tutorials/*"]
 html_theme = "furo"
 html_title = f"signorini-harness {release}"
 # the pages link to the repository's files (examples, cases) by relative paths
