@@ -22,7 +22,9 @@ author = "the signorini-harness authors"
 copyright = "2026, " + author
 release = version = harness.__version__
 
-extensions = ["myst_parser", "sphinxarg.ext", "sphinx_gallery.gen_gallery"]
+extensions = ["myst_parser", "sphinxarg.ext", "sphinx_gallery.gen_gallery", "sphinx.ext.autodoc"]
+autodoc_member_order = "bysource"
+autodoc_typehints = "none"        # the signatures say the names; the docstrings say the types
 myst_enable_extensions = ["dollarmath", "colon_fence", "deflist"]
 myst_heading_anchors = 3
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}

@@ -1,4 +1,4 @@
-"""The mesh axis of a study: a strategy names how a case's level sequence is made.
+"""The mesh axis of a study: a strategy names how a case's level sequence is made::
 
     uniform     red refinement of the case's netgen mesh (``levels.UniformRefinement``)
     graded      a priori grading toward the singular points, Remark 4.4 (``bisection.GradedRefinement``)

@@ -48,7 +48,7 @@ ROLES = (PAPER, BASELINE, REFERENCE, SWEPT, MESH_STUDY)
 
 @dataclass(frozen=True)
 class Expectation:
-    """The H^1 bound C h^rate |log h|^log_exponent a theory predicts, and which theory."""
+    """The H^1 bound C h^rate ``|log h|^log_exponent`` a theory predicts, and which theory."""
 
     rate: float
     log_exponent: float
@@ -70,6 +70,15 @@ class LevelSolve:
 
 @dataclass(frozen=True)
 class Method:
+    """A discretisation as the harness measures it: its ``name`` (a CSV cell and a command-line
+    word), finite element ``order``, the contact condition in words (``contact``), where it comes
+    from (``reference``), the rate its theory predicts for a case (``expected``: case ->
+    ``Expectation``, or None: no theory), the physics, dimensions and bodies it discretises, its
+    roles (``PAPER``, ``BASELINE``, ``REFERENCE``, ``SWEPT``, ``MESH_STUDY``), its cost model and
+    its solver settings (``solvers.SolverOptions``). Subclasses solve a level (``solve``): a
+    cone (``BoundConstrained``, ``FunctionalCone``), a weak method (``WeakContact``,
+    ``protocol.ContactLawMethod``) or a solve of its own (``protocol.OwnSolve``)."""
+
     name: str
     order: int
     contact: str                                  # how the contact condition is imposed
@@ -124,7 +133,7 @@ class Method:
         raise ValueError(f"method {self.name!r} has no parameters")
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
-        """Solve on ``problem`` (a ``discrete.DiscreteProblem`` of this method's order) from
+        """Solve on ``problem`` (a ``fem.assembly.DiscreteProblem`` of this method's order) from
         ``carry`` (what the coarser level's solve left, or None), on ``multilevel``'s hierarchy.
         ``take_stiffness``: this is the level's last method of its order and may take the
         stiffness matrix's memory. ``phases`` (``study.Phases``) times set-up and solve."""
@@ -133,7 +142,7 @@ class Method:
 
 @dataclass(frozen=True)
 class BoundConstrained(Method):
-    """A cone of nodal functionals (``models.ContactModel``), solved exactly (KKT <= 1e-10) by
+    """A cone of nodal functionals (``fem.cones.ContactModel``), solved exactly (KKT <= 1e-10) by
     the active set method with the truncated multigrid; nested iteration carries the coarser
     level's trace (active set prediction) and vertex values (CG start) to the next level."""
 

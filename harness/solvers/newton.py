@@ -22,7 +22,7 @@ the same steps, and the 16 others stop after 13-25 steps: 32 s of their solves b
 (measured 2026-11-26).
 
 Linear solves: J is A with the rows of the triangles along Gamma_C changed. Symmetric J
-(penalty; Nitsche with theta = 1) goes to the cones' multigrid CG (``solver.MultigridSystem``:
+(penalty; Nitsche with theta = 1) goes to the cones' multigrid CG (``active_set.MultigridSystem``:
 the V-cycle smooths with J itself; its P1 coarse spaces are A's, truncated at the Dirichlet
 dofs and at the Gamma_C vertices with an active contact term, which are nearly pins); a
 nonsymmetric J (theta = 0, -1), no hierarchy, or a CG that fails (J indefinite: theta = 1
