@@ -117,7 +117,7 @@ def _run_into(out: Path, args, cases, methods, engine):
     write_csv(merged.frame, path)
     store = CheckpointStore(checkpoints, args.levels)
     for case in cases:
-        store.forget(case)
+        store.forget(case, every_mesh=True)
     if checkpoints.is_dir() and not any(checkpoints.iterdir()):
         checkpoints.rmdir()
     if args.vtk:

@@ -219,3 +219,26 @@ def test_bench_load_times_every_thread_setting_idle_and_beside_a_busy_process():
     assert (frame.seconds > 0).all()
     goals = load_goals(frame)
     assert len(goals) == 3 and all(figure[0].isdigit() for _, _, figure in goals)
+
+
+def test_forgetting_a_cases_uniform_checkpoints_leaves_its_other_strategies_writing(tmp_path):
+    """The report stores a case's uniform study (and forgets its checkpoints) while the same
+    case's graded chain may still write its own in another worker: those must survive (a rename
+    of a vanished temporary file failed a report in CI before)."""
+    from types import SimpleNamespace
+
+    from harness.study.checkpoint import CheckpointStore
+    case, method = SimpleNamespace(name="transition-r32"), SimpleNamespace(name="nodal")
+    uniform, graded = CheckpointStore(tmp_path, 3), CheckpointStore(tmp_path, 3, mesh="graded")
+    for store in (uniform, graded):
+        store.path(case, method).parent.mkdir(parents=True, exist_ok=True)
+        store.path(case, method).write_bytes(b"state")
+    uniform.forget(case)
+    assert not uniform.path(case, method).exists() and graded.path(case, method).read_bytes() == b"state"
+    graded.forget(case)
+    assert not (tmp_path / "transition-r32").exists()
+    for store in (uniform, graded):
+        store.path(case, method).parent.mkdir(parents=True, exist_ok=True)
+        store.path(case, method).write_bytes(b"state")
+    uniform.forget(case, every_mesh=True)          # `run`, once its whole study is written
+    assert not (tmp_path / "transition-r32").exists()

@@ -59,12 +59,10 @@ class CheckpointStore:
         self.folder, self.levels, self.hook, self.mesh = Path(folder), levels, hook, mesh
 
     def path(self, case, method) -> Path:
-        # a method name may carry parameters (nitsche:gamma0=0.1,theta=-1)
-        safe = re.sub(r"[^A-Za-z0-9_.-]", "_", method.name)
         folder = self.folder / case.name
         if self.mesh != "uniform":
-            folder = folder / re.sub(r"[^A-Za-z0-9_.-]", "_", self.mesh)
-        return folder / f"{safe}-{hashlib.sha1(method.name.encode()).hexdigest()[:8]}.ckpt"
+            folder = folder / _safe(self.mesh)
+        return folder / f"{_safe(method.name)}-{hashlib.sha1(method.name.encode()).hexdigest()[:8]}.ckpt"
 
     def load(self, case, method):
         """The chain's saved ``ChainState``, or None (none saved, or saved by other code or
@@ -82,6 +80,27 @@ class CheckpointStore:
         write_atomic(path, pickle.dumps((chain_key(case, method, self.levels, self.hook, self.mesh), state),
                                         protocol=pickle.HIGHEST_PROTOCOL))
 
-    def forget(self, case=None) -> None:
-        """Delete the checkpoints of ``case`` (all if None): its results are written elsewhere."""
-        shutil.rmtree(self.folder if case is None else self.folder / case.name, ignore_errors=True)
+    def forget(self, case=None, every_mesh: bool = False) -> None:
+        """Delete the checkpoints of ``case`` on this store's mesh strategy (on every strategy:
+        ``every_mesh``; of every case: ``case`` None): their results are written elsewhere. Only
+        this strategy's: the report stores a case's uniform study while the same case's graded and
+        adaptive chains may still be writing theirs, in other workers, under the case's folder."""
+        if case is None:
+            shutil.rmtree(self.folder, ignore_errors=True)
+            return
+        folder = self.folder / case.name
+        if every_mesh or self.mesh != "uniform":
+            shutil.rmtree(folder if every_mesh else folder / _safe(self.mesh), ignore_errors=True)
+        elif folder.is_dir():
+            for path in folder.iterdir():
+                if path.is_file():              # the uniform chains' files (and their temporaries)
+                    path.unlink(missing_ok=True)
+        try:
+            folder.rmdir()                      # once no strategy's checkpoints are left in it
+        except OSError:
+            pass
+
+
+def _safe(name: str) -> str:
+    """``name`` as a file name (method names may carry parameters: nitsche:gamma0=0.1,theta=-1)."""
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", name)
