@@ -16,7 +16,7 @@ from harness.mesh.bisection import GRADED_START, AdaptiveRefinement, GradedRefin
 from harness.mesh.points import cells, coordinates
 from harness.mesh.strategies import MeshStrategy, parse_mesh, parse_meshes, singular_points
 from harness.methods import get_method
-from harness.problem.case import load_case
+from harness.problem.case import load_case, registered_cases
 from harness.problem.validate import validate_case
 from harness.solvers.multigrid import Multilevel
 from harness.study.chain import run_chain
@@ -80,12 +80,14 @@ def test_adaptive_refinement_concentrates_at_the_singular_point(corner):
     assert areas.min() < 1e-6 * areas.max()
 
 
+@pytest.mark.parametrize("data", ["quadratic_binding.py", "quadratic_binding_elastic.py"])
 @pytest.mark.parametrize("method", ["mean", "nodal"])
-def test_the_estimator_vanishes_where_u_h_is_u(method):
-    """u = x y + y^2 is in P2 and in both cones: the solve gives u_h = u and every term of
-    eta (the residuals, the flux against the discrete pressure, penetration, complementarity)
-    vanishes to round-off."""
-    case = load_case(str(DATA / "quadratic_binding.py"))
+def test_the_estimator_vanishes_where_u_h_is_u(method, data):
+    """u in P2 and in both cones (scalar: x y + y^2; elastic: (x y + y^2, x y + y^2), frictionless
+    by its contact traction): the solve gives u_h = u and every term of eta (the residuals, the
+    flux against the discrete pressure, penetration, complementarity, and in elasticity the
+    tangential traction) vanishes to round-off."""
+    case = load_case(str(DATA / data))
     validate_case(case)             # u = gap on all of Gamma_C: validation allows its round-off
     mesh = ngs.Mesh(case.geometry.GenerateMesh(maxh=case.maxh))
     problem = discretise(case, mesh, 2)
@@ -97,6 +99,20 @@ def test_the_estimator_vanishes_where_u_h_is_u(method):
     assert estimate(eta2) < 1e-8
 
 
+def test_the_elastic_estimator_sees_a_tangential_traction():
+    """The frictionless condition is a term of its own: the same elastic P2 solution, with a
+    contact traction whose tangential part no longer matches sigma_t(u), has eta > 0 on Gamma_C
+    only through that term (the normal terms and the residuals still vanish)."""
+    case = load_case(str(DATA / "quadratic_binding_elastic.py"))
+    mesh = ngs.Mesh(case.geometry.GenerateMesh(maxh=case.maxh))
+    problem = discretise(case, mesh, 2)
+    u = get_method("nodal").solve(case, problem, None, None).u
+    estimator = ResidualEstimator(case, problem)
+    estimator.load = estimator.load + np.array([0.5, 0.0])         # g_t off by 1/2, g_n unchanged
+    contact = estimator.contact_terms(u, problem.gridfunction(u))
+    assert contact.sum() == pytest.approx(0.5**2 * (estimator.q.h * estimator.q.weights).sum(), rel=1e-10)
+
+
 def test_the_estimator_sees_each_term_it_names(corner):
     """On a coarse corner-r12 solve each kind of term is nonzero somewhere: the estimator is the
     sum of the volume, jump, Neumann and contact parts."""
@@ -105,7 +121,7 @@ def test_the_estimator_sees_each_term_it_names(corner):
     solve = get_method("nodal").solve(corner, problem, None, None)
     estimator = ResidualEstimator(corner, problem)
     total = estimator.indicators(solve.u)
-    contact = estimator.contact_terms(solve.u)
+    contact = estimator.contact_terms(solve.u, problem.gridfunction(solve.u))
     assert contact.sum() > 0 and (total >= 0).all()
     assert total.sum() > contact.sum()
     # the contact part is added to the triangles on Gamma_C only
@@ -114,39 +130,54 @@ def test_the_estimator_sees_each_term_it_names(corner):
     assert total[on_contact].sum() >= contact.sum()
 
 
+def _divergence_by_ngsolve(case, gfu, order):
+    """div F(u_h) from NGSolve's Hessian of u_h: Laplace(u_h), or div sigma(u_h) =
+    mu Laplace(u_i) + (mu + lambda) d_i div u_h (hesse's row i holds u_i's xx, xy, yx, yy)."""
+    if order == 1:
+        return 0
+    hesse = gfu.Operator("hesse")
+    if not case.physics.elastic:
+        return ngs.Trace(hesse)
+    mu, lam = case.physics.mu, case.physics.lam
+    return ngs.CF(tuple(mu * (hesse[i, 0] + hesse[i, 3]) + (mu + lam) * (hesse[0, 2 * i] + hesse[1, 2 * i + 1])
+                        for i in range(2)))
+
+
 def _volume_and_jumps_by_ngsolve(case, problem, u):
     """The element residual and the flux jumps as NGSolve integrates them on each element's
     boundary (``Other()``: the neighbour's trace), with NGSolve's mesh size as the weight."""
-    mesh, gfu = problem.mesh, problem.gridfunction(u)
+    mesh, gfu, physics = problem.mesh, problem.gridfunction(u), case.physics
     h, n = ngs.specialcf.mesh_size, ngs.specialcf.normal(2)
     interior = ngs.GridFunction(ngs.FacetFESpace(mesh, order=0))
     interior.vec[:] = 1.0
     for element in mesh.Elements(ngs.BND):
         interior.vec[interior.space.GetDofNrs(element)[0]] = 0.0
-    f = 0 if case.f_vanishes else case.f
-    laplace = ngs.Trace(gfu.Operator("hesse")) if problem.order > 1 else 0
+    f = physics.constant(0) if case.f_vanishes else case.f
+    residual = f + _divergence_by_ngsolve(case, gfu, problem.order)
     # the estimator's rules (Gauss, graded on the elements at singular points): then its split of
     # this term (f's oscillation plus the mean's residual) is the same sum, to round-off
-    volume = sum(ngs.Integrate(h * h * (f + laplace) ** 2 * dx, mesh, element_wise=True).NumPy()
+    volume = sum(ngs.Integrate(h * h * ngs.InnerProduct(residual, residual) * dx, mesh, element_wise=True).NumPy()
                  for dx in problem.quadrature.measures(VOLUME_ORDER))
-    jump = ngs.grad(gfu) * n - ngs.grad(gfu).Other() * n
-    jumps = ngs.Integrate(0.5 * h * interior * jump**2 * ngs.dx(element_boundary=True), mesh, element_wise=True).NumPy()
+    jump = physics.flux(ngs.Grad(gfu), n) - physics.flux(ngs.Grad(gfu).Other(), n)
+    jumps = ngs.Integrate(0.5 * h * interior * ngs.InnerProduct(jump, jump) * ngs.dx(element_boundary=True), mesh,
+                          element_wise=True).NumPy()
     return volume + jumps
 
 
-@pytest.mark.parametrize("name, strategy", [("corner-r12", "uniform"), ("smooth", "uniform"), ("wedge-r23", "graded")])
+@pytest.mark.parametrize("name, strategy", [("corner-r12", "uniform"), ("smooth", "uniform"), ("wedge-r23", "graded"),
+                                            ("elastic-transition-r32", "uniform"), ("elastic-wedge", "graded")])
 @pytest.mark.parametrize("order", [1, 2])
 def test_the_estimators_volume_and_jump_terms_are_ngsolves_integrals(name, strategy, order):
     """The element residual and the flux jumps, made from grad u_h at the triangles' vertices
     (``MeshTerms``), agree with NGSolve's own integration of the same terms on each element,
     for a function that is no solution (every jump nonzero), on uniform and graded meshes, with
-    and without a volume load."""
+    and without a volume load, scalar and elastic (sigma(u_h) n jumps, div sigma(u_h))."""
     case = load_case(name)
     for level in MeshStrategy(strategy).sequence(case, order).levels(3):
         mesh = level.mesh
     problem = discretise(case, mesh, order)
     u = np.where(problem.free, np.random.default_rng(1).standard_normal(problem.ndof), problem.lift)
-    ours = ResidualEstimator(case, problem).terms.volume_and_jumps(problem.gridfunction(u), order)
+    ours = ResidualEstimator(case, problem).terms.volume_and_jumps(problem.gridfunction(u), order, case.physics)
     theirs = _volume_and_jumps_by_ngsolve(case, problem, u)
     assert np.abs(ours - theirs).max() <= 1e-10 * np.abs(theirs).max()
 
@@ -186,6 +217,19 @@ def test_every_method_runs_exactly_on_every_mesh_strategy(corner, method, strate
         assert (np.diff(frame.ndof) > 0).all()
 
 
+@pytest.mark.parametrize("strategy", ["graded", "adaptive"])
+@pytest.mark.parametrize("method", ["mean", "nodal", "p1"])
+def test_every_cone_runs_exactly_on_elastic_graded_and_adaptive_meshes(method, strategy):
+    """Issue 53: an elastic case on the mesh axis, its rows with the elastic estimator's
+    effectivity against the energy error."""
+    output = run_chain(load_case("elastic-wedge"), [get_method(method)], 2, mesh=parse_mesh(strategy)[0])
+    frame = pd.DataFrame(output.rows)
+    assert (frame.mesh == strategy).all() and (frame.status == "converged").all()
+    assert (frame.kkt_residual <= TOLERANCE).all()
+    assert (frame.estimator > 0).all() and np.allclose(frame.effectivity, frame.estimator / frame.err_energy)
+    assert ((frame.effectivity > 0.5) & (frame.effectivity < 10)).all()
+
+
 def test_parse_mesh_reads_every_strategy_and_refuses_others():
     assert [s.label for s in parse_meshes(["all"])] == STRATEGIES
     assert parse_mesh("adaptive:theta=0.3")[0].theta == 0.3
@@ -204,7 +248,8 @@ def test_an_adaptive_theta_outside_0_1_is_refused():
 def test_strategies_say_which_cases_they_mesh():
     assert MeshStrategy("graded").applies_to(load_case("transition-r32")) is None
     assert "2D" in MeshStrategy("adaptive").applies_to(load_case("transition-line-3d"))
-    assert "scalar" in MeshStrategy("graded").applies_to(load_case("elastic-transition-r32"))
+    assert MeshStrategy("graded").applies_to(load_case("elastic-transition-r32")) is None
+    assert MeshStrategy("adaptive").applies_to(load_case("elastic-wedge")) is None
     reference = load_case("corner-r12").with_reference(1)
     assert "exact" in MeshStrategy("adaptive").applies_to(reference)
 
@@ -258,15 +303,16 @@ def _effectivities(case_name: str, method: str, levels: int) -> np.ndarray:
     return frame.effectivity.to_numpy()
 
 
-EXACT_2D = ["smooth", "corner-r12", "transition-r32", "wedge-r23", "oscillating-r34", "borderline-h2", "smooth-obstacle"]
+# every registered one-body 2D case, scalar and elastic (the test skips those without u)
+EXACT_2D = sorted(name for name, case in registered_cases(2).items() if case.bodies == 1)
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("method", ["mean", "nodal", "p1"])
 @pytest.mark.parametrize("case_name", EXACT_2D)
 def test_the_effectivity_is_bounded_and_steady_on_every_exact_case(case_name, method):
-    """Issue 31: on every exact 2D case x cone method x adaptive level >= 2 the effectivity
-    index lies in [0.5, 10], and over the last four levels max/min <= 2."""
+    """Issues 31 and 53: on every exact 2D case (scalar and elastic) x cone method x adaptive
+    level >= 2 the effectivity index lies in [0.5, 10], and over the last four levels max/min <= 2."""
     case = load_case(case_name)
     if not case.exact:
         pytest.skip(f"{case_name} has no exact solution")

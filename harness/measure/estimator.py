@@ -1,18 +1,27 @@
-"""A residual a posteriori error estimator for the scalar Signorini problem, element by element.
+"""A residual a posteriori error estimator for the Signorini problem, scalar and elastic (2D),
+element by element.
 
-For u_h on a mesh T_h (any method: the cones, Nitsche, penalty), with -Laplace(u) = f, d_n u = g
-on Gamma_g and the contact conditions u - alpha >= 0, lambda = d_n u - g_C >= 0,
-lambda (u - alpha) = 0 on Gamma_C (docs/mathematics.md §1):
+For u_h on a mesh T_h (any method: the cones, Nitsche, penalty), with -div F(u) = f, F(u) n = g
+on Gamma_g, where F(u) = grad u (scalar) or sigma(u) (elasticity, Remark 2.3), and the contact
+conditions on the contact variable c(u) - obstacle >= 0, pressure lambda >= 0, their product
+zero (docs/mathematics.md §1; c = u, lambda = d_n u - g_C; elastic c = -u . n,
+lambda = -(sigma_n(u) - g_n)):
 
-    eta_T^2 =   h_T^2 ||f + Laplace(u_h)||_T^2                          element residual
-              + 1/2 sum_{E in dT, interior} h_E ||[d_n u_h]||_E^2         flux jumps (half to each side)
-              + sum_{E in dT on Gamma_g} h_E ||g - d_n u_h||_E^2          Neumann residual
-              + sum_{E in dT on Gamma_C} (  h_E ||lambda_h - (d_n u_h - g_C)||_E^2     flux against pressure
+    eta_T^2 =   h_T^2 ||f + div F(u_h)||_T^2                              element residual
+              + 1/2 sum_{E in dT, interior} h_E ||[F(u_h) n]||_E^2        flux jumps (half to each side)
+              + sum_{E in dT on Gamma_g} h_E ||g - F(u_h) n||_E^2         Neumann residual
+              + sum_{E in dT on Gamma_C} (  h_E ||lambda_h - lambda(u_h)||_E^2          flux against pressure
                                           + h_E ||(lambda_h)_-||_E^2                   tension
-                                          + h_E^-1 ||(alpha - u_h)_+||_E^2              penetration
-                                          + int_E (lambda_h)_+ (u_h - alpha)_+ )        complementarity
+                                          + h_E^-1 ||(obstacle - c(u_h))_+||_E^2        penetration
+                                          + int_E (lambda_h)_+ (c(u_h) - obstacle)_+    complementarity
+                                          + h_E ||sigma_t(u_h) - g_t||_E^2 )            elasticity: friction-free
 
-and eta^2 = sum_T eta_T^2. Every term vanishes for u_h = u (with lambda_h = lambda).
+and eta^2 = sum_T eta_T^2. Every term vanishes for u_h = u (with lambda_h = lambda). The
+elastic terms are those of Hild & Nicaise, "Residual a posteriori error estimators for contact
+problems in elasticity", M2AN 41 (2007) 897-923 (frictionless unilateral contact: the element
+residual, the traction jumps, the Neumann residual, and on Gamma_C the normal terms and the
+tangential traction; the text was not reachable here, the terms are the standard ones), in the
+same weights as the scalar ones below.
 
 lambda_h is the discrete contact pressure of the residual, ``errors.DiscretePressure``: the
 representative in the trace space of the functional a(u_h, w) - L(w) on Gamma_C -- the
@@ -37,7 +46,7 @@ import numpy as np
 
 from ..fem.contact_quadrature import at_points, contact_quadrature
 from ..fem.element_quadrature import ElementQuadrature, singular_vertices
-from ..mesh.points import mesh_key
+from ..mesh.points import evaluate, mesh_key
 from ..mesh.sides import SIDE_ENDS, MeshSides
 from .errors import CONTACT_ERROR_POINTS, DiscretePressure
 
@@ -135,71 +144,87 @@ class MeshTerms:
         #   h_T^2 ||f + Laplace(u_h)||_T^2 = h_T^2 ||f - f_T||_T^2 + h_T^2 |T| (f_T + Laplace_T)^2,
         # the first term (the data's oscillation) made here, the second per solution from one
         # number per element, without cancellation
-        self.mean_f, self.oscillation = np.zeros(mesh.ne), np.zeros(mesh.ne)
+        # (per component of f in elasticity: |f - f_T|^2 and |f_T + div sigma_T|^2 summed over them)
+        components = case.physics.components
+        self.mean_f, self.oscillation = np.zeros((mesh.ne, components)), np.zeros(mesh.ne)
         if not case.f_vanishes:
-            integral, deviation = quadrature.element_moments(case.f, VOLUME_ORDER)
-            self.mean_f, self.oscillation = integral / self.area, 2.0 * self.area * deviation     # h_T^2 = 2|T|
+            for i in range(components):
+                integral, deviation = quadrature.element_moments(case.f if components == 1 else case.f[i], VOLUME_ORDER)
+                self.mean_f[:, i] = integral / self.area
+                self.oscillation += 2.0 * self.area * deviation              # h_T^2 = 2|T|
 
-    def volume_and_jumps(self, gfu: ngs.GridFunction, order: int) -> np.ndarray:
-        """h_T^2 ||f + Laplace(u_h)||_T^2 + the flux jumps of T's interior sides, per element."""
-        ne = len(self.area)
+    def volume_and_jumps(self, gfu: ngs.GridFunction, order: int, physics) -> np.ndarray:
+        """h_T^2 ||f + div F(u_h)||_T^2 + the jumps of F(u_h) n on T's interior sides, per element,
+        F the flux of the physics (grad u_h; sigma(u_h) in elasticity, ``physics.flux_array``)."""
+        ne, components = len(self.area), physics.components
         if order == 1:          # grad u_h is constant on each triangle: evaluated once there
-            gradients = np.repeat(np.asarray(ngs.grad(gfu)(self.vertex_points[::3])).reshape(ne, 1, 2), 3, axis=1)
+            gradients = np.asarray(ngs.grad(gfu)(self.vertex_points[::3])).reshape(ne, 1, components, 2)
+            gradients = np.repeat(gradients, 3, axis=1)
         else:
-            gradients = np.asarray(ngs.grad(gfu)(self.vertex_points)).reshape(ne, 3, 2)
-        laplace = np.einsum("ekd,ekd->e", gradients, self.grad_lambda) if order > 1 else 0.0
-        eta2 = self.oscillation + self.h2 * (self.mean_f + laplace) ** 2
-        # the jump of the normal derivative at both ends of every interior edge: T1's outward
-        # flux plus T2's, T2's normal being -T1's
-        # (gathers from the two components apart: one-dimensional gathers are twice as fast)
-        gx, gy = gradients[..., 0].ravel(), gradients[..., 1].ravel()
+            gradients = np.asarray(ngs.grad(gfu)(self.vertex_points)).reshape(ne, 3, components, 2)
+        flux = physics.flux_array(gradients)                                   # (ne, 3, components, 2)
+        # F(u_h) is linear on a P2 triangle: div F = sum_k F(x_k) grad lambda_k, constant
+        divergence = np.einsum("ekcd,ekd->ec", flux, self.grad_lambda) if order > 1 else 0.0
+        eta2 = self.oscillation + self.h2 * ((self.mean_f + divergence) ** 2).sum(axis=1)
+        # the jump of F n at both ends of every interior edge: T1's outward flux plus T2's, T2's
+        # normal being -T1's (gathers from the components apart: one-dimensional gathers are
+        # twice as fast)
         nx, ny = self.jump_normals
-        jump_a, jump_b = (nx * (gx[in_first] - gx[in_second]) + ny * (gy[in_first] - gy[in_second])
-                          for in_first, in_second in self.ends)
-        squares = jump_a**2 + jump_a * jump_b + jump_b**2
+        squares = 0.0
+        for i in range(components):
+            fx, fy = flux[:, :, i, 0].ravel(), flux[:, :, i, 1].ravel()
+            jump_a, jump_b = (nx * (fx[in_first] - fx[in_second]) + ny * (fy[in_first] - fy[in_second])
+                              for in_first, in_second in self.ends)
+            squares = squares + jump_a**2 + jump_a * jump_b + jump_b**2
         return eta2 + np.bincount(self.jump_elements, weights=self.jump_weights * np.tile(squares, 2), minlength=ne)
 
 
 class ResidualEstimator:
-    """eta_T^2 of solutions on one discrete problem (2D, scalar): ``indicators(u)``."""
+    """eta_T^2 of solutions on one discrete problem (2D, scalar or elastic): ``indicators(u)``."""
 
     def __init__(self, case, problem):
-        if case.dimension != 2 or case.physics.elastic:
-            raise ValueError("the residual estimator is for 2D scalar problems")
+        if case.dimension != 2:
+            raise ValueError("the residual estimator is for 2D problems")
         self.case, self.problem, mesh = case, problem, problem.mesh
         self.terms = MeshTerms.of(case, problem.quadrature)
         self.pressure = DiscretePressure.of(problem)
         q = contact_quadrature(problem, CONTACT_ERROR_POINTS, graded_at=singular_vertices(case, mesh))
         self.q = q
         self.T_contact = q.T[:, problem.contact_dofs].tocsr()
-        self.obstacle = at_points(case.gap, mesh, q)
-        self.load = at_points(case.contact_load, mesh, q)
+        self.obstacle = case.physics.obstacle(at_points(case.gap, mesh, q))
+        self.load = 0.0 if case.contact_load is None else evaluate(case.contact_load, mesh, q.points)
         self.element_of_edge = problem.trace.volumes
 
     def indicators(self, u: np.ndarray) -> np.ndarray:
         """eta_T^2 for every element of the mesh."""
         mesh, case, terms = self.problem.mesh, self.case, self.terms
         gfu = self.problem.gridfunction(u)
-        eta2 = terms.volume_and_jumps(gfu, self.problem.order)
+        eta2 = terms.volume_and_jumps(gfu, self.problem.order, case.physics)
         # on the triangles along Gamma_g only (on a boundary element NGSolve's grad is the
         # tangential one: the normal derivative needs the triangle's side)
         h = ngs.specialcf.mesh_size
         n = ngs.specialcf.normal(mesh.dim)
-        neumann = h * terms.neumann * (case.neumann_data(n) - ngs.grad(gfu) * n) ** 2 * \
+        residual = case.neumann_data(n) - case.physics.flux(ngs.Grad(gfu), n)
+        neumann = h * terms.neumann * ngs.InnerProduct(residual, residual) * \
             ngs.dx(element_boundary=True, bonus_intorder=2, definedonelements=terms.along_neumann)
         eta2 += ngs.Integrate(neumann, mesh, element_wise=True).NumPy()
-        np.add.at(eta2, self.element_of_edge, self.contact_terms(u))
+        np.add.at(eta2, self.element_of_edge, self.contact_terms(u, gfu))
         return np.maximum(eta2, 0.0)
 
-    def contact_terms(self, u: np.ndarray) -> np.ndarray:
-        """The Gamma_C terms of each contact edge (``problem.trace``'s order)."""
-        q = self.q
+    def contact_terms(self, u: np.ndarray, gfu: ngs.GridFunction) -> np.ndarray:
+        """The Gamma_C terms of each contact edge (``problem.trace``'s order): the pressure of the
+        flux F(u_h) against lambda_h, lambda_h's tension, the penetration, the complementarity,
+        and in elasticity the tangential traction sigma_t(u_h) - g_t (frictionless contact)."""
+        q, physics = self.q, self.case.physics
         lam_h = self.T_contact @ self.pressure.coefficients(u)
-        flux = q.N @ u - self.load
+        gradients = evaluate(ngs.grad(gfu), self.problem.mesh, q.points).reshape(len(q.h), physics.components, -1)
+        flux, tangential = physics.contact_forces(physics.flux_array(gradients), q.normals, self.load)
         gap = q.T @ u - self.obstacle
         density = (q.h * ((lam_h - flux) ** 2 + np.minimum(lam_h, 0.0) ** 2)
                    + np.maximum(-gap, 0.0) ** 2 / q.h
                    + np.maximum(lam_h, 0.0) * np.maximum(gap, 0.0))
+        if tangential is not None:
+            density += q.h * tangential**2
         return np.bincount(q.edge, weights=q.weights * density, minlength=len(self.problem.trace.edges))
 
 

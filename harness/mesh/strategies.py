@@ -85,8 +85,6 @@ class MeshStrategy:
             return "graded and adaptive meshes need an exact case (errors against a reference need uniform refinement)"
         if case.dimension != 2:
             return "graded and adaptive meshes are 2D only"
-        if case.physics.elastic:
-            return "graded and adaptive meshes are scalar only (the estimator has no elastic terms yet)"
         if self.name == "graded" and not (case.nu > 1):
             return "a graded mesh needs the case's nu (its singular exponent nu - 1)"
         return None

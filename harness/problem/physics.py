@@ -96,8 +96,18 @@ class Scalar:
 
     def pressure(self, case, mesh, points, normals) -> np.ndarray:
         """lambda = d_n u - g_C at ``points`` with outward unit ``normals`` (same leading shape)."""
-        flux = (evaluate(case.grad_u, mesh, points) * normals).sum(axis=-1)
-        return flux - _contact_load(case, mesh, points)
+        return self.contact_forces(self.flux_array(_gradient_at(case.grad_u, mesh, points, 1)), normals,
+                                   _contact_load(case, mesh, points))[0]
+
+    def flux_array(self, grad: np.ndarray) -> np.ndarray:
+        """The flux of (2.1) from gradients given as arrays (..., 1, dim): grad u itself."""
+        return grad
+
+    def contact_forces(self, flux: np.ndarray, normals: np.ndarray, load: np.ndarray) -> tuple:
+        """(pressure, tangential force) on Gamma_C from the flux (..., 1, dim) at points with
+        outward ``normals`` (..., dim) and the contact load g_C (...): lambda = d_n u - g_C, and
+        no tangential force (None)."""
+        return (flux[..., 0, :] * normals).sum(axis=-1) - load, None
 
     def obstacle(self, gap):
         return gap
@@ -212,11 +222,26 @@ class Elasticity:
         """sigma(u) n: the traction on Gamma_g."""
         return self.stress(grad_u) * normal
 
-    def traction(self, case, mesh, points, normals) -> np.ndarray:
-        """sigma(u) n - g_C at ``points``: shape (..., dim)."""
-        d = self.dim
-        sigma = evaluate(self.stress(case.grad_u), mesh, points).reshape(points.shape[:-1] + (d, d))
-        return np.einsum("...ij,...j->...i", sigma, normals) - _contact_load(case, mesh, points, d)
+    def flux_array(self, grad: np.ndarray) -> np.ndarray:
+        """sigma from displacement gradients given as arrays (..., dim, dim), row i = grad u_i."""
+        strain = 0.5 * (grad + np.swapaxes(grad, -1, -2))
+        trace = np.trace(strain, axis1=-2, axis2=-1)
+        return 2 * self.mu * strain + self.lam * trace[..., None, None] * np.eye(self.dim)
+
+    def contact_forces(self, flux: np.ndarray, normals: np.ndarray, load: np.ndarray) -> tuple:
+        """(pressure, tangential force) on Gamma_C from sigma (..., dim, dim) at points with
+        outward ``normals`` (..., dim) and the contact traction g_C (..., dim): with
+        t = sigma n - g_C, p = -t . n and sigma_t - g_t = t - (t . n) n, given as its component
+        along the tangent (-n_y, n_x) in 2D and its length in 3D (zero when frictionless)."""
+        traction = np.einsum("...ij,...j->...i", flux, normals) - load
+        normal = (traction * normals).sum(axis=-1)
+        if self.dim == 2:
+            return -normal, (traction * np.stack([-normals[..., 1], normals[..., 0]], axis=-1)).sum(axis=-1)
+        return -normal, np.linalg.norm(traction - normal[..., None] * normals, axis=-1)
+
+    def _exact_forces(self, case, mesh, points, normals) -> tuple:
+        grad = _gradient_at(case.grad_u, mesh, points, self.dim)
+        return self.contact_forces(self.flux_array(grad), normals, _contact_load(case, mesh, points, self.dim))
 
     def contact_value(self, case, mesh, points, normals) -> np.ndarray:
         """c(u) = -u . n."""
@@ -224,16 +249,12 @@ class Elasticity:
 
     def pressure(self, case, mesh, points, normals) -> np.ndarray:
         """p = -(sigma_n(u) - g_C . n)."""
-        return -(self.traction(case, mesh, points, normals) * normals).sum(axis=-1)
+        return self._exact_forces(case, mesh, points, normals)[0]
 
     def tangential(self, case, mesh, points, normals) -> np.ndarray:
         """sigma_t(u) - g_t (zero for a frictionless contact): its component along the tangent
         (-n_y, n_x) in 2D, its length in 3D."""
-        traction = self.traction(case, mesh, points, normals)
-        if self.dim == 2:
-            return (traction * np.stack([-normals[..., 1], normals[..., 0]], axis=-1)).sum(axis=-1)
-        along = traction - (traction * normals).sum(axis=-1, keepdims=True) * normals
-        return np.linalg.norm(along, axis=-1)
+        return self._exact_forces(case, mesh, points, normals)[1]
 
     def obstacle(self, gap):
         return None if gap is None else -gap
@@ -247,6 +268,11 @@ class Elasticity:
         cartesian = problem.cartesian(u)
         nv, block = problem.mesh.nv, problem.ndof // self.dim
         return np.stack([cartesian[k * block: k * block + nv] for k in range(self.dim)], axis=1)
+
+
+def _gradient_at(grad_u: ngs.CoefficientFunction, mesh, points: np.ndarray, components: int) -> np.ndarray:
+    """grad u at ``points`` (..., dim) as (..., components, dim): row i = grad u_i."""
+    return evaluate(grad_u, mesh, points).reshape(points.shape[:-1] + (components, points.shape[-1]))
 
 
 def _contact_load(case, mesh, points, components: int = 1) -> np.ndarray:

@@ -16,8 +16,8 @@ from .threads import p2_size
 
 
 def has_estimator(case) -> bool:
-    """The residual estimator has terms for 2D scalar problems (``measure.estimator``)."""
-    return case.dimension == 2 and not case.physics.elastic
+    """The residual estimator has terms for 2D problems, scalar and elastic (``measure.estimator``)."""
+    return case.dimension == 2
 
 
 class OneBody:
