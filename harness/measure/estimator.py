@@ -149,7 +149,7 @@ class MeshTerms:
         self.mean_f, self.oscillation = np.zeros((mesh.ne, components)), np.zeros(mesh.ne)
         if not case.f_vanishes:
             for i in range(components):
-                integral, deviation = quadrature.element_moments(case.f if components == 1 else case.f[i], VOLUME_ORDER)
+                integral, deviation = quadrature.element_moments(case.f[i], VOLUME_ORDER)
                 self.mean_f[:, i] = integral / self.area
                 self.oscillation += 2.0 * self.area * deviation              # h_T^2 = 2|T|
 

@@ -1,4 +1,4 @@
-"""The report's mesh study: the cases of the paper limited by one singular point, on graded and
+"""The report's mesh study: cases of the paper limited by one singular point (scalar and elastic), on graded and
 adaptive meshes (``mesh.strategies``), beside the uniform rows of the main study; stored per
 (case, mesh) under ``results/meshes`` and reused while code, case file and settings are unchanged.
 
@@ -21,8 +21,9 @@ from ..methods import BASELINE, MESH_STUDY, PAPER, SWEPT, methods_named
 from .files import write_atomic
 
 MESH_STUDY = {
-    # a junction (r^1/2), a transition point (r^3/2), a junction at 3 pi / 4 (r^2/3)
-    "cases": ("corner-r12", "transition-r32", "wedge-r23"),
+    # a junction (r^1/2), a transition point (r^3/2), a junction at 3 pi / 4 (r^2/3), and the
+    # elastic junction at 3 pi / 4 (r^0.5445: Remark 2.3's body, the elastic estimator)
+    "cases": ("corner-r12", "transition-r32", "wedge-r23", "elastic-wedge"),
     # the methods that declare these roles (``Method.roles``): a cone of each order and Nitsche
     "roles": (MESH_STUDY,),
     "meshes": ("graded", "adaptive"),
