@@ -58,6 +58,6 @@ contact_load = CF((0.0, 0.0, IfPos(x - 0.5, 0.5 * IfPos(x - 0.5, x, 1.0) ** -0.5
 transition_curve = [[(0.0, -1.0), (0.0, 1.0)], [(0.5, -1.0), (0.5, 1.0)]]
 
 # P1 runs one level past P2 by default (to P2's finest number of dofs); that level moved P1's
-# fitted H1 rate by 0.007 (0.531 -> 0.538; measured 2026-11-26 on four levels, docs/guide/cases.md), inside
+# fitted H1 rate by 0.007 (0.531 -> 0.538, measured on four levels with `run --levels 4`), inside
 # the contract's 0.01, so the default report stops P1 with P2.
 asymptotic_levels_p1 = 3

@@ -34,7 +34,7 @@ sphinx_gallery_conf = {
     "abort_on_example_error": True, "download_all_examples": False, "show_memory": False,
     "remove_config_comments": True, "within_subsection_order": "FileNameSortKey",
 }
-exclude_patterns = ["_build", "_generated", "research_3d_contact_and_mortar.md", "tutorials/*"]
+exclude_patterns = ["_build", "_generated", "tutorials/*"]
 html_theme = "furo"
 html_title = f"signorini-harness {release}"
 # the pages link to the repository's files (examples, cases) by relative paths

@@ -208,7 +208,7 @@ def test_done_when_3d_elasticity_reaches_half_a_million_dofs_at_its_rates():
     """Issue 33's acceptance for 3D elasticity: elastic-transition-3d on 4 levels (finest >= 5e5
     P2 dofs), every solve exact (KKT <= 1e-10) by the vector multigrid, the last pairwise H^1
     rate of nodal and of the face-mean mean >= 1.4, of p1 >= 0.9. (The counterexample
-    mean-edges, 0.52 there (docs/guide/cases.md), would cost 50 s more here; its failure is tested on the
+    mean-edges, about 0.5 there, would cost 50 s more here; its failure is tested on the
     scalar 3D cases, tests/test_three_d.py.)"""
     from harness.measure.rates import pairwise_rates
     case = load_case(ELASTIC_3D)
@@ -228,7 +228,7 @@ def test_done_when_3d_elasticity_reaches_half_a_million_dofs_at_its_rates():
 def test_3d_elastic_junction_meets_h_to_the_half_with_every_cone_and_p1():
     """elastic-junction-3d (Gamma_C meets Gamma_g along a line: u ~ r^{1/2}) on three levels
     (P1 four, to 8.4e4 dofs): the last pairwise H^1 rate of `mean`, `nodal` and `p1` within 0.1
-    of 1/2 (measured 0.57, 0.52, 0.54 there; on four levels 0.53, 0.51, 0.53: docs/guide/cases.md), every
+    of 1/2 (measured 0.57, 0.52, 0.54 there; on four levels 0.53, 0.51, 0.53), every
     solve exact."""
     from harness.measure.rates import pairwise_rates
     case = load_case("elastic-junction-3d")

@@ -1,4 +1,5 @@
-"""The `bench` command: runs the benchmark tables, writes each as CSV and prints the goals."""
+"""The `bench` command: runs the benchmark tables, writes each as CSV with its provenance and
+goals beside it (``<name>.json``, read by the docs' performance page) and prints the goals."""
 from __future__ import annotations
 
 import os
@@ -35,44 +36,86 @@ def _tables() -> list[tuple]:
              "a study beside one busy process (`run`, wall seconds; threads: auto = the default policy):", load_goals)]
 
 
+SOLVER_TITLE = ("solver (transition-r32): contact solve against one linear solve by three back ends, the textbook "
+                "PDAS and Clarabel:")
+# the report's tables (``--only report``), by the CSV's suffix
+REPORT_TITLES = {"_report": "make report (default profile, empty results):",
+                 "_report_profile": "where the report's time goes (first variant; study: work of each case's jobs):",
+                 "_report_phases": "the study's seconds by case and phase:"}
+
+
 def bench_names() -> list[str]:
     """What `bench --only` takes: the study row first, then the solver table and the rest."""
     names = [suffix.lstrip("_") for _, suffix, _, _ in _tables()]
     return [names[0], OTHER_BENCHES[0], *names[1:], OTHER_BENCHES[1]]
 
 
+def bench_tables(stem: str = "bench") -> list[tuple[str, str, str]]:
+    """(name `--only` takes, CSV file name, title) of every table `bench` writes beside
+    ``stem``.csv, in the order of ``bench_names``."""
+    suffixes = {suffix.lstrip("_"): [(suffix, title)] for _, suffix, title, _ in _tables()}
+    suffixes[OTHER_BENCHES[0]] = [("", SOLVER_TITLE)]
+    suffixes[OTHER_BENCHES[1]] = list(REPORT_TITLES.items())
+    return [(name, f"{stem}{suffix}.csv", title) for name in bench_names() for suffix, title in suffixes[name]]
+
+
+def command_line() -> str:
+    """This process's command line, as typed: ``python -m harness ...`` when run as the module."""
+    import shlex
+    import sys
+    program = Path(sys.argv[0])
+    typed = "python -m harness" if program.name == "__main__.py" else program.name
+    return " ".join([typed, shlex.join(sys.argv[1:])]).strip()
+
+
 def run_bench_command(args) -> int:
     """`python -m harness bench`: the tables of ``args.only`` (all but the report's by default), each
-    written beside ``args.out``, then every goal with its measured figure."""
+    written beside ``args.out`` with its provenance (``common.write_bench``), then every goal with
+    its measured figure."""
     from ..methods import PAPER, role_names
     from ..study.files import ensure_writable
-    from .common import write_bench
+    from .common import timed
     from .solvers import DEFAULT_SIZES, goals, run_bench
     out = Path(args.out)
     ensure_writable(out.parent)
-    lines = []
+    command, lines = command_line(), []
     for run, suffix, title, judge in _tables():
         if args.only in (None, suffix.lstrip("_")):
-            frame = run()
-            _show(frame, write_bench(frame, out.with_name(out.stem + suffix + ".csv")), title)
-            lines += judge(frame)
+            seconds, frame = timed(run)
+            lines += _publish(frame, _beside(out, suffix), title, judge(frame), seconds, command)
     if args.only in (None, OTHER_BENCHES[0]):
-        frame = run_bench(args.sizes or DEFAULT_SIZES, tuple(args.method or role_names(PAPER)))
-        _show(frame, write_bench(frame, out), "")
-        lines += goals(frame)
+        seconds, frame = timed(run_bench, args.sizes or DEFAULT_SIZES, tuple(args.method or role_names(PAPER)))
+        lines += _publish(frame, out, SOLVER_TITLE, goals(frame), seconds, command)
     if args.only == OTHER_BENCHES[1]:
-        from .report import profile_tables, report_goals, run_report_bench
-        frame, profile = run_report_bench(args.workers or (0,))
-        _show(frame, write_bench(frame, out.with_name(out.stem + "_report.csv")), "make report (default profile, empty results):")
-        sections, phases = profile_tables(profile)
-        _show(sections, write_bench(sections, out.with_name(out.stem + "_report_profile.csv")),
-              "where the report's time goes (first variant; study: work of each case's jobs):")
-        _show(phases.reset_index(), write_bench(phases.reset_index(), out.with_name(out.stem + "_report_phases.csv")),
-              "the study's seconds by case and phase:")
-        lines += report_goals(frame, os.cpu_count())
+        lines += _report_tables(args.workers or (0,), out, command)
     for goal, met, figure in lines:
         print(f"[{'met' if met else 'MISSED'}] {goal}: {figure}")
     return 0
+
+
+def _beside(out: Path, suffix: str) -> Path:
+    return out.with_name(out.stem + suffix + ".csv")
+
+
+def _report_tables(workers, out: Path, command: str) -> list:
+    """The report's three tables from one run of each variant; the goals are the first table's,
+    and each table's wall time is that of the whole run."""
+    from .common import timed
+    from .report import profile_tables, report_goals, run_report_bench
+    seconds, (frame, profile) = timed(run_report_bench, workers)
+    sections, phases = profile_tables(profile)
+    judged = report_goals(frame, os.cpu_count())
+    for table, suffix, own in ((frame, "_report", judged), (sections, "_report_profile", []),
+                               (phases.reset_index(), "_report_phases", [])):
+        _publish(table, _beside(out, suffix), REPORT_TITLES[suffix], own, seconds, command)
+    return judged
+
+
+def _publish(frame: pd.DataFrame, path: Path, title: str, judged: list, seconds: float, command: str) -> list:
+    """``frame`` written to ``path`` with its provenance and shown; its goals (``judged``) returned."""
+    from .common import write_bench
+    _show(frame, write_bench(frame, path, title, judged, seconds, command), title)
+    return judged
 
 
 def _show(frame: pd.DataFrame, path: Path, title: str) -> None:

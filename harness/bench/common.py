@@ -1,8 +1,10 @@
 """What every benchmark shares: a measurement in a fresh process (its peak memory its own),
-short solves repeated and the fastest kept, the CSV written beside the results."""
+short solves repeated and the fastest kept, the CSV written beside the results with what
+measured it (``write_bench``)."""
 from __future__ import annotations
 
 import multiprocessing as mp
+import os
 import time
 from pathlib import Path
 
@@ -131,7 +133,45 @@ def fair_goals(frame: pd.DataFrame, label: str) -> list[tuple[str, bool, str]]:
                        f"{int(r.contact_vcycles)} V-cycles against {int(r.nested_iterations)})" for r in largest.itertuples()))]
 
 
-def write_bench(frame: pd.DataFrame, path: Path) -> Path:
-    from ..study.files import ensure_writable, write_csv
+def cpu_model() -> str | None:
+    """The processor's name as Linux reports it (``/proc/cpuinfo``), or None where it does not."""
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return None
+
+
+def bench_provenance(title: str, goals, wall_seconds: float | None, command: str) -> dict:
+    """What a benchmark table was measured with and what it showed: its title, the harness,
+    NGSolve, the date and the machine (``study.cache.environment``, here with the cores this
+    process may use and the processor's name), the command line, the table's wall seconds and
+    the load averages as it is written, and the goals judged on it ((goal, met, figure) each, as
+    `bench` prints them)."""
+    from ..study.cache import environment
+    from ..study.threads import usable_cpus
+    meta = {"title": title} | environment()
+    meta["machine"] |= {"cpus_usable": usable_cpus(), "cpu_model": cpu_model()}
+    # the machine's load averages (1, 5, 15 minutes) as the table is written: NGSolve's threads
+    # lose many times over beside a busy process, and a table measured so must say it
+    return meta | {"command": command, "wall_seconds": wall_seconds, "load_average": list(os.getloadavg()),
+                   "goals": [{"goal": goal, "met": bool(met), "figure": figure} for goal, met, figure in goals]}
+
+
+def write_bench(frame: pd.DataFrame, path: Path, title: str = "", goals=(), wall_seconds: float | None = None,
+                command: str = "") -> Path:
+    """``frame`` as the CSV ``path``, then beside it (the suffix .json) its provenance
+    (``bench_provenance``) and the SHA-256 of the CSV (``csv_sha256``: a sidecar left from
+    another run of the table, or a run killed between the two files, does not match it); each
+    file written atomically."""
+    import hashlib
+    import json
+
+    from ..study.files import ensure_writable, write_atomic, write_csv
     ensure_writable(path.parent)
-    return write_csv(frame, path)
+    write_csv(frame, path)
+    meta = bench_provenance(title, goals, wall_seconds, command) | {"csv_sha256": hashlib.sha256(path.read_bytes()).hexdigest()}
+    write_atomic(path.with_suffix(".json"), json.dumps(meta, indent=2))
+    return path

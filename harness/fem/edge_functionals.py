@@ -12,7 +12,7 @@ the general-constraint active set method (``solvers.general_constraints``) as th
 triangle means are (``face_means``).
 
 On an edge, NGSolve's hierarchical P2 trace is v(t) = (1 - t) v_a + t v_b - c_e t (1 - t) / 2
-(docs/mathematics.md §5), so each functional is a row with (sum w (1 - t), sum w t,
+(docs/mathematics.md §3), so each functional is a row with (sum w (1 - t), sum w t,
 -sum w t (1 - t) / 2) on (v_a, v_b, c_e): exact for every P2 function, whatever the rule.
 """
 from __future__ import annotations

@@ -56,19 +56,24 @@ def git_commit() -> str:
         return "unknown"
 
 
-def provenance(settings: dict, methods=()) -> dict:
-    """What a stored result was computed with: the harness, NGSolve, the machine, the study's
-    settings and the solver settings (``solvers.SolverOptions``: the defaults, and any of
-    ``methods`` that solves with others, by name)."""
-    solver = {"default": SolverOptions().as_dict()} | {m.name: m.solver.as_dict() for m in methods if m.solver != SolverOptions()}
+def environment() -> dict:
+    """What computed a result, now: the harness (version and commit), NGSolve, the date and the
+    machine. Every stored result records it (``provenance``), and so does every benchmark table
+    (``bench.common.write_bench``)."""
     return {
         "harness_version": __version__, "git_commit": git_commit(), "ngsolve_version": ngs.__version__,
         "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         "machine": {"node": platform.node(), "platform": platform.platform(), "processor": platform.machine(),
                     "cpus": os.cpu_count(), "python": platform.python_version()},
-        "settings": settings,
-        "solver_options": solver,
     }
+
+
+def provenance(settings: dict, methods=()) -> dict:
+    """What a stored result was computed with: the harness, NGSolve, the machine (``environment``),
+    the study's settings and the solver settings (``solvers.SolverOptions``: the defaults, and any
+    of ``methods`` that solves with others, by name)."""
+    solver = {"default": SolverOptions().as_dict()} | {m.name: m.solver.as_dict() for m in methods if m.solver != SolverOptions()}
+    return environment() | {"settings": settings, "solver_options": solver}
 
 
 def cache_key(case: Case, settings: dict) -> str:
