@@ -377,8 +377,9 @@ def _add_run(sub) -> None:
     add_method_options(p)
     p.add_argument("--levels", type=_positive_int, default=5, help="number of mesh levels (0..L-1)")
     p.add_argument("--reference-levels", type=_positive_int, metavar="K",
-                   help="measure errors against each method's solution K levels finer than its finest "
-                        "(a case without u: default 2 or its own; a case with u: instead of u)")
+                   help="measure every method's errors against one reference, the nodal P2 solution K "
+                        "levels finer than P2's finest studied level (a case without u: default 2 or its "
+                        "own; a case with u: instead of u)")
     add_mesh_option(p)
     p.add_argument("--out", default="results", metavar="DIR")
     p.add_argument("--quiet", action="store_true", help="no progress bar or table")
