@@ -56,6 +56,8 @@ f = 0
 contact_load = CF((0.0, 0.0, IfPos(x - 0.5, 0.5 * IfPos(x - 0.5, x, 1.0) ** -0.5, 0.0)))
 # the junction line (where Gamma_C meets Gamma_g) and the transition line, drawn on Gamma_C's pictures
 transition_curve = [[(0.0, -1.0), (0.0, 1.0)], [(0.5, -1.0), (0.5, 1.0)]]
+# the same lines in space (z = 0), graded meshes refine toward both (with nu's exponent 1/2, the junction's)
+singular_lines = [((0.0, -1.0, 0.0), (0.0, 1.0, 0.0)), ((0.5, -1.0, 0.0), (0.5, 1.0, 0.0))]
 
 # P1 runs one level past P2 by default (to P2's finest number of dofs); that level moved P1's
 # fitted H1 rate by 0.007 (0.531 -> 0.538, measured on four levels with `run --levels 4`), inside

@@ -35,6 +35,8 @@ expected_rate = 1.5
 
 geometry = contact_box(split_at=0.0)
 transition_curve = [[(0.0, -1.0), (0.0, 1.0)]]
+# the same line in space, {x = 0, z = 0}: u ~ rho^{3/2} in the distance to it, graded meshes refine toward it
+singular_lines = [((0.0, -1.0, 0.0), (0.0, 1.0, 0.0))]
 # three P2 unknowns per node: a coarser start than the scalar 3D cases (maxh 0.25); level 3
 # has 5.9e5 dofs
 maxh = 0.4

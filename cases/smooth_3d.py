@@ -24,6 +24,8 @@ expected_rate = 2.0
 geometry = contact_box(split_at=0.0)
 # the exact transition curve on Gamma_C, drawn on the report's pictures of it
 transition_curve = [[(0.0, -1.0), (0.0, 1.0)]]
+# nothing to grade toward (u in H^{7/2 - eps}: a graded P2 mesh is a uniform one)
+singular_lines = []
 maxh = 0.25
 
 w = 1 + 0.5 * y * y

@@ -32,6 +32,8 @@ expected_rate = 1.5
 geometry = contact_box(split_at=0.0)
 # the exact transition curve on Gamma_C, drawn on the report's pictures of it
 transition_curve = [[(0.0, -1.0), (0.0, 1.0)]]
+# the same line in space, {x = 0, z = 0}: u ~ rho^{3/2} in the distance to it, graded meshes refine toward it
+singular_lines = [((0.0, -1.0, 0.0), (0.0, 1.0, 0.0))]
 maxh = 0.25
 
 v = transition(0.0, binding_side="right", coordinates="xz")

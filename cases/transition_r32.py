@@ -8,9 +8,7 @@ u is harmonic (f = 0). On Gamma_C:
 Regularity: D^2 u ~ r^{-1/2} is in H^s for s < 1/2 only, so u is in H^{5/2 - eps} and in no
 H^{5/2}: nu = 5/2 (from below). Theorems 4.1 ii and 5.1 ii give ||u - u_h||_1 <= C h^{3/2}.
 """
-from ngsolve import atan2, sin, sqrt, x, y
-
-from harness.problem.functions import transition_gradient
+from harness.problem.functions import transition, transition_gradient
 from harness.problem.geometry import contact_strip
 
 name = "transition-r32"
@@ -25,8 +23,11 @@ expected_log_exponent = 0.0
 geometry = contact_strip(breaks=[0.0])
 maxh = 0.25
 
-r = sqrt(x * x + y * y)
-u = -(r ** 1.5) * sin(1.5 * atan2(y, x))
+# u = -r^{3/2} sin(3 theta/2) with theta's branch cut outside the body (``functions.transition``):
+# written with atan2(y, x), a Gamma_C point with x < 0 that NGSolve's map of a bisected triangle
+# puts at y = -1e-17 got theta = -pi, and u there the wrong sign (the trace error of graded and
+# adaptive rows was wrong; uniform meshes did not meet it)
+u = transition(0.0)
 grad_u = transition_gradient(0.0)   # in closed form: a third of the derived one's cost per point
 f = 0                         # u is harmonic
 singular_points = [(0.0, 0.0)]  # the transition point

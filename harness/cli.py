@@ -194,12 +194,21 @@ def report_failures(frame: pd.DataFrame) -> int:
 
 
 def _print_references(frame: pd.DataFrame) -> None:
-    """One line per reference solve: where the errors of a case without u come from."""
+    """One line per reference solve, or per chain of references (graded and adaptive meshes: one
+    per level, ``measure.level_reference``): where the errors of a case without u come from."""
     measured = frame[frame["errors_against"] == "reference"]
-    for case, group in measured.groupby("case", sort=False):
+    for (case, mesh), group in measured.groupby(["case", "mesh"], sort=False, dropna=False):
         first = group.iloc[0]
-        print(f"{case}: errors of every method against {_reference_words(first)} on level {int(first.reference_level)} "
-              f"({int(first.reference_ndof)} dofs, KKT residual {first.reference_kkt_residual:.1e}, {first.reference_status})")
+        if group["reference_level"].nunique() == 1:
+            print(f"{case}: {_mesh_words(mesh)}errors of every method against {_reference_words(first)} on level "
+                  f"{int(first.reference_level)} ({int(first.reference_ndof)} dofs, KKT residual "
+                  f"{first.reference_kkt_residual:.1e}, {first.reference_status})")
+            continue
+        refinements = int(first.reference_level - first.level)
+        statuses = ", ".join(sorted(set(group["reference_status"])))
+        print(f"{case}: {_mesh_words(mesh)}errors of each level against {_reference_words(first)} on that level's mesh "
+              f"refined uniformly {refinements} times ({int(group.reference_ndof.min())} to {int(group.reference_ndof.max())} "
+              f"dofs, KKT residual <= {group.reference_kkt_residual.max():.1e}, {statuses})")
 
 
 def cmd_sweep(args) -> int:

@@ -203,3 +203,22 @@ def test_gamma_c_points_located_without_search_are_netgens_points(case_name, lev
         searched = evaluate(cf, problem.mesh, quadrature.points)
         np.testing.assert_allclose(direct, searched, rtol=1e-12, atol=1e-12 * np.abs(searched).max())
         contact_quadrature(problem)
+
+
+def test_the_trace_of_u_on_a_bisected_mesh_has_no_branch_cut_on_gamma_c():
+    """transition-r32's u = |x|^{3/2} on the free part of Gamma_C (x < 0) and 0 on the binding
+    part: at the Gamma_C Gauss points of a graded (bisected) mesh, which NGSolve's element map
+    may put at y = -1e-17, the case's u has those values (written with atan2(y, x), it had the
+    opposite sign there, and the trace error of graded and adaptive rows was 1e3 times too large)."""
+    from harness.fem.contact_quadrature import contact_quadrature
+    from harness.measure.errors import CONTACT_ERROR_POINTS
+    from harness.mesh.strategies import MeshStrategy
+    from harness.problem.case import load_case
+    case = load_case("transition-r32")
+    for level in MeshStrategy("graded").sequence(case, 2).levels(2):
+        mesh = level.mesh
+    problem = discretise(case, mesh, 2)
+    q = contact_quadrature(problem, CONTACT_ERROR_POINTS)         # the error measurement's points
+    values = case.physics.contact_value(case, mesh, q.points, q.normals)
+    x = q.points[:, 0]
+    assert np.allclose(values, np.where(x < 0, np.abs(x) ** 1.5, 0.0), atol=1e-12)

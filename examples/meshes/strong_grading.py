@@ -12,7 +12,7 @@ A strategy is any object with a ``label`` (the rows' ``mesh`` column), ``applies
 from dataclasses import dataclass
 
 from harness.mesh.bisection import GradedRefinement
-from harness.mesh.strategies import MeshStrategy, singular_points
+from harness.mesh.strategies import MeshStrategy, singular_lines, singular_points
 
 
 @dataclass(frozen=True)
@@ -30,7 +30,7 @@ class Grading:
         return method.order         # the grading does not depend on k here, but its budget does
 
     def sequence(self, case, order: int):
-        sequence = GradedRefinement(case, case.nu - 1.0, order, singular_points(case))
+        sequence = GradedRefinement(case, case.nu - 1.0, order, singular_points(case), singular_lines(case))
         sequence.mu = self.mu
         return sequence
 

@@ -189,8 +189,11 @@ def ndof_rates(group: pd.DataFrame, error: str, levels: int, tolerance: float = 
 
 
 def space_dimension(group: pd.DataFrame) -> int:
-    """d of the levels' meshes: read off N ~ h^-d on uniform meshes (a results file does not
-    say it otherwise); graded and adaptive meshes are 2D."""
+    """d of the levels' meshes: the rows' ``dimension``; in a results file written before that
+    column, read off N ~ h^-d on uniform meshes, and 2 on graded and adaptive ones (they were 2D
+    only then)."""
+    if "dimension" in group and np.isfinite(group.dimension.iloc[0]):
+        return int(group.dimension.iloc[0])
     if group.mesh.iloc[0] != "uniform" or len(group) < 2:
         return 2
     return int(round(-np.polyfit(np.log(group.h.astype(float)), np.log(group.ndof.astype(float)), 1)[0]))

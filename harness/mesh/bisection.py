@@ -16,7 +16,7 @@ from .levels import Level, coarse_mesh, mesh_size
 from .points import cells, coordinates
 
 # Graded meshes: the size function h(r) = H (r / R)^(1 - mu) holds within GRADING_RADIUS of a
-# singular point (h = H beyond). A fixed length of the cases' scale (their domains are about 2 x 1):
+# singular point or line (h = H beyond). A fixed length of the cases' scale (their domains are about 2 x 1):
 # it changes the constant of N(H), not the rate.
 GRADING_RADIUS = 0.5
 # mu = GRADING_MARGIN * lambda / k: strictly inside Apel's condition mu < lambda / k (at equality
@@ -67,7 +67,8 @@ def grading_exponent(lam: float, order: int) -> float:
     """mu of the graded mesh h_T ~ H r^(1 - mu) for P_order near a point where u ~ r^lam.
 
     T. Apel, A.-M. Sändig and J. R. Whiteman, Math. Methods Appl. Sci. 19 (1996) 63-85: on such
-    meshes P_k reaches the error of a smooth solution, ||u - u_h||_1 <= C H^k = C N^(-k/2),
+    meshes P_k reaches the error of a smooth solution, ||u - u_h||_1 <= C H^k = C N^(-k/2) (in 3D
+    near an edge the same condition gives N^(-k/3), ``GradedRefinement``),
     for mu < lam / k (their Theorem for k = 1 with mu < lam; the same local interpolation
     argument for P_k, Apel's survey "Anisotropic finite elements", Teubner 1999, Section 3);
     equivalently radial meshes r_i = R (i/n)^beta with beta = 1/mu > k / lam. mu = 1 is
@@ -77,14 +78,35 @@ def grading_exponent(lam: float, order: int) -> float:
     return min(1.0, GRADING_MARGIN * lam / order)
 
 
+def distance_to_segments(points: np.ndarray, segments: np.ndarray) -> np.ndarray:
+    """The distance of each of ``points`` (n, d) to the nearest of ``segments`` (m, 2, d), a
+    segment from ``[k, 0]`` to ``[k, 1]`` (a point where the two coincide); inf if m = 0.
+    One segment at a time: O(n) memory for the polylines of curved singular lines too."""
+    nearest = np.full(len(points), np.inf)
+    for a, b in np.asarray(segments, dtype=float):
+        direction = b - a
+        length2 = float(direction @ direction)
+        t = np.zeros(len(points)) if length2 == 0 else np.clip((points - a) @ direction / length2, 0.0, 1.0)
+        np.minimum(nearest, np.linalg.norm(points - a - t[:, None] * direction, axis=1), out=nearest)
+    return nearest
+
+
 class GradedRefinement:
     """Remark 4.4's meshes: level l satisfies h_T <= H_l min(1, r_T / R)^(1 - mu) on every element
-    T (r_T: the distance of its centroid to the nearest singular point, R = GRADING_RADIUS),
-    with H_l = GRADED_START maxh 2^-l, so that N grows by about 4 per level as on uniform meshes (the size
-    function's integral, N ~ H^-2 int h(r)^-2 ... r dr, is finite for mu > 0). Made by bisecting
-    the violating elements until none is left, from the previous level: nested.
+    T (r_T: the distance of its centroid to the nearest singular point or singular line,
+    R = GRADING_RADIUS), with H_l = GRADED_START maxh 2^-l, so that N grows by about 2^d per level
+    as on uniform meshes in d dimensions. N ~ H^-d int h(r)^-d dV is finite for mu > 0 about a
+    point; about a line (3D: dV ~ r dr) for 3 (1 - mu) < 2, i.e. mu > 1/3 (else N ~ H^(-1/mu),
+    the smallest elements ~ H^(1/mu) across dominating). Made by bisecting the violating elements
+    until none is left, from the previous level: nested.
 
-    ``lam``: the exponent of the case's leading singularity (nu - 1); ``order``: the method's k.
+    In 3D the singular sets of a case are lines, an edge singularity u ~ r^lam in the distance
+    r to the line, smooth along it: isotropic grading h_T ~ H r^(1 - mu) with mu < lam / k gives
+    P_k the optimal N^(-k/3) (Apel & Nicaise, Math. Methods Appl. Sci. 21 (1998); uniform meshes:
+    h^lam = N^(-lam/3)); the same ``grading_exponent`` as in 2D.
+
+    ``lam``: the exponent of the case's leading singularity (nu - 1); ``order``: the method's k;
+    ``points`` (p, d) and ``lines`` (m, 2, d, segments): the singular sets.
     """
 
     name = "graded"
@@ -95,34 +117,52 @@ class GradedRefinement:
     def observe(self, indicators) -> None:
         pass
 
-    def __init__(self, case, lam: float, order: int, points: np.ndarray):
+    def __init__(self, case, lam: float, order: int, points: np.ndarray, lines: np.ndarray = ()):
         self.case, self.order = case, order
         self.mu = grading_exponent(lam, order)
-        self.points = np.asarray(points, dtype=float).reshape(-1, 2)
+        dim = case.dimension
+        points = np.asarray(points, dtype=float).reshape(-1, dim)
+        lines = np.asarray(lines, dtype=float).reshape(-1, 2, dim)
+        # a point is a segment of length 0
+        self.segments = np.concatenate([np.stack([points, points], axis=1), lines])
+
+    def distance(self, centroids: np.ndarray) -> np.ndarray:
+        """r: the distance of each centroid to the nearest singular point or line."""
+        return distance_to_segments(centroids, self.segments)
 
     def target(self, H: float, centroids: np.ndarray) -> np.ndarray:
-        if not len(self.points) or self.mu >= 1.0:
+        if not len(self.segments) or self.mu >= 1.0:
             return np.full(len(centroids), H)
-        r = np.min(np.linalg.norm(centroids[:, None, :] - self.points[None, :, :], axis=2), axis=1)
-        return H * np.minimum(1.0, r / GRADING_RADIUS) ** (1.0 - self.mu)
+        return H * np.minimum(1.0, self.distance(centroids) / GRADING_RADIUS) ** (1.0 - self.mu)
 
-    def grade(self, mesh: ngs.Mesh, H: float) -> int:
-        """Bisect until h(r) holds; the number of sweeps it took."""
+    def grade(self, mesh: ngs.Mesh, H: float, limit: float = np.inf) -> int | None:
+        """Bisect until h(r) holds; the number of sweeps it took, or None once the mesh has more
+        than ``limit`` elements (the level is abandoned half made)."""
         for sweep in range(MAX_SWEEPS):
             sizes, centroids = element_sizes(mesh)
             marked = sizes > self.target(H, centroids) * (1 + 1e-9)
             if not marked.any():
                 return sweep
+            if mesh.ne > limit:
+                return None
             refine_marked(mesh, marked)
         raise RuntimeError(f"graded mesh of {self.case.name}: {MAX_SWEEPS} bisection sweeps did not meet h(r) at H = {H:g}")
 
     def levels(self, count: int) -> Iterator[Level]:
+        """Levels 0..count-1, but none past the uniform level count - 1's number of elements
+        (2^d times the coarse mesh's per level): the study's budget (``study.one_body``), which
+        would drop such a level; its bisection stops as soon as it has more (in 3D, where mu < 1/3
+        makes N ~ H^(-1/mu), the level past the budget could be ten times it)."""
         mesh = coarse_mesh(self.case)
+        limit = mesh.ne * (2 ** mesh.dim) ** (count - 1)
         H = GRADED_START * self.case.maxh
         index = 0
         while index < count:
+            sweeps = self.grade(mesh, H, limit if index else np.inf)
+            if sweeps is None:
+                return
             # an H the mesh already meets (the coarse mesh, at the first halvings) is no new level
-            if self.grade(mesh, H) or index == 0:
+            if sweeps or index == 0:
                 yield Level(index, mesh, mesh_size(mesh))
                 index += 1
             H /= 2

@@ -1,7 +1,7 @@
 """The mesh axis of a study: a strategy names how a case's level sequence is made::
 
     uniform     red refinement of the case's netgen mesh (``levels.UniformRefinement``)
-    graded      a priori grading toward the singular points, Remark 4.4 (``bisection.GradedRefinement``)
+    graded      a priori grading toward the singular points (and lines, 3D), Remark 4.4 (``bisection.GradedRefinement``)
     adaptive    SOLVE -> ESTIMATE -> MARK -> REFINE (``bisection.AdaptiveRefinement``); a
                 parameter, ``adaptive:theta=0.3`` (Dörfler's bulk fraction, default 0.5)
 
@@ -81,10 +81,13 @@ class MeshStrategy:
             return None
         if case.bodies != 1:
             return "graded and adaptive meshes refine one body (two bodies: uniform meshes only)"
-        if not case.exact:
-            return "graded and adaptive meshes need an exact case (errors against a reference need uniform refinement)"
-        if case.dimension != 2:
-            return "graded and adaptive meshes are 2D only"
+        if not case.exact and case.dimension != 2:
+            # each level's own reference (``measure.level_reference``) embeds u_h exactly in 2D only
+            return "errors against a reference on graded and adaptive meshes are 2D only (the exact P2 embedding)"
+        if case.dimension != 2 and self.name == "adaptive":
+            return "adaptive meshes need the residual estimator, 2D only"
+        if case.dimension != 2 and case.singular_points is None and case.singular_lines is None:
+            return "a graded 3D mesh needs the case's singular_lines or singular_points"
         if self.name == "graded" and not (case.nu > 1):
             return "a graded mesh needs the case's nu (its singular exponent nu - 1)"
         return None
@@ -98,23 +101,33 @@ class MeshStrategy:
         if self.name == "uniform":
             return UniformRefinement(case)
         if self.name == "graded":
-            return GradedRefinement(case, case.nu - 1.0, order, singular_points(case))
+            return GradedRefinement(case, case.nu - 1.0, order, singular_points(case), singular_lines(case))
         return AdaptiveRefinement(case, self.theta)
 
 
 def element_budget(case, levels: int, extra_levels: int = 0) -> int:
-    """The triangles of the uniform level ``levels`` - 1 (+ ``extra_levels``, P1's): where a
-    graded or adaptive chain stops, so that it gets the uniform chain's budget of dofs."""
-    return coarse_mesh(case).ne * 4 ** (levels - 1 + extra_levels)
+    """The elements of the uniform level ``levels`` - 1 (+ ``extra_levels``, P1's): where a
+    graded or adaptive chain stops, so that it gets the uniform chain's budget of dofs. Red
+    refinement makes 2^d elements of each (``mesh.levels.mesh_hierarchy``): 4 triangles, 8
+    tetrahedra."""
+    return coarse_mesh(case).ne * (2 ** case.dimension) ** (levels - 1 + extra_levels)
 
 
 def singular_points(case) -> np.ndarray:
-    """The case's declared singular points, else every point of its geometry (as the error
-    quadrature takes them, ``fem.element_quadrature.singular_vertices``)."""
+    """The case's declared singular points (p, d), else in 2D every point of its geometry (as
+    the error quadrature takes them, ``fem.element_quadrature.singular_vertices``); in 3D none
+    (its singular sets are lines, ``singular_lines``)."""
     if case.singular_points is not None:
-        return np.asarray(case.singular_points, dtype=float).reshape(-1, 2)
+        return np.asarray(case.singular_points, dtype=float).reshape(-1, case.dimension)
+    if case.dimension != 2:
+        return np.zeros((0, case.dimension))
     mesh = coarse_mesh(case)
     return coordinates(mesh)[geometry_vertices(mesh)]
+
+
+def singular_lines(case) -> np.ndarray:
+    """The case's declared singular lines (3D), as segments (m, 2, 3); none if it declares none."""
+    return np.asarray(case.singular_lines or (), dtype=float).reshape(-1, 2, case.dimension)
 
 
 def parse_mesh(spec) -> list:

@@ -31,8 +31,15 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            quadrature point, where the derived one of a deep u (logs, powers,
                            oscillations) costs twice as much; checked against the derived one
     singular_points        optional list of points (x, y) where u is singular, each a polygon
-                           corner; the error and load quadratures are graded there. Default:
-                           every point of the geometry. [] for a solution singular nowhere.
+                           corner; the error and load quadratures are graded there, graded
+                           meshes toward them. Default: every point of the geometry. [] for a
+                           solution singular nowhere. In 3D points (x, y, z), for graded meshes
+                           only (no vertex needed there)
+    singular_lines         optional (3D), the straight lines along which u is singular (an edge
+                           singularity r^(nu - 1) in the distance r to the line), each a segment
+                           ((x, y, z), (x, y, z)): graded meshes refine toward them. A 3D case
+                           on graded meshes declares these or singular_points ([]: singular
+                           nowhere)
     physics                optional, "scalar" (default) or "elasticity" (Remark 2.3; see below)
     transition_curve       optional (3D), the exact contact/separation curves on Gamma_C: a
                            list of polylines, each a list of points (x, y) of the plane of
@@ -145,6 +152,7 @@ class Case:
     declared_f: object = None                  # the module's f: a number or a CoefficientFunction
     declared_grad_u: ngs.CoefficientFunction | None = None     # the module's grad_u
     singular_points: tuple | None = None
+    singular_lines: tuple | None = None                # 3D: segments ((x, y, z), (x, y, z))
     source: str = ""
     dirichlet: ngs.CoefficientFunction | None = None   # reference cases: u_D on Gamma_u
     neumann: ngs.CoefficientFunction | None = None     # reference cases: g on Gamma_g

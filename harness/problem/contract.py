@@ -83,14 +83,38 @@ def check_declared(module, source: str) -> None:
             continue
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             raise CaseError(f"case {source}: {key} must be an NGSolve CoefficientFunction or a finite number, got {value!r}")
+    check_singular_sets(module, source)
+
+
+def _points_of(values, count: int | None) -> bool:
+    """``values`` is a sequence of points of finite numbers, each of ``count`` coordinates."""
+    try:
+        return all(len(point) == count and all(math.isfinite(float(c)) for c in point) for point in values)
+    except (TypeError, ValueError):
+        return False
+
+
+def check_singular_sets(module, source: str) -> None:
+    """singular_points: points of the geometry's dimension; singular_lines (3D only): segments,
+    each two distinct 3D points."""
+    dimension = geometry_dimension(module.geometry) if hasattr(module, "geometry") else 2
     points = getattr(module, "singular_points", None)
-    if points is not None:
-        try:
-            ok = all(len(point) == 2 and all(math.isfinite(float(c)) for c in point) for point in points)
-        except (TypeError, ValueError):
-            ok = False
-        if not ok:
-            raise CaseError(f"case {source}: singular_points must be a list of (x, y) pairs of finite numbers, got {points!r}")
+    if points is not None and not _points_of(points, dimension):
+        pair = "(x, y) pairs" if dimension == 2 else "(x, y, z) triples (a 3D geometry)"
+        raise CaseError(f"case {source}: singular_points must be a list of {pair} of finite numbers, got {points!r}")
+    lines = getattr(module, "singular_lines", None)
+    if lines is None:
+        return
+    if dimension != 3:
+        raise CaseError(f"case {source}: singular_lines are 3D only (a 2D case declares singular_points), got {lines!r}")
+    try:
+        ok = all(len(line) == 2 and _points_of(line, 3) and tuple(map(float, line[0])) != tuple(map(float, line[1]))
+                 for line in lines)
+    except TypeError:
+        ok = False
+    if not ok:
+        raise CaseError(f"case {source}: singular_lines must be a list of segments ((x, y, z), (x, y, z)) of finite "
+                        f"numbers with distinct ends, got {lines!r}")
 
 
 def check_second_body(case, source: str) -> None:
@@ -128,7 +152,8 @@ def reference_levels(module, source: str) -> int:
 def optional_fields(module) -> dict:
     fields = {}
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
-                "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile", "second_body"):
+                "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile", "second_body",
+                "singular_lines"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):
@@ -137,6 +162,8 @@ def optional_fields(module) -> dict:
         fields["transition_curve"] = tuple(tuple(tuple(map(float, p)) for p in line) for line in fields["transition_curve"])
     if fields.get("singular_points") is not None:
         fields["singular_points"] = tuple(tuple(map(float, point)) for point in fields["singular_points"])
+    if fields.get("singular_lines") is not None:
+        fields["singular_lines"] = tuple(tuple(tuple(map(float, point)) for point in line) for line in fields["singular_lines"])
     for key in ("gap", "contact_load"):
         if fields.get(key) is not None:
             fields[key] = ngs.CF(fields[key])

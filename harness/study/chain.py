@@ -9,11 +9,13 @@ import inspect
 import ngsolve as ngs
 
 from ..measure.errors import ExactErrors
+from ..measure.level_reference import LevelReferenceErrors
 from ..measure.reference import ReferenceErrors, reference_method
-from ..mesh.levels import LevelSequence
+from ..mesh.levels import LevelSequence, UniformRefinement
 from ..mesh.strategies import UNIFORM, MeshStrategy
 from ..methods import Method, methods_for
 from ..problem.case import Case
+from . import threads
 from .one_body import OneBody
 from .rows import COLUMNS, PHASES, ChainOutput, Phases, study_levels  # noqa: F401 (COLUMNS, PHASES: their home was here)
 from .two_body import run_two_body_chain
@@ -138,36 +140,51 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
         if mesh != UNIFORM or sequence is not None:
             raise ValueError(f"case {case.name}: two bodies are refined uniformly only (graded and adaptive meshes: not yet)")
         return run_two_body_chain(case, methods, levels, progress, phases, on_level)
-    requested = {m.name for m in methods_for(case, methods)}      # the weak methods are scalar and 2D only
-    methods = chain_methods(case, methods)
-    sequence = sequence or mesh.sequence(case, max(m.order for m in methods))
+    own = methods_for(case, methods)        # the weak methods are scalar and 2D only
+    requested = {m.name for m in own}
+    sequence = sequence or mesh.sequence(case, max(m.order for m in own))
+    per_level = per_level_reference(case, sequence)
+    reference = reference_of(case, methods)
+    methods = own if per_level else chain_methods(case, methods)
     if sequence.adaptive:
         check_adaptive(case, methods)
         # its meshes come from its solves: a killed adaptive chain starts again (no checkpoints)
         checkpoints = None
-    plan = chain_plan(case, methods, requested, levels, sequence.adaptive)
+    plan = chain_plan(case, methods, requested, levels, sequence.adaptive, per_level)
     discretisation = OneBody(case, sequence, levels, max(m.extra_levels for m in methods))
-    return ChainWalk(case, methods, plan, discretisation, error_measure(case, methods, plan, phases), mesh.label,
-                     phases, progress, on_level, checkpoints).run()
+    measure = (LevelReferenceErrors(case, {m.name: m.order for m in methods}, reference, phases, threads.level)
+               if per_level else error_measure(case, methods, plan, phases))
+    return ChainWalk(case, methods, plan, discretisation, measure, mesh.label, phases, progress, on_level,
+                     checkpoints).run()
+
+
+def per_level_reference(case: Case, sequence: LevelSequence) -> bool:
+    """Whether a chain of ``case`` on ``sequence`` measures each level against its own
+    reference (``measure.level_reference``): a case without u on meshes that are not the
+    uniform red refinements one reference k levels finer is nested in (graded, adaptive, a
+    strategy of your own)."""
+    return not case.exact and not isinstance(sequence, UniformRefinement)
 
 
 def check_adaptive(case: Case, methods: list[Method]) -> None:
     """Refuse what an adaptive mesh cannot serve."""
-    if not case.exact:
-        raise ValueError(f"case {case.name}: adaptive meshes need an exact case (reference errors need uniform refinement)")
     if len(methods) != 1:
         raise ValueError("an adaptive mesh serves one method: run one chain per method")
 
 
-def chain_plan(case: Case, methods: list[Method], requested: set[str], levels: int, adaptive: bool) -> ChainPlan:
+def chain_plan(case: Case, methods: list[Method], requested: set[str], levels: int, adaptive: bool,
+               per_level: bool = False) -> ChainPlan:
     """How many levels each of ``methods`` solves (``chain_levels``); one not ``requested`` (the
-    reference method a case without u needs) none with rows."""
+    reference method a case without u needs) none with rows. ``per_level``: each level has its
+    own reference (``per_level_reference``), no chain runs past its studied levels."""
     if adaptive:
         # every level of an adaptive chain after the first: as many as it takes to reach the
         # budget (or MAX_ADAPTIVE_LEVELS)
         every = {m.name: MAX_ADAPTIVE_LEVELS for m in methods}
         return ChainPlan(every, every)
     studied = {m.name: study_levels(m, levels) if m.name in requested else 0 for m in methods}
+    if per_level:
+        return ChainPlan(studied, dict(studied))
     chain = {m.name: chain_levels(case, m, levels, methods) for m in methods}
     reference = reference_of(case, methods)
     return ChainPlan(studied, chain, None if reference is None else reference.name)

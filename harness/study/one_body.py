@@ -32,6 +32,7 @@ class OneBody:
         # nested meshes only: its prolongations are the refinement's); else the solves factorise
         self.hierarchical = case.physics.multigrid and sequence.nested
         self.estimating = has_estimator(case)
+        self.adaptive = sequence.adaptive
         self._multilevel = None
 
     def levels(self, count: int) -> Iterator[Level]:

@@ -11,13 +11,13 @@ from dataclasses import dataclass
 from ..methods import Method
 
 COLUMNS = [
-    "case", "method", "order", "parameters", "mesh", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
+    "case", "method", "order", "parameters", "mesh", "dimension", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",
     "err_l2", "err_energy", "err_best_h1", "err_best_h1_semi", "err_best_energy", "err_h1_over_best", "err_trace_l2", "err_pressure_l2", "err_pressure_h12",
     # the residual a posteriori estimator eta (``measure.estimator``; NaN where it has no terms:
     # elasticity, 3D) and eta / err_energy on the exact cases
     "estimator", "effectivity",
     "max_penetration", "max_tension", "min_pressure", "active_constraints", "solver_iterations", "linear_iterations",
-    "kkt_residual", "backward_error", "solve_seconds", "total_seconds", "status",
+    "kkt_residual", "backward_error", "solve_seconds", "total_seconds", "estimate_seconds", "measure_seconds", "status",
     # what the errors are measured against: "exact" (u), or "reference" (the solution of
     # reference_method, nodal, on level reference_level, with its KKT residual and status)
     "errors_against", "reference_level", "reference_ndof", "reference_kkt_residual", "reference_status",
@@ -32,6 +32,7 @@ COLUMN_MEANINGS = {
     "case": "the case's name", "method": "the method's name (with its parameters: `nitsche:gamma0=0.1`)",
     "order": "the finite element order k", "parameters": "the method's parameter values, `name=value` separated by spaces",
     "mesh": "the mesh strategy (`uniform`, `graded`, `adaptive`, or a strategy of your own)",
+    "dimension": "the space dimension d of the case (N-rates: the best P_k can do is N^{-k/d})",
     "level": "the level of the chain, from 0", "h": "the largest element diameter", "ndof": "the number of dofs of the level",
     "n_contact_constraints": "the number of contact constraints (cones; 0 for weak methods)",
     "err_h1": "‖u − u_h‖ in H¹ (against u, or against the reference: `errors_against`)",
@@ -51,7 +52,12 @@ COLUMN_MEANINGS = {
     "solver_iterations": "active set or Newton iterations", "linear_iterations": "CG iterations, or LU factorisations",
     "kkt_residual": "the KKT residual (cones), the Newton residual (weak methods) or the method's own residual, relative to the loads",
     "backward_error": "the same forces over ‖K‖‖u_h‖ + ‖b‖ (normwise backward error)",
-    "solve_seconds": "the contact solve's wall time", "total_seconds": "mesh, assembly, set-up and solve of the level for the method",
+    "solve_seconds": "the contact solve's wall time",
+    "total_seconds": "mesh (refinement and the multigrid's hierarchy), assembly, set-up and solve of the level for the "
+                     "method; on adaptive meshes also ESTIMATE and MARK (`estimate_seconds`), steps of that algorithm",
+    "estimate_seconds": "the residual estimator of the row's solve: its level's set-up and the indicators",
+    "measure_seconds": "the harness's measurement of the row (errors, best approximation; a level's shared part split "
+                       "over its rows): in no user's cost, so `total_seconds` leaves it out",
     "status": "`converged`, or why not", "errors_against": "`exact` (u) or `reference`",
     "reference_level": "the reference's level", "reference_ndof": "its dofs", "reference_kkt_residual": "its KKT residual",
     "reference_status": "its status", "reference_method": "the method that solved it (the role REFERENCE)",
@@ -62,7 +68,7 @@ COLUMN_MEANINGS = {
 }
 
 # The phases of a study, in the order of the data flow; ``Phases`` sums the wall time of each.
-PHASES = ("mesh", "assembly", "best", "setup", "solve", "errors", "hooks")
+PHASES = ("mesh", "assembly", "best", "setup", "solve", "estimate", "errors", "hooks")
 
 
 class Phases:
@@ -108,8 +114,8 @@ def level_row(case, method, mesh_label: str, level: int, h: float, ndof: int, fi
     """A row of the study before its errors: what the case, the method and its solve say."""
     return {
         "case": case.name, "method": method.name, "order": method.order, "parameters": method.parameter_text,
-        "mesh": mesh_label, "level": level, "h": h, "ndof": ndof, **fields, "estimator": estimator,
-        "total_seconds": total_seconds, "nu": case.nu, "expected_rate": expectation.rate,
+        "mesh": mesh_label, "dimension": case.dimension, "level": level, "h": h, "ndof": ndof, **fields, "estimator": estimator,
+        "total_seconds": total_seconds, "estimate_seconds": float("nan"), "measure_seconds": float("nan"), "nu": case.nu, "expected_rate": expectation.rate,
         "expected_log_exponent": expectation.log_exponent, "reference": expectation.reference, **_sharper(sharper),
         "case_source": case.source, "errors_against": "exact" if case.exact else "reference",
     }

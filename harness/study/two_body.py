@@ -53,6 +53,7 @@ class TwoBodies:
     solved by sparse Cholesky (no multigrid, no estimator)."""
 
     estimating = False
+    adaptive = False
 
     def __init__(self, case, bodies: tuple):
         self.case, self.bodies = case, bodies

@@ -52,6 +52,7 @@ class Discretisation(Protocol):
     ``quadrature`` are whatever the discretisation makes (two bodies: a pair of each)."""
 
     estimating: bool        # the studied solves get the residual estimator's indicators
+    adaptive: bool          # the indicators drive the next mesh (ESTIMATE and MARK are the algorithm's)
 
     def levels(self, count: int) -> Iterator[Level]:
         """At most ``count`` levels, coarse to fine."""
@@ -87,6 +88,9 @@ class LevelProblems:
     problems: dict = field(default_factory=dict)            # order -> discrete problem
     assembly_seconds: dict = field(default_factory=dict)    # order -> its assembly's seconds
     estimators: dict = field(default_factory=dict)          # order -> ResidualEstimator
+    estimator_seconds: dict = field(default_factory=dict)   # order -> its set-up's seconds
+    measure_seconds: float = 0.0                            # the level's shared measurement (begin, end)
+    rows: list = field(default_factory=list)                # the level's studied rows
 
 
 def reference_columns(rows: list[dict], method: str, level: int, ndof: int, fields: dict) -> None:
@@ -164,11 +168,13 @@ class ChainWalk:
         problems = LevelProblems(level, step.h, multilevel, time.perf_counter() - clock)
         self.discretise(problems, step.mesh, quadrature, active)
         # before a method takes the stiffness matrix (the best approximation needs it)
+        clock = time.perf_counter()
         self.measure.begin_level(level, step.mesh, problems.problems, quadrature, multilevel)
+        problems.measure_seconds += time.perf_counter() - clock
         for method in active:
             last_of_order = method is [m for m in active if m.order == method.order][-1]
             self.solve_method(method, problems, last_of_order)
-        self.finish_level(level)
+        self.finish_level(problems)
         self.checkpoint(level, active)
 
     def discretise(self, level: LevelProblems, mesh, quadrature, active: list) -> None:
@@ -181,8 +187,10 @@ class ChainWalk:
             level.assembly_seconds[order] = time.perf_counter() - clock
             if self.discretisation.estimating and any(level.index < self.plan.studied[m.name]
                                                       for m in active if m.order == order):
-                with self.phases("errors"):
+                clock = time.perf_counter()
+                with self.phases("estimate"):
                     level.estimators[order] = ResidualEstimator(self.case, level.problems[order])
+                level.estimator_seconds[order] = time.perf_counter() - clock
 
     def solve_method(self, method, level: LevelProblems, last_of_order: bool) -> None:
         """``method``'s solve of the level, its errors and (on a studied level) its row."""
@@ -195,32 +203,42 @@ class ChainWalk:
         own_seconds = time.perf_counter() - clock
         self.carry[name] = solve.carry
         # the studied rows' estimator (a reference chain's finer solves need none)
-        indicators = None
+        indicators, clock = None, time.perf_counter()
         if studied and self.discretisation.estimating:
-            with self.phases("errors"):
+            with self.phases("estimate"):
                 indicators = level.estimators[method.order].indicators(solve.u)
+        estimate_seconds = time.perf_counter() - clock + level.estimator_seconds.get(method.order, 0.0)
         self.discretisation.observe(indicators)
         if studied:
-            row = self.row(method, level, problem, solve, own_seconds, indicators)
+            row = self.row(method, level, problem, solve, own_seconds, indicators, estimate_seconds)
         else:
             row = self.reference_chain_solve(method, level.index, problem, solve)
+        clock = time.perf_counter()
         with self.phases("errors"):
             columns = self.measure.solved(method, level.index, problem, solve.u, row)
         if row is not None:
             row.update(columns)
+            row["measure_seconds"] = time.perf_counter() - clock
             keep(self.on_level, self.phases, self.kept, self.case, method, level.index, problem, solve)
         if self.progress is not None:
             self.progress.solved(self.case.name, name, level.index)
 
-    def row(self, method, level: LevelProblems, problem, solve, own_seconds: float, indicators) -> dict:
+    def row(self, method, level: LevelProblems, problem, solve, own_seconds: float, indicators,
+            estimate_seconds: float) -> dict:
         """A studied solve's row, before its errors; ``total_seconds``: what the level costs a
         user of that method alone (the refinement, its order's assembly, its own set-up and
-        solve; not the error measurement)."""
-        row = level_row(self.case, method, self.mesh_label, level.index, level.h, problem.ndof, solve.fields,
-                        level.mesh_seconds + level.assembly_seconds[method.order] + own_seconds,
+        solve, and where the estimator drives the mesh, ESTIMATE and MARK; not the error
+        measurement, ``measure_seconds``)."""
+        total = level.mesh_seconds + level.assembly_seconds[method.order] + own_seconds
+        if indicators is not None and self.discretisation.adaptive:
+            total += estimate_seconds
+        row = level_row(self.case, method, self.mesh_label, level.index, level.h, problem.ndof, solve.fields, total,
                         estimate(indicators) if indicators is not None else float("nan"),
                         self.expectations[method.name], self.sharper[method.name])
+        if indicators is not None:
+            row["estimate_seconds"] = estimate_seconds
         self.rows[method.name].append(row)
+        level.rows.append(row)
         return row
 
     def reference_chain_solve(self, method, level: int, problem, solve) -> None:
@@ -230,11 +248,16 @@ class ChainWalk:
         if method.name == self.plan.reference and level == self.plan.chain[method.name] - 1:
             self.reference_fields = (level, problem.ndof, solve.fields)
 
-    def finish_level(self, level: int) -> None:
+    def finish_level(self, problems: LevelProblems) -> None:
         """The level's errors that need all its solves, the effectivity of its rows measured
-        against u (NaN without an estimator), and once the reference is solved, its columns."""
+        against u (NaN without an estimator), and once the reference is solved, its columns;
+        the level's shared measurement time split over its rows (``measure_seconds``)."""
+        level, clock = problems.index, time.perf_counter()
         with self.phases("errors"):
             self.measure.end_level()
+        shared = problems.measure_seconds + time.perf_counter() - clock
+        for row in problems.rows:
+            row["measure_seconds"] += shared / len(problems.rows)
         for row in (rows[-1] for rows in self.rows.values() if rows and rows[-1]["level"] == level):
             if row["errors_against"] == "exact":
                 row["effectivity"] = row["estimator"] / row["err_energy"]
@@ -264,4 +287,6 @@ class ChainWalk:
         """The rows level by level, methods in the order given."""
         order = {m.name: k for k, m in enumerate(self.methods)}
         rows = sorted((row for rows in self.rows.values() for row in rows), key=lambda r: (r["level"], order[r["method"]]))
-        return ChainOutput(rows, self.kept, self.phases.as_dict(), dict(self.start), self.reference_solve_seconds)
+        # the solves of a per-level reference (graded and adaptive meshes) are the measure's own
+        own = getattr(self.measure, "reference_solve_seconds", 0.0)
+        return ChainOutput(rows, self.kept, self.phases.as_dict(), dict(self.start), self.reference_solve_seconds + own)
