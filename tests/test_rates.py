@@ -171,3 +171,39 @@ def test_infinitely_many_transitions_cost_no_rate(rates, method, measured):
     row = rates.loc[("oscillating-r34", method)]
     assert row.fitted_rate == pytest.approx(measured, abs=0.1), row.pairwise_rates
     assert abs(row.fitted_rate - row.fitted_rate_best) <= 0.05
+
+
+def _chain(rates: list[float], best_rates: list[float], over_best: float, expected: float = 2.0, nu: float = 3.5):
+    """A synthetic uniform chain of five levels whose pairwise H¹ rates are ``rates`` and whose best
+    approximation's are ``best_rates``, the method's error ``over_best`` times the best's on the
+    finest level."""
+    import pandas as pd
+    h = 0.5 ** np.arange(5)
+    def errors(pairwise):
+        e = [1.0]
+        for r in pairwise:
+            e.append(e[-1] * 0.5 ** r)
+        return np.array(e)
+    best = errors(best_rates)
+    err = errors(rates)
+    err *= over_best * best[-1] / err[-1]
+    return pd.DataFrame({"case": "c", "mesh": "uniform", "method": "m", "order": 2, "level": range(5), "h": h,
+                         "ndof": 100 / h**2, "err_h1": err, "err_best_h1": best, "err_h1_over_best": err / best,
+                         "expected_rate": expected, "expected_log_exponent": 0.0, "reference": "r", "nu": nu})
+
+
+@pytest.mark.parametrize("rates, best_rates, over_best, expected, verdict", [
+    ([2.0] * 4, [2.0] * 4, 1.0, 2.0, "meets"),
+    ([2.5] * 4, [2.0] * 4, 1.0, 2.0, "above"),
+    ([1.0] * 4, [2.0] * 4, 8.0, 2.0, "below"),                          # loses against its own space
+    ([1.6, 1.7, 1.75, 1.85], [1.6, 1.7, 1.75, 1.85], 1.002, 2.0, "pre-asymptotic"),   # as smooth-3d's
+    ([1.6, 1.7, 1.75, 1.85], [1.6, 1.7, 1.75, 1.85], 1.5, 2.0, "below"),             # costs beyond the space
+    ([1.8, 1.75, 1.7, 1.7], [1.8, 1.75, 1.7, 1.7], 1.0, 2.0, "below"),                # not climbing
+    ([1.5, 1.6, 1.7, 1.8], [2.0] * 4, 1.05, 2.0, "below"),                           # the space is not short
+    ([2.0] * 4, [2.0] * 4, 1.0, np.nan, "no theory"),
+])
+def test_each_verdict_of_a_synthetic_chain(rates, best_rates, over_best, expected, verdict):
+    """Issue 54: 'pre-asymptotic' is a 'below' that the space explains (err/best <= 1.1 on the
+    finest level, the best approximation short of min(nu - 1, k) by as much, pairwise rates still
+    climbing); 'below' stays for a method that loses against its own space."""
+    assert rate_table(_chain(rates, best_rates, over_best, expected)).iloc[0].verdict == verdict

@@ -34,6 +34,7 @@ td:first-child, th:first-child { text-align: left; }
 tr.meets td.verdict { color: #126b2a; font-weight: bold; }
 tr.above td.verdict { color: #1b4f8a; font-weight: bold; }
 tr.below td.verdict { color: #a11; font-weight: bold; }
+tr.pre-asymptotic td.verdict { color: #a15c00; font-weight: bold; }
 tr.consistent td.verdict { color: #126b2a; font-weight: bold; }
 tr.faster td.verdict, tr.slower td.verdict { color: #a15c00; font-weight: bold; }
 .figures { display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start; }

@@ -37,7 +37,8 @@ METHOD_STYLE: dict[str, dict] = {}
 # the sweep figure's colours, one per swept method (``figures.sweep``)
 OTHER_COLORS = ["tab:red", "tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan"]
 # the verdicts' colours: the HTML table's and the figure's
-VERDICT_COLORS = {"meets": "#cdeccf", "above": "#cfe0f5", "below": "#f6cdcd", "no theory": "#ececec"}
+VERDICT_COLORS = {"meets": "#cdeccf", "above": "#cfe0f5", "below": "#f6cdcd", "pre-asymptotic": "#f8e3c2",
+                  "no theory": "#ececec"}
 
 
 def _slot(k: int) -> dict:
@@ -208,8 +209,8 @@ def verdict_cells(rates: pd.DataFrame) -> pd.DataFrame:
 
 def verdict_matrix(rates: pd.DataFrame, ax=None):
     """One glance at the study: every case x method cell the fitted / expected H^1 rate,
-    coloured by the verdict (green meets its theory within ±0.1, blue above, red below, grey no
-    theory; ``measure.rates``)."""
+    coloured by the verdict (green meets its theory within ±0.1, blue above, red below, amber
+    pre-asymptotic, grey no theory; ``measure.rates``)."""
     cells = verdict_cells(rates)
     verdicts = cells.attrs["verdicts"]
     rows, columns = cells.shape

@@ -217,7 +217,9 @@ MATRIX_NOTE = (
     "Each cell: the fitted H¹ rate over the last three levels / the rate of the method's own theory "
     "(for mean and nodal the paper's theorem, for P1 and the weak methods theirs; – no theory), coloured "
     "by the verdict: green meets it within ±0.1, blue above (the theorems are upper bounds: consistent), "
-    "red below, grey no theory. The cases' sections below (Cases) say why each is what it is."
+    "red below, amber pre-asymptotic (below, but so is the best approximation of the same space, and the "
+    "method's error is within 1.1 of its: the levels are not yet fine enough, the method loses nothing), "
+    "grey no theory. The cases' sections below (Cases) say why each is what it is."
 )
 
 
@@ -225,7 +227,11 @@ RATES_NOTE = (
     "Fitted rate: least squares of log e = log C + p log h + q log|log h| over the last three "
     "levels, q fixed to the log exponent of the method's theory, with its standard error. Verdict: "
     "meets if within 0.1 of that theory's rate; above/below otherwise. The theorems give upper "
-    "bounds, so 'above' is consistent with them; 'below' would contradict them."
+    "bounds, so 'above' is consistent with them; 'below' would contradict them, unless the space itself "
+    "is the reason: 'pre-asymptotic' where the method's error is within 1.1 of the best approximation's "
+    "on the finest level, the best approximation's own rate falls as short of min(ν − 1, k), and the "
+    "pairwise rates still climb (Falk's lemma: the contact condition costs nothing there; the levels "
+    "are not yet in the asymptotic range)."
 )
 
 
