@@ -17,8 +17,8 @@ lambda = -(sigma_n(u) - g_n)):
                                           + h_E ||sigma_t(u_h) - g_t||_E^2 )            elasticity: friction-free
 
 and eta^2 = sum_T eta_T^2. Every term vanishes for u_h = u (with lambda_h = lambda). The
-elastic terms are those of Hild & Nicaise, "Residual a posteriori error estimators for contact
-problems in elasticity", M2AN 41 (2007) 897-923 (frictionless unilateral contact: the element
+elastic terms are those of Hild & Nicaise's residual estimator for contact problems in
+elasticity (2007; volume and pages not verified here) (frictionless unilateral contact: the element
 residual, the traction jumps, the Neumann residual, and on Gamma_C the normal terms and the
 tangential traction; the text was not reachable here, the terms are the standard ones), in the
 same weights as the scalar ones below.
