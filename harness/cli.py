@@ -271,6 +271,8 @@ def cmd_rates(args) -> int:
     from .study.folder import owned
     path = Path(args.results)
     frame = read_results(path, args.case)
+    if args.qoi:
+        return print_quantities(frame, path)
     table = rate_table(frame, levels=args.fit_levels)
     with owned(path.parent):
         out = write_csv(table, path.parent / "rates.csv")
@@ -283,6 +285,26 @@ def cmd_rates(args) -> int:
         with pd.option_context("display.width", 200, "display.max_colwidth", 60):
             print(table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
     print(f"wrote {out}", file=sys.stderr if args.latex else sys.stdout)
+    return 0
+
+
+def print_quantities(frame: pd.DataFrame, path: Path) -> int:
+    """``rates --qoi``: the quantities of interest with their Richardson bands."""
+    from .measure.richardson import coverage, quantity_table
+    from .study.files import write_csv
+    from .study.folder import owned
+    table = quantity_table(frame)
+    if table.empty:
+        raise ValueError(f"{path}: no chain with quantities of interest on three levels or more (results of harness < 0.5?)")
+    with owned(path.parent):
+        out = write_csv(table, path.parent / "quantities.csv")
+    shown = table.drop(columns=["order", "levels", "order_previous"])
+    with pd.option_context("display.width", 220, "display.max_rows", None):
+        print(shown.to_string(index=False, float_format=lambda v: f"{v:.6g}"))
+    judged = coverage(table)
+    if judged["judged"]:
+        print(f"bands holding the exact value, in the asymptotic range: {judged['covered']} of {judged['judged']}")
+    print(f"wrote {out}")
     return 0
 
 
@@ -417,13 +439,16 @@ def _add_sweep(sub) -> None:
 
 
 def _add_rates(sub) -> None:
-    p = sub.add_parser("rates", help="fit rates of a results CSV; writes rates.csv beside it")
+    p = sub.add_parser("rates", help="fit rates of a results CSV; writes rates.csv beside it (--qoi: quantities.csv)")
     p.add_argument("results", metavar="RESULTS.csv")
     p.add_argument("--fit-levels", type=_positive_int, default=3, help="levels in the asymptotic fit (>= 3)")
     p.add_argument("--case", action="append", metavar="PATH",
                    help="case file, for results of harness 0.1 (a `model` column) of unregistered cases")
     p.add_argument("--latex", action="store_true",
                    help="print booktabs LaTeX tables (the rates, then each case's levels) instead of text")
+    p.add_argument("--qoi", action="store_true",
+                   help="the quantities of interest instead: observed order, Richardson's extrapolation and the grid "
+                        "convergence index of each; writes quantities.csv")
     p.set_defaults(func=cmd_rates)
 
 

@@ -17,6 +17,7 @@ import pandas as pd
 
 from ..measure.efficiency import efficiency_table, verdicts
 from ..measure.rates import rate_table
+from ..measure.richardson import quantity_table
 from ..methods import METHODS, SWEPT, methods_named, with_role
 from ..methods import known as known_methods
 from ..problem.case import REPORT_PROFILES, Case, fraction, registered_cases
@@ -32,6 +33,7 @@ from .document import Document, anchor
 from .figure_jobs import FIGURE_WORKERS, FigurePool
 from .latex import write_tables
 from .mesh_section import add_mesh_section, mesh_rows
+from .quantity_section import add_quantity_section
 from .plots import method_styles, theorem_label, verdict_cells
 from .prose import (
     EFFICIENCY_NOTE,
@@ -64,7 +66,8 @@ from .vtk import VtkWriter
 
 
 def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame, efficiency: pd.DataFrame,
-                   figs: dict, meta: dict, sweeps: dict | None = None, meshes: pd.DataFrame | None = None) -> Document:
+                   figs: dict, meta: dict, sweeps: dict | None = None, meshes: pd.DataFrame | None = None,
+                   quantities: pd.DataFrame | None = None) -> Document:
     doc = Document("The Signorini problem in P2 and P1: measured against the theorems")
     settings = meta["settings"]
     doc.paragraph(
@@ -102,14 +105,9 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         doc.table(regularity_view(rates, results), verdict_column="verdict")
         doc.heading("Errors on Γ_C")
         doc.paragraph(GAMMA_C_NOTE)
-    claims = verdicts(efficiency, rates, methods=methods)
-    if claims:
-        doc.heading("Is P2 worth it? Cost at equal accuracy")
-        doc.paragraph(EFFICIENCY_NOTE)
-        for case in cases:
-            if case.name in claims:
-                doc.paragraph(f"{case.name}: {claims[case.name]}")
-        doc.table(efficiency_view(efficiency))
+    _efficiency_section(doc, cases, efficiency, rates, methods)
+    if quantities is not None:
+        add_quantity_section(doc, quantities)
     if sweeps:
         doc.heading("Penalty and Nitsche: where their parameter is safe")
         doc.paragraph(SWEEP_NOTE)
@@ -143,6 +141,17 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
                          verdict_counts(rates[rates.case == case.name]), listed=case.name):
             _case_section(doc, case, results, rates, figs)
     return doc
+
+
+def _efficiency_section(doc: Document, cases: list[Case], efficiency: pd.DataFrame, rates: pd.DataFrame, methods) -> None:
+    claims = verdicts(efficiency, rates, methods=methods)
+    if claims:
+        doc.heading("Is P2 worth it? Cost at equal accuracy")
+        doc.paragraph(EFFICIENCY_NOTE)
+        for case in cases:
+            if case.name in claims:
+                doc.paragraph(f"{case.name}: {claims[case.name]}")
+        doc.table(efficiency_view(efficiency))
 
 
 def own_methods_sentence(methods) -> str:
@@ -329,6 +338,7 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
         with timings("rates"):
             rates = rate_table(results)
             efficiency = efficiency_table(results, methods=methods)
+            quantities = quantity_table(pd.concat([results, meshes], ignore_index=True) if not meshes.empty else results)
         with timings("writing", "results"):
             merged = merge_rows(read_rows(results_dir / "results.csv"), results)
             write_csv(merged.frame, results_dir / "results.csv")
@@ -338,6 +348,7 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
                 write_csv(meshes, results_dir / "meshes.csv")
             write_csv(rates, results_dir / "rates.csv")
             write_csv(efficiency, results_dir / "efficiency.csv")
+            write_csv(quantities, results_dir / "quantities.csv")
         meta = provenance(settings, methods) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
                                        "engine": (engine or InProcess()).describe(),
                                        "computed": computed_since(cases, results_dir / "cases", run_started)}
@@ -354,7 +365,7 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
     for name, spent in seconds.items():
         timings.add("figures (in workers)", name, "", spent)
     with timings("document"):
-        doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps, meshes)
+        doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps, meshes, quantities)
     with timings("writing", "report"):
         write_tables(results, rates, efficiency, Path(report_dir) / "tables")
         write_atomic(Path(report_dir) / "report.md", doc.markdown(Path(report_dir)))

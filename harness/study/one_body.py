@@ -9,6 +9,7 @@ from collections.abc import Iterator
 
 from ..fem.assembly import discretise
 from ..fem.element_quadrature import ElementQuadrature
+from ..measure.quantities import exact_quantities, quantities
 from ..mesh.levels import Level, LevelSequence
 from ..mesh.strategies import element_budget
 from ..solvers.multigrid import Multilevel
@@ -68,3 +69,7 @@ class OneBody:
     def observe(self, indicators) -> None:
         if self.sequence.adaptive:
             self.sequence.observe(indicators)
+
+    def quantities(self, problem, u, quadrature) -> dict:
+        columns = quantities(self.case, problem, u)
+        return columns | exact_quantities(self.case, problem, quadrature) if self.case.exact else columns

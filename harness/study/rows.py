@@ -16,8 +16,11 @@ COLUMNS = [
     # the residual a posteriori estimator eta (``measure.estimator``; NaN where it has no terms:
     # elasticity, 3D) and eta / err_energy on the exact cases
     "estimator", "effectivity",
-    "max_penetration", "max_tension", "min_pressure", "active_constraints", "solver_iterations", "linear_iterations",
-    "kkt_residual", "backward_error", "solve_seconds", "total_seconds", "estimate_seconds", "measure_seconds", "status",
+    "max_penetration", "max_tension", "min_pressure",
+    # quantities of interest (``measure.quantities``) and, on the cases with u, their exact values
+    "qoi_force", "qoi_contact_measure", "qoi_peak_pressure", "qoi_energy",
+    "qoi_force_exact", "qoi_contact_measure_exact", "qoi_peak_pressure_exact", "qoi_energy_exact",
+    "active_constraints", "solver_iterations", "linear_iterations", "kkt_residual", "backward_error", "solve_seconds", "total_seconds", "estimate_seconds", "measure_seconds", "status",
     # what the errors are measured against: "exact" (u), or "reference" (the solution of
     # reference_method, nodal, on level reference_level, with its KKT residual and status)
     "errors_against", "reference_level", "reference_ndof", "reference_kkt_residual", "reference_status",
@@ -48,6 +51,11 @@ COLUMN_MEANINGS = {
     "max_penetration": "max over Γ_C of α − u_h, between nodes included",
     "max_tension": "max(−λ_h) on Γ_C: the flux counterpart of max_penetration",
     "min_pressure": "the smallest discrete contact pressure (an edge's mean)",
+    "qoi_force": "the total contact force ∫_{Γ_C} λ_h", "qoi_contact_measure": "the length (3D: area) of the contact zone "
+    "(trapezoidal rule of the binding vertices)", "qoi_peak_pressure": "the largest contact pressure max λ_h",
+    "qoi_energy": "the strain energy a(u_h, u_h)/2",
+    "qoi_force_exact": "the exact contact force (cases with u)", "qoi_contact_measure_exact": "the exact contact zone's "
+    "measure (2D cases with u)", "qoi_peak_pressure_exact": "the exact largest pressure", "qoi_energy_exact": "the exact strain energy",
     "active_constraints": "active constraints (cones) or active Gauss points (weak methods)",
     "solver_iterations": "active set or Newton iterations", "linear_iterations": "CG iterations, or LU factorisations",
     "kkt_residual": "the KKT residual (cones), the Newton residual (weak methods) or the method's own residual, relative to the loads",

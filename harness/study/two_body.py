@@ -26,6 +26,7 @@ from ..fem.assembly import discretise
 from ..fem.element_quadrature import ElementQuadrature
 from ..fem.two_body import TwoBodyProblem
 from ..measure.errors import ExactErrors
+from ..measure.quantities import exact_column, exact_quantities, quantities, strain_energy
 from ..mesh.levels import Level, UniformRefinement
 from ..methods import methods_for
 from ..problem.bodies import lower_body
@@ -81,6 +82,21 @@ class TwoBodies:
 
     def observe(self, indicators) -> None:
         pass
+
+    def quantities(self, problem, u, quadratures) -> dict:
+        """The upper (slave) body's force and peak pressure (the lower body's balance them), the
+        energy of both; the contact zone is where the jump closes across non-matching meshes,
+        which no vertex test of one body sees: not measured."""
+        upper, lower = self.bodies
+        u_upper, u_lower = problem.split(u)
+        columns = quantities(upper, problem.upper, u_upper) | {"qoi_contact_measure": float("nan")}
+        columns["qoi_energy"] += strain_energy(problem.lower, u_lower)
+        if self.case.exact:
+            exact = [exact_quantities(body, part, quadrature)
+                     for body, part, quadrature in zip(self.bodies, problem.bodies, quadratures)]
+            columns |= exact[0] | {exact_column("qoi_contact_measure"): float("nan"),
+                                   exact_column("qoi_energy"): sum(e[exact_column("qoi_energy")] for e in exact)}
+        return columns
 
 
 class TwoBodyErrors:

@@ -75,6 +75,10 @@ class Discretisation(Protocol):
     def observe(self, indicators) -> None:
         """A studied solve's error indicators (an adaptive sequence's next mesh needs them)."""
 
+    def quantities(self, problem, u, quadrature) -> dict:
+        """The quantities of interest of a studied solve (``measure.quantities``), with their
+        exact values on a case with u."""
+
 
 @dataclass
 class LevelProblems:
@@ -85,6 +89,7 @@ class LevelProblems:
     h: float
     multilevel: object
     mesh_seconds: float
+    quadrature: object = None                               # the level's ElementQuadrature
     problems: dict = field(default_factory=dict)            # order -> discrete problem
     assembly_seconds: dict = field(default_factory=dict)    # order -> its assembly's seconds
     estimators: dict = field(default_factory=dict)          # order -> ResidualEstimator
@@ -165,7 +170,7 @@ class ChainWalk:
             return
         with self.phases("mesh"):
             quadrature = self.discretisation.quadrature(step.mesh)
-        problems = LevelProblems(level, step.h, multilevel, time.perf_counter() - clock)
+        problems = LevelProblems(level, step.h, multilevel, time.perf_counter() - clock, quadrature)
         self.discretise(problems, step.mesh, quadrature, active)
         # before a method takes the stiffness matrix (the best approximation needs it)
         clock = time.perf_counter()
@@ -216,6 +221,8 @@ class ChainWalk:
         clock = time.perf_counter()
         with self.phases("errors"):
             columns = self.measure.solved(method, level.index, problem, solve.u, row)
+            if row is not None:
+                columns |= self.discretisation.quantities(problem, solve.u, level.quadrature)
         if row is not None:
             row.update(columns)
             row["measure_seconds"] = time.perf_counter() - clock

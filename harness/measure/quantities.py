@@ -1,0 +1,121 @@
+"""Quantities of interest of a discrete solution: what an engineer reads off a contact
+computation, measured for every method from u_h alone (so for cases with and without u):
+
+* ``force``: the total contact force int_{Gamma_C} lambda_h, lambda_h the discrete pressure
+  (``errors.DiscretePressure``: the Riesz representative of a(u_h, .) - L(.) on Gamma_C). The
+  integral is that functional applied to a function with trace 1, so it is the same number
+  whether a method's pressure comes from the cones' multipliers, Nitsche's or the penalty's
+  contact term: the force the solution exerts, by Green's formula int lambda v = a(u, v) - L(v);
+* ``contact_measure``: the length (2D) or area (3D) of the contact zone, the set where the
+  argument of the contact law lambda = [lambda - (c(u) - alpha) / eps]_+ is positive (Chouly &
+  Hild's form of the Signorini conditions, SIAM J. Numer. Anal. 51 (2013) eq. (2.3); with
+  eps = h / E, E the physics' modulus): for u it is exactly where lambda > 0 or the gap is
+  closed, for u_h it needs no threshold (a cone's active vertices, a weak method's penetrating
+  points and the mean model's points between its vertices all count), integrated by the
+  pressure's Gauss rule; a transition point is found to within O(h);
+* ``peak_pressure``: max over Gamma_C of lambda_h (at its Gauss points and the vertices);
+* ``energy``: the strain energy a(u_h, u_h) / 2;
+* ``penetration``: max over Gamma_C of (alpha - u_h)_+, the rows' ``max_penetration``
+  (exact value 0 on every case: u is feasible).
+
+For a case with u the rows also carry each quantity's exact value (``exact_quantities``), from
+the declared u on the level's mesh with rules far finer than the discrete ones (the graded rule
+at singular points): the rates stage fits each quantity's error and judges the Richardson
+bands against it (``richardson``). The contact measure's exact value is 2D only (in 3D the
+transition curves cross the triangles, and no rule of the level's mesh resolves them).
+"""
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+
+from ..fem.contact_quadrature import contact_quadrature, exact_pressure
+from ..fem.element_quadrature import ElementQuadrature, singular_vertices
+from ..mesh.points import evaluate
+from .errors import DiscretePressure, error_order
+
+# quantity -> its column in results.csv (the penetration column predates the quantities)
+QUANTITY_COLUMNS = {"force": "qoi_force", "contact_measure": "qoi_contact_measure", "peak_pressure": "qoi_peak_pressure",
+                    "energy": "qoi_energy", "penetration": "max_penetration"}
+QUANTITY_MEANINGS = {
+    "force": "the total contact force ∫_{Γ_C} λ_h",
+    "contact_measure": "the length (3D: area) of the contact zone",
+    "peak_pressure": "the largest contact pressure max λ_h",
+    "energy": "the strain energy a(u_h, u_h)/2",
+    "penetration": "the largest penetration max (α − u_h)_+ (exact: 0)",
+}
+# The exact pressure is unbounded where its largest value on the graded rule (down to 2^-30 h
+# from a singular point) exceeds this many times its largest at the Gauss points: r^{-1/2} at a
+# contact/Neumann junction gives 2^15 and more, a bounded pressure about 1
+UNBOUNDED_FACTOR = 10.0
+# Gauss points per contact edge of the exact values (graded at singular points)
+EXACT_POINTS = 16
+
+
+def exact_column(column: str) -> str:
+    return f"{column}_exact"
+
+
+def quantities(case, problem, u: np.ndarray) -> dict:
+    """The quantities of ``u`` (a solution on ``problem``), as results.csv columns; the
+    penetration is the method's own column."""
+    pressure = DiscretePressure.of(problem)
+    coefficients = pressure.coefficients(u)
+    at_points = pressure.at_points(coefficients)
+    vertices = coefficients[:len(problem.vertex_dofs)]          # vertex dofs are nodal values
+    q = pressure.quadrature
+    gap = q.T @ u - obstacle_at(case, problem, q.points)
+    return {"qoi_force": float(q.weights @ at_points),
+            "qoi_contact_measure": contact_measure(problem.physics, q, at_points, gap),
+            "qoi_peak_pressure": float(max(at_points.max(initial=-np.inf), vertices.max(initial=-np.inf))),
+            "qoi_energy": strain_energy(problem, u)}
+
+
+def strain_energy(problem, u: np.ndarray) -> float:
+    """a(u_h, u_h) / 2, integrated exactly (the gradients are polynomials of degree k - 1)."""
+    gfu = problem.gridfunction(u)
+    return 0.5 * float(ngs.Integrate(problem.physics.energy_density(ngs.Grad(gfu)), problem.mesh, order=2 * problem.order))
+
+
+def obstacle_at(case, problem, points: np.ndarray) -> np.ndarray | float:
+    return evaluate(case.obstacle, problem.mesh, points) if case.obstacle is not None else 0.0
+
+
+def contact_measure(physics, q, pressure: np.ndarray, gap: np.ndarray) -> float:
+    """The measure of the points of the rule ``q`` where the contact law's argument
+    lambda - (E / h)(c(u) - alpha) is positive (module docstring)."""
+    return float(q.weights @ (pressure - physics.modulus / q.h * gap > 0))
+
+
+def exact_quantities(case, problem, quadrature: ElementQuadrature) -> dict:
+    """The exact value of each quantity from the declared u, on ``problem``'s mesh (made once
+    per problem: ``DiscreteProblem.cache``)."""
+    key = ("exact_quantities", case.name)
+    if key not in problem.cache:
+        problem.cache[key] = _exact_quantities(case, problem, quadrature)
+    return problem.cache[key]
+
+
+def _exact_quantities(case, problem, quadrature: ElementQuadrature) -> dict:
+    two_d = problem.trace.faces is None
+    q = (contact_quadrature(problem, EXACT_POINTS, graded_at=singular_vertices(case, problem.mesh)) if two_d
+         else DiscretePressure.of(problem).quadrature)
+    pressure = exact_pressure(case, problem, q)
+    gap = case.physics.contact_value(case, problem.mesh, q.points, q.normals) - obstacle_at(case, problem, q.points)
+    energy = quadrature.integrate(case.physics.energy_density(case.grad_u), error_order(problem.order))
+    return {exact_column("qoi_force"): float(q.weights @ pressure),
+            exact_column("qoi_contact_measure"): contact_measure(case.physics, q, pressure, gap) if two_d else float("nan"),
+            exact_column("qoi_peak_pressure"): exact_peak(case, problem, pressure) if two_d else float(pressure.max()),
+            exact_column("qoi_energy"): 0.5 * float(np.ravel(energy)[0])}
+
+
+def exact_peak(case, problem, graded: np.ndarray) -> float:
+    """max over Gamma_C of the exact pressure: over the graded rule's points ``graded`` and the
+    edges' ends, or infinity where the pressure grows without bound toward a singular point
+    (``UNBOUNDED_FACTOR``)."""
+    trace = problem.trace
+    regular = exact_pressure(case, problem, contact_quadrature(problem, EXACT_POINTS))
+    ends = [case.physics.pressure(case, problem.mesh, points, trace.normals) for points in (trace.a, trace.b)]
+    bounded = np.nanmax(np.concatenate([regular, *ends]))      # nan, inf: the pressure at a singular vertex
+    largest = np.nanmax(graded)
+    return float("inf") if largest > UNBOUNDED_FACTOR * abs(bounded) else float(max(bounded, largest))
