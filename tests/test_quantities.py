@@ -56,6 +56,7 @@ def test_oscillating_divergent_and_settled_chains_are_named_and_not_asymptotic()
     assert not richardson(oscillating, h)["asymptotic"]
     divergent = [1.0, 1.1, 1.3, 1.7]
     assert richardson(divergent, h)["convergence"] == "divergent" and not richardson(divergent, h)["asymptotic"]
+    assert math.isnan(richardson(divergent, h)["gci"])          # no limit, no band
     settled = richardson([2.0, 2.0, 2.0, 2.0], h)
     assert settled["convergence"] == "settled" and settled["extrapolated"] == 2.0 and settled["gci"] < 1e-11
 
@@ -145,3 +146,15 @@ def test_a_pressure_unbounded_at_a_junction_has_an_infinite_peak():
     exact = exact_quantities(case, problem, problem.quadrature)
     assert exact[exact_column("qoi_peak_pressure")] == math.inf
     assert math.isfinite(exact[exact_column("qoi_force")])
+
+
+def test_the_report_section_states_the_coverage_and_lists_every_chain(transition_rows, tmp_path):
+    from harness.report.document import Document
+    from harness.report.quantity_section import add_quantity_section
+    table = quantity_table(transition_rows)
+    doc = Document("t")
+    add_quantity_section(doc, table)
+    text = doc.markdown(tmp_path)
+    judged = coverage(table)
+    assert f"the band holds the exact value in {judged['covered']} of them" in text
+    assert all(f"| {method} " in text for method in ("nodal", "p1"))

@@ -3,7 +3,7 @@ report's own table views (``harness.report``), so the page and report.html show 
 
 Its sections are what the prose pages (guide/findings.md, the theory pages) point to for figures:
 "Verdicts on uniform meshes", "Cost at equal accuracy", "Meshes that fit the singularity",
-"Beyond one H¹ number".
+"Beyond one H¹ number", "Quantities of interest with error bars".
 """
 from __future__ import annotations
 
@@ -70,6 +70,19 @@ def regularity_section(rates: pd.DataFrame, results: pd.DataFrame) -> list[str]:
             markdown_table(view)]
 
 
+def quantity_section(quantities: pd.DataFrame) -> list[str]:
+    from harness.report.quantity_section import coverage_misses, coverage_sentence, miss_reason
+    if quantities.empty:
+        return []
+    misses = coverage_misses(quantities)
+    return ["## Quantities of interest with error bars\n",
+            "Each chain's contact force, contact zone, peak pressure, energy and penetration with Richardson's "
+            "extrapolation and the grid convergence index (`quantities.csv`). " + coverage_sentence(quantities) + "\n",
+            *([f"\nWhere the band misses the exact value in the asymptotic range{miss_reason(quantities)}:\n",
+               markdown_table(misses)]
+              if not misses.empty else [])]
+
+
 def results_page(folder: Path) -> str:
     """The page for the report whose results folder is ``folder``, stamped with its provenance;
     what to run where there is none."""
@@ -84,4 +97,5 @@ def results_page(folder: Path) -> str:
     if not results.empty:
         text += mesh_section(results, _read(folder, "meshes.csv"))
         text += regularity_section(rates, results)
+    text += quantity_section(_read(folder, "quantities.csv"))
     return "\n".join(text)

@@ -97,7 +97,8 @@ def richardson(phi, h) -> dict:
                 "extrapolated": float(phi[0]), "gci": SETTLED * scale, "asymptotic": True}
     p, _ = observed_order(phi[:3], h[:3])
     previous = observed_order(phi[1:4], h[1:4])[0] if len(phi) >= 4 else float("nan")
-    if not (np.isfinite(p) and p > 0):
+    if kind == "divergent" or not (np.isfinite(p) and p > 0):
+        # the differences grow: no limit to extrapolate to (an unbounded peak pressure)
         return {"observed_order": p, "order_previous": previous, "convergence": kind, "extrapolated": float("nan"),
                 "gci": float("nan"), "asymptotic": False}
     growth = (h[1] / h[0]) ** p
