@@ -45,7 +45,7 @@ QUANTITY_MEANINGS = {
     "penetration": "the largest penetration max (α − u_h)_+ (exact: 0)",
 }
 # The exact pressure is unbounded where its largest value on the graded rule (down to 2^-30 h
-# from a singular point) exceeds this many times its largest at the Gauss points: r^{-1/2} at a
+# from a singular point) exceeds this many times its largest at the pressure's Gauss points: r^{-1/2} at a
 # contact/Neumann junction gives 2^15 and more, a bounded pressure about 1
 UNBOUNDED_FACTOR = 10.0
 # Gauss points per contact edge of the exact values (graded at singular points)
@@ -88,21 +88,15 @@ def contact_measure(physics, q, pressure: np.ndarray, gap: np.ndarray) -> float:
 
 
 def exact_quantities(case, problem, quadrature: ElementQuadrature) -> dict:
-    """The exact value of each quantity from the declared u, on ``problem``'s mesh (made once
-    per problem: ``DiscreteProblem.cache``)."""
-    key = ("exact_quantities", case.name)
-    if key not in problem.cache:
-        problem.cache[key] = _exact_quantities(case, problem, quadrature)
-    return problem.cache[key]
-
-
-def _exact_quantities(case, problem, quadrature: ElementQuadrature) -> dict:
+    """The exact value of each quantity from the declared u, on ``problem``'s mesh (the same for
+    every order of a level: a caller keeps it per level, ``study.one_body``)."""
     two_d = problem.trace.faces is None
     q = (contact_quadrature(problem, EXACT_POINTS, graded_at=singular_vertices(case, problem.mesh)) if two_d
          else DiscretePressure.of(problem).quadrature)
     pressure = exact_pressure(case, problem, q)
     gap = case.physics.contact_value(case, problem.mesh, q.points, q.normals) - obstacle_at(case, problem, q.points)
-    energy = quadrature.integrate(case.physics.energy_density(case.grad_u), error_order(problem.order))
+    # Gauss order of P2's errors: u's energy is as smooth as u's error away from singular points
+    energy = quadrature.integrate(case.physics.energy_density(case.grad_u), error_order(2))
     return {exact_column("qoi_force"): float(q.weights @ pressure),
             exact_column("qoi_contact_measure"): contact_measure(case.physics, q, pressure, gap) if two_d else float("nan"),
             exact_column("qoi_peak_pressure"): exact_peak(case, problem, pressure) if two_d else float(pressure.max()),
@@ -114,7 +108,7 @@ def exact_peak(case, problem, graded: np.ndarray) -> float:
     edges' ends, or infinity where the pressure grows without bound toward a singular point
     (``UNBOUNDED_FACTOR``)."""
     trace = problem.trace
-    regular = exact_pressure(case, problem, contact_quadrature(problem, EXACT_POINTS))
+    regular = exact_pressure(case, problem, DiscretePressure.of(problem).quadrature)      # Gauss points, no grading
     ends = [case.physics.pressure(case, problem.mesh, points, trace.normals) for points in (trace.a, trace.b)]
     bounded = np.nanmax(np.concatenate([regular, *ends]))      # nan, inf: the pressure at a singular vertex
     largest = np.nanmax(graded)

@@ -35,6 +35,7 @@ class OneBody:
         self.estimating = has_estimator(case)
         self.adaptive = sequence.adaptive
         self._multilevel = None
+        self._exact = (None, {})        # (the level's quadrature, its exact quantities): one per level
 
     def levels(self, count: int) -> Iterator[Level]:
         budget_elements = None
@@ -72,4 +73,8 @@ class OneBody:
 
     def quantities(self, problem, u, quadrature) -> dict:
         columns = quantities(self.case, problem, u)
-        return columns | exact_quantities(self.case, problem, quadrature) if self.case.exact else columns
+        if not self.case.exact:
+            return columns
+        if self._exact[0] is not quadrature:
+            self._exact = (quadrature, exact_quantities(self.case, problem, quadrature))
+        return columns | self._exact[1]

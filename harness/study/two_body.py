@@ -58,6 +58,7 @@ class TwoBodies:
 
     def __init__(self, case, bodies: tuple):
         self.case, self.bodies = case, bodies
+        self._exact = (None, {})        # (the level's quadratures, their exact quantities)
 
     def levels(self, count: int) -> Iterator[Level]:
         walks = [UniformRefinement(body).levels(count) for body in self.bodies]
@@ -92,11 +93,15 @@ class TwoBodies:
         columns = quantities(upper, problem.upper, u_upper) | {"qoi_contact_measure": float("nan")}
         columns["qoi_energy"] += strain_energy(problem.lower, u_lower)
         if self.case.exact:
-            exact = [exact_quantities(body, part, quadrature)
-                     for body, part, quadrature in zip(self.bodies, problem.bodies, quadratures)]
-            columns |= exact[0] | {exact_column("qoi_contact_measure"): float("nan"),
-                                   exact_column("qoi_energy"): sum(e[exact_column("qoi_energy")] for e in exact)}
+            if self._exact[0] is not quadratures:
+                self._exact = (quadratures, self.exact_quantities(problem, quadratures))
+            columns |= self._exact[1]
         return columns
+
+    def exact_quantities(self, problem, quadratures) -> dict:
+        exact = [exact_quantities(body, part, quadrature) for body, part, quadrature in zip(self.bodies, problem.bodies, quadratures)]
+        return exact[0] | {exact_column("qoi_contact_measure"): float("nan"),
+                           exact_column("qoi_energy"): sum(e[exact_column("qoi_energy")] for e in exact)}
 
 
 class TwoBodyErrors:
