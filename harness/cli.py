@@ -74,7 +74,7 @@ def engine_of(args):
 
 def cmd_run(args) -> int:
     from .problem.case import load_case
-    from .study.engines import skipped_meshes, study_jobs
+    from .study.engines import skipped_meshes, skipped_methods, study_jobs
     from .study.folder import owned
 
     methods = selected_methods(args)
@@ -86,7 +86,7 @@ def cmd_run(args) -> int:
     try:
         # refused before the output folder is touched or a worker started
         study_jobs(cases, methods, args.levels, engine, check_memory=not args.skip_memory_check, meshes=args.mesh)
-        for line in skipped_meshes(cases, args.mesh):
+        for line in skipped_methods(cases, methods) + skipped_meshes(cases, args.mesh):
             print(f"harness: {line}", file=sys.stderr)
         with owned(Path(args.out)) as out:
             frame, merged = _run_into(out, args, cases, methods, engine)

@@ -6,7 +6,9 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
+from harness.measure.quantities import QUANTITY_COLUMNS
 from harness.measure.rates import RATE_COLUMNS
+from harness.measure.richardson import QUANTITY_TABLE_COLUMNS
 from harness.methods import METHODS
 from harness.study.chain import COLUMNS
 
@@ -29,6 +31,9 @@ def test_run_writes_one_tidy_row_per_case_method_level(tmp_path):
     assert frame.groupby("method")["level"].max().to_dict() == {"mean": 1, "nodal": 1, "p1": 2, "nitsche": 1, "penalty": 1,
                                                                  "nitsche-p1": 2, "penalty-p1": 2}
     assert (frame.kkt_residual <= 1e-10).all() and (frame.status == "converged").all()
+    # the methods of `all` that do not apply are named, in one line, not left out in silence
+    skipped = [line for line in done.stderr.splitlines() if "skipped" in line]
+    assert len(skipped) == 1 and "mean-edges" in skipped[0] and "mortar-p1" in skipped[0], done.stderr
 
 
 @pytest.mark.parametrize("option, methods", [(["--model", "all"], {"mean", "nodal"}), (["--model", "nodal"], {"nodal"}),
@@ -99,6 +104,12 @@ def test_rates_command_writes_rates_beside_results(tmp_path):
     assert {"fitted_rate", "verdict", "sharper_verdict", "fitted_rate_l2", "fitted_rate_best", "best_verdict",
             "fitted_rate_trace", "fitted_rate_pressure_h12"} <= set(rates.columns)
     assert len(rates) == len(METHODS_2D)
+    done = harness("rates", str(tmp_path / "results.csv"), "--qoi")
+    assert done.returncode == 0, done.stderr
+    quantities = pd.read_csv(tmp_path / "quantities.csv")
+    assert list(quantities.columns) == QUANTITY_TABLE_COLUMNS
+    assert set(quantities.quantity) == set(QUANTITY_COLUMNS) and len(quantities) == len(METHODS_2D) * len(QUANTITY_COLUMNS)
+    assert "bands holding the exact value" in done.stdout
 
 
 def test_case_file_by_path_runs_every_method_and_rates_needs_no_case_option(tmp_path):

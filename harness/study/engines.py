@@ -252,6 +252,19 @@ def skipped_meshes(cases, meshes) -> list[str]:
             if (reason := mesh.applies_to(case)) is not None]
 
 
+def skipped_methods(cases, methods) -> list[str]:
+    """One line per case naming the methods a study leaves out because they do not discretise
+    its physics, dimension or number of bodies (``Method.supports``)."""
+    lines = []
+    for case in cases:
+        left_out = [m.name for m in methods if not m.supports(case)]
+        if left_out:
+            kind = f"{case.physics.name} problems in {case.dimension}D with {case.bodies} bod{'y' if case.bodies == 1 else 'ies'}"
+            lines.append(f"{case.name}: {', '.join(left_out)} skipped: {'it does' if len(left_out) == 1 else 'they do'} "
+                         f"not discretise {kind}")
+    return lines
+
+
 def check_meshes(cases, meshes) -> None:
     """ValueError in one line if a mesh strategy applies to none of ``cases``."""
     for mesh in meshes:
