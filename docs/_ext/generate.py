@@ -10,6 +10,7 @@ from tables import columns_table, markdown_table
 def write_generated(folder: Path) -> None:
     from harness import case_table, method_table
     from harness.measure.efficiency import COLUMN_MEANINGS as EFFICIENCY
+    from harness.measure.efficiency import QUANTITY_EFFICIENCY_MEANINGS as QUANTITY_EFFICIENCY
     from harness.measure.rates import COLUMN_MEANINGS as RATES
     from harness.measure.richardson import QUANTITY_TABLE_MEANINGS as QUANTITIES
     from harness.study.rows import COLUMN_MEANINGS as RESULTS
@@ -17,7 +18,8 @@ def write_generated(folder: Path) -> None:
     cases = case_table().drop(columns=["description"]).rename(columns={"expected_log_exponent": "log exponent"})
     pages = {"cases.md": cases, "methods.md": method_table(),
              "results_columns.md": columns_table(RESULTS), "rates_columns.md": columns_table(RATES),
-             "efficiency_columns.md": columns_table(EFFICIENCY), "quantities_columns.md": columns_table(QUANTITIES)}
+             "efficiency_columns.md": columns_table(EFFICIENCY), "quantities_columns.md": columns_table(QUANTITIES),
+             "quantity_efficiency_columns.md": columns_table(QUANTITY_EFFICIENCY)}
     texts = {name: markdown_table(frame) for name, frame in pages.items()}
     texts["results.md"] = results_page(Path(os.environ.get("HARNESS_RESULTS", folder.parent.parent / "results")))
     texts["performance.md"] = performance_page(Path(os.environ.get("HARNESS_RESULTS", folder.parent.parent / "results")))

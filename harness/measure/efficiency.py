@@ -37,13 +37,15 @@ COLUMN_MEANINGS = {
 }
 
 def at_target(err: np.ndarray, cost: np.ndarray, target: float) -> float:
-    """log cost interpolated linearly in log err at ``target``, between the first level whose
-    error is <= target and the one before; NaN if the levels never reach it."""
+    """log cost interpolated linearly in log err at ``target``, between the level from which
+    the error stays <= target and the one before; NaN if the levels never reach it. (From which
+    it stays: an error that changes sign, as a quantity's can, is small by accident on a level
+    where it crosses zero; an H^1 error falls monotonically and the two readings agree.)"""
     err, cost = np.asarray(err, float), np.asarray(cost, float)
-    reached = np.flatnonzero(err <= target)
-    if not len(reached):
+    above = np.flatnonzero(err > target)
+    k = int(above[-1]) + 1 if len(above) else 0
+    if k == len(err):
         return float("nan")
-    k = int(reached[0])
     if k == 0 or err[k] == target:
         return float(cost[k])
     t = (np.log(target) - np.log(err[k - 1])) / (np.log(err[k]) - np.log(err[k - 1]))
@@ -138,3 +140,52 @@ def verdicts(table: pd.DataFrame, rates: pd.DataFrame, baseline: str | None = No
 
 def _times(ratio: float) -> str:
     return f"{ratio:.0f}x" if ratio >= 10 else f"{ratio:.2g}x"
+
+
+# quantity -> its error column's source: the rows' value and exact value (``measure.quantities``)
+QUANTITY_EFFICIENCY_COLUMNS = ["case", "quantity", "method", "order", "target_error", "ndof", "total_seconds",
+                               "p1_over_ndof", "p1_over_seconds"]
+QUANTITY_EFFICIENCY_MEANINGS = {
+    "case": "the case (with u, uniform meshes)", "quantity": "the quantity of interest",
+    "method": "the method", "order": "its order",
+    "target_error": "the case's target error in the quantity: the largest of the methods' finest errors",
+    "ndof": "the dofs the method needs to reach it (interpolated in log–log between its levels)",
+    "total_seconds": "mesh, assembly, set-up and solve seconds to reach it",
+    "p1_over_ndof": "the baseline's dofs over the method's (> 1: the method needs fewer)",
+    "p1_over_seconds": "the baseline's total seconds over the method's",
+}
+
+
+def quantity_efficiency_table(results: pd.DataFrame, columns: dict, baseline: str | None = None, methods=()) -> pd.DataFrame:
+    """What each method pays for a given error in each quantity of interest (``columns``: name
+    -> results column, whose exact value is the column ``<column>_exact``): the cost at equal
+    accuracy of the module docstring with |Q_h - Q| for the H^1 error, on the uniform chains of
+    the cases with u. An engineer's "is P2 worth it?" is asked of the force, not of a norm."""
+    if "mesh" in results:
+        results = results[results.mesh == "uniform"]
+    baseline = baseline or baseline_name(results.method, methods)
+    rows = []
+    for quantity, column in columns.items():
+        exact = f"{column}_exact"
+        if column not in results or (exact not in results and quantity != "penetration"):
+            continue
+        for case, group in results.groupby("case", sort=False):
+            # the exact value of the finest row (its rule is the finest; ``measure.quantities``)
+            value = group.loc[group.ndof.idxmax(), exact] if exact in group else 0.0
+            group = group.assign(error=(group[column] - value).abs())
+            groups = {m: g.sort_values("level") for m, g in group.groupby("method", sort=False)
+                      if np.isfinite(g.error).all() and (g.error > 0).all() and len(g) >= 2}
+            if not groups:
+                continue
+            target = max(g.error.iloc[-1] for g in groups.values())
+            rows += [{"case": case, "quantity": quantity, "method": method, "order": int(g.order.iloc[0]),
+                      "target_error": target, "ndof": at_target(g.error, g.ndof, target),
+                      "total_seconds": at_target(g.error, g.total_seconds.cumsum(), target)} for method, g in groups.items()]
+    table = pd.DataFrame(rows, columns=QUANTITY_EFFICIENCY_COLUMNS)
+    for _, index in table.groupby(["case", "quantity"], sort=False).groups.items():
+        part = table.loc[index]
+        base = part[part.method == baseline]
+        if len(base):
+            table.loc[index, "p1_over_ndof"] = base.ndof.iloc[0] / part.ndof
+            table.loc[index, "p1_over_seconds"] = base.total_seconds.iloc[0] / part.total_seconds
+    return table

@@ -24,6 +24,15 @@ values and no bubbles (``embed``). Then e = u_R - P u_h is in X_R and its norms 
 matrix norms: |e|_1^2 = e^T K_R e, ||e||_0^2 = e^T M_R e, and on Gamma_C with the boundary mass
 matrix of the contact quadrature. No quadrature error and no point location.
 
+Elasticity (Remark 2.3): NGSolve's VectorH1 numbers its dofs by component, one block of the
+scalar space's dofs after the other, so in NGSolve's Cartesian basis the prolongation is
+kron(I_d, P) and the H^1-seminorm and L^2 matrices kron(I_d, K_R), kron(I_d, M_R), each applied
+block by block (``blockwise``, ``ReferenceNorms``). The solutions are carried in that basis
+(``problem.cartesian``: the rotated frame on Gamma_C is a level's own, and does not nest); the
+energy a(e, e) (the elastic stiffness) and the trace of the contact variable c = -u . n are read in
+the reference problem's own variables, e_ours = Q_R^T e (Q_R orthogonal). The discrete pressure is a
+scalar on Gamma_C, on the contact dofs of the last component's block: the same kron(I_d, P) carries it.
+
 With nested spaces and no contact, Galerkin orthogonality gives
 |u - u_h|^2 = |u_R - u_h|^2 + |u - u_R|^2 (u_R is the Galerkin projection on X_R, which contains
 every studied X_h of either order): against a reference k levels finer the error of a P2
@@ -210,12 +219,83 @@ def reference_method(case=None, methods=()):
 REFERENCE_METHOD = reference_method().name
 
 
+def components_of(vector: np.ndarray, ndof: int) -> int:
+    """The components d of a vector of a space of ``ndof`` scalar dofs per component (1: scalar;
+    elasticity: one per dimension), from its length (ValueError if it is no whole multiple)."""
+    blocks, rest = divmod(len(vector), ndof)
+    if rest or not blocks:
+        raise ValueError(f"a vector of {len(vector)} entries is not one of {ndof} dofs per component")
+    return blocks
+
+
+def blockwise(P: sp.csr_matrix, vector: np.ndarray) -> np.ndarray:
+    """kron(I_d, P) @ ``vector``: each of the d component blocks of NGSolve's component-blocked
+    (VectorH1) ordering is a scalar function of the space P maps, prolonged alone; d = 1 for a
+    scalar. Applied as P times the (n, d) array of the blocks, without the Kronecker product."""
+    components = components_of(vector, P.shape[1])
+    return (P @ vector.reshape(components, -1).T).T.ravel()
+
+
 def embed(vector: np.ndarray, numbering: LevelNumbering, order: int) -> np.ndarray:
     """A vector of X_h of ``order`` as one of X_h of order 2 on the same mesh: P2's vertex dofs
-    are the vertex numbers and its edge dofs hierarchical bubbles, zero for a P1 function."""
+    are the vertex numbers and its edge dofs hierarchical bubbles, zero for a P1 function (in
+    each component block of a vector space)."""
     if order == 2:
         return vector
-    return np.concatenate([vector, np.zeros(numbering.ndof2 - numbering.nv)])
+    blocks = vector.reshape(components_of(vector, numbering.nv), numbering.nv)
+    return np.concatenate([blocks, np.zeros((len(blocks), numbering.ndof2 - numbering.nv))], axis=1).ravel()
+
+
+def squares(matrix: sp.csr_matrix, vectors: np.ndarray) -> np.ndarray:
+    """v^T A v of every column v of ``vectors`` (clipped at 0 against round-off); a scalar
+    space's ``matrix`` on vectors of d component blocks is kron(I_d, matrix), summed over blocks."""
+    n = matrix.shape[0]
+    blocks = vectors.reshape(components_of(vectors, n), n, -1)
+    return np.maximum(sum(np.einsum("ij,ij->j", block, matrix @ block) for block in blocks), 0.0)
+
+
+@dataclass(frozen=True)
+class ReferenceNorms:
+    """The matrices of the error norms on the reference level (module docstring). ``K``, ``M``:
+    the scalar space's H^1-seminorm and L^2 matrices, applied per component block of an error in
+    NGSolve's Cartesian basis. In the reference problem's own variables (rotated on Gamma_C by
+    ``basis`` Q_R; None where Q_R = I): ``energy``, the elastic stiffness a(., .) (None for the
+    Laplacian, whose energy matrix is K), and ``boundary``, ``boundary_h``, the Gamma_C mass
+    matrices (the second weighted by h) on the contact variable's dofs ``contact_dofs``."""
+
+    K: sp.csr_matrix
+    M: sp.csr_matrix
+    energy: sp.csr_matrix | None          # None: the H^1 seminorm's K (the Laplacian's energy)
+    boundary: sp.csr_matrix
+    boundary_h: sp.csr_matrix
+    contact_dofs: np.ndarray
+    basis: sp.csr_matrix | None
+
+    @classmethod
+    def of(cls, problem, mesh: ngs.Mesh) -> "ReferenceNorms":
+        """From the reference level's problem, before its solve takes the stiffness matrix."""
+        quadrature = contact_quadrature(problem, CONTACT_ERROR_POINTS)
+        weighted = quadrature.T.multiply(quadrature.weights[:, None])
+        on = problem.contact_dofs
+        elastic = problem.physics.elastic
+        # a scalar problem's A is the H^1-seminorm's matrix (every dof), assembled already
+        K, M = norm_matrices(mesh, problem.order, problem.A if not elastic else None)
+        return cls(K, M, problem.A.copy() if elastic else None,
+                   (quadrature.T.T @ weighted).tocsr()[on][:, on],
+                   (quadrature.T.T @ weighted.multiply(quadrature.h[:, None])).tocsr()[on][:, on],
+                   on, problem.basis)
+
+    def errors(self, e: np.ndarray, d: np.ndarray) -> dict[str, np.ndarray]:
+        """The squared norms of the columns of ``e`` (u_R - P u_h, Cartesian) and ``d``
+        (lambda_R - P lambda_h on the contact dofs): H^1-semi, L^2, energy, trace of the contact
+        variable, pressure in L^2 and h-weighted L^2 of Gamma_C."""
+        ours = e if self.basis is None else self.basis.T @ e
+        semi = squares(self.K, e)
+        on = self.contact_dofs
+        return {"semi": semi, "l2": squares(self.M, e),
+                "energy": semi if self.energy is None else squares(self.energy, ours),
+                "trace": squares(self.boundary, ours[on]), "pressure": squares(self.boundary, d[on]),
+                "pressure_h": squares(self.boundary_h, d[on])}
 
 
 class ReferenceErrors:
@@ -277,15 +357,7 @@ class ReferenceErrors:
         self._number(level, mesh)
         self.pressure = {order: DiscretePressure.of(problem) for order, problem in problems.items()}
         if level == self.reference_level:
-            problem = problems[self.reference_order]
-            quadrature = contact_quadrature(problem, CONTACT_ERROR_POINTS)
-            weighted = quadrature.T.multiply(quadrature.weights[:, None])
-            # a scalar problem's A is the H^1-seminorm's matrix (every dof), assembled already
-            laplacian = problem.A if not problem.physics.elastic else None
-            on = self.contact_dofs = problem.contact_dofs
-            self.norms = norm_matrices(mesh, self.reference_order, laplacian) + (
-                (quadrature.T.T @ weighted).tocsr()[on][:, on],
-                (quadrature.T.T @ weighted.multiply(quadrature.h[:, None])).tocsr()[on][:, on])
+            self.norms = ReferenceNorms.of(problems[self.reference_order], mesh)
 
     def solved(self, method, level: int, problem, u: np.ndarray, row: dict | None) -> dict:
         """Columns known at once (``max_tension``); the reference solution is kept for
@@ -294,10 +366,12 @@ class ReferenceErrors:
         coefficients = own.coefficients(u)
         lam = np.zeros(problem.ndof)
         lam[problem.contact_dofs] = coefficients
+        # u_h in NGSolve's Cartesian basis (a copy), where the levels nest (module docstring)
+        cartesian = problem.cartesian(u).copy()
         if method.name == self.reference and level == self.reference_level:
-            self.solution = (u.copy(), lam)
+            self.solution = (cartesian, lam)
         if level < self.studied[method.name]:
-            self.kept[method.name].append((u.copy(), lam))
+            self.kept[method.name].append((cartesian, lam))
             self.rows[method.name].append(row)
             return {"max_tension": own.max_tension(coefficients)}
         return {}
@@ -326,14 +400,13 @@ class ReferenceErrors:
     def _lift(self, vector: np.ndarray, order: int, start: int) -> np.ndarray:
         """``vector`` of X_h(level ``start``) of ``order`` as a vector of X_R."""
         for P in self.prolongations[order][start:self.reference_level]:
-            vector = P @ vector
+            vector = blockwise(P, vector)
         return embed(vector, self.numbering[self.reference_level], order)
 
     def _complete(self, name: str) -> None:
         """The error columns of every kept solution of ``name``: all its levels' u_R - P u_h
         (and lambda_R - P lambda_h) as the columns of one matrix, so that each norm matrix is
         applied once to all of them."""
-        K, M, boundary, boundary_h = self.norms
         u_ref, lam_ref = self.solution
         order, level = self.orders[name], self.reference_level
         kept, rows = self.kept.pop(name), self.rows.pop(name)
@@ -341,19 +414,14 @@ class ReferenceErrors:
             return
         e = u_ref[:, None] - np.column_stack([self._lift(u_h, order, studied) for studied, (u_h, _) in enumerate(kept)])
         d = lam_ref[:, None] - np.column_stack([self._lift(lam_h, order, studied) for studied, (_, lam_h) in enumerate(kept)])
-
-        def squares(matrix, vectors):
-            return np.maximum(np.einsum("ij,ij->j", vectors, matrix @ vectors), 0.0)
-
-        # the Gamma_C mass matrices live on the contact dofs: applied there only
-        on = self.contact_dofs
-        semi, l2, trace = squares(K, e), squares(M, e), squares(boundary, e[on])
-        pressure, pressure_h = squares(boundary, d[on]), squares(boundary_h, d[on])
+        norms = self.norms.errors(e, d)
+        semi, l2, energy = norms["semi"], norms["l2"], norms["energy"]
+        trace, pressure, pressure_h = norms["trace"], norms["pressure"], norms["pressure_h"]
         for studied, row in enumerate(rows):
             # h of the studied level is 2^(level - studied) times the reference's (red refinement)
             row.update({
                 "err_h1": float(np.sqrt(semi[studied] + l2[studied])), "err_h1_semi": float(np.sqrt(semi[studied])),
-                "err_l2": float(np.sqrt(l2[studied])), "err_energy": float(np.sqrt(semi[studied])),
+                "err_l2": float(np.sqrt(l2[studied])), "err_energy": float(np.sqrt(energy[studied])),
                 "err_trace_l2": float(np.sqrt(trace[studied])),
                 "err_pressure_l2": float(np.sqrt(pressure[studied])),
                 "err_pressure_h12": float(np.sqrt(2.0 ** (level - studied) * pressure_h[studied])),

@@ -75,7 +75,9 @@ An *elastic case* (``physics = "elasticity"``, ``harness.physics.Elasticity``) d
     f                      optional, -div sigma(u) in closed form (checked against the derived one)
 
 and the harness derives f = -div sigma(u), the traction sigma(u) n on Gamma_g and u on Gamma_u.
-An elastic case needs its exact u (no reference cases in elasticity yet).
+An elastic reference case (2D: no 3D reference cases yet) declares instead f, dirichlet and neumann
+(the traction sigma(u) n on Gamma_g) as vectors with one component per dimension, or numbers, each
+the same in every component.
 
 From u the harness derives f = -Laplace(u) (unless declared), the Neumann data du/dn on
 Gamma_g and the Dirichlet data u on Gamma_u (docs/mathematics.md §1: nonzero Dirichlet data, a gap and a load on
@@ -258,18 +260,12 @@ def case_from_module(module, source: str) -> Case:
     physics = physics_of(module, source)
     if hasattr(module, "u"):
         case = _exact_case(module, source)
-    elif physics is not SCALAR:
-        raise CaseError(f"case {source}: an elastic case needs its exact displacement u (no reference cases in elasticity yet)")
     elif getattr(module, "second_body", None) is not None:
         raise CaseError(f"case {source}: a two-body case needs its exact u (the mirror solution, harness.problem.bodies)")
     else:
-        return _reference_case(module, source)
+        case = _reference_case(module, source, physics)
     if physics is not SCALAR:
-        # plane strain on a 2D geometry, the body itself on a 3D one
-        physics = dataclasses.replace(physics, dim=case.dimension)
-        if not physics.is_field(case.u):
-            raise CaseError(f"case {source}: u must be a {physics.components}-vector for {physics.name}, got dimension {case.u.dim}")
-        case = dataclasses.replace(case, physics=physics)
+        case = _elastic_case(case, physics, source)
     if case.second_body is not None:
         check_second_body(case, source)
     return case
@@ -288,18 +284,42 @@ def _exact_case(module, source: str) -> Case:
     return Case(source=source, **fields, **optional_fields(module))
 
 
-def _reference_case(module, source: str) -> Case:
-    """A case without u: f and the boundary data are required (ValueError names what lacks)."""
+def _reference_case(module, source: str, physics=SCALAR) -> Case:
+    """A case without u: f and the boundary data are required (ValueError names what lacks).
+    A number as boundary data is that value in every component of the ``physics`` (a
+    displacement's, in the geometry's dimension)."""
     missing = [key for key in REFERENCE_REQUIRED if not hasattr(module, key)]
     if missing:
         raise CaseError(f"case {source} has no exact solution u, so it must declare f, dirichlet and neumann; "
                         f"it lacks: {', '.join(missing)}")
+    if physics is not SCALAR:
+        physics = dataclasses.replace(physics, dim=geometry_dimension(module.geometry))
+
+    def data(value) -> ngs.CoefficientFunction:
+        return physics.constant(value) if isinstance(value, (int, float)) else ngs.CF(value)
+
     fields = {key: getattr(module, key) for key in REFERENCE_REQUIRED if key not in ("f", "dirichlet", "neumann")}
     fields |= {key: getattr(module, key, default) for key, default in REFERENCE_OPTIONAL.items()}
     fields["nu"], fields["expected_rate"] = float(fields["nu"]), float(fields["expected_rate"])
-    fields |= {"u": None, "dirichlet": ngs.CF(module.dirichlet), "neumann": ngs.CF(module.neumann),
-               "reference_levels": reference_levels(module, source)}
+    fields |= {"u": None, "dirichlet": data(module.dirichlet), "neumann": data(module.neumann),
+               "reference_levels": reference_levels(module, source), "physics": physics}
     return Case(source=source, **fields, **optional_fields(module))
+
+
+def _elastic_case(case: Case, physics, source: str) -> Case:
+    """``case`` with its elastic ``physics`` (plane strain on a 2D geometry, the body itself on a
+    3D one), whose displacement data -- u, or a reference case's f, dirichlet, neumann and
+    contact_load -- must be vectors of one component per dimension (refused in one line)."""
+    physics = dataclasses.replace(physics, dim=case.dimension)
+    if case.u is not None:
+        fields = {"u": case.u}
+    else:
+        fields = {"f": case.f, "dirichlet": case.dirichlet, "neumann": case.neumann, "contact_load": case.contact_load}
+    for key, value in fields.items():
+        if value is not None and not physics.is_field(value):
+            raise CaseError(f"case {source}: {key} must be a {physics.components}-vector for {physics.name}, "
+                            f"got dimension {value.dim}")
+    return dataclasses.replace(case, physics=physics)
 
 
 def _registered_files() -> list[Path]:

@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..measure.efficiency import efficiency_table, verdicts
+from ..measure.efficiency import efficiency_table, quantity_efficiency_table, verdicts
+from ..measure.quantities import QUANTITY_COLUMNS
 from ..measure.rates import rate_table
 from ..measure.richardson import quantity_table
 from ..methods import METHODS, SWEPT, methods_named, with_role
@@ -67,7 +68,7 @@ from .vtk import VtkWriter
 
 def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame, efficiency: pd.DataFrame,
                    figs: dict, meta: dict, sweeps: dict | None = None, meshes: pd.DataFrame | None = None,
-                   quantities: pd.DataFrame | None = None) -> Document:
+                   quantities: pd.DataFrame | None = None, quantity_costs: pd.DataFrame | None = None) -> Document:
     doc = Document("The Signorini problem in P2 and P1: measured against the theorems")
     settings = meta["settings"]
     doc.paragraph(
@@ -107,7 +108,7 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         doc.paragraph(GAMMA_C_NOTE)
     _efficiency_section(doc, cases, efficiency, rates, methods)
     if quantities is not None:
-        add_quantity_section(doc, quantities)
+        add_quantity_section(doc, quantities, quantity_costs)
     if sweeps:
         doc.heading("Penalty and Nitsche: where their parameter is safe")
         doc.paragraph(SWEEP_NOTE)
@@ -339,6 +340,7 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
             rates = rate_table(results)
             efficiency = efficiency_table(results, methods=methods)
             quantities = quantity_table(pd.concat([results, meshes], ignore_index=True) if not meshes.empty else results)
+            quantity_costs = quantity_efficiency_table(results, QUANTITY_COLUMNS, methods=methods)
         with timings("writing", "results"):
             merged = merge_rows(read_rows(results_dir / "results.csv"), results)
             write_csv(merged.frame, results_dir / "results.csv")
@@ -349,6 +351,7 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
             write_csv(rates, results_dir / "rates.csv")
             write_csv(efficiency, results_dir / "efficiency.csv")
             write_csv(quantities, results_dir / "quantities.csv")
+            write_csv(quantity_costs, results_dir / "quantity_efficiency.csv")
         meta = provenance(settings, methods) | {"wall_seconds": time.perf_counter() - start, "cases": [c.name for c in cases],
                                        "engine": (engine or InProcess()).describe(),
                                        "computed": computed_since(cases, results_dir / "cases", run_started)}
@@ -365,7 +368,7 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
     for name, spent in seconds.items():
         timings.add("figures (in workers)", name, "", spent)
     with timings("document"):
-        doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps, meshes, quantities)
+        doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps, meshes, quantities, quantity_costs)
     with timings("writing", "report"):
         write_tables(results, rates, efficiency, Path(report_dir) / "tables")
         write_atomic(Path(report_dir) / "report.md", doc.markdown(Path(report_dir)))

@@ -18,7 +18,12 @@ QUANTITY_NOTE = (
     "quantities.csv has every column; `harness rates RESULTS.csv --qoi` prints it.")
 
 
-def add_quantity_section(doc, table: pd.DataFrame) -> None:
+# the quantities whose cost at equal error the report shows (the contact zone's error is O(h) for
+# every method, and the penetration's exact value 0 is met exactly by the cones)
+COMPARED = ("force", "peak_pressure", "energy")
+
+
+def add_quantity_section(doc, table: pd.DataFrame, costs: pd.DataFrame | None = None) -> None:
     if table.empty:
         return
     doc.heading("Quantities of interest with error bars (Richardson, GCI)")
@@ -28,6 +33,12 @@ def add_quantity_section(doc, table: pd.DataFrame) -> None:
     if not misses.empty:
         doc.paragraph("Where the band misses the exact value in the asymptotic range" + miss_reason(table) + ":")
         doc.table(misses)
+    if costs is not None and not costs.empty:
+        doc.paragraph("Is P2 worth it for what an engineer reads? Per case with u and quantity, the baseline's dofs over "
+                      "each method's to reach the same error |Q_h − Q| (the largest of the methods' finest errors; read "
+                      "off the level from which the error stays below it; quantity_efficiency.csv): above 1 the method "
+                      "needs fewer dofs than P1.")
+        doc.table(cost_view(costs))
     uniform = table[table.mesh == "uniform"]
     with doc.details(f"Every chain on uniform meshes: the finest value ± GCI (observed order; * outside the asymptotic "
                      f"range) ({uniform[['case', 'method']].drop_duplicates().shape[0]} rows)", "quantities-table"):
@@ -74,6 +85,14 @@ def miss_reason(table: pd.DataFrame) -> str:
                 "the error itself falls: Richardson then takes the remaining error for smaller than it is, and the "
                 "misses are by little)")
     return ""
+
+
+def cost_view(costs: pd.DataFrame) -> pd.DataFrame:
+    """Rows (case, quantity), one column per method: the baseline's dofs over its dofs."""
+    shown = costs[costs.quantity.isin(COMPARED) & costs.p1_over_ndof.notna()]
+    view = shown.pivot_table(index=["case", "quantity"], columns="method", values="p1_over_ndof", sort=False)
+    order = [m for m in dict.fromkeys(shown.method) if m in view.columns]
+    return view[order].map(lambda v: "" if not np.isfinite(v) else f"{v:.3g}").reset_index()
 
 
 def band_view(table: pd.DataFrame, with_mesh: bool = False) -> pd.DataFrame:
