@@ -78,7 +78,7 @@ def test_a_case_asymptotic_by_six_levels_runs_six_in_the_default_report_and_what
     assert case_settings(known["corner-r12"], default)["levels"] == 6
     assert case_settings(known["oscillating-r34"], default)["levels"] == 7      # not asymptotic by six
     assert case_settings(known["corner-r12"], fine)["levels"] == 8               # the fine profile runs all
-    told = default | {"levels": 5, "stop_when_asymptotic": False}                # report --levels 5
+    told = default | {"levels": 5, "stop_when_asymptotic": False, "levels_given": True}   # report --levels 5
     assert {case_settings(case, told)["levels"] for case in known.values() if case.dimension == 2} == {5}
     groups = study_groups([known[n] for n in ("transition-line-3d", "corner-r12", "smooth")], default)
     assert [([c.name for c in group], own["levels"]) for group, own in groups] == \

@@ -52,6 +52,11 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     asymptotic_levels_p1   optional int >= 3: the same for the P1 methods (order 1), which a
                            study otherwise runs one level past P2, to P2's finest number of
                            dofs (``methods.base.EXTRA_LEVELS``): P2's levels or one more
+    report_levels          optional {profile: int >= 3}: the most levels a report of that profile
+                           runs for the case, where its levels cost more than the profile's
+                           levels assume (``{"default": 4, "fine": 5}``); unlike
+                           asymptotic_levels it claims nothing about the fits (the report's
+                           verdicts say what the levels show); ``--levels`` overrides it
     report_profile         optional, the first report profile that includes the case: "default"
                            (the default) or "fine" -- a case whose study costs more than the
                            five minutes of ``make report`` allow, run by ``make report-fine``
@@ -165,6 +170,7 @@ class Case:
     asymptotic_levels: int | None = None               # the default report's levels for this case
     asymptotic_levels_p1: int | None = None            # and for its P1 methods
     report_profile: str = "default"                    # the first report profile that includes it
+    report_levels: tuple | None = None                 # ((profile, most levels), ...): its budget
     second_body: object = None                         # ``bodies.MirrorBody``: a two-body case
 
     @property

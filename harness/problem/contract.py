@@ -65,6 +65,12 @@ def check_declared(module, source: str) -> None:
     p1, p2 = getattr(module, "asymptotic_levels_p1", None), getattr(module, "asymptotic_levels", None)
     if p1 is not None and p2 is not None and p1 not in (p2, p2 + 1):
         raise CaseError(f"case {source}: asymptotic_levels_p1 must be asymptotic_levels ({p2}) or one more, got {p1}")
+    capped = getattr(module, "report_levels", None)
+    if capped is not None and not (isinstance(capped, dict) and capped and all(
+            profile in REPORT_PROFILES and isinstance(n, int) and not isinstance(n, bool) and n >= 3
+            for profile, n in capped.items())):
+        raise CaseError(f"case {source}: report_levels must map report profiles ({', '.join(REPORT_PROFILES)}) to "
+                        f"integers >= 3, got {capped!r}")
     if getattr(module, "report_profile", REPORT_PROFILES[0]) not in REPORT_PROFILES:
         raise CaseError(f"case {source}: report_profile must be one of {', '.join(REPORT_PROFILES)}, "
                         f"got {module.report_profile!r}")
@@ -153,7 +159,7 @@ def optional_fields(module) -> dict:
     fields = {}
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
                 "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile", "second_body",
-                "singular_lines"):
+                "singular_lines", "report_levels"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):
@@ -162,6 +168,8 @@ def optional_fields(module) -> dict:
         fields["transition_curve"] = tuple(tuple(tuple(map(float, p)) for p in line) for line in fields["transition_curve"])
     if fields.get("singular_points") is not None:
         fields["singular_points"] = tuple(tuple(map(float, point)) for point in fields["singular_points"])
+    if fields.get("report_levels") is not None:
+        fields["report_levels"] = tuple(sorted(fields["report_levels"].items()))     # hashable, like the rest
     if fields.get("singular_lines") is not None:
         fields["singular_lines"] = tuple(tuple(tuple(map(float, point)) for point in line) for line in fields["singular_lines"])
     for key in ("gap", "contact_load"):

@@ -188,17 +188,23 @@ def left_out_text(cases: list[Case], settings: dict) -> str:
 
 
 def levels_text(cases: list[Case], settings: dict) -> str:
-    """How many P2 levels the 2D cases ran: the profile's, and fewer for the cases whose fits are
-    asymptotic earlier (``Case.asymptotic_levels``, ``study.cache.case_settings``)."""
+    """How many P2 levels the 2D cases ran: the profile's, fewer for the cases whose fits are
+    asymptotic earlier (``Case.asymptotic_levels``) and for those whose levels cost more than the
+    profile allows (``Case.report_levels``; ``study.cache.case_settings``)."""
     fewer: dict[int, list[str]] = {}
+    budget: dict[int, list[str]] = {}
     for case in cases:
         levels = case_settings(case, settings)["levels"]
         if case.dimension == 2 and levels < settings["levels"]:
-            fewer.setdefault(levels, []).append(case.name)
+            capped = dict(case.report_levels or ()).get(settings.get("profile")) == levels
+            (budget if capped else fewer).setdefault(levels, []).append(case.name)
     text = f"{settings['levels']} P2 levels"
     if fewer:
         text += " (" + "; ".join(f"{n} for {', '.join(names)}" for n, names in sorted(fewer.items())) + \
             ": their fitted H¹ rates are asymptotic by then, one level more moved none by more than 0.01)"
+    if budget:
+        text += " (" + "; ".join(f"{n} for {', '.join(names)}" for n, names in sorted(budget.items())) + \
+            ": their levels cost more, the profile's budget stops them there)"
     with_p2 = [case.name for case in cases if case_settings(case, settings).get("p1_extra_levels") == 0]
     text += ", P1 one level more (to P2's finest number of dofs)"
     if with_p2:
@@ -303,7 +309,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     if files:
         settings["method_files"] = files         # a method of your own: its results change with its file
     if levels is not None:
-        settings["levels"], settings["stop_when_asymptotic"] = levels, False
+        settings["levels"], settings["stop_when_asymptotic"], settings["levels_given"] = levels, False, True
         settings["mesh_levels"] = min(settings["mesh_levels"], levels)
     results_dir, report_dir = Path(results_dir), Path(report_dir)
     with all_owned([results_dir, report_dir]):

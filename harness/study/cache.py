@@ -117,13 +117,17 @@ def stale_sweeps(cases: list[Case], config: dict, results_dir: Path) -> list[Cas
 def case_settings(case: Case, settings: dict) -> dict:
     """The settings ``case``'s study runs with: a 3D case its own (smaller) number of levels (a
     3D level has 8 times the dofs), a two-body case at most the profile's ``levels_two_body``; a case that declares ``asymptotic_levels`` stops there when
-    the profile says so (``stop_when_asymptotic``: the default profile, not ``--levels``)."""
+    the profile says so (``stop_when_asymptotic``: the default profile, not ``--levels``), one that
+    declares ``report_levels`` at its budget for the profile (not with ``--levels``)."""
     levels = settings["levels_3d"] if case.dimension == 3 else settings["levels"]
     if case.bodies == 2:
         # two bodies: about twice a one-body level's dofs, solved by sparse Cholesky
         levels = min(levels, settings.get("levels_two_body", levels))
     if settings.get("stop_when_asymptotic") and case.asymptotic_levels:
         levels = min(levels, case.asymptotic_levels)
+    budget = dict(case.report_levels or ()).get(settings.get("profile"))
+    if budget and not settings.get("levels_given"):
+        levels = min(levels, budget)
     own = settings | {"levels": levels}
     if settings.get("stop_when_asymptotic") and case.asymptotic_levels_p1:
         # P1 stops with P2 (its fits asymptotic) or one level past it (P2's finest dofs)

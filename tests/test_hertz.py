@@ -1,0 +1,80 @@
+"""Hertz line contact (issue 54, item 3): the registered case against Hertz's formulas, its
+declared exponent, and its budget of levels in the reports."""
+import importlib.util
+import math
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+import harness
+from harness.problem.case import CaseError, load_case, registered_cases
+from harness.study.cache import case_settings
+from harness.study.chain import PROFILES
+
+CASE = Path(__file__).resolve().parent.parent / "cases" / "hertz_line.py"
+
+
+def module():
+    spec = importlib.util.spec_from_file_location("hertz_line_module", CASE)
+    loaded = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(loaded)
+    return loaded
+
+
+def hertz_errors(rows: pd.DataFrame) -> pd.DataFrame:
+    """a_h / a - 1 and p_max / p0 - 1 of each row, at the row's own force (module ``hertz``)."""
+    hertz = module().hertz
+    a, p0 = zip(*(hertz(force) for force in rows.qoi_force))
+    return rows.assign(a_error=rows.qoi_contact_measure / 2 / pd.Series(a, index=rows.index) - 1,
+                       p0_error=rows.qoi_peak_pressure / pd.Series(p0, index=rows.index) - 1)
+
+
+def test_the_corner_exponent_solves_williams_clamped_free_equation():
+    """At omega = pi/2, kappa = 3 - 4 nu = 1.8: the least root, 0.7112 (the case's nu - 1)."""
+    case = registered_cases()["hertz-line"]
+    l, kappa = case.nu - 1, 3 - 4 * 0.3
+    assert kappa**2 + 1 + 2 * kappa * math.cos(l * math.pi) - 4 * l**2 == pytest.approx(0.0, abs=1e-12)
+    assert l == pytest.approx(0.711173, abs=1e-6)
+
+
+def test_p2_is_within_one_percent_of_hertz_from_its_second_level():
+    rows = harness.run("hertz-line", methods=["nodal", "p1"], levels=2, show_progress=False)
+    errors = hertz_errors(rows)
+    finest = errors[(errors.method == "nodal") & (errors.level == 1)].iloc[0]
+    assert abs(finest.a_error) < 0.01 and abs(finest.p0_error) < 0.01, finest[["a_error", "p0_error"]]
+    # P1 at the same dofs is further off, in both
+    p1 = errors[(errors.method == "p1") & (errors.ndof == finest.ndof)].iloc[0]
+    assert abs(p1.a_error) > abs(finest.a_error) and abs(p1.p0_error) > abs(finest.p0_error)
+    assert (rows.kkt_residual <= 1e-10).all()
+
+
+def test_the_reports_stop_hertz_at_its_budget_and_report_levels_is_checked(tmp_path):
+    case = registered_cases()["hertz-line"]
+    default, fine = {"profile": "default", **PROFILES["default"]}, {"profile": "fine", **PROFILES["fine"]}
+    assert case_settings(case, default)["levels"] == 4 and case_settings(case, fine)["levels"] == 5
+    assert case_settings(case, default | {"levels": 6, "levels_given": True})["levels"] == 6      # report --levels 6
+    bad = tmp_path / "bad.py"
+    bad.write_text(CASE.read_text().replace('report_levels = {"default": 4, "fine": 5}', 'report_levels = {"coarse": 2}'))
+    with pytest.raises(CaseError, match="report_levels must map report profiles"):
+        load_case(str(bad))
+
+
+@pytest.mark.slow
+def test_the_half_space_is_approached_as_the_block_grows(tmp_path):
+    """The finest default level on blocks of 10 a and 20 a (delta found again so that a stays
+    about 0.1): the peak pressure's excess over Hertz's falls like (a/L)^2, by about 4."""
+    excess = []
+    for size, delta in ((1.0, 0.015), (2.0, 0.0186)):
+        path = write_scaled(tmp_path / f"hertz_{size:g}.py", size, delta)
+        rows = harness.run(str(path), methods=["nodal"], levels=4, show_progress=False)
+        excess.append(hertz_errors(rows).p0_error.iloc[-1])
+    assert excess[0] > 0 and excess[1] > 0                  # a block is stiffer than the half-space
+    assert 3.0 < excess[0] / excess[1] < 5.0, excess
+
+
+def write_scaled(path: Path, size: float, delta: float) -> Path:
+    source = CASE.read_text().replace("globals().update(setup())",
+                                      f"globals().update(setup(half_width={size}, height={size}, delta={delta}))")
+    path.write_text(source.replace('name = "hertz-line"', f'name = "hertz-line-{size:g}"'))
+    return path
