@@ -57,6 +57,7 @@ Cost. Elastic levels cost more than the scalar ones the default profile's seven 
 """
 from math import cos, pi, sin
 
+import numpy as np
 from netgen.geom2d import SplineGeometry
 from ngsolve import CF, x
 from scipy.optimize import brentq
@@ -69,6 +70,21 @@ def hertz(force, radius=RADIUS, e_star=E_STAR):
     """Hertz's half-width a and peak pressure p0 for a force per unit length."""
     a = (4 * force * radius / (pi * e_star)) ** 0.5
     return a, 2 * force / (pi * a)
+
+
+prediction = "Hertz (Johnson, Contact Mechanics, 1985, Sect. 4.2)"
+
+
+def predicted_quantities(force):
+    """Hertz's contact zone 2a and peak pressure p0 at the computed force."""
+    a, p0 = hertz(force)
+    return {"qoi_contact_measure": 2 * a, "qoi_peak_pressure": p0}
+
+
+def predicted_pressure(s, force):
+    """Hertz's p0 sqrt(1 - x^2/a^2) on the contact zone, 0 outside it."""
+    a, p0 = hertz(force)
+    return p0 * np.sqrt(np.clip(1 - (np.asarray(s) / a) ** 2, 0.0, None))
 
 
 def hertz_geometry(half_width, height, zone, zone_h=None, corner_h=None):
@@ -105,7 +121,7 @@ def setup(half_width=1.0, height=1.0, delta=0.015, zone=0.2, zone_h=0.025, maxh=
 def clamped_free_exponent(omega: float, poisson: float) -> float:
     """The least root l of Williams' clamped-free wedge equation (module docstring), plane strain."""
     kappa = 3 - 4 * poisson
-    return brentq(lambda l: kappa**2 + 1 + 2 * kappa * cos(2 * l * omega) - 4 * l**2 * sin(omega) ** 2, 0.5, 0.99,
+    return brentq(lambda s: kappa**2 + 1 + 2 * kappa * cos(2 * s * omega) - 4 * s**2 * sin(omega) ** 2, 0.5, 0.99,
                   xtol=1e-14)
 
 

@@ -33,9 +33,9 @@ def hertz_errors(rows: pd.DataFrame) -> pd.DataFrame:
 def test_the_corner_exponent_solves_williams_clamped_free_equation():
     """At omega = pi/2, kappa = 3 - 4 nu = 1.8: the least root, 0.7112 (the case's nu - 1)."""
     case = registered_cases()["hertz-line"]
-    l, kappa = case.nu - 1, 3 - 4 * 0.3
-    assert kappa**2 + 1 + 2 * kappa * math.cos(l * math.pi) - 4 * l**2 == pytest.approx(0.0, abs=1e-12)
-    assert l == pytest.approx(0.711173, abs=1e-6)
+    exponent, kappa = case.nu - 1, 3 - 4 * 0.3
+    assert kappa**2 + 1 + 2 * kappa * math.cos(exponent * math.pi) - 4 * exponent**2 == pytest.approx(0.0, abs=1e-12)
+    assert exponent == pytest.approx(0.711173, abs=1e-6)
 
 
 def test_p2_is_within_one_percent_of_hertz_from_its_second_level():
@@ -78,3 +78,25 @@ def write_scaled(path: Path, size: float, delta: float) -> Path:
                                       f"globals().update(setup(half_width={size}, height={size}, delta={delta}))")
     path.write_text(source.replace('name = "hertz-line"', f'name = "hertz-line-{size:g}"'))
     return path
+
+
+def test_the_report_sets_every_row_against_hertz_at_its_own_force(tmp_path):
+    from harness.report.document import Document
+    from harness.report.prediction_section import add_prediction_section, deviations
+    case = registered_cases()["hertz-line"]
+    rows = harness.run("hertz-line", methods=["nodal"], levels=2, show_progress=False)
+    table = deviations(case, rows)
+    a, p0 = module().hertz(float(rows.qoi_force.iloc[-1]))
+    assert table.qoi_peak_pressure_predicted.iloc[-1] == pytest.approx(p0, rel=1e-12)
+    assert table.qoi_contact_measure_deviation.iloc[-1] == pytest.approx(rows.qoi_contact_measure.iloc[-1] / (2 * a) - 1)
+    doc = Document("t")
+    add_prediction_section(doc, [case], rows.assign(mesh="uniform"))
+    text = doc.markdown(tmp_path)
+    assert "hertz-line against Hertz" in text and "dofs to 1%: peak_pressure" in text and "deviation" in text
+
+
+def test_a_prediction_that_is_not_a_function_is_refused(tmp_path):
+    bad = tmp_path / "bad.py"
+    bad.write_text(CASE.read_text() + "\npredicted_quantities = 3\n")
+    with pytest.raises(CaseError, match="predicted_quantities must be a function"):
+        load_case(str(bad))

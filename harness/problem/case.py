@@ -57,6 +57,12 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            levels assume (``{"default": 4, "fine": 5}``); unlike
                            asymptotic_levels it claims nothing about the fits (the report's
                            verdicts say what the levels show); ``--levels`` overrides it
+    prediction             optional, with predicted_quantities and predicted_pressure: a closed-form
+                           theory the case is read against, by name (Hertz's); the report sets
+                           each row's quantities of interest against it at the row's force
+    predicted_quantities   optional, force -> {results column (qoi_*): predicted value}
+    predicted_pressure     optional, (s, force) -> the predicted pressure at the coordinates s
+                           along Gamma_C (x for a horizontal Gamma_C), drawn on the contact figure
     report_profile         optional, the first report profile that includes the case: "default"
                            (the default) or "fine" -- a case whose study costs more than the
                            five minutes of ``make report`` allow, run by ``make report-fine``
@@ -171,6 +177,9 @@ class Case:
     asymptotic_levels_p1: int | None = None            # and for its P1 methods
     report_profile: str = "default"                    # the first report profile that includes it
     report_levels: tuple | None = None                 # ((profile, most levels), ...): its budget
+    prediction: str = ""                               # a closed-form theory the case is read against
+    predicted_quantities: object = None                # force -> {results column: predicted value}
+    predicted_pressure: object = None                  # (s along Gamma_C, force) -> pressure
     second_body: object = None                         # ``bodies.MirrorBody``: a two-body case
 
     @property

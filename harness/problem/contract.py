@@ -71,6 +71,11 @@ def check_declared(module, source: str) -> None:
             for profile, n in capped.items())):
         raise CaseError(f"case {source}: report_levels must map report profiles ({', '.join(REPORT_PROFILES)}) to "
                         f"integers >= 3, got {capped!r}")
+    for key in ("predicted_quantities", "predicted_pressure"):
+        if getattr(module, key, None) is not None and not callable(getattr(module, key)):
+            raise CaseError(f"case {source}: {key} must be a function of the contact force, got {getattr(module, key)!r}")
+    if hasattr(module, "predicted_quantities") and not isinstance(getattr(module, "prediction", None), str):
+        raise CaseError(f"case {source}: predicted_quantities needs prediction, the theory's name (a string)")
     if getattr(module, "report_profile", REPORT_PROFILES[0]) not in REPORT_PROFILES:
         raise CaseError(f"case {source}: report_profile must be one of {', '.join(REPORT_PROFILES)}, "
                         f"got {module.report_profile!r}")
@@ -159,7 +164,7 @@ def optional_fields(module) -> dict:
     fields = {}
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
                 "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile", "second_body",
-                "singular_lines", "report_levels"):
+                "singular_lines", "report_levels", "prediction", "predicted_quantities", "predicted_pressure"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):

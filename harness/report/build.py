@@ -34,8 +34,8 @@ from .document import Document, anchor
 from .figure_jobs import FIGURE_WORKERS, FigurePool
 from .latex import write_tables
 from .mesh_section import add_mesh_section, mesh_rows
-from .quantity_section import add_quantity_section
 from .plots import method_styles, theorem_label, verdict_cells
+from .prediction_section import add_prediction_section
 from .prose import (
     EFFICIENCY_NOTE,
     ELASTICITY_NOTE,
@@ -51,6 +51,7 @@ from .prose import (
     reference_sentence,
     which_bound,
 )
+from .quantity_section import add_quantity_section
 from .tables import (
     efficiency_view,
     elasticity_view,
@@ -109,6 +110,7 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
     _efficiency_section(doc, cases, efficiency, rates, methods)
     if quantities is not None:
         add_quantity_section(doc, quantities, quantity_costs)
+    add_prediction_section(doc, cases, results)
     if sweeps:
         doc.heading("Penalty and Nitsche: where their parameter is safe")
         doc.paragraph(SWEEP_NOTE)

@@ -66,6 +66,19 @@ def contact(case, snapshots: dict, folder: Path) -> dict[str, Path]:
     if exact:
         top.plot(first["s"], first["u"] - first["gap"], "k-", lw=1.0, label=f"exact {gap_u}")
         bottom.plot(first["s"], first["exact_pressure"], "k-", lw=1.0, label=f"exact {pressure_label}")
+    if case.predicted_pressure is not None:
+        # the theory at the finest level's force of the first method: the integral of its edge means
+        force = float(first["pressure"] @ first["edge_lengths"])
+        theory = case.prediction.split(" (")[0]
+        predicted = case.predicted_pressure(first["s"], force)
+        bottom.plot(first["s"], predicted, "k-", lw=1.0, label=f"{theory} at F = {force:.4g}")
+        zone = first["s"][predicted > 0]
+        if len(zone):               # the contact zone and as much again: where the theory has something to say
+            middle, width = (zone.max() + zone.min()) / 2, zone.max() - zone.min()
+            bottom.set_xlim(middle - width, middle + width)
+            gaps = np.concatenate([(snap["u_h"] - snap["gap"])[np.abs(snap["s"] - middle) <= width]
+                                   for snap in snapshots.values()])
+            top.set_ylim(min(gaps.min(), 0.0) - 0.05 * np.ptp(gaps), gaps.max() + 0.05 * np.ptp(gaps))
     for method, snap in snapshots.items():
         color = style(method)["color"]
         top.plot(snap["s"], snap["u_h"] - snap["gap"], color=color, lw=1.0, ls="--", label=f"{method}: {gap_uh}")
