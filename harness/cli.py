@@ -61,6 +61,12 @@ def selected_methods(args) -> list:
     return methods_named(names or ["all"])
 
 
+def named_methods(args) -> list:
+    """The methods --method names one by one (not through a group such as 'all' or 'weak')."""
+    from .methods import GROUPS, methods_named
+    return methods_named([name for name in args.method or [] if name != "all" and name not in GROUPS])
+
+
 def engine_of(args):
     """Where the jobs run: --workers N (N local processes), --scheduler ADDRESS (Dask), or this
     process."""
@@ -86,9 +92,11 @@ def cmd_run(args) -> int:
     try:
         # refused before the output folder is touched or a worker started
         study_jobs(cases, methods, args.levels, engine, check_memory=not args.skip_memory_check, meshes=args.mesh)
-        for line in skipped_methods(cases, methods) + skipped_meshes(cases, args.mesh):
+        for line in skipped_meshes(cases, args.mesh):
             print(f"harness: {line}", file=sys.stderr)
         with owned(Path(args.out)) as out:
+            for line in skipped_methods(cases, named_methods(args)):
+                print(f"harness: {line}", file=sys.stderr)
             frame, merged = _run_into(out, args, cases, methods, engine)
     finally:
         engine.close()

@@ -253,15 +253,16 @@ def skipped_meshes(cases, meshes) -> list[str]:
 
 
 def skipped_methods(cases, methods) -> list[str]:
-    """One line per case naming the methods a study leaves out because they do not discretise
-    its physics, dimension or number of bodies (``Method.supports``)."""
+    """One line per method of ``methods`` that discretises none of ``cases`` (their physics,
+    dimension or number of bodies: ``Method.supports``), which a study would leave without a
+    row; a method that serves some of them is the run's mix, not a mistake."""
     lines = []
-    for case in cases:
-        left_out = [m.name for m in methods if not m.supports(case)]
-        if left_out:
-            kind = f"{case.physics.name} problems in {case.dimension}D with {case.bodies} bod{'y' if case.bodies == 1 else 'ies'}"
-            lines.append(f"{case.name}: {', '.join(left_out)} skipped: {'it does' if len(left_out) == 1 else 'they do'} "
-                         f"not discretise {kind}")
+    for method in methods:
+        if cases and not any(method.supports(case) for case in cases):
+            bodies = " or ".join(map(str, method.bodies))
+            lines.append(f"{method.name} skipped: it discretises {' and '.join(method.physics)} problems in "
+                         f"{' or '.join(f'{d}D' for d in method.dimensions)} with {bodies} bod"
+                         f"{'y' if method.bodies == (1,) else 'ies'}, which none of the cases is")
     return lines
 
 
