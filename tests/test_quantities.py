@@ -143,7 +143,7 @@ def test_a_pressure_unbounded_at_a_junction_has_an_infinite_peak():
     case = registered_cases()["corner-r12"]
     *_, (_, mesh) = mesh_hierarchy(case, 1)
     problem = discretise(case, mesh, 2)
-    exact = exact_quantities(case, problem, problem.quadrature)
+    exact = exact_quantities(case, problem)
     assert exact[exact_column("qoi_peak_pressure")] == math.inf
     assert math.isfinite(exact[exact_column("qoi_force")])
 

@@ -32,9 +32,9 @@ import ngsolve as ngs
 import numpy as np
 
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
-from ..fem.element_quadrature import ElementQuadrature, singular_vertices
+from ..fem.element_quadrature import singular_vertices
 from ..mesh.points import evaluate
-from .errors import DiscretePressure, error_order
+from .errors import CONTACT_ERROR_POINTS, DiscretePressure
 
 # quantity -> its column in results.csv (the penetration column predates the quantities)
 QUANTITY_COLUMNS = {"force": "qoi_force", "contact_measure": "qoi_contact_measure", "peak_pressure": "qoi_peak_pressure",
@@ -50,8 +50,9 @@ QUANTITY_MEANINGS = {
 # from a singular point) exceeds this many times its largest at the pressure's Gauss points: r^{-1/2} at a
 # contact/Neumann junction gives 2^15 and more, a bounded pressure about 1
 UNBOUNDED_FACTOR = 10.0
-# Gauss points per contact edge of the exact values (graded at singular points)
-EXACT_POINTS = 16
+# Gauss points per contact edge of the exact values (graded at singular points): the pressure's
+# own rule (degree 15 on the edges away from singular points)
+EXACT_POINTS = CONTACT_ERROR_POINTS
 
 
 def exact_column(column: str) -> str:
@@ -89,20 +90,18 @@ def contact_measure(physics, q, pressure: np.ndarray, gap: np.ndarray) -> float:
     return float(q.weights @ (pressure - physics.modulus / q.h * gap > 0))
 
 
-def exact_quantities(case, problem, quadrature: ElementQuadrature) -> dict:
-    """The exact value of each quantity from the declared u, on ``problem``'s mesh (the same for
-    every order of a level: a caller keeps it per level, ``study.one_body``)."""
+def exact_quantities(case, problem) -> dict:
+    """The exact value of each quantity on Gamma_C from the declared u, on ``problem``'s mesh
+    (the same for every order of a level: a caller keeps it per level, ``study.one_body``); the
+    exact energy comes with the volume errors (``errors.ExactErrors.end_level``)."""
     two_d = problem.trace.faces is None
     q = (contact_quadrature(problem, EXACT_POINTS, graded_at=singular_vertices(case, problem.mesh)) if two_d
          else DiscretePressure.of(problem).quadrature)
     pressure = exact_pressure(case, problem, q)
     gap = case.physics.contact_value(case, problem.mesh, q.points, q.normals) - obstacle_at(case, problem, q.points)
-    # Gauss order of P2's errors: u's energy is as smooth as u's error away from singular points
-    energy = quadrature.integrate(case.physics.energy_density(case.grad_u), error_order(2))
     return {exact_column("qoi_force"): float(q.weights @ pressure),
             exact_column("qoi_contact_measure"): contact_measure(case.physics, q, pressure, gap) if two_d else float("nan"),
-            exact_column("qoi_peak_pressure"): exact_peak(case, problem, pressure) if two_d else float("nan"),
-            exact_column("qoi_energy"): 0.5 * float(np.ravel(energy)[0])}
+            exact_column("qoi_peak_pressure"): exact_peak(case, problem, pressure) if two_d else float("nan")}
 
 
 def exact_peak(case, problem, graded: np.ndarray) -> float:

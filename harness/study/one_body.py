@@ -76,5 +76,5 @@ class OneBody:
         if not self.case.exact:
             return columns
         if self._exact[0] is not quadrature:
-            self._exact = (quadrature, exact_quantities(self.case, problem, quadrature))
+            self._exact = (quadrature, exact_quantities(self.case, problem))
         return columns | self._exact[1]
