@@ -38,8 +38,13 @@ def test_the_corner_exponent_solves_williams_clamped_free_equation():
     assert exponent == pytest.approx(0.711173, abs=1e-6)
 
 
-def test_p2_is_within_one_percent_of_hertz_from_its_second_level():
-    rows = harness.run("hertz-line", methods=["nodal", "p1"], levels=2, show_progress=False)
+@pytest.fixture(scope="module")
+def two_levels():
+    return harness.run("hertz-line", methods=["nodal", "p1"], levels=2, show_progress=False)
+
+
+def test_p2_is_within_one_percent_of_hertz_from_its_second_level(two_levels):
+    rows = two_levels
     errors = hertz_errors(rows)
     finest = errors[(errors.method == "nodal") & (errors.level == 1)].iloc[0]
     assert abs(finest.a_error) < 0.01 and abs(finest.p0_error) < 0.01, finest[["a_error", "p0_error"]]
@@ -80,11 +85,11 @@ def write_scaled(path: Path, size: float, delta: float) -> Path:
     return path
 
 
-def test_the_report_sets_every_row_against_hertz_at_its_own_force(tmp_path):
+def test_the_report_sets_every_row_against_hertz_at_its_own_force(two_levels, tmp_path):
     from harness.report.document import Document
     from harness.report.prediction_section import add_prediction_section, deviations
     case = registered_cases()["hertz-line"]
-    rows = harness.run("hertz-line", methods=["nodal"], levels=2, show_progress=False)
+    rows = two_levels
     table = deviations(case, rows)
     a, p0 = module().hertz(float(rows.qoi_force.iloc[-1]))
     assert table.qoi_peak_pressure_predicted.iloc[-1] == pytest.approx(p0, rel=1e-12)
