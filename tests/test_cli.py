@@ -104,7 +104,7 @@ def test_rates_of_missing_or_malformed_results_is_one_line(tmp_path):
 
 
 def test_rates_command_writes_rates_beside_results(tmp_path):
-    assert harness("run", "--case", "smooth", "--levels", "4", "--out", str(tmp_path), "--quiet").returncode == 0
+    assert harness("run", "--case", "smooth", "--levels", "3", "--out", str(tmp_path), "--quiet").returncode == 0
     done = harness("rates", str(tmp_path / "results.csv"))
     assert done.returncode == 0, done.stderr
     rates = pd.read_csv(tmp_path / "rates.csv")

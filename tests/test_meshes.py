@@ -427,6 +427,7 @@ def test_multigrid_on_a_3d_bisection_hierarchy_matches_the_factorised_solve(case
     assert np.abs(with_multigrid.u - factorised.u).max() < 1e-8
 
 
+@pytest.mark.slow     # 13 s; make test grades 3D meshes in test_a_3d_graded_mesh_meets_its_size_function...
 def test_run_grades_a_3d_case(tmp_path):
     """`run --case transition-line-3d --mesh graded --levels 2`: every 3D method converges
     exactly on the graded levels."""

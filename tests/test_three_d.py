@@ -124,7 +124,9 @@ def test_3d_level_sizes_follow_the_red_refinement_recurrence():
 SCALAR_3D = [name for name in THREE_D if registered_cases()[name].physics.name == "scalar"]
 
 
-@pytest.mark.parametrize("case_name", [pytest.param(n, marks=pytest.mark.slow) if n == "smooth-3d" else n for n in SCALAR_3D])
+# transition-line-3d in `make test`; the curved transition-circle-3d and smooth-3d in `make test-full`
+@pytest.mark.parametrize("case_name", [n if n == "transition-line-3d" else pytest.param(n, marks=pytest.mark.slow)
+                                       for n in SCALAR_3D])
 def test_3d_errors_agree_with_twice_the_gauss_order(case_name):
     """In 3D every element gets the Gauss rule (quadrature.py): order 6 against order 12 on
     level 1, nodal's u_h, to 1e-3 relative in every norm."""

@@ -159,23 +159,19 @@ class ExactErrors:
         """The volume norms, order by order: each order's solutions and its R_h u in one
         integration with that order's Gauss rule (``error_order``), so that a method's errors do
         not depend on which other methods share the level (a study split into jobs per method
-        gives the same numbers, bit for bit). The highest order's pass also integrates u's own
-        energy a(u, u), as the energy "error" of the zero function: every row's exact strain
-        energy (``quantities``), for a few more components of a pass made anyway."""
-        exact_energy = None
-        for order in sorted(self.best, reverse=True):
+        gives the same numbers, bit for bit). Each pass also integrates u's own energy a(u, u),
+        as the energy "error" of the zero function: its rows' exact strain energy
+        (``quantities``), for a few more components of a pass made anyway, and the same number
+        however the study is split."""
+        for order in self.best:
             mine = [(row, gfu) for row, own_order, gfu in self.pending if own_order == order]
-            zero = [ngs.GridFunction(self.best[order].space)] if exact_energy is None else []
-            norms = error_norms(self.case, [gfu for _, gfu in mine] + [self.best[order]] + zero, self.quadrature)
-            if zero:
-                exact_energy = 0.5 * norms.pop()["err_energy"] ** 2
-            *norms, best = norms
+            zero = ngs.GridFunction(self.best[order].space)
+            *norms, best, of_u = error_norms(self.case, [gfu for _, gfu in mine] + [self.best[order], zero], self.quadrature)
             for (row, _), own in zip(mine, norms):
                 row |= own | {"err_best_h1": best["err_h1"], "err_best_h1_semi": best["err_h1_semi"],
                               "err_best_energy": best["err_energy"],
-                              "err_h1_over_best": own["err_h1"] / best["err_h1"]}
-        for row, _, _ in self.pending:
-            row["qoi_energy_exact"] = exact_energy
+                              "err_h1_over_best": own["err_h1"] / best["err_h1"],
+                              "qoi_energy_exact": 0.5 * of_u["err_energy"] ** 2}
 
     def skip_level(self, level: int, mesh) -> None:
         pass
