@@ -142,7 +142,7 @@ def _times(ratio: float) -> str:
     return f"{ratio:.0f}x" if ratio >= 10 else f"{ratio:.2g}x"
 
 
-# quantity -> its error column's source: the rows' value and exact value (``measure.quantities``)
+# quantity_efficiency.csv: the cost at equal error in each quantity of interest
 QUANTITY_EFFICIENCY_COLUMNS = ["case", "quantity", "method", "order", "target_error", "ndof", "total_seconds",
                                "p1_over_ndof", "p1_over_seconds"]
 QUANTITY_EFFICIENCY_MEANINGS = {

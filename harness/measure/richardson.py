@@ -46,7 +46,7 @@ QUANTITY_TABLE_MEANINGS = {
     "exact": "its exact value (cases with u)", "error": "|φ₁ − exact|",
     "fitted_rate": "the error's fitted rate in h (N^{-1/d} on graded and adaptive meshes)",
     "observed_order": "Celik et al.'s observed order p from the three finest levels",
-    "order_previous": "p from the three levels before them (four or more levels)",
+    "order_previous": "p from the second to fourth finest levels (four or more levels)",
     "convergence": "`monotone`, `oscillatory`, `divergent` or `settled` (the values agree to round-off)",
     "extrapolated": "Richardson's extrapolated value φ_ext", "gci": "the fine-grid convergence index, in the quantity's units: φ₁ ± gci",
     "gci_relative": "gci / |φ₁|", "asymptotic": "monotone, and the two orders agree within 10%",

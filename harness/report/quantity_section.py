@@ -14,7 +14,8 @@ QUANTITY_NOTE = (
     + ". Each chain's three finest levels give Celik et al.'s observed order p, Richardson's extrapolated value "
     "and the grid convergence index (J. Fluids Eng. 130 (2008) 078001; safety factor 1.25; h = N^{-1/d} on graded "
     "and adaptive meshes): the band φ₁ ± GCI is meant to hold the exact value. It can only be trusted in the "
-    f"asymptotic range: monotone convergence and the order of the levels before agreeing within {ORDER_AGREEMENT:.0%}. "
+    f"asymptotic range: monotone convergence, and the order of the second to fourth finest levels agreeing within "
+    f"{ORDER_AGREEMENT:.0%}. "
     "quantities.csv has every column; `harness rates RESULTS.csv --qoi` prints it.")
 
 
