@@ -22,7 +22,7 @@ test: $(STAMP)
 	$(PY) -m pytest -q $(XDIST)
 
 test-full: $(STAMP)
-	$(PY) -m pytest -q -m ''
+	$(PY) -m pytest -q -m '' $(XDIST)
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check harness cases tests docs examples
