@@ -1,4 +1,6 @@
 """Command line: results written atomically; bad input gives one line and a non-zero exit."""
+import contextlib
+import io
 import subprocess
 import sys
 from pathlib import Path
@@ -19,7 +21,21 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 def harness(*args, cwd=None):
+    """The command as a user runs it: a fresh ``python -m harness`` process."""
     return subprocess.run([sys.executable, "-m", "harness", *args], capture_output=True, text=True, cwd=ROOT)
+
+
+def harness_here(*args) -> subprocess.CompletedProcess:
+    """The same command line through ``cli.main`` in this process, for the refusals and listings
+    (a fresh interpreter's 2 s of imports each, and the entry point is the runs' above)."""
+    from harness.cli import main
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), contextlib.chdir(ROOT):
+        try:
+            code = main(list(args))
+        except SystemExit as stop:              # argparse's refusals
+            code = stop.code if isinstance(stop.code, int) else 1
+    return subprocess.CompletedProcess(list(args), code, out.getvalue(), err.getvalue())
 
 
 def test_run_writes_one_tidy_row_per_case_method_level(tmp_path):
@@ -57,7 +73,7 @@ def test_method_and_old_model_options_select_methods(tmp_path, option, methods):
 
 
 def test_methods_lists_order_contact_condition_and_reference():
-    done = harness("methods")
+    done = harness_here("methods")
     assert done.returncode == 0
     for text in ("mean", "nodal", "p1", "Section 3", "Section 5", "Drouet & Hild"):
         assert text in done.stdout
@@ -75,7 +91,7 @@ def test_methods_lists_order_contact_condition_and_reference():
 def test_bad_input_gives_one_line_and_keeps_existing_results(tmp_path, args, message):
     existing = tmp_path / "results.csv"
     existing.write_text("precious\n")
-    done = harness("run", *args, "--out", str(tmp_path), "--quiet")
+    done = harness_here("run", *args, "--out", str(tmp_path), "--quiet")
     assert done.returncode != 0
     lines = done.stderr.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], done.stderr
@@ -85,21 +101,21 @@ def test_bad_input_gives_one_line_and_keeps_existing_results(tmp_path, args, mes
 def test_unwritable_output_folder_is_refused(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("x")
-    done = harness("run", "--case", "transition-r32", "--levels", "1", "--out", str(blocker / "sub"), "--quiet")
+    done = harness_here("run", "--case", "transition-r32", "--levels", "1", "--out", str(blocker / "sub"), "--quiet")
     assert done.returncode != 0 and "not writable" in done.stderr and len(done.stderr.strip().splitlines()) == 1
 
 
 def test_cases_lists_regime_and_expected_rate():
-    done = harness("cases")
+    done = harness_here("cases")
     assert done.returncode == 0 and "transition-r32" in done.stdout and "h^3/2" in done.stdout and "h^1 |log h|^1/4" in done.stdout
 
 
 def test_rates_of_missing_or_malformed_results_is_one_line(tmp_path):
-    done = harness("rates", str(tmp_path / "nothing.csv"))
+    done = harness_here("rates", str(tmp_path / "nothing.csv"))
     assert done.returncode != 0 and "not found" in done.stderr and len(done.stderr.strip().splitlines()) == 1
     bad = tmp_path / "results.csv"
     bad.write_text("a,b\n1,2\n")
-    done = harness("rates", str(bad))
+    done = harness_here("rates", str(bad))
     assert done.returncode != 0 and "missing column" in done.stderr and len(done.stderr.strip().splitlines()) == 1
 
 
@@ -137,7 +153,7 @@ def test_old_results_with_a_model_column_are_read(tmp_path):
     old = tmp_path / "results.csv"
     pd.DataFrame({"case": "smooth", "model": "nodal", "level": [0, 1, 2], "h": [0.4, 0.2, 0.1],
                   "err_h1": [1e-2, 2.5e-3, 6.25e-4]}).to_csv(old, index=False)
-    done = harness("rates", str(old))
+    done = harness_here("rates", str(old))
     assert done.returncode == 0, done.stderr
     assert "`model` column" in done.stderr
     rates = pd.read_csv(tmp_path / "rates.csv")
@@ -162,7 +178,7 @@ def test_sweep_refuses_bad_input_in_one_line(tmp_path, args, message):
     base = {"--method": "nitsche", "--values": "0.1", "--level": "1"}
     for flag, value in zip(args[::2], args[1::2]):
         base[flag] = value
-    done = harness("sweep", "--case", "transition-r32", *[x for kv in base.items() for x in kv], "--out", str(tmp_path / "s"))
+    done = harness_here("sweep", "--case", "transition-r32", *[x for kv in base.items() for x in kv], "--out", str(tmp_path / "s"))
     assert done.returncode == 2 and message in done.stderr and len(done.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "s").exists()
 
@@ -177,7 +193,7 @@ def _one_line(err: str) -> str:
                                            ("penalty:epsilon0=-1", "epsilon0 must be a finite positive number"),
                                            ("nitsche:gamma0=nan", "gamma0 must be a finite positive number")])
 def test_a_parameter_outside_what_the_method_allows_is_refused_in_one_line(tmp_path, spec, message):
-    done = harness("run", "--case", "transition-r32", "--method", spec, "--levels", "1", "--out", str(tmp_path / "out"))
+    done = harness_here("run", "--case", "transition-r32", "--method", spec, "--levels", "1", "--out", str(tmp_path / "out"))
     assert done.returncode == 2 and message in _one_line(done.stderr)
     assert not (tmp_path / "out").exists()
 
@@ -188,7 +204,7 @@ def test_a_parameter_outside_what_the_method_allows_is_refused_in_one_line(tmp_p
 def test_a_case_file_that_exits_or_raises_at_import_is_one_line_naming_file_and_line(tmp_path, body, what, line):
     case = tmp_path / "broken.py"
     case.write_text(body)
-    done = harness("run", "--case", str(case), "--levels", "1", "--out", str(tmp_path / "out"))
+    done = harness_here("run", "--case", str(case), "--levels", "1", "--out", str(tmp_path / "out"))
     assert done.returncode == 2
     assert f"{case}, line {line} failed to import: {what}" in _one_line(done.stderr)
 
