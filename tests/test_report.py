@@ -102,6 +102,29 @@ def test_rewording_the_report_keeps_the_study_cache_key_and_changing_a_solver_do
     assert code_digest(copy) != before
 
 
+def test_a_figure_is_drawn_again_when_its_rows_its_files_or_the_styles_change(tmp_path):
+    from harness.report import figure_cache
+    from harness.report.figure_jobs import _case_figures, _summary
+    frame = pd.DataFrame({"case": ["a"], "err_h1": [0.1]})
+    rows = tmp_path / "a.csv"
+    rows.write_text("level\n0\n")
+    key = figure_cache.job_key(_summary, {"nodal": {"color": "k"}}, (frame,), (rows,))
+    assert key == figure_cache.job_key(_summary, {"nodal": {"color": "k"}}, (frame.copy(),), (rows,))
+    assert key != figure_cache.job_key(_summary, {"nodal": {"color": "k"}}, (frame.assign(err_h1=0.2),), (rows,))
+    assert key != figure_cache.job_key(_summary, {"nodal": {"color": "r"}}, (frame,), (rows,))
+    assert key != figure_cache.job_key(_case_figures, {"nodal": {"color": "k"}}, (frame,), (rows,))
+    rows.write_text("level\n1\n")
+    assert key != figure_cache.job_key(_summary, {"nodal": {"color": "k"}}, (frame,), (rows,))
+    # kept only while every figure it names is on disk
+    png = tmp_path / "f.png"
+    png.write_bytes(b"x")
+    figure_cache.store(tmp_path, "a", key, {"convergence": {"png": png}, "solution": None})
+    assert figure_cache.stored(tmp_path, "a", key) == {"convergence": {"png": png}, "solution": None}
+    assert figure_cache.stored(tmp_path, "a", "another key") is None
+    png.unlink()
+    assert figure_cache.stored(tmp_path, "a", key) is None
+
+
 def test_markdown_table_cells_keep_a_literal_bar_inside():
     from harness.report.document import Document
     doc = Document("t")
@@ -230,10 +253,13 @@ def test_unchanged_results_are_reused(report, capsys):
     """Last in this file: it rewrites the module's report with one of its cases."""
     root, _ = report
     stored = (root / "results" / "cases" / "corner-r12.csv").stat().st_mtime_ns
-    # one of the two cases: the reuse is per case, and half the figures to draw again
+    figure = root / "report" / "figures" / "corner-r12_convergence.png"
+    drawn = figure.stat().st_mtime_ns
+    # one of the two cases: the reuse is per case; its figures are kept (same rows, same code)
     make_report("default", root / "results", root / "report", ["corner-r12"], show_progress=False, levels=3)
     assert "corner-r12: reusing" in capsys.readouterr().out
     assert (root / "results" / "cases" / "corner-r12.csv").stat().st_mtime_ns == stored
+    assert figure.stat().st_mtime_ns == drawn
     # the header says so, instead of the wall time of a run that computed nothing
     assert "study reused from results/cases" in (root / "report" / "report.md").read_text()
 

@@ -22,6 +22,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from . import figure_cache
+
 FIGURE_WORKERS = 2
 
 
@@ -140,24 +142,34 @@ class FigurePool:
         else:
             outer.set_result(done.result())
 
-    def _submit(self, draw, *args) -> Future:
+    def _submit(self, name: str, draw, *args, inputs: tuple = ()) -> Future:
+        """Queue ``draw``'s job ``name``, or give the figures it left with the same inputs
+        (``figure_cache``: ``inputs`` are the files it reads besides its arguments)."""
         outer: Future = Future()
+        key = figure_cache.job_key(draw, self.styles, args, inputs)
+        kept = figure_cache.stored(Path(self.folder), name, key)
+        if kept is not None:
+            outer.set_result((kept, 0.0))
+            return outer
+        outer.add_done_callback(lambda done: done.exception() is None and
+                                figure_cache.store(Path(self.folder), name, key, done.result()[0]))
         with self._changed:
             self._queue.append((outer, (draw, self.styles, *args, self.folder)))
             self._changed.notify_all()
         return outer
 
     def case(self, case, store: Path) -> None:
-        self.futures[case.name] = self._submit(_case_figures, str(case.source), str(store))
+        stored = tuple(Path(store) / f"{case.name}.{kind}" for kind in ("csv", "npz"))
+        self.futures[case.name] = self._submit(case.name, _case_figures, str(case.source), str(store), inputs=stored)
 
     def summary(self, rates: pd.DataFrame) -> None:
-        self.futures["summary"] = self._submit(_summary, rates)
+        self.futures["summary"] = self._submit("summary", _summary, rates)
 
     def sweep(self, case, frame: pd.DataFrame) -> None:
-        self.sweeps[case.name] = self._submit(_sweep, str(case.source), frame)
+        self.sweeps[case.name] = self._submit(f"sweep-{case.name}", _sweep, str(case.source), frame)
 
     def meshes_of(self, case, frame: pd.DataFrame, mesh_file: Path, method: str) -> None:
-        self.meshes[case.name] = self._submit(_mesh_figures, str(case.source), frame, str(mesh_file), method)
+        self.meshes[case.name] = self._submit(f"meshes-{case.name}", _mesh_figures, str(case.source), frame, str(mesh_file), method)
 
     def collect(self) -> tuple[dict, dict]:
         """(figures by name, the sweeps' under "sweeps"; worker seconds by name), every worker
