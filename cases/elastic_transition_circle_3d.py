@@ -84,6 +84,11 @@ _pressure = IfPos(level_set, 1.5 * sqrt(IfPos(level_set, level_set, 0.0)), 0.0)
 contact_load = CF((0.0, 0.0, -(_material.stress(grad_u)[2, 2] + _pressure)))
 # the exact transition curve on Gamma_C, drawn on the report's pictures of it
 transition_curve = [[(radius * cos(2 * pi * k / 128), radius * sin(2 * pi * k / 128)) for k in range(129)]]
+# graded meshes (Remark 4.4, Apel & Nicaise in 3D) refine toward the transition circle, given as
+# 128 chords: a chord lies within R (1 - cos(pi / 128)) = 1.5e-4 of the circle, far below the
+# sizes of the tetrahedra the grading makes at the levels a study reaches
+singular_lines = [((radius * cos(2 * pi * k / 128), radius * sin(2 * pi * k / 128), 0.0),
+                   (radius * cos(2 * pi * (k + 1) / 128), radius * sin(2 * pi * (k + 1) / 128), 0.0)) for k in range(128)]
 
 # Its study is the dearest of the 3D cases (92 s of the default report's work on one thread,
 # 2026-11-26: three P2 methods at 1.7e5 dofs and P1 on 3.3e5 tetrahedra, a curved refinement):

@@ -58,3 +58,8 @@ _g_s, _g_z = transition_gradient(0.0, binding_side="right", coordinates=(level_s
 grad_u = (-_g_s * x / radius, -_g_s * y / radius, _g_z)
 # the exact transition curve on Gamma_C, drawn on the report's pictures of it
 transition_curve = [[(radius * cos(2 * pi * k / 128), radius * sin(2 * pi * k / 128)) for k in range(129)]]
+# graded meshes (Remark 4.4, Apel & Nicaise in 3D) refine toward the transition circle, given as
+# 128 chords: a chord lies within R (1 - cos(pi / 128)) = 1.5e-4 of the circle, far below the
+# sizes of the tetrahedra the grading makes at the levels a study reaches
+singular_lines = [((radius * cos(2 * pi * k / 128), radius * sin(2 * pi * k / 128), 0.0),
+                   (radius * cos(2 * pi * (k + 1) / 128), radius * sin(2 * pi * (k + 1) / 128), 0.0)) for k in range(128)]
