@@ -34,7 +34,11 @@ PEAK_PER_REFERENCE_DOF = 620.0
 # cone and p1 in one process, 2 cores, 2026-11-26): peak 2.11 GB with 6.0e5 P2 and 6.0e5 P1
 # dofs and 1.13e6 tetrahedra: 1,070 B per dof beside the terms above, rounded up (the
 # estimate 2.15 GB).
-PEAK_PER_DOF_BY_KIND = {(3, "elasticity"): 1150.0}
+# 2D vector P2 (plane strain), measured on the elastic reference case hertz-line (nodal, p1 and
+# both; 3, 4 and 5 levels with its reference level; one thread, 2026-11-27): peaks 287 MB to
+# 1.28 GB, which the scalar figure underestimated by up to 9% at 7.8e5 dofs; they need 245-372 B
+# per dof beside the reference's 620 (more at the larger sizes), rounded up.
+PEAK_PER_DOF_BY_KIND = {(3, "elasticity"): 1150.0, (2, "elasticity"): 400.0}
 # (raised from 450 when every method of a reference case came to be measured against nodal's
 # one reference, harness 0.3.1: smooth-obstacle with 6 and 7 levels, every method, p1 and the
 # paper's, measured peaks of 766-2355 MB, 1-12% below these estimates)
