@@ -257,7 +257,8 @@ class ChainWalk:
 
     def finish_level(self, problems: LevelProblems) -> None:
         """The level's errors that need all its solves, the effectivity of its rows measured
-        against u (NaN without an estimator), and once the reference is solved, its columns;
+        against u (NaN without an estimator), and once the reference is solved, its columns and
+        the effectivity of every row against it;
         the level's shared measurement time split over its rows (``measure_seconds``)."""
         level, clock = problems.index, time.perf_counter()
         with self.phases("errors"):
@@ -271,6 +272,11 @@ class ChainWalk:
         if self.reference_fields is not None:
             for rows in self.rows.values():
                 reference_columns(rows, self.plan.reference, *self.reference_fields)
+                # the reference's level has measured every row: eta against the distance to
+                # the reference, as against u (the reference's own error is not in it)
+                for row in rows:
+                    if row["errors_against"] == "reference":
+                        row["effectivity"] = row["estimator"] / row["err_energy"]
 
     def checkpoint(self, level: int, active: list) -> None:
         """The state of every chain the level changed, made durable."""
