@@ -138,6 +138,24 @@ def test_the_progress_bar_weighs_levels_by_size_and_counts_each_once():
     progress.close()
 
 
+def test_the_bar_of_a_case_without_u_off_uniform_meshes_ends_with_its_studied_levels():
+    """Graded and adaptive levels have their own references: the reference chain's finer levels
+    are never solved there, so the bar weighs each studied level with its reference instead."""
+    from harness.mesh.strategies import MeshStrategy
+    case, methods = load_case("smooth-obstacle"), methods_named(["nodal", "p1"])
+    uniform = study_weights([case], methods, 3)
+    adaptive = study_weights([case], methods, 3, meshes=(MeshStrategy("adaptive"),))
+    assert max(level for _, method, level in uniform if method == "nodal") == 3 - 1 + case.reference_levels
+    assert {(method, level) for _, method, level in adaptive} == {("nodal", k) for k in range(3)} | {("p1", k) for k in range(4)}
+    progress = StudyProgress(adaptive, show=False)
+    for scoped_case, method, level in adaptive:
+        progress.solved(scoped_case, method, level)
+    assert progress.count == progress.total
+    # a studied level weighs more with its own reference than without
+    assert adaptive[("adaptive smooth-obstacle", "nodal", 2)] > uniform[("smooth-obstacle", "nodal", 2)]
+    progress.close()
+
+
 def test_the_progress_line_fits_a_100_column_terminal_and_counts_methods_done():
     """One line (issue 28): the case, level, dofs and how many of the level's methods are done,
     whatever the names; the bar takes what is left of 100 columns."""

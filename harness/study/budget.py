@@ -140,24 +140,32 @@ class JobEstimate:
                 f"estimated peak memory {_size(self.peak_bytes)}, time {_duration(self.seconds)}")
 
 
-def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, per_dof: float | None = None) -> dict:
+def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, per_dof: float | None = None,
+                  per_level_reference: bool = False) -> dict:
     """(case, method, level) -> estimated seconds of that solve with its share of the level's
     shared work: the weights of the progress bar (its ETA is then weighted by the size of each
     level, not by the count of solves). ``per_dof``: the solve's seconds per dof, if not the
-    figure of the method's cost model (``solve_seconds_per_dof``)."""
+    figure of the method's cost model (``solve_seconds_per_dof``). ``per_level_reference``: a
+    case without u on graded or adaptive meshes, where each studied level has its own reference
+    (``measure.level_reference``, 4^K times the level's P2 dofs) in place of the reference chain's
+    finer levels, which are then never solved."""
     methods = chain_methods(case, methods)
     chains = {m.name: chain_levels(case, m, levels, methods) for m in methods}
+    if per_level_reference:
+        chains = {m.name: study_levels(m, levels) for m in methods}
     sizes = sizes or LevelSizes.of(case, max(chains.values()))
     physics, dim, components = case.physics.name, case.dimension, case.physics.components
     shared = SHARED_SECONDS_PER_ELEMENT.get((dim, physics), max(SHARED_SECONDS_PER_ELEMENT.values()))
     weights = {}
     for level in range(max(chains.values())):
         solving = [m for m in methods if level < chains[m.name]]
+        own_reference = (REFERENCE_SECONDS_PER_DOF * 4**case.reference_levels * sizes.ndof(level, 2, components) / len(solving)
+                         if per_level_reference else 0.0)
         for m in solving:
             solve = per_dof or solve_seconds_per_dof(m, physics, dim)
             ndof = sizes.ndof(level, m.order, components)
             reference = REFERENCE_SECONDS_PER_DOF * ndof if is_reference(case, m, methods) and level >= study_levels(m, levels) else 0.0
-            weights[(case.name, m.name, level)] = shared * sizes.triangles[level] / len(solving) + solve * ndof + reference
+            weights[(case.name, m.name, level)] = shared * sizes.triangles[level] / len(solving) + solve * ndof + reference + own_reference
     return weights
 
 

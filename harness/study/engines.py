@@ -183,13 +183,16 @@ def plan(jobs: list[Job], engine, check_memory: bool = True) -> list[Job]:
 
 def study_weights(cases, methods, levels: int, meshes=(UNIFORM,)) -> dict:
     """The progress bar's weights of every solve of a study (``budget.solve_weights``); a graded
-    or adaptive chain is weighed as the uniform one of the same budget of dofs, under its scope."""
+    or adaptive chain is weighed as the uniform one of the same budget of dofs, under its scope
+    (with each level's own reference for a case without u)."""
     weights = {}
     for case in cases:
         if methods_for(case, methods):
-            own = solve_weights(case, methods_for(case, methods), levels)
             for mesh in meshes:
                 if mesh.applies_to(case) is None:
+                    # a case without u: off uniform meshes each level has its own reference
+                    own = solve_weights(case, methods_for(case, methods), levels,
+                                        per_level_reference=not case.exact and mesh.label != UNIFORM.label)
                     weights |= scoped(own, mesh_scope("", mesh))
     return weights
 
