@@ -17,8 +17,9 @@ from .threads import p2_size
 
 
 def has_estimator(case) -> bool:
-    """The residual estimator has terms for 2D problems, scalar and elastic (``measure.estimator``)."""
-    return case.dimension == 2
+    """The residual estimator has terms for 2D and 3D problems, scalar and elastic
+    (``measure.estimator``, ``measure.estimator_3d``)."""
+    return case.dimension in (2, 3)
 
 
 class OneBody:
