@@ -40,6 +40,8 @@ from ..mesh.points import cells, coordinates, mesh_key, mesh_points
 FACE_CORNERS = np.array([[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]])
 # vertex numbers of a face packed into one int64 key: nv^3 < 2^63
 MAX_VERTICES = 2_000_000
+# elements per batch of point evaluation (``vertex_fluxes``)
+POINT_BATCH = 1 << 17
 
 
 @dataclass(frozen=True)
@@ -64,32 +66,40 @@ class MeshFaces:
             raise ValueError(f"MeshFaces packs a face's vertices into one integer: at most {MAX_VERTICES} vertices")
         table, p = cells(mesh), coordinates(mesh)
         volume, grad_lambda = barycentric_gradients(p[table])
+        # small integer types: a P1 level of transition-line-3d in the fine profile has 5.9e6
+        # tetrahedra, and these tables are 4 x 3 entries per tetrahedron
+        table = table.astype(np.int32)
         vertices = table[:, FACE_CORNERS]                                      # (ne, 4, 3)
-        corners_by_number = np.take_along_axis(np.broadcast_to(FACE_CORNERS, vertices.shape),
+        corners_by_number = np.take_along_axis(np.broadcast_to(FACE_CORNERS.astype(np.int8), vertices.shape),
                                                np.argsort(vertices, axis=2), axis=2)
-        ordered = np.sort(vertices, axis=2)
+        vertices.sort(axis=2)
         nv = np.int64(mesh.nv)
-        key = ((ordered[..., 0] * nv + ordered[..., 1]) * nv + ordered[..., 2]).ravel()
+        key = ((vertices[..., 0] * nv + vertices[..., 1]) * nv + vertices[..., 2]).ravel()
+        del vertices
         order = np.argsort(key, kind="stable")
         sorted_key = key[order]
+        del key
         paired = np.flatnonzero(sorted_key[1:] == sorted_key[:-1])
-        single = np.ones(len(key), bool)
+        single = np.ones(len(sorted_key), bool)
         single[paired] = single[paired + 1] = False
         pairs = np.stack([order[paired], order[paired + 1]], axis=1)          # flat (element * 4 + face)
         lone = order[single]
         return cls(table, volume, grad_lambda, corners_by_number,
-                   np.stack([pairs // 4, pairs % 4], axis=2), np.stack([lone // 4, lone % 4], axis=1))
+                   np.stack([pairs // 4, pairs % 4], axis=2).astype(np.int32),
+                   np.stack([lone // 4, lone % 4], axis=1).astype(np.int32))
 
-    def vertex_points(self, mesh: ngs.Mesh) -> np.ndarray:
-        """NGSolve mesh points at the four vertices of every tetrahedron (element e's vertex k at
-        index 4e + k; local coordinates e_0, e_1, e_2 and 0: the local coordinates are the
-        barycentric coordinates of the first three vertices, ``points.in_elements``)."""
-        ne = len(self.cells)
-        points = mesh_points(mesh, 4 * ne)
-        for axis, name in enumerate("xyz"):
-            points[name] = np.tile(np.eye(4)[axis], ne)
-        points["nr"] = np.repeat(np.arange(ne), 4)
-        return points
+
+def vertex_points(mesh: ngs.Mesh, elements: np.ndarray, per_element: int) -> np.ndarray:
+    """NGSolve mesh points at the first ``per_element`` vertices (4, or 1) of each of the
+    tetrahedra ``elements`` (element e's vertex k at index per_element e + k; local coordinates
+    e_0, e_1, e_2 and 0: the local coordinates are the barycentric coordinates of the first
+    three vertices, ``points.in_elements``), for evaluating volume functions -- gradients
+    included -- there without a search."""
+    points = mesh_points(mesh, per_element * len(elements))
+    for axis, name in enumerate("xyz"):
+        points[name] = np.tile(np.eye(4)[axis, :per_element], len(elements))
+    points["nr"] = np.repeat(elements, per_element)
+    return points
 
 
 def barycentric_gradients(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -146,27 +156,24 @@ class TetrahedronTerms:
         return made
 
     def __init__(self, case, quadrature: ElementQuadrature, volume_order: int):
-        mesh = quadrature.mesh
+        self.mesh = mesh = quadrature.mesh
         faces = MeshFaces.make(mesh)
         self.neumann, self.along_neumann = neumann_faces(mesh, faces)
-        self.vertex_points = faces.vertex_points(mesh)
         self.volume, self.grad_lambda = faces.volume, faces.grad_lambda
         self.h2 = (6.0 * self.volume) ** (2.0 / 3.0) * self.volume          # h_T^2 |T|, h_T = (6|T|)^(1/3)
         self._jump_rows(faces)
         self._load_moments(case, quadrature, volume_order)
 
     def _jump_rows(self, faces: MeshFaces) -> None:
-        """Each interior face F = T1 | T2: the rows, in the (4 ne, ...) array of vertex fluxes, of
-        its three corners in T1 and in T2 (the same corners in the same order), T1's outward unit
-        normal -grad lambda_k / |grad lambda_k| (k the vertex opposite F), and the weight |T|/8
-        of F's jump term in T1 and in T2 (module docstring)."""
-        (first, first_face), (second, second_face) = faces.interior[:, 0].T, faces.interior[:, 1].T
-        self.corners = [(4 * first + faces.corners_by_number[first, first_face, c],
-                         4 * second + faces.corners_by_number[second, second_face, c]) for c in range(3)]
-        inward = faces.grad_lambda[first, first_face]
+        """Each interior face F = T1 | T2: T1 and T2 (``first``, ``second``), the local vertices
+        of its three corners in each (the same corners in the same order), T1's outward unit
+        normal -grad lambda_k / |grad lambda_k| (k the vertex opposite F); the jump term of F goes
+        to T1 and to T2, each weighted |T|/8 (module docstring)."""
+        (self.first, first_face), (self.second, second_face) = faces.interior[:, 0].T, faces.interior[:, 1].T
+        self.first_corners = faces.corners_by_number[self.first, first_face]          # (k, 3)
+        self.second_corners = faces.corners_by_number[self.second, second_face]
+        inward = faces.grad_lambda[self.first, first_face]
         self.jump_normals = np.ascontiguousarray((-inward / np.linalg.norm(inward, axis=1, keepdims=True)).T)   # (3, k)
-        self.jump_elements = np.concatenate([first, second])
-        self.jump_weights = faces.volume[self.jump_elements] / 8.0
 
     def _load_moments(self, case, quadrature: ElementQuadrature, volume_order: int) -> None:
         """f_T (the mean of f on T) and h_T^2 ||f - f_T||_T^2 per element and component: with
@@ -182,28 +189,39 @@ class TetrahedronTerms:
             self.oscillation += (6.0 * self.volume) ** (2.0 / 3.0) * deviation
 
     def vertex_fluxes(self, gfu: ngs.GridFunction, order: int, physics) -> np.ndarray:
-        """F(u_h) at the four vertices of every tetrahedron, (ne, 4, components, 3)."""
+        """F(u_h) at the four vertices of every tetrahedron, (ne, 4, components, 3); for P1, where
+        it is constant on each tetrahedron, at one vertex, (ne, 1, components, 3). Evaluated in
+        batches of elements (NGSolve's point records are 48 bytes each)."""
         ne, components = len(self.volume), physics.components
-        if order == 1:          # grad u_h is constant on each tetrahedron: evaluated once there
-            gradients = np.asarray(ngs.grad(gfu)(self.vertex_points[::4])).reshape(ne, 1, components, 3)
-            gradients = np.repeat(gradients, 4, axis=1)
-        else:
-            gradients = np.asarray(ngs.grad(gfu)(self.vertex_points)).reshape(ne, 4, components, 3)
+        per_element = 4 if order > 1 else 1
+        gradients = np.empty((ne, per_element, components, 3))
+        for elements in np.array_split(np.arange(ne), max(1, ne // POINT_BATCH)):
+            points = vertex_points(self.mesh, elements, per_element)
+            gradients[elements] = np.asarray(ngs.grad(gfu)(points)).reshape(len(elements), per_element, components, 3)
         return physics.flux_array(gradients)
 
     def volume_and_jumps(self, gfu: ngs.GridFunction, order: int, physics) -> np.ndarray:
         """h_T^2 ||f + div F(u_h)||_T^2 + the jumps of F(u_h) n on T's interior faces, per element."""
-        ne, components = len(self.volume), physics.components
+        ne = len(self.volume)
         flux = self.vertex_fluxes(gfu, order, physics)
         # F(u_h) is linear on a P2 tetrahedron: div F = sum_k F(x_k) grad lambda_k, constant
         divergence = np.einsum("ekcd,ekd->ec", flux, self.grad_lambda) if order > 1 else 0.0
         eta2 = self.oscillation + self.h2 * ((self.mean_f + divergence) ** 2).sum(axis=1)
-        # the jump of F n at the three corners of every interior face: T1's outward flux plus
-        # T2's, T2's normal being -T1's; int_F j^2 from the corner values (module docstring)
+        squares = self.jump_squares(flux)
+        # the jump term of F goes to both tetrahedra, each weighted by its own |T| / 8
+        return (eta2 + np.bincount(self.first, weights=self.volume[self.first] / 8.0 * squares, minlength=ne)
+                + np.bincount(self.second, weights=self.volume[self.second] / 8.0 * squares, minlength=ne))
+
+    def jump_squares(self, flux: np.ndarray) -> np.ndarray:
+        """sum_i j_i^2 + (sum_i j_i)^2 per interior face, summed over the components, j_i the jump
+        of F n at corner i: T1's outward flux plus T2's, T2's normal being -T1's (module docstring)."""
+        per_element = flux.shape[1]
+        rows = [(per_element * self.first + (self.first_corners[:, c] if per_element > 1 else 0),
+                 per_element * self.second + (self.second_corners[:, c] if per_element > 1 else 0)) for c in range(3)]
         nx, ny, nz = self.jump_normals
         squares = 0.0
-        for i in range(components):
+        for i in range(flux.shape[2]):
             fx, fy, fz = (flux[:, :, i, d].ravel() for d in range(3))
-            jumps = [nx * (fx[a] - fx[b]) + ny * (fy[a] - fy[b]) + nz * (fz[a] - fz[b]) for a, b in self.corners]
+            jumps = [nx * (fx[a] - fx[b]) + ny * (fy[a] - fy[b]) + nz * (fz[a] - fz[b]) for a, b in rows]
             squares = squares + sum(j**2 for j in jumps) + sum(jumps) ** 2
-        return eta2 + np.bincount(self.jump_elements, weights=self.jump_weights * np.tile(squares, 2), minlength=ne)
+        return squares
