@@ -94,6 +94,28 @@ def test_every_interior_face_of_a_tetrahedral_mesh_is_paired_once():
     assert (paired[:, 0] == paired[:, 1]).all() and (np.diff(paired[:, 0], axis=1) > 0).all()
 
 
+@pytest.mark.parametrize("name", ["transition-line-3d", "elastic-junction-3d"])
+def test_the_3d_neumann_residual_is_taken_on_every_tetrahedron_along_gamma_g(name):
+    """The Neumann residual is integrated on the boundaries of the tetrahedra with a face on
+    Gamma_g only (``along_neumann``, from the surface elements' labels): the same integral over
+    every element's boundary gives the same element values (elastic-junction-3d: Gamma_g on the
+    sides and on part of the bottom)."""
+    case = load_case(name)
+    mesh = coarse_mesh(case)
+    problem = discretise(case, mesh, 2)
+    u = np.where(problem.free, np.random.default_rng(2).standard_normal(problem.ndof), problem.lift)
+    estimator = ResidualEstimator(case, problem)
+    gfu, terms = problem.gridfunction(u), estimator.terms
+    n = ngs.specialcf.normal(3)
+    residual = case.neumann_data(n) - case.physics.flux(ngs.Grad(gfu), n)
+    integrand = ngs.specialcf.mesh_size * terms.neumann * ngs.InnerProduct(residual, residual)
+    everywhere = ngs.Integrate(integrand * ngs.dx(element_boundary=True, bonus_intorder=2), mesh, element_wise=True).NumPy()
+    ours = estimator.indicators(u) - terms.volume_and_jumps(gfu, 2, case.physics)
+    np.subtract.at(ours, estimator.element_of_edge, estimator.contact_terms(u, gfu))
+    assert everywhere.sum() > 0
+    assert np.abs(ours - everywhere).max() <= 1e-9 * everywhere.max()
+
+
 def _exact_p2_solve(data):
     case = load_case(str(DATA / data))
     validate_case(case)             # u = gap on all of Gamma_C: validation allows its round-off
