@@ -61,8 +61,8 @@ def _volume_and_jumps_by_ngsolve(case, problem, u):
     return volume + jumps
 
 
-@pytest.mark.parametrize("name, strategy", [("transition-line-3d", "uniform"), ("smooth-3d", "uniform"),
-                                            ("elastic-junction-3d", "graded"), ("elastic-transition-3d", "uniform")])
+@pytest.mark.parametrize("name, strategy", [("transition-line-3d", "uniform"), ("elastic-junction-3d", "graded"),
+                                            ("elastic-transition-3d", "uniform")])
 @pytest.mark.parametrize("order", [1, 2])
 def test_the_3d_estimators_volume_and_jump_terms_are_ngsolves_integrals(name, strategy, order):
     """The element residual and the flux jumps on tetrahedra, made from F(u_h) at the vertices
@@ -176,20 +176,22 @@ def test_adaptive_meshes_apply_to_3d_exact_cases_only():
 
 
 @pytest.mark.parametrize("name, method", [("transition-line-3d", "nodal"), ("transition-line-3d", "p1"),
-                                          ("elastic-transition-3d", "nodal")])
+                                          ("transition-line-3d", "mean"), ("elastic-transition-3d", "nodal")])
 def test_a_3d_adaptive_chain_runs_and_its_rows_carry_a_finite_effectivity(name, method):
     """SOLVE -> ESTIMATE -> MARK -> REFINE on tetrahedra: each level refines the last (more
     dofs), within the uniform level 1's budget of elements, every solve converged exactly, and
     every row has eta > 0 and the effectivity eta / ||u - u_h||_a."""
     case = load_case(name)
     meshes = []
-    output = run_chain(case, [get_method(method)], 2, mesh=MeshStrategy("adaptive"),
+    # P1 within P2's budget of elements (not one uniform level more, its default): seconds
+    chosen = get_method(method).with_extra_levels(0)
+    output = run_chain(case, [chosen], 2, mesh=MeshStrategy("adaptive"),
                        on_level=lambda case, method, level, problem, solve: meshes.append(problem.mesh.ne))
     frame = pd.DataFrame(output.rows)
     assert len(frame) >= 2 and (frame["mesh"] == "adaptive").all() and (frame.dimension == 3).all()
     assert (frame.status == "converged").all() and (frame.kkt_residual <= TOLERANCE).all()
     assert (np.diff(frame.ndof) > 0).all()
-    assert max(meshes) <= element_budget(case, 2, get_method(method).extra_levels)
+    assert max(meshes) <= element_budget(case, 2)
     assert np.isfinite(frame.estimator).all() and (frame.estimator > 0).all()
     assert np.allclose(frame.effectivity, frame.estimator / frame.err_energy)
     assert np.isfinite(frame.effectivity).all()
