@@ -225,9 +225,9 @@ class ResidualEstimator:
 
     def contact_terms(self, u: np.ndarray, gfu: ngs.GridFunction) -> np.ndarray:
         """The Gamma_C terms of each contact edge (``problem.trace``'s order; 3D: each triangle of
-        ``problem.trace.faces``): the pressure of the
-        flux F(u_h) against lambda_h, lambda_h's tension, the penetration, the complementarity,
-        and in elasticity the tangential traction sigma_t(u_h) - g_t (frictionless contact)."""
+        ``problem.trace.faces``): the pressure of the flux F(u_h) against lambda_h, lambda_h's
+        tension, the penetration, the complementarity, and in elasticity the tangential traction
+        sigma_t(u_h) - g_t (frictionless contact; its length in 3D)."""
         q, physics = self.q, self.case.physics
         lam_h = self.T_contact @ self.pressure.coefficients(u)
         gradients = evaluate(ngs.grad(gfu), self.problem.mesh, q.points).reshape(len(q.h), physics.components, -1)
