@@ -14,6 +14,7 @@ from harness.fem.element_quadrature import ElementQuadrature
 from harness.measure.errors import error_norms
 from harness.measure.estimator import VOLUME_ORDER, ResidualEstimator, estimate
 from harness.measure.estimator_3d import MeshFaces
+from harness.mesh.bisection import AdaptiveRefinement
 from harness.mesh.levels import coarse_mesh
 from harness.mesh.strategies import MeshStrategy, element_budget
 from harness.methods import get_method
@@ -173,6 +174,26 @@ def test_adaptive_meshes_apply_to_3d_exact_cases_only():
     for name in ("transition-line-3d", "transition-circle-3d", "elastic-transition-3d", "elastic-junction-3d"):
         assert MeshStrategy("adaptive").applies_to(load_case(name)) is None
     assert "reference" in MeshStrategy("adaptive").applies_to(load_case("transition-line-3d").with_reference(1))
+
+
+def test_an_adaptive_level_past_the_budget_of_elements_is_not_made():
+    """Each marked element is bisected at least once: when that alone passes the budget, the
+    sequence stops before refining (the level would be dropped; in 3D it is the chain's largest
+    mesh by a factor of 3 or 4), and the mesh is left as it was."""
+    case = load_case("transition-line-3d")
+    sequence = AdaptiveRefinement(case)
+    levels = sequence.levels(3)
+    mesh = next(levels).mesh
+    coarse = mesh.ne
+    sequence.limit_elements(coarse + 10)
+    sequence.observe(np.ones(coarse))                  # Dörfler marks half of the elements
+    assert list(levels) == [] and mesh.ne == coarse
+    sequence = AdaptiveRefinement(case)
+    levels = sequence.levels(2)
+    mesh = next(levels).mesh
+    sequence.limit_elements(4 * coarse)
+    sequence.observe(np.ones(coarse))
+    assert next(levels).mesh.ne > coarse * 1.5
 
 
 @pytest.mark.parametrize("name, method", [("transition-line-3d", "nodal"), ("transition-line-3d", "p1"),
