@@ -8,9 +8,11 @@ The terms are those of the 2D estimator (``estimator``'s docstring) with faces F
     h_T^2 ||f + div F(u_h)||_T^2 + 1/2 sum_{F in dT interior} h_{T,F} ||[F(u_h) n]||_F^2
       + sum_{F in dT on Gamma_g} h_{T,F} ||g - F(u_h) n||_F^2,
 
-the residual estimator of Hild & Nicaise (Numer. Math. 101 (2005), scalar; M2AN 41 (2007),
-elasticity), whose analysis covers d = 2 and 3 (as read from their abstracts; the texts were not
-read here). The weights are NGSolve's ``specialcf.mesh_size``, as in 2D (checked numerically):
+and the Gamma_C terms of ``estimator.ResidualEstimator`` on the triangles of Gamma_C: the terms
+of the residual estimators cited there (Hild & Nicaise, Numer. Math. 101 (2005), scalar; M2AN 41
+(2007), elasticity; and others), carried from edges to faces. Whether those papers' analyses
+cover 3D was not checked here (their texts were not read), and no constant is claimed. The
+weights are NGSolve's ``specialcf.mesh_size``, as in 2D (checked numerically):
 
     h_T = (6 |T|)^(1/3) = |det J|^(1/3)           in the volume,
     h_{T,F} = 3 |T| / |F|, the height of T over F  on the element boundary,
