@@ -32,6 +32,7 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
     case, method = load_case(ADAPTIVE_CASE), get_method(method_name)
     sequence = MeshStrategy("adaptive").sequence(case, method.order)
     budget = element_budget(case, levels, method.extra_levels)
+    sequence.limit_elements(budget)
     multilevel, carry, ndofs, seconds = None, None, [], []
     for level in sequence.levels(60):
         mesh = level.mesh

@@ -1,5 +1,5 @@
-"""A residual a posteriori error estimator for the Signorini problem, scalar and elastic (2D),
-element by element.
+"""A residual a posteriori error estimator for the Signorini problem, scalar and elastic, 2D and
+3D (``estimator_3d``: the same terms on tetrahedra, faces for edges), element by element.
 
 For u_h on a mesh T_h (any method: the cones, Nitsche, penalty), with -div F(u) = f, F(u) n = g
 on Gamma_g, where F(u) = grad u (scalar) or sigma(u) (elasticity, Remark 2.3), and the contact
@@ -49,6 +49,7 @@ from ..fem.element_quadrature import ElementQuadrature, singular_vertices
 from ..mesh.points import evaluate, mesh_key
 from ..mesh.sides import SIDE_ENDS, MeshSides
 from .errors import CONTACT_ERROR_POINTS, DiscretePressure
+from .estimator_3d import TetrahedronTerms
 
 # Gauss order of the volume moments f_T and ||f - f_T||_T^2 on the elements away from singular
 # points (``ElementQuadrature``: graded on the elements touching one, where f may be singular,
@@ -179,21 +180,32 @@ class MeshTerms:
         return eta2 + np.bincount(self.jump_elements, weights=self.jump_weights * np.tile(squares, 2), minlength=ne)
 
 
+def mesh_terms(case, quadrature: ElementQuadrature):
+    """The volume, jump and Neumann terms' maker of the mesh's dimension: ``MeshTerms`` on
+    triangles, ``estimator_3d.TetrahedronTerms`` on tetrahedra (same interface)."""
+    if quadrature.mesh.dim == 2:
+        return MeshTerms.of(case, quadrature)
+    if quadrature.mesh.dim == 3:
+        return TetrahedronTerms.of(case, quadrature, VOLUME_ORDER)
+    raise ValueError(f"the residual estimator is for 2D and 3D problems, not {quadrature.mesh.dim}D")
+
+
 class ResidualEstimator:
-    """eta_T^2 of solutions on one discrete problem (2D, scalar or elastic): ``indicators(u)``."""
+    """eta_T^2 of solutions on one discrete problem (2D or 3D, scalar or elastic): ``indicators(u)``.
+    The Gamma_C terms are integrated over the cells of Gamma_C, edges in 2D and triangles in 3D
+    (``contact_quadrature``), and each cell's go to the element on it."""
 
     def __init__(self, case, problem):
-        if case.dimension != 2:
-            raise ValueError("the residual estimator is for 2D problems")
         self.case, self.problem, mesh = case, problem, problem.mesh
-        self.terms = MeshTerms.of(case, problem.quadrature)
+        self.terms = mesh_terms(case, problem.quadrature)
         self.pressure = DiscretePressure.of(problem)
         q = contact_quadrature(problem, CONTACT_ERROR_POINTS, graded_at=singular_vertices(case, mesh))
         self.q = q
         self.T_contact = q.T[:, problem.contact_dofs].tocsr()
         self.obstacle = case.physics.obstacle(at_points(case.gap, mesh, q))
         self.load = 0.0 if case.contact_load is None else evaluate(case.contact_load, mesh, q.points)
-        self.element_of_edge = problem.trace.volumes
+        faces = problem.trace.faces
+        self.element_of_edge = problem.trace.volumes if faces is None else faces.volumes
 
     def indicators(self, u: np.ndarray) -> np.ndarray:
         """eta_T^2 for every element of the mesh."""
@@ -212,9 +224,10 @@ class ResidualEstimator:
         return np.maximum(eta2, 0.0)
 
     def contact_terms(self, u: np.ndarray, gfu: ngs.GridFunction) -> np.ndarray:
-        """The Gamma_C terms of each contact edge (``problem.trace``'s order): the pressure of the
-        flux F(u_h) against lambda_h, lambda_h's tension, the penetration, the complementarity,
-        and in elasticity the tangential traction sigma_t(u_h) - g_t (frictionless contact)."""
+        """The Gamma_C terms of each contact edge (``problem.trace``'s order; 3D: each triangle of
+        ``problem.trace.faces``): the pressure of the flux F(u_h) against lambda_h, lambda_h's
+        tension, the penetration, the complementarity, and in elasticity the tangential traction
+        sigma_t(u_h) - g_t (frictionless contact; its length in 3D)."""
         q, physics = self.q, self.case.physics
         lam_h = self.T_contact @ self.pressure.coefficients(u)
         gradients = evaluate(ngs.grad(gfu), self.problem.mesh, q.points).reshape(len(q.h), physics.components, -1)
@@ -225,7 +238,7 @@ class ResidualEstimator:
                    + np.maximum(lam_h, 0.0) * np.maximum(gap, 0.0))
         if tangential is not None:
             density += q.h * tangential**2
-        return np.bincount(q.edge, weights=q.weights * density, minlength=len(self.problem.trace.edges))
+        return np.bincount(q.edge, weights=q.weights * density, minlength=len(self.element_of_edge))
 
 
 def estimate(indicators: np.ndarray) -> float:

@@ -84,9 +84,7 @@ class MeshStrategy:
         if not case.exact and case.dimension != 2:
             # each level's own reference (``measure.level_reference``) embeds u_h exactly in 2D only
             return "errors against a reference on graded and adaptive meshes are 2D only (the exact P2 embedding)"
-        if case.dimension != 2 and self.name == "adaptive":
-            return "adaptive meshes need the residual estimator, 2D only"
-        if case.dimension != 2 and case.singular_points is None and case.singular_lines is None:
+        if self.name == "graded" and case.dimension != 2 and case.singular_points is None and case.singular_lines is None:
             return "a graded 3D mesh needs the case's singular_lines or singular_points"
         if self.name == "graded" and not (case.nu > 1):
             return "a graded mesh needs the case's nu (its singular exponent nu - 1)"

@@ -17,8 +17,9 @@ from .threads import p2_size
 
 
 def has_estimator(case) -> bool:
-    """The residual estimator has terms for 2D problems, scalar and elastic (``measure.estimator``)."""
-    return case.dimension == 2
+    """The residual estimator has terms for 2D and 3D problems, scalar and elastic
+    (``measure.estimator``, ``measure.estimator_3d``)."""
+    return case.dimension in (2, 3)
 
 
 class OneBody:
@@ -45,6 +46,10 @@ class OneBody:
                 # level): graded and adaptive meshes get the same budget of dofs
                 if budget_elements is None:
                     budget_elements = element_budget(self.case, self.budget_levels, self.extra_levels)
+                    # a sequence that can tell a level past the budget before making it
+                    # (``bisection.AdaptiveRefinement``) is told the budget
+                    if hasattr(self.sequence, "limit_elements"):
+                        self.sequence.limit_elements(budget_elements)
                 if index and step.mesh.ne > budget_elements:
                     return
             yield step
