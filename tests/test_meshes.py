@@ -257,8 +257,9 @@ def test_an_adaptive_theta_outside_0_1_is_refused():
 
 def test_strategies_say_which_cases_they_mesh():
     assert MeshStrategy("graded").applies_to(load_case("transition-r32")) is None
-    assert "2D" in MeshStrategy("adaptive").applies_to(load_case("transition-line-3d"))
-    assert "estimator" in MeshStrategy("adaptive").applies_to(load_case("elastic-transition-3d"))
+    # 3D exact cases: adaptive meshes by the 3D estimator (tests/test_adaptive_3d.py)
+    assert MeshStrategy("adaptive").applies_to(load_case("transition-line-3d")) is None
+    assert MeshStrategy("adaptive").applies_to(load_case("elastic-transition-3d")) is None
     # issue 53: graded in 3D, scalar and elastic, toward declared singular lines
     # (the transition circles as polylines of chords)
     for name in ("transition-line-3d", "elastic-transition-3d", "elastic-junction-3d", "smooth-3d", "transition-circle-3d",
@@ -312,9 +313,9 @@ def test_a_bad_mesh_strategy_is_one_line_and_exit_2(tmp_path, capsys, argv, word
 
 
 def test_a_mesh_strategy_no_case_takes_is_refused_in_one_line(tmp_path, capsys):
-    code = main(["run", "--case", "transition-line-3d", "--mesh", "adaptive", "--levels", "1", "--out", str(tmp_path / "o")])
+    code = main(["run", "--case", "two-body-transition-r32", "--mesh", "adaptive", "--levels", "1", "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err.strip()
-    assert code == 2 and len(err.splitlines()) == 1 and "2D" in err
+    assert code == 2 and len(err.splitlines()) == 1 and "two bodies" in err
     assert not (tmp_path / "o").exists()
 
 
@@ -348,8 +349,8 @@ def test_a_level_without_refinement_keeps_the_multigrid_hierarchy(corner):
 
 def test_mesh_all_runs_what_applies_to_each_case_and_skips_the_rest_in_one_line_each(tmp_path, capsys):
     """A one-body 2D, a two-body and a 3D case on every strategy: the one-body case on all
-    three, the two-body case on uniform meshes (two skip lines), the 3D case on uniform and
-    graded ones (one skip line: adaptive), before any solve."""
+    three, the two-body case on uniform meshes (two skip lines), the 3D case on all three, before
+    any solve."""
     from harness.cli import main
     cases = ["transition-r32", "two-body-transition-r32", "transition-line-3d"]
     code = main(["run", *(a for c in cases for a in ("--case", c)), "--mesh", "all", "--method", "nodal", "--method", "mortar-nodal",
@@ -357,10 +358,10 @@ def test_mesh_all_runs_what_applies_to_each_case_and_skips_the_rest_in_one_line_
     err = capsys.readouterr().err.splitlines()
     assert code == 0
     two_bodies = "graded and adaptive meshes refine one body (two bodies: uniform meshes only)"
-    assert err == [f"harness: two-body-transition-r32: {mesh} meshes skipped: {two_bodies}" for mesh in ("graded", "adaptive")] + \
-        ["harness: transition-line-3d: adaptive meshes skipped: adaptive meshes need the residual estimator, 2D only"]
+    assert err == [f"harness: two-body-transition-r32: {mesh} meshes skipped: {two_bodies}" for mesh in ("graded", "adaptive")]
     rows = pd.read_csv(tmp_path / "results.csv")
-    assert sorted(set(zip(rows.case, rows["mesh"]))) == [("transition-line-3d", "graded"), ("transition-line-3d", "uniform"),
+    assert sorted(set(zip(rows.case, rows["mesh"]))) == [("transition-line-3d", "adaptive"), ("transition-line-3d", "graded"),
+                                                          ("transition-line-3d", "uniform"),
                                                           ("transition-r32", "adaptive"),
                                                           ("transition-r32", "graded"), ("transition-r32", "uniform"),
                                                           ("two-body-transition-r32", "uniform")]
