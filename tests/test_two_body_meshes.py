@@ -12,12 +12,13 @@ from harness.fem.two_body import TwoBodyProblem
 from harness.measure.rates import fit_ndof_rate
 from harness.measure.two_body_estimator import Interface
 from harness.mesh.levels import coarse_mesh
-from harness.mesh.strategies import MeshStrategy, element_budget
+from harness.mesh.strategies import MeshStrategy, element_budget, refusal
 from harness.mesh.two_body_levels import AdaptivePair
 from harness.methods import METHODS, methods_named
 from harness.problem.bodies import lower_body
 from harness.problem.case import registered_cases
 from harness.study.chain import run_chain
+from harness.study.engines import skipped_meshes
 
 MORTAR = [name for name, method in METHODS.items() if 2 in method.bodies]
 MESHES = ["graded", "adaptive"]
@@ -193,6 +194,28 @@ def test_what_two_bodies_cannot_be_meshed_for_is_refused_in_one_line(case):
     assert reason is not None and "\n" not in reason
     with pytest.raises(ValueError, match="one method"):
         run_chain(case, methods_named(["mortar-nodal", "mortar-mean"]), 2, mesh=MeshStrategy("adaptive"))
+
+
+class OneBodyGrading:
+    """A strategy of one's own: it makes one body's level sequence."""
+
+    label = "mine"
+
+    def applies_to(self, case):
+        return None
+
+    def group_key(self, method):
+        return None
+
+    def sequence(self, case, order):
+        raise AssertionError("a two-body study must not ask it for a sequence")
+
+
+def test_a_strategy_of_ones_own_is_skipped_on_two_bodies_before_any_solve(case):
+    mine = OneBodyGrading()
+    assert refusal(mine, case) == "two bodies are meshed by the package's strategies only (uniform, graded, adaptive)"
+    assert refusal(mine, registered_cases()["transition-r32"]) is None
+    assert skipped_meshes([case], [mine]) == [f"{case.name}: mine meshes skipped: {refusal(mine, case)}"]
 
 
 @pytest.mark.slow

@@ -106,6 +106,15 @@ class MeshStrategy:
         return AdaptiveRefinement(case, self.theta)
 
 
+def refusal(strategy, case) -> str | None:
+    """Why ``strategy`` cannot mesh ``case`` (its ``applies_to``), or None. A strategy of one's
+    own makes one body's level sequence, which a two-body case cannot use: its pairs of meshes
+    are the package's (``mesh.two_body_levels``)."""
+    if case.bodies != 1 and not isinstance(strategy, MeshStrategy):
+        return "two bodies are meshed by the package's strategies only (uniform, graded, adaptive)"
+    return strategy.applies_to(case)
+
+
 def element_budget(case, levels: int, extra_levels: int = 0) -> int:
     """The elements of the uniform level ``levels`` - 1 (+ ``extra_levels``, P1's): where a
     graded or adaptive chain stops, so that it gets the uniform chain's budget of dofs. Red
