@@ -82,6 +82,21 @@ def test_each_level_couples_its_own_non_matching_pair_and_solves_to_a_kkt_residu
     assert last[0] > first[0] and last[1] > first[1]
 
 
+def smallest_slave_edge(case, method, level, problem, solve):
+    return float(np.diff(np.sort(problem.upper.trace.vertex_points[:, 0])).min())
+
+
+def test_standard_multipliers_solve_to_round_off_on_slave_edges_down_to_1e_5():
+    """mortar-standard's rows as general constraints, divided by their weights int psi_i
+    (``methods._mortar._general``): on the junction's adaptive meshes, undivided, the saddle
+    system's regularisation swamped the rows of the shortest slave edges and the active set
+    method stalled at KKT residuals of 1e-10 .. 1e-7 from edges of 8e-6 on."""
+    case = registered_cases()["two-body-junction"]
+    output = run_chain(case, methods_named(["mortar-standard"]), 3, on_level=smallest_slave_edge, mesh=MeshStrategy("adaptive"))
+    assert min(output.kept.values()) < 1e-5
+    assert all(row["kkt_residual"] <= 1e-10 and row["status"] == "converged" for row in output.rows)
+
+
 @pytest.mark.parametrize("mesh", MESHES)
 def test_a_chain_stops_within_the_uniform_budget_summed_over_both_bodies(case, chains, mesh):
     budget = sum(element_budget(body, BUDGET_LEVELS[mesh]) for body in bodies_of(case))
