@@ -132,8 +132,3 @@ class TwoBodyEstimator:
         parts = [side.indicators(u) for side, u in zip(self.sides, self.problem.split(z))]
         extra = self.interface.indicators(z, [side.pressure_coefficients for side in self.sides])
         return np.concatenate([part + more for part, more in zip(parts, extra)])
-
-    def split(self, indicators: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(upper, lower) parts of ``indicators``."""
-        cut = self.problem.upper.mesh.ne
-        return indicators[:cut], indicators[cut:]
