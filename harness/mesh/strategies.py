@@ -79,8 +79,9 @@ class MeshStrategy:
         """None if the strategy can mesh ``case``, else why not (one clause)."""
         if self.name == "uniform":
             return None
-        if case.bodies != 1:
-            return "graded and adaptive meshes refine one body (two bodies: uniform meshes only)"
+        if case.bodies != 1 and (case.dimension != 2 or not case.exact):
+            # the mortar coupling is on a line (``fem.mortar``); two-body errors are against u
+            return "graded and adaptive meshes of two bodies need a 2D case with u (the mortar coupling on a line)"
         if not case.exact and case.dimension != 2:
             # each level's own reference (``measure.level_reference``) embeds u_h exactly in 2D only
             return "errors against a reference on graded and adaptive meshes are 2D only (the exact P2 embedding)"
@@ -101,6 +102,15 @@ class MeshStrategy:
         if self.name == "graded":
             return GradedRefinement(case, case.nu - 1.0, order, singular_points(case), singular_lines(case))
         return AdaptiveRefinement(case, self.theta)
+
+
+def refusal(strategy, case) -> str | None:
+    """Why ``strategy`` cannot mesh ``case`` (its ``applies_to``), or None. A strategy of one's
+    own makes one body's level sequence, which a two-body case cannot use: its pairs of meshes
+    are the package's (``mesh.two_body_levels``)."""
+    if case.bodies != 1 and not isinstance(strategy, MeshStrategy):
+        return "two bodies are meshed by the package's strategies only (uniform, graded, adaptive)"
+    return strategy.applies_to(case)
 
 
 def element_budget(case, levels: int, extra_levels: int = 0) -> int:

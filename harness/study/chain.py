@@ -136,10 +136,11 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     """
     phases = phases or Phases()
     if case.bodies == 2:
-        # two bodies on their own meshes, coupled by a mortar method (``two_body``)
-        if mesh != UNIFORM or sequence is not None:
-            raise ValueError(f"case {case.name}: two bodies are refined uniformly only (graded and adaptive meshes: not yet)")
-        return run_two_body_chain(case, methods, levels, progress, phases, on_level)
+        # two bodies on their own meshes, coupled by a mortar method (``two_body``): the pairs of
+        # meshes are the strategy's (``two_body.pair_sequence``), not one body's sequence
+        if sequence is not None:
+            raise ValueError(f"case {case.name}: two bodies take a mesh strategy, not one body's level sequence")
+        return run_two_body_chain(case, methods, levels, progress, phases, on_level, mesh)
     own = methods_for(case, methods)        # the weak methods are scalar and 2D only
     requested = {m.name for m in own}
     sequence = sequence or mesh.sequence(case, max(m.order for m in own))

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..mesh.strategies import UNIFORM, MeshStrategy
+from ..mesh.strategies import UNIFORM, MeshStrategy, refusal
 from ..methods import methods_for
 from ..problem.case import load_case
 from ..problem.validate import validate_case
@@ -81,7 +81,7 @@ def chains(cases, methods, levels: int, on_level=None, checkpoints=None, scope: 
     jobs = []
     for case in cases:
         for mesh in meshes:
-            if mesh.applies_to(case) is not None:
+            if refusal(mesh, case) is not None:
                 continue
             groups: dict = {}
             for method in methods_for(case, methods):
@@ -189,7 +189,7 @@ def study_weights(cases, methods, levels: int, meshes=(UNIFORM,)) -> dict:
     for case in cases:
         if methods_for(case, methods):
             for mesh in meshes:
-                if mesh.applies_to(case) is None:
+                if refusal(mesh, case) is None:
                     # a case without u: off uniform meshes each level has its own reference
                     own = solve_weights(case, methods_for(case, methods), levels,
                                         per_level_reference=not case.exact and mesh.label != UNIFORM.label)
@@ -250,9 +250,9 @@ def check_methods(case, methods) -> None:
 
 def skipped_meshes(cases, meshes) -> list[str]:
     """One line per (case, mesh strategy) a study skips because the strategy cannot mesh the
-    case, and why (``MeshStrategy.applies_to``)."""
+    case, and why (``strategies.refusal``)."""
     return [f"{case.name}: {mesh.label} meshes skipped: {reason}" for case in cases for mesh in meshes
-            if (reason := mesh.applies_to(case)) is not None]
+            if (reason := refusal(mesh, case)) is not None]
 
 
 def skipped_methods(cases, methods) -> list[str]:
@@ -272,7 +272,7 @@ def skipped_methods(cases, methods) -> list[str]:
 def check_meshes(cases, meshes) -> None:
     """ValueError in one line if a mesh strategy applies to none of ``cases``."""
     for mesh in meshes:
-        reasons = [mesh.applies_to(case) for case in cases]
+        reasons = [refusal(mesh, case) for case in cases]
         if cases and all(reasons):
             raise ValueError(f"--mesh {mesh.label}: {reasons[0]} ({', '.join(c.name for c in cases)})")
 

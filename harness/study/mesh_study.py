@@ -16,7 +16,7 @@ import pandas as pd
 
 from ..measure.reference import REFERENCE_METHOD
 from ..mesh.points import cells, coordinates
-from ..mesh.strategies import parse_meshes
+from ..mesh.strategies import parse_meshes, refusal
 from ..methods import BASELINE, MESH_STUDY, PAPER, SWEPT, methods_named
 from .files import write_atomic
 
@@ -51,7 +51,7 @@ def mesh_jobs_plan(cases, config: dict):
         if case.name not in config["cases"] or not methods:
             continue
         for mesh in parse_meshes(config["meshes"]):
-            if mesh.applies_to(case) is None:
+            if refusal(mesh, case) is None:
                 yield case, mesh, methods
 
 

@@ -9,6 +9,7 @@ from collections.abc import Iterator
 
 from ..fem.assembly import discretise
 from ..fem.element_quadrature import ElementQuadrature
+from ..measure.estimator import ResidualEstimator
 from ..measure.quantities import exact_quantities, quantities
 from ..mesh.levels import Level, LevelSequence
 from ..mesh.strategies import element_budget
@@ -71,6 +72,9 @@ class OneBody:
     def solve(self, method, problem, carry, multilevel, last_of_order: bool, phases):
         # the level's last method of its order may take the stiffness matrix
         return method.solve(self.case, problem, carry, multilevel, take_stiffness=last_of_order, phases=phases)
+
+    def estimator(self, problem) -> ResidualEstimator:
+        return ResidualEstimator(self.case, problem)
 
     def observe(self, indicators) -> None:
         if self.sequence.adaptive:

@@ -13,9 +13,15 @@ two bodies' together, ``h`` the coarser body's mesh size. The level loop is ever
 (``walk.ChainWalk``); the two bodies' own are their meshes, problems and solves (``TwoBodies``)
 and their combined errors (``TwoBodyErrors``).
 
-Not yet: checkpoints (a killed two-body chain starts again from its first level), graded and
-adaptive meshes, the multigrid (each body's R_h u and the mortar QP are solved by sparse
-Cholesky).
+The meshes (``mesh.two_body_levels``): each body refined uniformly, graded toward its own
+singular points, or adaptively by one Dörfler marking over both bodies' elements driven by the
+two-body residual estimator (``measure.two_body_estimator``); a graded or adaptive chain stops
+at the uniform chain's budget of elements summed over the two bodies. Whatever the meshes, the
+mortar coupling of a level is assembled on that level's two meshes (the method's solve).
+
+Not yet: checkpoints (a killed two-body chain starts again from its first level), the multigrid
+(each body's R_h u and the mortar QP are solved by sparse Cholesky), the estimator on uniform
+meshes (its column stays NaN there, as before).
 """
 from __future__ import annotations
 
@@ -27,7 +33,10 @@ from ..fem.element_quadrature import ElementQuadrature
 from ..fem.two_body import TwoBodyProblem
 from ..measure.errors import ExactErrors
 from ..measure.quantities import exact_column, exact_quantities, quantities, strain_energy
-from ..mesh.levels import Level, UniformRefinement
+from ..measure.two_body_estimator import TwoBodyEstimator
+from ..mesh.levels import Level
+from ..mesh.strategies import UNIFORM, element_budget, singular_lines, singular_points
+from ..mesh.two_body_levels import AdaptivePair, GradedPair, UniformPair
 from ..methods import methods_for
 from ..problem.bodies import lower_body
 from .rows import ChainOutput, Phases, study_levels
@@ -50,21 +59,26 @@ def combine(upper: dict, lower: dict) -> dict:
 
 class TwoBodies:
     """The levels of a two-body case (the ``walk.Discretisation`` of ``run_two_body_chain``):
-    each body refined uniformly on its own, a level's mesh and quadrature the pair of the
-    bodies', its h the coarser body's; each order's problem a ``fem.two_body.TwoBodyProblem``
-    solved by sparse Cholesky (no multigrid, no estimator)."""
+    the pairs of meshes of ``sequence`` (``mesh.two_body_levels``), a level's mesh and
+    quadrature the pair of the bodies', its h the coarser body's; each order's problem a
+    ``fem.two_body.TwoBodyProblem`` solved by sparse Cholesky (no multigrid). A graded or
+    adaptive chain stops before its two meshes have more elements than ``budget``; its rows get
+    the two-body estimator (``measure.two_body_estimator``), whose indicators drive an adaptive
+    sequence."""
 
-    estimating = False
-    adaptive = False
-
-    def __init__(self, case, bodies: tuple):
+    def __init__(self, case, bodies: tuple, sequence=None, budget: float = float("inf")):
         self.case, self.bodies = case, bodies
+        self.sequence = sequence or UniformPair(bodies)
+        self.budget = budget
+        self.estimating = self.sequence.budgeted
+        self.adaptive = self.sequence.adaptive
         self._exact = (None, {})        # (the level's quadratures, their exact quantities)
 
     def levels(self, count: int) -> Iterator[Level]:
-        walks = [UniformRefinement(body).levels(count) for body in self.bodies]
-        for index, steps in enumerate(zip(*walks)):
-            yield Level(index, tuple(step.mesh for step in steps), max(step.h for step in steps))
+        for step in self.sequence.levels(count):
+            if step.index and self.sequence.budgeted and sum(mesh.ne for mesh in step.mesh) > self.budget:
+                return
+            yield step
 
     def size(self, meshes) -> int:
         return p2_size(*meshes)
@@ -82,8 +96,11 @@ class TwoBodies:
     def solve(self, method, problem, carry, multilevel, last_of_order: bool, phases):
         return method.solve(self.case, problem, carry, None, phases=phases)
 
+    def estimator(self, problem: TwoBodyProblem) -> TwoBodyEstimator:
+        return TwoBodyEstimator(self.bodies, problem)
+
     def observe(self, indicators) -> None:
-        pass
+        self.sequence.observe(indicators)
 
     def quantities(self, problem, u, quadratures) -> dict:
         """The upper (slave) body's force and peak pressure (the lower body's balance them), the
@@ -131,18 +148,48 @@ class TwoBodyErrors:
             row.update(combine(upper, lower))
 
 
-def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, on_level=None) -> ChainOutput:
+def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, on_level=None,
+                       mesh=UNIFORM) -> ChainOutput:
     """The rows of ``methods`` (those that couple two bodies) on the two-body ``case``, levels
     0 .. ``levels`` - 1 (+ the methods' extra levels, P1's), sharing each level's meshes and
-    each order's pair of discrete problems. ``on_level(case, method, level, problem, solve)`` as
-    in ``chain.run_chain``, with ``problem`` a ``fem.two_body.TwoBodyProblem``; what it returns
-    is kept by (method, level). Returns ``chain.ChainOutput``."""
+    each order's pair of discrete problems, on the meshes of the ``mesh`` strategy
+    (``pair_sequence``; an adaptive chain serves one method and runs until the budget).
+    ``on_level(case, method, level, problem, solve)`` as in ``chain.run_chain``, with
+    ``problem`` a ``fem.two_body.TwoBodyProblem``; what it returns is kept by (method, level).
+    Returns ``chain.ChainOutput``."""
     phases = phases or Phases()
     methods = methods_for(case, methods)
     if not case.exact:
         raise ValueError(f"case {case.name}: a two-body case needs its exact u")
     bodies = (case, lower_body(case))
-    studied = {m.name: study_levels(m, levels) for m in methods}
+    extra = max(m.extra_levels for m in methods)
+    budget = sum(element_budget(body, levels, extra) for body in bodies)
+    sequence = pair_sequence(mesh, bodies, max(m.order for m in methods), budget)
+    if sequence.adaptive:
+        if len(methods) != 1:
+            raise ValueError("an adaptive mesh serves one method: run one chain per method")
+        studied = {m.name: MAX_ADAPTIVE_LEVELS for m in methods}
+    else:
+        studied = {m.name: study_levels(m, levels) for m in methods}
     measure = TwoBodyErrors([ExactErrors(body, phases, {m.name: m.order for m in methods}) for body in bodies])
-    return ChainWalk(case, methods, ChainPlan(studied, studied), TwoBodies(case, bodies), measure, "uniform",
-                     phases, progress, on_level).run()
+    return ChainWalk(case, methods, ChainPlan(studied, studied), TwoBodies(case, bodies, sequence, budget), measure,
+                     mesh.label, phases, progress, on_level).run()
+
+
+# an adaptive two-body chain stops at the budget of elements, or after this many levels (as
+# one-body ones, ``chain.MAX_ADAPTIVE_LEVELS``)
+MAX_ADAPTIVE_LEVELS = 60
+
+
+def pair_sequence(mesh, bodies: tuple, order: int, budget: float):
+    """The two bodies' level sequence for the ``mesh`` strategy (``strategies.MeshStrategy``):
+    uniform, graded toward each body's singular points for P_order, or adaptive."""
+    name = getattr(mesh, "name", None)
+    if name == "uniform":
+        return UniformPair(bodies)
+    if name == "graded":
+        return GradedPair(bodies, bodies[0].nu - 1.0, order, [singular_points(b) for b in bodies],
+                          [singular_lines(b) for b in bodies], budget)
+    if name == "adaptive":
+        return AdaptivePair(bodies, mesh.theta)
+    raise ValueError(f"two bodies are meshed by the package's strategies only (uniform, graded, adaptive), not {mesh.label!r}")

@@ -14,7 +14,7 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from ..measure.estimator import ResidualEstimator, estimate
+from ..measure.estimator import estimate
 from ..mesh.levels import Level
 from . import threads
 from .rows import ChainOutput, Phases, keep, level_row
@@ -72,6 +72,9 @@ class Discretisation(Protocol):
     def solve(self, method, problem, carry, multilevel, last_of_order: bool, phases):
         """``method``'s ``methods.LevelSolve`` of ``problem``."""
 
+    def estimator(self, problem):
+        """The residual estimator of ``problem``'s solutions (``indicators(u)``: eta_T^2 per element)."""
+
     def observe(self, indicators) -> None:
         """A studied solve's error indicators (an adaptive sequence's next mesh needs them)."""
 
@@ -92,7 +95,7 @@ class LevelProblems:
     quadrature: object = None                               # the level's ElementQuadrature
     problems: dict = field(default_factory=dict)            # order -> discrete problem
     assembly_seconds: dict = field(default_factory=dict)    # order -> its assembly's seconds
-    estimators: dict = field(default_factory=dict)          # order -> ResidualEstimator
+    estimators: dict = field(default_factory=dict)          # order -> its estimator (``Discretisation.estimator``)
     estimator_seconds: dict = field(default_factory=dict)   # order -> its set-up's seconds
     measure_seconds: float = 0.0                            # the level's shared measurement (begin, end)
     rows: list = field(default_factory=list)                # the level's studied rows
@@ -194,7 +197,7 @@ class ChainWalk:
                                                       for m in active if m.order == order):
                 clock = time.perf_counter()
                 with self.phases("estimate"):
-                    level.estimators[order] = ResidualEstimator(self.case, level.problems[order])
+                    level.estimators[order] = self.discretisation.estimator(level.problems[order])
                 level.estimator_seconds[order] = time.perf_counter() - clock
 
     def solve_method(self, method, level: LevelProblems, last_of_order: bool) -> None:
