@@ -76,7 +76,10 @@ def test_a_case_asymptotic_by_six_levels_runs_six_in_the_default_report_and_what
     default, fine = {"profile": "default", **PROFILES["default"]}, {"profile": "fine", **PROFILES["fine"]}
     assert known["corner-r12"].asymptotic_levels == 6
     assert case_settings(known["corner-r12"], default)["levels"] == 6
-    assert case_settings(known["oscillating-r34"], default)["levels"] == 7      # not asymptotic by six
+    assert case_settings(known["borderline-h2"], default)["levels"] == 7        # not asymptotic by six
+    # a case whose levels cost more than the profile's budget stops at its report_levels
+    assert case_settings(known["oscillating-r34"], default)["levels"] == 6
+    assert case_settings(known["oscillating-r34"], fine)["levels"] == 8
     assert case_settings(known["corner-r12"], fine)["levels"] == 8               # the fine profile runs all
     told = default | {"levels": 5, "stop_when_asymptotic": False, "levels_given": True}   # report --levels 5
     assert {case_settings(case, told)["levels"] for case in known.values() if case.dimension == 2} == {5}
