@@ -55,3 +55,31 @@ def small_problem():
 @pytest.fixture
 def rng():
     return np.random.default_rng(20031)
+
+
+def volume_and_jumps_by_ngsolve(case, problem, u, divergence):
+    """The residual estimator's element residual and flux jumps as NGSolve integrates them on
+    each element's boundary (``Other()``: the neighbour's trace), with NGSolve's mesh size as the
+    weight, on every facet but those of the boundary (in 3D the faces labelled 'interior' glue
+    two boxes: boundary elements of the mesh, interior faces of Omega); ``divergence(case, gfu,
+    order)``: div F(u_h) from NGSolve's Hessian (the tests of each dimension give theirs)."""
+    import ngsolve as ngs
+
+    from harness.measure.estimator import VOLUME_ORDER
+    mesh, gfu, physics = problem.mesh, problem.gridfunction(u), case.physics
+    h, n = ngs.specialcf.mesh_size, ngs.specialcf.normal(mesh.dim)
+    interior = ngs.GridFunction(ngs.FacetFESpace(mesh, order=0))
+    interior.vec[:] = 1.0
+    for element in mesh.Elements(ngs.BND):
+        if element.mat != "interior":
+            interior.vec[interior.space.GetDofNrs(element)[0]] = 0.0
+    f = physics.constant(0) if case.f_vanishes else case.f
+    residual = f + divergence(case, gfu, problem.order)
+    # the estimator's rules (Gauss, graded on the elements at singular points): then its split of
+    # this term (f's oscillation plus the mean's residual) is the same sum, to round-off
+    volume = sum(ngs.Integrate(h * h * ngs.InnerProduct(residual, residual) * dx, mesh, element_wise=True).NumPy()
+                 for dx in problem.quadrature.measures(VOLUME_ORDER))
+    jump = physics.flux(ngs.Grad(gfu), n) - physics.flux(ngs.Grad(gfu).Other(), n)
+    jumps = ngs.Integrate(0.5 * h * interior * ngs.InnerProduct(jump, jump) * ngs.dx(element_boundary=True), mesh,
+                          element_wise=True).NumPy()
+    return volume + jumps

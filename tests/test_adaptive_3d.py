@@ -8,11 +8,12 @@ import ngsolve as ngs
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import volume_and_jumps_by_ngsolve
 
 from harness.fem.assembly import discretise
 from harness.fem.element_quadrature import ElementQuadrature
 from harness.measure.errors import error_norms
-from harness.measure.estimator import VOLUME_ORDER, ResidualEstimator, estimate
+from harness.measure.estimator import ResidualEstimator, estimate
 from harness.measure.estimator_3d import MeshFaces
 from harness.mesh.bisection import AdaptiveRefinement
 from harness.mesh.levels import coarse_mesh
@@ -41,25 +42,7 @@ def _divergence_by_ngsolve(case, gfu, order):
 
 
 def _volume_and_jumps_by_ngsolve(case, problem, u):
-    """The element residual and the flux jumps as NGSolve integrates them on each element's
-    boundary (``Other()``: the neighbour's trace), with NGSolve's mesh size as the weight, on
-    every facet but those of the boundary (the faces labelled 'interior' glue two boxes: they
-    are boundary elements of the mesh and interior faces of Omega)."""
-    mesh, gfu, physics = problem.mesh, problem.gridfunction(u), case.physics
-    h, n = ngs.specialcf.mesh_size, ngs.specialcf.normal(3)
-    interior = ngs.GridFunction(ngs.FacetFESpace(mesh, order=0))
-    interior.vec[:] = 1.0
-    for element in mesh.Elements(ngs.BND):
-        if element.mat != "interior":
-            interior.vec[interior.space.GetDofNrs(element)[0]] = 0.0
-    f = physics.constant(0) if case.f_vanishes else case.f
-    residual = f + _divergence_by_ngsolve(case, gfu, problem.order)
-    volume = sum(ngs.Integrate(h * h * ngs.InnerProduct(residual, residual) * dx, mesh, element_wise=True).NumPy()
-                 for dx in problem.quadrature.measures(VOLUME_ORDER))
-    jump = physics.flux(ngs.Grad(gfu), n) - physics.flux(ngs.Grad(gfu).Other(), n)
-    jumps = ngs.Integrate(0.5 * h * interior * ngs.InnerProduct(jump, jump) * ngs.dx(element_boundary=True), mesh,
-                          element_wise=True).NumPy()
-    return volume + jumps
+    return volume_and_jumps_by_ngsolve(case, problem, u, _divergence_by_ngsolve)
 
 
 @pytest.mark.parametrize("name, strategy", [("transition-line-3d", "uniform"), ("elastic-junction-3d", "graded"),

@@ -50,6 +50,7 @@ from ..mesh.points import evaluate, mesh_key
 from ..mesh.sides import SIDE_ENDS, MeshSides
 from .errors import CONTACT_ERROR_POINTS, DiscretePressure
 from .estimator_3d import TetrahedronTerms
+from .facets import element_bits, neumann_facets
 
 # Gauss order of the volume moments f_T and ||f - f_T||_T^2 on the elements away from singular
 # points (``ElementQuadrature``: graded on the elements touching one, where f may be singular,
@@ -64,20 +65,10 @@ def neumann_sides(mesh: ngs.Mesh, sides: MeshSides) -> tuple:
     """(neumann, along): a piecewise constant on the facets, 1 on those of Gamma_g; and the
     triangles with a side on Gamma_g (a BitArray): the Neumann residual is integrated on those
     triangles' boundaries only."""
-    space = ngs.FacetFESpace(mesh, order=0)
-    neumann = ngs.GridFunction(space)
-    neumann.Set(1.0, ngs.BND, definedon=mesh.Boundaries("neumann"))
-    segments = mesh.ngmesh.Elements1D().NumPy()
-    names = mesh.GetBoundaries()
-    labelled = np.array([names[index - 1] == "neumann" for index in segments["index"]], dtype=bool)
-    ends = np.sort(segments["nodes"][labelled, :2].astype(np.int64) - 1, axis=1)
+    neumann, ends = neumann_facets(mesh)
     own = np.sort(sides.side_vertices(sides.boundary[:, 0], sides.boundary[:, 1]), axis=1)
     hit = np.isin(own[:, 0] * mesh.nv + own[:, 1], ends[:, 0] * mesh.nv + ends[:, 1])
-    along = ngs.BitArray(mesh.ne)
-    along.Clear()
-    for element in np.unique(sides.boundary[hit, 0]):
-        along.Set(int(element))
-    return neumann, along
+    return neumann, element_bits(mesh, sides.boundary[hit, 0])
 
 
 class MeshTerms:

@@ -37,6 +37,7 @@ import numpy as np
 
 from ..fem.element_quadrature import ElementQuadrature
 from ..mesh.points import cells, coordinates, mesh_key, mesh_points
+from .facets import element_bits, neumann_facets
 
 # face k of a tetrahedron is the one opposite its local vertex k
 FACE_CORNERS = np.array([[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]])
@@ -119,22 +120,12 @@ def neumann_faces(mesh: ngs.Mesh, faces: MeshFaces) -> tuple:
     """(neumann, along): a piecewise constant on the facets, 1 on those of Gamma_g; and the
     tetrahedra with a face on Gamma_g (a BitArray): the Neumann residual is integrated on those
     elements' boundaries only (``estimator.neumann_sides`` in 2D)."""
-    space = ngs.FacetFESpace(mesh, order=0)
-    neumann = ngs.GridFunction(space)
-    neumann.Set(1.0, ngs.BND, definedon=mesh.Boundaries("neumann"))
-    surface = mesh.ngmesh.Elements2D().NumPy()
-    names = mesh.GetBoundaries()
-    labelled = np.array([names[index - 1] == "neumann" for index in surface["index"]], dtype=bool)
-    wanted = np.sort(surface["nodes"][labelled, :3].astype(np.int64) - 1, axis=1)
+    neumann, wanted = neumann_facets(mesh)
     elements, face = faces.boundary.T
     own = np.sort(faces.cells[elements[:, None], FACE_CORNERS[face]], axis=1)
     nv = np.int64(mesh.nv)
     hit = np.isin((own[:, 0] * nv + own[:, 1]) * nv + own[:, 2], (wanted[:, 0] * nv + wanted[:, 1]) * nv + wanted[:, 2])
-    along = ngs.BitArray(mesh.ne)
-    along.Clear()
-    for element in np.unique(elements[hit]):
-        along.Set(int(element))
-    return neumann, along
+    return neumann, element_bits(mesh, elements[hit])
 
 
 class TetrahedronTerms:
