@@ -57,12 +57,39 @@ def rng():
     return np.random.default_rng(20031)
 
 
-def volume_and_jumps_by_ngsolve(case, problem, u, divergence):
+def divergence_by_ngsolve(case, gfu, order: int):
+    """div F(u_h) from NGSolve's Hessian of u_h: Laplace(u_h), or div sigma(u_h) =
+    mu Laplace(u_i) + (mu + lambda) d_i div u_h (hesse's row i holds u_i's second derivatives,
+    d_j d_k at column d j + k)."""
+    import ngsolve as ngs
+    if order == 1:
+        return 0
+    hesse = gfu.Operator("hesse")
+    if not case.physics.elastic:
+        return ngs.Trace(hesse)
+    d, mu, lam = gfu.space.mesh.dim, case.physics.mu, case.physics.lam
+    return ngs.CF(tuple(mu * sum(hesse[i, d * j + j] for j in range(d)) + (mu + lam) * sum(hesse[j, d * i + j] for j in range(d))
+                        for i in range(d)))
+
+
+def trace_values(problem, function):
+    """The dofs of a polynomial of degree <= k on Gamma_C (y = 0) in the hierarchical trace basis:
+    vertex values and, for P2, bubble coefficients c = 8 ((f(a) + f(b))/2 - f(mid))."""
+    z = np.zeros(problem.ndof)
+    trace = problem.trace
+    z[problem.vertex_dofs] = function(trace.vertex_points[:, 0])
+    if problem.order == 2:
+        a, b = trace.a[:, 0], trace.b[:, 0]
+        z[problem.edge_dofs] = 8.0 * (0.5 * (function(a) + function(b)) - function(0.5 * (a + b)))
+    return z
+
+
+def volume_and_jumps_by_ngsolve(case, problem, u):
     """The residual estimator's element residual and flux jumps as NGSolve integrates them on
     each element's boundary (``Other()``: the neighbour's trace), with NGSolve's mesh size as the
     weight, on every facet but those of the boundary (in 3D the faces labelled 'interior' glue
     two boxes: boundary elements of the mesh, interior faces of Omega); ``divergence(case, gfu,
-    order)``: div F(u_h) from NGSolve's Hessian (the tests of each dimension give theirs)."""
+    order)``: div F(u_h) from NGSolve's Hessian (``divergence_by_ngsolve``)."""
     import ngsolve as ngs
 
     from harness.measure.estimator import VOLUME_ORDER
@@ -74,7 +101,7 @@ def volume_and_jumps_by_ngsolve(case, problem, u, divergence):
         if element.mat != "interior":
             interior.vec[interior.space.GetDofNrs(element)[0]] = 0.0
     f = physics.constant(0) if case.f_vanishes else case.f
-    residual = f + divergence(case, gfu, problem.order)
+    residual = f + divergence_by_ngsolve(case, gfu, problem.order)
     # the estimator's rules (Gauss, graded on the elements at singular points): then its split of
     # this term (f's oscillation plus the mean's residual) is the same sum, to round-off
     volume = sum(ngs.Integrate(h * h * ngs.InnerProduct(residual, residual) * dx, mesh, element_wise=True).NumPy()
@@ -83,3 +110,14 @@ def volume_and_jumps_by_ngsolve(case, problem, u, divergence):
     jumps = ngs.Integrate(0.5 * h * interior * ngs.InnerProduct(jump, jump) * ngs.dx(element_boundary=True), mesh,
                           element_wise=True).NumPy()
     return volume + jumps
+
+
+def assert_volume_and_jumps_are_ngsolves(case, mesh, order: int) -> None:
+    """The estimator's volume and jump terms of a function that is no solution (every jump
+    nonzero) on ``mesh``, against ``volume_and_jumps_by_ngsolve``, element by element."""
+    from harness.measure.estimator import ResidualEstimator
+    problem = discretise(case, mesh, order)
+    u = np.where(problem.free, np.random.default_rng(1).standard_normal(problem.ndof), problem.lift)
+    ours = ResidualEstimator(case, problem).terms.volume_and_jumps(problem.gridfunction(u), order, case.physics)
+    theirs = volume_and_jumps_by_ngsolve(case, problem, u)
+    assert np.abs(ours - theirs).max() <= 1e-10 * np.abs(theirs).max()

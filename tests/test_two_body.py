@@ -5,6 +5,7 @@ import dataclasses
 import numpy as np
 import pandas as pd
 import pytest
+from conftest import trace_values
 
 from harness.fem.assembly import discretise
 from harness.fem.mortar import TraceElements, intersection, mortar_coupling
@@ -32,18 +33,6 @@ def refined_pair(case):
     for mesh in meshes:
         mesh.Refine()
     return case, meshes
-
-
-def trace_values(problem, function):
-    """The dofs of a polynomial of degree <= k on Gamma_C (y = 0) in the hierarchical trace basis:
-    vertex values and, for P2, bubble coefficients c = 8 ((f(a) + f(b))/2 - f(mid))."""
-    z = np.zeros(problem.ndof)
-    trace = problem.trace
-    z[problem.vertex_dofs] = function(trace.vertex_points[:, 0])
-    if problem.order == 2:
-        a, b = trace.a[:, 0], trace.b[:, 0]
-        z[problem.edge_dofs] = 8.0 * (0.5 * (function(a) + function(b)) - function(0.5 * (a + b)))
-    return z
 
 
 @pytest.mark.parametrize("order", [1, 2])

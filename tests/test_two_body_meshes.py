@@ -5,6 +5,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from conftest import trace_values
 
 from harness.fem.assembly import discretise
 from harness.fem.mortar import TraceElements, intersection
@@ -115,19 +116,8 @@ def test_the_effectivity_stays_between_1_and_10_on_every_level(chains, mesh):
         assert ((effectivity >= 1) & (effectivity <= 10)).all(), (method, effectivity)
 
 
-def trace_function(problem, function):
-    """A dof vector whose trace on Gamma_C interpolates ``function`` (exact for degree <= k)."""
-    z = np.zeros(problem.ndof)
-    trace = problem.trace
-    z[problem.vertex_dofs] = function(trace.vertex_points[:, 0])
-    if problem.order == 2:
-        a, b = trace.a[:, 0], trace.b[:, 0]
-        z[problem.edge_dofs] = 8.0 * (0.5 * (function(a) + function(b)) - function(0.5 * (a + b)))
-    return z
-
-
 def opening_of(problem, upper, lower):
-    return np.concatenate([trace_function(problem.upper, upper), trace_function(problem.lower, lower)])
+    return np.concatenate([trace_values(problem.upper, upper), trace_values(problem.lower, lower)])
 
 
 def pressures(problem, value: float):
