@@ -6,7 +6,7 @@ Expected: the one-body rate min(nu - 1, 2) (``_mortar.one_body_rate``)."""
 from functools import partial
 
 from ._mortar import Mortar, one_body_rate
-from .base import REFERENCE
+from .base import MESH_STUDY, REFERENCE
 
 method = Mortar(
     name="mortar-nodal",
@@ -15,5 +15,5 @@ method = Mortar(
     reference="Wohlmuth 2000; Hüeber & Wohlmuth 2005; Hild & Laborde 2002 (quadratic mortar)",
     expected=partial(one_body_rate, order=2),
     multipliers="dual",
-    roles=frozenset({REFERENCE}),     # of the two-body cases (and their picture)
+    roles=frozenset({REFERENCE, MESH_STUDY}),     # of the two-body cases (and their picture)
 )

@@ -6,6 +6,7 @@ the jump. Expected: min(nu - 1, 1) (``_mortar.one_body_rate``)."""
 from functools import partial
 
 from ._mortar import Mortar, one_body_rate
+from .base import MESH_STUDY
 
 method = Mortar(
     name="mortar-p1",
@@ -14,4 +15,5 @@ method = Mortar(
     reference="Ben Belgacem, Hild & Laborde 1999; Wohlmuth 2000",
     expected=partial(one_body_rate, order=1),
     multipliers="dual",
+    roles=frozenset({MESH_STUDY}),
 )
