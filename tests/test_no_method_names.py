@@ -81,7 +81,7 @@ def test_the_registered_methods_declare_the_roles_the_report_gave_them_by_name()
     assert role_names(BASELINE) == ["p1"]
     assert REFERENCE_METHOD == "nodal" and role_names(REFERENCE) == ["nodal", "mortar-nodal"]
     assert role_names(SWEPT) == ["nitsche", "penalty"]
-    assert role_names(MESH_STUDY) == ["nodal", "p1", "nitsche"]
+    assert role_names(MESH_STUDY) == ["nodal", "p1", "mortar-nodal", "nitsche", "mortar-p1"]
     assert REPORT_SWEEP["methods"] == ("nitsche", "nitsche:theta=0", "nitsche:theta=-1", "penalty")
     assert REPORT_SWEEP["reference"] == ("nodal",)
     assert all(set(m.roles) <= set(ROLES) for m in METHODS.values())

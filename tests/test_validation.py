@@ -83,9 +83,9 @@ def test_a_case_asymptotic_by_six_levels_runs_six_in_the_default_report_and_what
     assert case_settings(known["corner-r12"], fine)["levels"] == 8               # the fine profile runs all
     told = default | {"levels": 5, "stop_when_asymptotic": False, "levels_given": True}   # report --levels 5
     assert {case_settings(case, told)["levels"] for case in known.values() if case.dimension == 2} == {5}
-    groups = study_groups([known[n] for n in ("transition-line-3d", "corner-r12", "smooth")], default)
+    groups = study_groups([known[n] for n in ("transition-line-3d", "corner-r12", "borderline-h2")], default)
     assert [([c.name for c in group], own["levels"]) for group, own in groups] == \
-        [(["corner-r12"], 6), (["smooth"], 7), (["transition-line-3d"], 3)]
+        [(["corner-r12"], 6), (["borderline-h2"], 7), (["transition-line-3d"], 3)]
 
 
 def test_p1_stops_with_p2_in_the_default_report_where_the_case_says_its_fits_are_asymptotic():
