@@ -216,20 +216,31 @@ class ResidualEstimator:
 
     def contact_terms(self, u: np.ndarray, gfu: ngs.GridFunction) -> np.ndarray:
         """The Gamma_C terms of each contact edge (``problem.trace``'s order; 3D: each triangle of
-        ``problem.trace.faces``): the pressure of the flux F(u_h) against lambda_h, lambda_h's
-        tension, the penetration, the complementarity, and in elasticity the tangential traction
-        sigma_t(u_h) - g_t (frictionless contact; its length in 3D)."""
+        ``problem.trace.faces``): those of the flux (``flux_density``) and of the gap
+        (``gap_density``). The coefficients of lambda_h stay in ``pressure_coefficients`` (the
+        two-body interface's complementarity uses each side's)."""
+        self.pressure_coefficients = self.pressure.coefficients(u)
+        lam_h = self.T_contact @ self.pressure_coefficients
+        density = self.flux_density(lam_h, gfu) + self.gap_density(lam_h, u)
+        q = self.q
+        return np.bincount(q.edge, weights=q.weights * density, minlength=len(self.element_of_edge))
+
+    def flux_density(self, lam_h: np.ndarray, gfu: ngs.GridFunction) -> np.ndarray:
+        """At the contact points: the pressure of the flux F(u_h) against lambda_h, lambda_h's
+        tension, and in elasticity the tangential traction sigma_t(u_h) - g_t (frictionless)."""
         q, physics = self.q, self.case.physics
-        lam_h = self.T_contact @ self.pressure.coefficients(u)
         gradients = evaluate(ngs.grad(gfu), self.problem.mesh, q.points).reshape(len(q.h), physics.components, -1)
         flux, tangential = physics.contact_forces(physics.flux_array(gradients), q.normals, self.load)
-        gap = q.T @ u - self.obstacle
-        density = (q.h * ((lam_h - flux) ** 2 + np.minimum(lam_h, 0.0) ** 2)
-                   + np.maximum(-gap, 0.0) ** 2 / q.h
-                   + np.maximum(lam_h, 0.0) * np.maximum(gap, 0.0))
+        density = q.h * ((lam_h - flux) ** 2 + np.minimum(lam_h, 0.0) ** 2)
         if tangential is not None:
             density += q.h * tangential**2
-        return np.bincount(q.edge, weights=q.weights * density, minlength=len(self.element_of_edge))
+        return density
+
+    def gap_density(self, lam_h: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """At the contact points: the penetration below the obstacle and the complementarity."""
+        q = self.q
+        gap = q.T @ u - self.obstacle
+        return np.maximum(-gap, 0.0) ** 2 / q.h + np.maximum(lam_h, 0.0) * np.maximum(gap, 0.0)
 
 
 def estimate(indicators: np.ndarray) -> float:
