@@ -27,9 +27,14 @@ DATA = Path(__file__).parent / "data"
 TOLERANCE = 1e-10
 
 
-@pytest.mark.parametrize("name, strategy", [("transition-line-3d", "uniform"), ("elastic-junction-3d", "graded"),
-                                            ("elastic-transition-3d", "uniform")])
-@pytest.mark.parametrize("order", [1, 2])
+# `make test` checks each (case, mesh) once, P1 and P2 between them; the other three (1.5-5 s each) in `make test-full`
+ESTIMATOR_MESHES = [("transition-line-3d", "uniform", 2), ("elastic-junction-3d", "graded", 1),
+                    ("elastic-transition-3d", "uniform", 2)]
+ESTIMATOR_MESHES += [pytest.param(name, strategy, 3 - order, marks=pytest.mark.slow)
+                     for name, strategy, order in ESTIMATOR_MESHES]
+
+
+@pytest.mark.parametrize("name, strategy, order", ESTIMATOR_MESHES)
 def test_the_3d_estimators_volume_and_jump_terms_are_ngsolves_integrals(name, strategy, order):
     """The element residual and the flux jumps on tetrahedra, made from F(u_h) at the vertices
     (``estimator_3d.TetrahedronTerms``), agree with NGSolve's own integration of the same terms
@@ -157,7 +162,8 @@ def test_an_adaptive_level_past_the_budget_of_elements_is_not_made():
     assert next(levels).mesh.ne > coarse * 1.5
 
 
-@pytest.mark.parametrize("name, method", [("transition-line-3d", "nodal"), ("transition-line-3d", "p1"),
+# P1 (its estimator's order 1: the test above) in `make test-full`
+@pytest.mark.parametrize("name, method", [("transition-line-3d", "nodal"), pytest.param("transition-line-3d", "p1", marks=pytest.mark.slow),
                                           ("transition-line-3d", "mean"), ("elastic-transition-3d", "nodal")])
 def test_a_3d_adaptive_chain_runs_and_its_rows_carry_a_finite_effectivity(name, method):
     """SOLVE -> ESTIMATE -> MARK -> REFINE on tetrahedra: each level refines the last (more

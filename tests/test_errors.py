@@ -24,12 +24,15 @@ from harness.study.chain import PROFILES, run_chain
 EXACT_CASES = [name for name, case in registered_cases(dimension=2).items() if case.exact]     # 3D: test_three_d.py
 
 FINEST_DEFAULT_LEVEL = PROFILES["default"]["levels"] - 1
-# `make test` checks the error integration of every exact case on a small level (the same rule,
-# elements of every kind: near the singular points and away; level 2, 0.5-1.5 s per case, where
-# level 3 took 3-4.4 s); level 3 and the finest level of `make report`, 10-50 s per case, are
-# checked by `make test-full`
+# `make test` checks the error integration on a small level (the same rule, elements of every
+# kind: near the singular points and away; level 2, 0.5-4 s per case) for a case of each kind: a
+# corner singularity, a singular load, an elastic body, two bodies. Every exact case on level 2
+# and 3 and on the finest level of `make report` (10-50 s per case) is checked by `make test-full`
 SMALL_LEVEL = 2
-ERROR_LEVELS = [SMALL_LEVEL, pytest.param(3, marks=pytest.mark.slow), pytest.param(FINEST_DEFAULT_LEVEL, marks=pytest.mark.slow)]
+SMALL_CASES = {"corner-r12", "borderline-h2", "elastic-wedge", "two-body-junction"}
+ERROR_LEVELS = [(name, level) if (name, level) in {(c, SMALL_LEVEL) for c in SMALL_CASES}
+                else pytest.param(name, level, marks=pytest.mark.slow)
+                for level in (SMALL_LEVEL, 3, FINEST_DEFAULT_LEVEL) for name in EXACT_CASES]
 REFERENCE_ORDER, REFERENCE_DEPTH = 20, 22
 
 
@@ -63,8 +66,7 @@ class ReferenceErrors:
                                                   order=REFERENCE_ORDER)
 
 
-@pytest.mark.parametrize("level", ERROR_LEVELS)
-@pytest.mark.parametrize("case_name", EXACT_CASES)
+@pytest.mark.parametrize("case_name, level", ERROR_LEVELS)
 def test_errors_agree_with_a_much_finer_integration(case_name, level):
     """Issue 12's accuracy proof: the study's errors (graded rule at the declared singular
     points, Gauss order 6 elsewhere) against grading at every geometry point, depth 22 and

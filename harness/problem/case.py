@@ -108,6 +108,7 @@ for an exact case measures against a reference instead of u (which checks the re
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -359,10 +360,25 @@ def installed_case_files() -> list[Path]:
     return files
 
 
+# the cases of the files read so far, by (path, name in messages, sha1 of the text): a file is run
+# again only when its text changed (running the 22 registered files took 0.13 s, and every
+# command and many tests ask for the registry)
+_READ: dict[tuple[str, str, str], Case] = {}
+
+
+def case_of_file(path: Path, source: str) -> Case:
+    """The case of the file ``path`` (``source``: its name in messages), run afresh whenever its
+    text changed since it was last read."""
+    key = (str(path), source, hashlib.sha1(Path(path).read_bytes()).hexdigest())
+    if key not in _READ:
+        _READ[key] = case_from_module(import_file(path), source)
+    return _READ[key]
+
+
 def registered_cases(dimension: int | None = None) -> dict[str, Case]:
     """Every case module in cases/ (of that ``dimension`` if given), by name: the scalar 2D
     ones, the elastic ones, then the 3D ones, each in order of regularity nu."""
-    cases = [case_from_module(import_file(path), str(path)) for path in _registered_files()]
+    cases = [case_of_file(path, str(path)) for path in _registered_files()]
     cases = [case for case in cases if dimension is None or case.dimension == dimension]
     return {case.name: case for case in sorted(cases, key=lambda c: (c.dimension, c.physics.name != "scalar",
                                                                       c.nu if c.nu == c.nu else float("inf"), c.name))}
@@ -374,7 +390,7 @@ def load_case(spec: str) -> Case:
     if spec.endswith(".py") or path.is_file():
         if not path.is_file():
             raise CaseError(f"case file not found: {spec}")
-        return case_from_module(import_file(path.resolve()), str(path))
+        return case_of_file(path.resolve(), str(path))
     cases = registered_cases()
     if spec not in cases:
         raise CaseError(f"unknown case {spec!r}; known cases: {', '.join(cases)}")
