@@ -103,3 +103,17 @@ def test_figures_wait_for_the_cores_the_study_leaves_free_and_all_are_drawn_at_c
         figs, seconds = pool.collect()                    # the study is done: every worker draws
     assert executor.drawn[-1] == "_summary"
     assert set(figs) == {"corner-r12", "transition-r32", "summary", "sweeps", "meshes"} and set(seconds) == set(figs)
+
+
+@pytest.mark.parametrize("low, high, kept", [(1e3, 4e3, {"2×10³"}), (1.5e3, 6e3, {"2×10³", "5×10³"})])
+def test_log_labels_below_a_decade_keep_two_and_five_only(low, high, kept):
+    """Below a decade matplotlib labels the minor ticks 2, 3, 4 and 6, whose written-out labels
+    run into each other on a narrow panel: 2 and 5 keep a label."""
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(4, 3))
+    ax.loglog([low, high], [1.0, 2.0])
+    plots.unicode_log_labels(fig)
+    fig.canvas.draw()
+    labels = {t.get_text() for t in ax.xaxis.get_minorticklabels() if t.get_text() and low <= t.get_position()[0] <= high}
+    plt.close(fig)
+    assert labels == kept

@@ -36,7 +36,7 @@ RATE_COLUMNS = ["case", "mesh", "method", "order", "reference", "expected_rate",
                 # elasticity equivalent to it (Korn), so the same theorem rate
                 "fitted_rate_energy",
                 # against the number of dofs: fitted, the theory's on this mesh (p/d uniform), the
-                # optimal k/2 and its verdict; the estimator's rate and its effectivity on the finest level
+                # optimal k/d and its verdict; the estimator's rate and its effectivity on the finest level
                 "fitted_rate_ndof", "uniform_rate_ndof", "optimal_rate_ndof", "ndof_verdict", "pairwise_rates_ndof",
                 "fitted_rate_estimator", "effectivity_finest"]
 # What each column of rates.csv means (the docs' table is generated from this)
@@ -140,7 +140,7 @@ def rate_table(results: pd.DataFrame, error: str = "err_h1", levels: int = DEFAU
         first = group.iloc[0]
         if mesh != "uniform":
             # h (the largest element) says nothing of a graded or adaptive mesh: rates in N only,
-            # judged against the optimal k/2
+            # judged against the optimal k/d
             ndof = ndof_rates(group, error, levels, tolerance)
             rows.append({"case": case_name, "mesh": mesh, "method": method, "order": int(first.order),
                          "reference": first.reference, "expected_rate": first.expected_rate,

@@ -313,6 +313,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     if levels is not None:
         settings["levels"], settings["stop_when_asymptotic"], settings["levels_given"] = levels, False, True
         settings["mesh_levels"] = min(settings["mesh_levels"], levels)
+        settings["mesh_levels_3d"] = min(settings["mesh_levels_3d"], levels)
     results_dir, report_dir = Path(results_dir), Path(report_dir)
     with all_owned([results_dir, report_dir]):
         read_rows(results_dir / "results.csv")      # refused before the study if it is not a results CSV

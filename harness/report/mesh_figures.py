@@ -44,7 +44,10 @@ def error_against_ndof(case, frame: pd.DataFrame, folder: Path) -> dict[str, Pat
 
 def adaptive_mesh(case, points: np.ndarray, triangles: np.ndarray, folder: Path, method: str) -> dict[str, Path]:
     """The finest adaptive mesh, whole and zoomed on its smallest triangle (by area): windows of
-    60 and of 6 times that triangle's size."""
+    60 and of 6 times that triangle's size. In 3D its triangles on Gamma_C (the bottom face,
+    seen from above in (x, y)), with the exact transition curve."""
+    on_gamma_c = case.dimension == 3
+    points = points[:, :2]
     fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
     corners = points[triangles]
     sides = corners - np.roll(corners, 1, axis=1)
@@ -53,16 +56,22 @@ def adaptive_mesh(case, points: np.ndarray, triangles: np.ndarray, folder: Path,
     centre = corners[smallest].mean(axis=0)
     size = np.sqrt((sides[smallest] ** 2).sum(axis=1)).max()
     extent = np.ptp(points, axis=0).max()
-    for ax, half in zip(axes, (None, 30 * size, 3 * size)):
+    # windows of 60 and 6 times the smallest triangle, each at most a third of the one before
+    wide = min(30 * size, extent / 6)
+    for ax, half in zip(axes, (None, wide, min(3 * size, wide / 3))):
         ax.triplot(points[:, 0], points[:, 1], triangles, lw=0.25, color="0.2")
+        for line in (case.transition_curve or ()) if on_gamma_c else ():
+            ax.plot(*np.array(line).T, color="tab:red", lw=0.8)
         if half is not None:
             ax.set_xlim(centre[0] - half, centre[0] + half)
-            low = max(centre[1] - half, points[:, 1].min())       # Gamma_C is the bottom: nothing below
+            # in 2D Gamma_C is the bottom: nothing below
+            low = centre[1] - half if on_gamma_c else max(centre[1] - half, points[:, 1].min())
             ax.set_ylim(low - 0.02 * half, low + 2 * half)
             ax.set_title(f"zoom ×{extent / (2 * half):.3g} at ({centre[0]:.3g}, {centre[1]:.3g})", fontsize=9)
             ax.locator_params(nbins=3)
         else:
-            ax.set_title(f"{case.name}, {method}: {len(triangles):,} triangles", fontsize=9)
+            what = "triangles on Γ_C (red: the exact transition curve)" if on_gamma_c else "triangles"
+            ax.set_title(f"{case.name}, {method}: {len(triangles):,} {what}", fontsize=9)
         ax.set_aspect("equal")
         ax.tick_params(labelsize=6)
     return save(fig, folder, f"{case.name}-adaptive-mesh")

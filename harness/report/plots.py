@@ -105,6 +105,14 @@ class UnicodeLogFormatter(LogFormatterSciNotation):
         mantissa, exponent = match.groups()
         return (f"{mantissa}×" if mantissa else "") + "10" + exponent.translate(_SUPERSCRIPT)
 
+    def set_locs(self, locs=None):
+        """Below a decade matplotlib labels the minor ticks 2, 3, 4, 6 (or all): written out,
+        2×10³ 3×10³ 4×10³ run into each other on a panel a few inches wide. Keep 2 and 5 of
+        them (and 3 and 7 on an axis under 0.4 decades)."""
+        super().set_locs(locs)
+        if self._sublabels is not None and len(self._sublabels) > 1:
+            self._sublabels = {1.0, 2.0, 5.0} if len(self._sublabels) < 9 else {1.0, 2.0, 3.0, 5.0, 7.0}
+
 
 def unicode_log_labels(fig) -> None:
     """Every log-scaled axis of ``fig`` labelled by ``UnicodeLogFormatter``, with the settings of

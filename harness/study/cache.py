@@ -33,7 +33,7 @@ from .chain import BothHooks
 from .checkpoint import CheckpointStore, code_digest
 from .engines import InProcess, Job, chains, check_methods, mesh_scope, plan, study_weights, tidy
 from .files import ensure_writable, write_atomic, write_csv
-from .mesh_study import FinestMesh, mesh_config, mesh_jobs_plan, read_mesh_results, save_finest_mesh, store_name
+from .mesh_study import FinestMesh, mesh_config, mesh_jobs_plan, mesh_levels, read_mesh_results, save_finest_mesh, store_name
 from .progress import StudyProgress, scoped
 from .rows import PHASES
 from .snapshots import SnapshotHook, save_snapshots
@@ -270,8 +270,9 @@ def plan_mesh_studies(work: Work, cases: list[Case], config: dict, stores: Store
             continue
         validate_case(case)
         hook = FinestMesh() if mesh.name == "adaptive" else None
-        work.jobs += chains([case], methods, config["levels"], hook, stores.checkpoints, tag="mesh", meshes=[mesh])
-        work.weights |= study_weights([case], methods, config["levels"], [mesh])
+        levels = mesh_levels(case, config)
+        work.jobs += chains([case], methods, levels, hook, stores.checkpoints, tag="mesh", meshes=[mesh])
+        work.weights |= study_weights([case], methods, levels, [mesh])
         work.pending[mesh_scope("", mesh) + case.name] = Pending("meshes", partial(_store_meshes, stores.meshes, case, mesh,
                                                                                    methods=methods, config=config))
 

@@ -31,11 +31,14 @@ PROFILES = {
     # a case that declares ``asymptotic_levels`` stops there (``cache.case_settings``): six for
     # the cases whose seventh level moved no fitted rate by more than 0.01
     # two bodies (about twice a one-body level's dofs, ``two_body``): at most 6 levels (5.1e5 dofs; see "fine")
-    "default": {"levels": 7, "levels_3d": 3, "levels_two_body": 6, "mesh_levels": 4, "stop_when_asymptotic": True},
+    # the 3D mesh study: the budget of uniform level mesh_levels_3d - 1, 1.3e5 P2 dofs on transition-line-3d
+    "default": {"levels": 7, "levels_3d": 3, "levels_two_body": 6, "mesh_levels": 4, "mesh_levels_3d": 3,
+                "stop_when_asymptotic": True},
     # finest levels: about 2.3e6 dofs; 3D: 1.3e6; two bodies 5.1e5 (mortar-standard's saddle
     # systems are factorised by SuperLU, whose fill at 2e6 dofs grew past 19 GB); the mesh study
     # to 5.8e5 dofs
-    "fine": {"levels": 8, "levels_3d": 4, "levels_two_body": 6, "mesh_levels": 7, "stop_when_asymptotic": False},
+    "fine": {"levels": 8, "levels_3d": 4, "levels_two_body": 6, "mesh_levels": 7, "mesh_levels_3d": 4,
+             "stop_when_asymptotic": False},
 }
 
 def reference_of(case: Case, methods: list[Method]) -> Method | None:

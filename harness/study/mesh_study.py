@@ -1,4 +1,5 @@
-"""The report's mesh study: cases of the paper limited by one singular point (scalar and elastic), on graded and
+"""The report's mesh study: cases of the paper limited by one singular point (scalar and elastic, one body
+and two, and a transition line in 3D) and a case without u (each level against its own reference), on graded and
 adaptive meshes (``mesh.strategies``), beside the uniform rows of the main study; stored per
 (case, mesh) under ``results/meshes`` and reused while code, case file and settings are unchanged.
 
@@ -17,15 +18,20 @@ import pandas as pd
 from ..measure.reference import REFERENCE_METHOD
 from ..mesh.points import cells, coordinates
 from ..mesh.strategies import parse_meshes, refusal
+from ..mesh.trace import contact_trace
 from ..methods import BASELINE, MESH_STUDY, PAPER, SWEPT, methods_named
 from .files import write_atomic
 
-MESH_STUDY = {
+PLAN = {
     # a junction (r^1/2), a transition point (r^3/2), the elastic junction at 3 pi / 4 (r^0.5445:
     # Remark 2.3's body, the elastic estimator), and two bodies at a junction (r^1/2 on each side:
     # the two-body estimator, one marking over both bodies, the mortar coupling per level; it took
-    # the place of wedge-r23, a scalar junction at 3 pi / 4, within the report's budget)
-    "cases": ("corner-r12", "transition-r32", "elastic-wedge", "two-body-junction"),
+    # the place of wedge-r23, a scalar junction at 3 pi / 4, within the report's budget); in 3D the
+    # r^3/2 transition line (graded toward the line, the 3D estimator on tetrahedra); a case
+    # without u, its free boundary's ends found by the estimator (each level measured against
+    # its own reference: ``measure.level_reference``)
+    "cases": ("corner-r12", "transition-r32", "elastic-wedge", "two-body-junction", "transition-line-3d",
+              "smooth-obstacle"),
     # the methods that declare these roles (``Method.roles``): a cone of each order and Nitsche
     "roles": (MESH_STUDY,),
     "meshes": ("graded", "adaptive"),
@@ -40,21 +46,32 @@ def mesh_config(settings: dict) -> dict:
     (the budget of dofs: an adaptive chain stops at the uniform level's number of elements),
     the methods of the report that declare a role of ``MESH_STUDY`` (``FINE_ROLES`` in the fine
     profile), in the report's order."""
-    roles = set(FINE_ROLES if settings.get("profile") == "fine" else MESH_STUDY["roles"])
+    roles = set(FINE_ROLES if settings.get("profile") == "fine" else PLAN["roles"])
     chosen = methods_named(settings["methods"])
-    return {"cases": list(MESH_STUDY["cases"]), "meshes": list(MESH_STUDY["meshes"]),
-            "methods": [m.name for m in chosen if roles & set(m.roles)], "levels": settings["mesh_levels"]}
+    return {"cases": list(PLAN["cases"]), "meshes": list(PLAN["meshes"]),
+            "methods": [m.name for m in chosen if roles & set(m.roles)], "levels": settings["mesh_levels"],
+            "levels_3d": settings.get("mesh_levels_3d", settings["mesh_levels"])}
+
+
+def mesh_levels(case, config: dict) -> int:
+    """The uniform level count whose finest level is the budget of ``case``'s graded and
+    adaptive chains: a 3D level has 8 times the dofs of the last, a 2D one 4 times."""
+    return config["levels_3d"] if case.dimension == 3 else config["levels"]
 
 
 def mesh_jobs_plan(cases, config: dict):
-    """(case, mesh strategy, methods) of every chain group the mesh study runs."""
+    """(case, mesh strategy, methods) of every chain group the mesh study runs. In 3D P1 stops
+    at P2's budget of elements, not one uniform level past it as in 2D: that level (8 times
+    the elements) made transition-line-3d's P1 chains 82 s of work against 7 s (graded meshes
+    of P1 are made by bisection there, μ = 1), beyond the default report's budget."""
     methods = methods_named(config["methods"]) if config["methods"] else []
     for case in cases:
         if case.name not in config["cases"] or not methods:
             continue
+        own = [m.with_extra_levels(0) for m in methods] if case.dimension == 3 else methods
         for mesh in parse_meshes(config["meshes"]):
             if refusal(mesh, case) is None:
-                yield case, mesh, methods
+                yield case, mesh, own
 
 
 def store_name(case, mesh) -> str:
@@ -63,11 +80,15 @@ def store_name(case, mesh) -> str:
 
 class FinestMesh:
     """An ``on_level`` hook keeping every adaptive level's mesh of ``PICTURE_METHOD`` (vertices and
-    triangles); the store keeps the finest."""
+    triangles; in 3D the triangles of Gamma_C, where the contact's singular lines lie); the store
+    keeps the finest."""
 
     def __call__(self, case, method, level, problem, solve):
         if method.name != PICTURE_METHOD:
             return None
+        if problem.mesh.dim == 3:
+            trace = contact_trace(problem.mesh)
+            return trace.vertex_points, np.searchsorted(trace.vertices, trace.faces.vertices)
         return coordinates(problem.mesh), cells(problem.mesh)
 
 
