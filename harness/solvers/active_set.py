@@ -45,7 +45,7 @@ import scipy.sparse as sp
 
 from .multigrid import ContactEdges, TruncatedVCycle, pcg
 from .options import SolverOptions
-from .pdas import KKT, primal_dual_active_set
+from .pdas import KKT, primal_dual_active_set, resolved
 
 _DEFAULT = SolverOptions()
 # the default KKT tolerance, for the benchmarks (``bench``), which scale their linear solves by it
@@ -240,9 +240,13 @@ class ActiveSetSolver:
         self.system = system
 
     def slack(self, z: np.ndarray) -> tuple[np.ndarray, float]:
-        """z_C - alpha, and the scale of the constraint values, max(|z_C|, |alpha|)."""
-        return z[self.C] - self.alpha, max(np.abs(z[self.C]).max(initial=0.0), np.abs(self.alpha).max(initial=0.0),
-                                           np.finfo(float).tiny)
+        """z_C - alpha, each value below what double precision resolves in it set to 0
+        (``pdas.resolved``: a row of one nonzero), and the scale of the constraint values,
+        max(|z_C|, |alpha|)."""
+        eps, zC = np.finfo(float).eps, z[self.C]
+        bound = 2 * eps * (np.abs(zC) + np.abs(self.alpha)) + eps * np.abs(z).max(initial=0.0)
+        return resolved(zC - self.alpha, bound), max(np.abs(zC).max(initial=0.0), np.abs(self.alpha).max(initial=0.0),
+                                                     np.finfo(float).tiny)
 
     def kkt(self, z: np.ndarray, active: np.ndarray) -> tuple[KKT, np.ndarray]:
         g = np.where(self.free, self.K @ z - self.b, 0.0)

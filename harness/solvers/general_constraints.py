@@ -41,7 +41,7 @@ from scipy.sparse.linalg import splu
 
 from .active_set import row_norm
 from .options import SolverOptions
-from .pdas import KKT, primal_dual_active_set
+from .pdas import KKT, primal_dual_active_set, resolved
 
 _DEFAULT = SolverOptions()
 
@@ -89,11 +89,17 @@ class GeneralConstraintSolver:
         self.K_norm = row_norm(self.K, self.free)
         self.b_norm = float(np.abs(self.b[self.F]).max(initial=0.0))
         self.system = SaddleSystem(options) if system is None else system
+        # |B|, its row sums and gamma_{n+1} of each row (n its nonzeros): ``pdas.resolved``
+        self.B_abs = abs(self.B)
+        self.row_sums = np.asarray(self.B_abs.sum(axis=1)).ravel()
+        self.row_gamma = (np.diff(self.B.indptr) + 1) * np.finfo(float).eps
 
     def slack(self, z: np.ndarray) -> tuple[np.ndarray, float]:
-        """B z - g, and the scale of the constraint values, max(|B z|, |g|)."""
+        """B z - g, each value below what double precision resolves in it set to 0
+        (``pdas.resolved``), and the scale of the constraint values, max(|B z|, |g|)."""
         Bz = self.B @ z
-        return Bz - self.g, max(np.abs(Bz).max(initial=0.0), np.abs(self.g).max(initial=0.0), np.finfo(float).tiny)
+        bound = self.row_gamma * (self.B_abs @ np.abs(z) + np.abs(self.g)) + self.row_sums * np.finfo(float).eps * np.abs(z).max(initial=0.0)
+        return resolved(Bz - self.g, bound), max(np.abs(Bz).max(initial=0.0), np.abs(self.g).max(initial=0.0), np.finfo(float).tiny)
 
     def kkt(self, z: np.ndarray, lam: np.ndarray) -> KKT:
         slack, scale_z = self.slack(z)
