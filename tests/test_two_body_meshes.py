@@ -235,3 +235,14 @@ def test_on_graded_and_adaptive_meshes_mortar_p2_and_p1_reach_their_optimal_rate
         rows = run_chain(case, methods_named([name]), 5, mesh=MeshStrategy(mesh)).rows
         rate = fit_ndof_rate(np.array([r["ndof"] for r in rows]), np.array([r["err_h1"] for r in rows]))
         assert rate >= goal, (name, rate)
+
+
+def test_uniform_two_body_rows_carry_the_estimator_and_its_effectivity(case):
+    """The two-body estimator on uniform meshes too (it was left NaN there): every row has
+    eta > 0 and an effectivity in the same band as on graded and adaptive meshes."""
+    for name in MORTAR:
+        rows = run_chain(case, methods_named([name]), 2).rows
+        assert all(row["mesh"] == "uniform" for row in rows)
+        effectivity = np.array([row["effectivity"] for row in rows])
+        assert all(row["estimator"] > 0 for row in rows)
+        assert ((effectivity >= 1) & (effectivity <= 10)).all(), (name, effectivity)

@@ -46,7 +46,7 @@ COLUMN_MEANINGS = {
     "err_trace_l2": "‖u − u_h‖ in L²(Γ_C)",
     "err_pressure_l2": "‖λ − λ_h‖ in L²(Γ_C), λ_h the Riesz representative of the residual a(u_h, ·) − L(·) on the trace space",
     "err_pressure_h12": "‖h^{1/2}(λ − λ_h)‖ in L²(Γ_C)",
-    "estimator": "the residual a posteriori estimator η of u_h (NaN where it is not computed: uniform meshes in 3D and of two bodies)",
+    "estimator": "the residual a posteriori estimator η of u_h (NaN where it is not computed: uniform meshes in 3D)",
     "effectivity": "η / err_energy: against u, or against the reference (cases without u)",
     "max_penetration": "max over Γ_C of α − u_h, between nodes included",
     "max_tension": "max(−λ_h) on Γ_C: the flux counterpart of max_penetration",

@@ -19,9 +19,11 @@ two-body residual estimator (``measure.two_body_estimator``); a graded or adapti
 at the uniform chain's budget of elements summed over the two bodies. Whatever the meshes, the
 mortar coupling of a level is assembled on that level's two meshes (the method's solve).
 
+Every row gets the two-body estimator and its effectivity, on uniform meshes too (it costs about
+3 % of a uniform chain: 6.2 s of 178 s on two-body-junction's six levels, every mortar method).
+
 Not yet: checkpoints (a killed two-body chain starts again from its first level), the multigrid
-(each body's R_h u and the mortar QP are solved by sparse Cholesky), the estimator on uniform
-meshes (its column stays NaN there, as before).
+(each body's R_h u and the mortar QP are solved by sparse Cholesky).
 """
 from __future__ import annotations
 
@@ -62,7 +64,7 @@ class TwoBodies:
     the pairs of meshes of ``sequence`` (``mesh.two_body_levels``), a level's mesh and
     quadrature the pair of the bodies', its h the coarser body's; each order's problem a
     ``fem.two_body.TwoBodyProblem`` solved by sparse Cholesky (no multigrid). A graded or
-    adaptive chain stops before its two meshes have more elements than ``budget``; its rows get
+    adaptive chain stops before its two meshes have more elements than ``budget``. Its rows get
     the two-body estimator (``measure.two_body_estimator``), whose indicators drive an adaptive
     sequence."""
 
@@ -70,7 +72,7 @@ class TwoBodies:
         self.case, self.bodies = case, bodies
         self.sequence = sequence or UniformPair(bodies)
         self.budget = budget
-        self.estimating = self.sequence.budgeted
+        self.estimating = True
         self.adaptive = self.sequence.adaptive
         self._exact = (None, {})        # (the level's quadratures, their exact quantities)
 
