@@ -121,14 +121,15 @@ def test_rates_of_missing_or_malformed_results_is_one_line(tmp_path):
 
 def test_rates_command_writes_rates_beside_results(tmp_path):
     assert harness("run", "--case", "smooth", "--levels", "3", "--out", str(tmp_path), "--quiet").returncode == 0
-    done = harness("rates", str(tmp_path / "results.csv"))
+    # `rates` is table work: in this process (the run above is the real command)
+    done = harness_here("rates", str(tmp_path / "results.csv"))
     assert done.returncode == 0, done.stderr
     rates = pd.read_csv(tmp_path / "rates.csv")
     assert list(rates.columns) == RATE_COLUMNS
     assert {"fitted_rate", "verdict", "sharper_verdict", "fitted_rate_l2", "fitted_rate_best", "best_verdict",
             "fitted_rate_trace", "fitted_rate_pressure_h12"} <= set(rates.columns)
     assert len(rates) == len(METHODS_2D)
-    done = harness("rates", str(tmp_path / "results.csv"), "--qoi")
+    done = harness_here("rates", str(tmp_path / "results.csv"), "--qoi")
     assert done.returncode == 0, done.stderr
     quantities = pd.read_csv(tmp_path / "quantities.csv")
     assert list(quantities.columns) == QUANTITY_TABLE_COLUMNS
@@ -140,7 +141,7 @@ def test_case_file_by_path_runs_every_method_and_rates_needs_no_case_option(tmp_
     """The results carry each row's theory, so `rates` fits a CSV of an unregistered case alone."""
     case = str(ROOT / "tests" / "data" / "gap_case.py")
     assert harness("run", "--case", case, "--method", "all", "--levels", "3", "--out", str(tmp_path), "--quiet").returncode == 0
-    done = harness("rates", str(tmp_path / "results.csv"))
+    done = harness_here("rates", str(tmp_path / "results.csv"))
     assert done.returncode == 0, done.stderr
     rates = pd.read_csv(tmp_path / "rates.csv")
     assert set(rates.method) == set(METHODS_2D) and (rates.case == "gap-transition").all()
