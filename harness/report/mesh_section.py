@@ -19,7 +19,7 @@ MESH_NOTE = (
     "(bisection), each method on its own meshes, driven by the residual estimator η (element "
     "residual, flux jumps, Neumann residual, and on Γ_C the flux against the discrete pressure, "
     "tension, penetration and complementarity), until the mesh has as many triangles as the "
-    "uniform finest level. In 3D (transition-line-3d) the same on tetrahedra, graded toward the "
+    "uniform finest level. In 3D (transition-line-3d, in the fine profile) the same on tetrahedra, graded toward the "
     "declared singular line (Apel & Nicaise: μ < λ/k) and the estimator's terms on faces; the picture "
     "shows the finest adaptive mesh's triangles on Γ_C. Rates are fitted against N over the last "
     "three levels; on any mesh P_k can do at best N^{-k/d} in d dimensions. smooth-obstacle has no "

@@ -31,7 +31,8 @@ PROFILES = {
     # a case that declares ``asymptotic_levels`` stops there (``cache.case_settings``): six for
     # the cases whose seventh level moved no fitted rate by more than 0.01
     # two bodies (about twice a one-body level's dofs, ``two_body``): at most 6 levels (5.1e5 dofs; see "fine")
-    # the 3D mesh study: the budget of uniform level mesh_levels_3d - 1, 1.3e5 P2 dofs on transition-line-3d
+    # the 3D mesh study, in the fine profile only (``mesh_study.PLAN``): the budget of uniform level
+    # mesh_levels_3d - 1, 1.0e6 P2 dofs on transition-line-3d at 4 (3 here: the same rule)
     "default": {"levels": 7, "levels_3d": 3, "levels_two_body": 6, "mesh_levels": 4, "mesh_levels_3d": 3,
                 "stop_when_asymptotic": True},
     # finest levels: about 2.3e6 dofs; 3D: 1.3e6; two bodies 5.1e5 (mortar-standard's saddle
