@@ -5,7 +5,7 @@ import pytest
 
 from harness.fem.assembly import discretise
 from harness.mesh.levels import mesh_hierarchy
-from harness.methods import METHODS, BoundConstrained, WeakContact
+from harness.methods import METHODS, BoundConstrained, ContactLawMethod
 from harness.problem.case import load_case
 from harness.solvers.multigrid import Multilevel
 
@@ -26,7 +26,7 @@ CONE_NAMES = [name for name, m in METHODS.items() if isinstance(m, BoundConstrai
 CONE_NAMES_3D = [name for name, m in METHODS.items() if isinstance(m, BoundConstrained) and 3 in m.dimensions]
 MODELS = {name: METHODS[name].cone for name in CONE_NAMES if METHODS[name].order == 2}
 MODEL_NAMES = list(MODELS)
-WEAK_NAMES = [name for name, m in METHODS.items() if isinstance(m, WeakContact)]
+WEAK_NAMES = [name for name, m in METHODS.items() if isinstance(m, ContactLawMethod) and m.source is None]
 METHOD_NAMES = list(METHODS)
 
 

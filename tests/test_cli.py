@@ -52,11 +52,12 @@ def test_run_writes_one_tidy_row_per_case_method_level(tmp_path):
 
 
 def test_a_named_method_that_serves_none_of_the_cases_is_named_in_one_line(tmp_path):
-    done = harness("run", "--case", "elastic-wedge", "--method", "nitsche", "--method", "nodal", "--levels", "1",
+    done = harness("run", "--case", "elastic-wedge", "--method", "mortar-nodal", "--method", "nodal", "--levels", "1",
                    "--out", str(tmp_path), "--quiet")
     assert done.returncode == 0, done.stderr
     assert done.stderr.strip().splitlines() == [
-        "harness: nitsche skipped: it discretises scalar problems in 2D with 1 body, which none of the cases is"]
+        "harness: mortar-nodal skipped: it discretises scalar and elasticity problems in 2D with 2 bodies, "
+        "which none of the cases is"]
     assert set(pd.read_csv(tmp_path / "results.csv").method) == {"nodal"}
 
 

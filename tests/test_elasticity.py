@@ -29,13 +29,14 @@ CONES = [name for name in ("mean", "nodal", "p1")]
 TILTED = "tests/data/tilted_elastic.py"
 
 
-def test_every_registered_elastic_case_gets_the_cones_and_no_weak_method():
+def test_every_registered_elastic_case_gets_the_cones_and_the_weak_methods():
     # (each case's data is validated with every registered case's: tests/test_validation.py)
     assert len(ELASTIC) >= 4
+    weak = ["nitsche", "penalty", "nitsche-p1", "penalty-p1"]
     for name in ELASTIC:
         case = registered_cases()[name]
         # in 3D also the edge-wise counterexample (``mean-edges``); two bodies: the mortar methods
-        expected = CONES if case.dimension == 2 else ["mean", "mean-edges", "nodal", "p1"]
+        expected = (CONES if case.dimension == 2 else ["mean", "mean-edges", "nodal", "p1"]) + weak
         if case.bodies == 2:
             expected = ["mortar-mean", "mortar-nodal", "mortar-standard", "mortar-p1"]
         assert [m.name for m in methods_for(case, METHODS.values())] == expected

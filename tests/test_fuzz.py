@@ -12,8 +12,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from harness import cli
-from harness.methods import methods_named
-from harness.methods.base import THETAS, WeakContact
+from harness.fem.laws import THETAS
+from harness.methods import ContactLawMethod, methods_named
 from harness.problem.case import REQUIRED, CaseError, load_case
 from harness.problem.validate import validate_case
 
@@ -123,8 +123,10 @@ def test_a_method_spec_is_a_valid_method_or_refused_in_one_line(spec):
         assert str(refused) and "\n" not in str(refused)
         return
     for method in methods:
-        if isinstance(method, WeakContact):
-            assert method.theta in THETAS and math.isfinite(method.gamma0) and method.gamma0 > 0
+        if isinstance(method, ContactLawMethod):
+            values = method.parameters
+            assert values.get("theta", 1.0) in THETAS
+            assert all(math.isfinite(v) and v > 0 for k, v in values.items() if k != "theta")
 
 
 RUN_OPTIONS = [option for action in cli.build_parser()._subparsers._group_actions[0].choices["run"]._actions

@@ -50,17 +50,21 @@ def assert_same_rows(rows: pd.DataFrame, mine: str, builtin: str, rtol: float):
     np.testing.assert_allclose(a.max_penetration, b.max_penetration, rtol=rtol, atol=1e-14)
 
 
-@pytest.mark.parametrize("case", ["transition-r32", "corner-r12"])
-def test_nitsche_written_as_a_contact_law_gives_the_builtin_nitsche_rows(laws, case):
-    rows = study([laws.nitsche_law, "nitsche"], case)
+@pytest.mark.parametrize("case, levels", [("transition-r32", 3), ("corner-r12", 3), ("elastic-transition-r32", 3),
+                                          ("elastic-transition-3d", 2)])
+def test_nitsche_written_as_a_contact_law_gives_the_builtin_nitsche_rows(laws, case, levels):
+    """The example's law is written in elasticity's terms (CHR 2015 eq. (10)); on the scalar
+    problem and on plane-strain and 3D elasticity it is the built-in law to round-off."""
+    rows = study([laws.nitsche_law, "nitsche"], case, levels)
     assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
     # the same discrete problem solved by the same Newton method: equal to the solver's tolerance
     assert_same_rows(rows, "nitsche-law", "nitsche", rtol=1e-8)
     assert (rows.loc["nitsche-law"].solver_iterations == rows.loc["nitsche"].solver_iterations).all()
 
 
-def test_a_method_with_its_own_solve_gives_the_builtin_penalty_rows(own):
-    rows = study([own.method, "penalty"])
+@pytest.mark.parametrize("case", ["transition-r32", "elastic-transition-r32"])
+def test_a_method_with_its_own_solve_gives_the_builtin_penalty_rows(own, case):
+    rows = study([own.method, "penalty"], case)
     assert (rows.status == "converged").all()
     mine = rows.loc["penalty-own-newton"]
     assert (mine.kkt_residual <= 1e-10).all()              # its own residual, recorded
@@ -156,3 +160,18 @@ def test_the_case_example_runs_by_path_and_its_cones_meet_the_paper_rate():
     assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
     rates = rate_table(rows).set_index("method")
     assert rates.verdict.eq("meets").all(), rates[["fitted_rate", "verdict"]]
+
+
+def test_a_law_written_for_elasticity_runs_from_outside_on_2d_and_3d_elastic_cases(tmp_path):
+    """The elastic Nitsche law of ``examples/methods/contact_laws.py``, by its path from a folder
+    outside the repository, beside the built-in on plane strain and 3D elasticity."""
+    shutil.copy(EXAMPLES / "contact_laws.py", tmp_path / "contact_laws.py")
+    from tests.test_plugins import harness_cli
+    done = harness_cli("run", "--case", "elastic-transition-r32", "--case", "elastic-transition-3d", "--method",
+                       "contact_laws.py:nitsche_law", "--method", "nitsche", "--levels", "2", "--out", "out", "--quiet",
+                       cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    rows = pd.read_csv(tmp_path / "out" / "results.csv").set_index(["case", "method", "level"]).sort_index()
+    assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
+    for case in ("elastic-transition-r32", "elastic-transition-3d"):
+        np.testing.assert_allclose(rows.loc[(case, "nitsche-law")].err_h1, rows.loc[(case, "nitsche")].err_h1, rtol=1e-8)

@@ -1,13 +1,16 @@
-"""Penalty and Nitsche (``weak_contact``, ``newton``): the Gamma_C operators are NGSolve's basis,
-the semismooth Newton solution is the solution of NGSolve's own assembly of the nonlinear form,
-the multigrid path equals the direct one, and parameters are parsed and checked."""
+"""Penalty and Nitsche, the built-in contact laws (``fem.laws``, ``fem.contact_law``, ``newton``), in
+every physics and dimension: the Gamma_C rows are NGSolve's basis (the contact variable and its
+flux, d_n u or -sigma_n(u)), the semismooth Newton solution is the solution of NGSolve's own
+assembly of the nonlinear form, the multigrid path equals the direct one, and parameters are
+parsed and checked."""
 import ngsolve as ngs
 import numpy as np
 import pytest
 from conftest import WEAK_NAMES, problem_at, problem_with_hierarchy
 
+from harness.fem.contact_law import law_system
 from harness.fem.contact_quadrature import contact_quadrature
-from harness.fem.weak_contact import weak_contact_system
+from harness.fem.laws import Nitsche, Penalty
 from harness.mesh.points import evaluate
 from harness.methods import METHODS, get_method, methods_named
 from harness.problem.case import load_case
@@ -20,46 +23,95 @@ VARIANTS = [pytest.param(0.0, 1.0, id="penalty"), pytest.param(1.0, 1.0, id="nit
             pytest.param(1.0, 0.0, id="nitsche-theta0"), pytest.param(1.0, -1.0, id="nitsche-theta-1")]
 
 
+def weak_contact_system(case, problem, gamma0, theta, flux):
+    """The system of Nitsche's law (``flux`` = 1) or the penalty law (0) with eps = gamma0 h."""
+    return law_system(case, problem, Nitsche(gamma0, theta) if flux else Penalty(gamma0))
+
+
+def method_system(case, problem, method):
+    return law_system(case, problem, method.law)
+
+
+# every physics and dimension: the 2D scalar cases, plane strain, the 3D scalar problem, 3D elasticity
+# (the level of each: a few thousand dofs)
+PHYSICS_CASES = [("elastic-transition-r32", 2), ("transition-line-3d", 0), ("elastic-transition-3d", 0)]
+
+
+def contact_variable_and_flux(case, problem, u, points, normals):
+    """c(u_h) and its flux at ``points`` by NGSolve's own evaluation of u_h and its gradient:
+    u_h and d_n u_h, or -u_h . n and -n . sigma(u_h) n."""
+    gfu, mesh = problem.gridfunction(u), problem.mesh
+    if not case.physics.elastic:
+        return evaluate(gfu, mesh, points), (evaluate(ngs.grad(gfu), mesh, points) * normals).sum(axis=1)
+    d = mesh.dim
+    sigma = case.physics.flux_array(evaluate(ngs.Grad(gfu), mesh, points).reshape(-1, d, d))
+    return -(evaluate(gfu, mesh, points) * normals).sum(axis=1), -np.einsum("qi,qij,qj->q", normals, sigma, normals)
+
+
 @pytest.mark.parametrize("order", [1, 2])
-@pytest.mark.parametrize("case_name", CASES)
-def test_gamma_c_operators_give_ngsolve_trace_and_normal_derivative(case_name, order, rng):
-    problem = problem_at(case_name, 2, order)
+@pytest.mark.parametrize("case_name, level", [(name, 2) for name in CASES] + PHYSICS_CASES)
+def test_gamma_c_rows_give_ngsolve_contact_variable_and_flux(case_name, level, order, rng):
+    case, problem = load_case(case_name), problem_at(case_name, level, order)
     quadrature = contact_quadrature(problem)
     u = rng.standard_normal(problem.ndof)
-    gfu = problem.gridfunction(u)
-    normals = problem.trace.normals[quadrature.edge]
-    dn = (evaluate(ngs.grad(gfu), problem.mesh, quadrature.points) * normals).sum(axis=1)
-    np.testing.assert_allclose(quadrature.T @ u, evaluate(gfu, problem.mesh, quadrature.points), atol=1e-12)
-    np.testing.assert_allclose(quadrature.N @ u, dn, atol=1e-12 * np.abs(dn).max())
-    assert quadrature.weights.sum() == pytest.approx(problem.trace.lengths.sum(), rel=1e-14)
+    value, flux = contact_variable_and_flux(case, problem, u, quadrature.points, quadrature.normals)
+    np.testing.assert_allclose(quadrature.T @ u, value, atol=1e-12 * np.abs(value).max())
+    np.testing.assert_allclose(quadrature.N @ u, flux, atol=1e-12 * np.abs(flux).max())
+    area = problem.trace.lengths.sum() if problem.mesh.dim == 2 else ngs.Integrate(1, problem.mesh, definedon=problem.mesh.Boundaries("contact"))
+    assert quadrature.weights.sum() == pytest.approx(area, rel=1e-13)
+
+
+def cell_sizes(problem):
+    """eps's h on each facet of Gamma_C as NGSolve's FacetFESpace of order 0: the edge's length
+    (2D), the triangle's diameter (3D), as ``contact_quadrature``'s h."""
+    mesh = problem.mesh
+    space = ngs.FacetFESpace(mesh, order=0)
+    h = ngs.GridFunction(space)
+    for element in mesh.Boundaries("contact").Elements():
+        corners = np.array([mesh[v].point for v in element.vertices])
+        diameter = max(np.linalg.norm(p - q) for p in corners for q in corners)
+        (dof,) = space.GetDofNrs(element.edges[0] if mesh.dim == 2 else element.faces[0])
+        h.vec[dof] = diameter
+    return h
 
 
 def ngsolve_reference(case, problem, gamma0, theta, flux):
-    """The same method assembled by NGSolve from its symbolic form ((N)/(P) of ``weak_contact``,
-    d_n u by a skeleton integral, the same 4-point Gauss rule) and solved by a textbook Newton
-    loop with NGSolve's linearisation and UMFPACK."""
-    mesh, fes = problem.mesh, problem.fes
-    eps_space = ngs.FacetFESpace(mesh, order=0)
-    eps = ngs.GridFunction(eps_space)
-    for edge, length in zip(problem.trace.edges, problem.trace.lengths):
-        (dof,) = eps_space.GetDofNrs(ngs.NodeId(ngs.EDGE, int(edge)))
-        eps.vec[dof] = gamma0 * length
+    """The same method assembled by NGSolve from its symbolic form ((N)/(P) of ``fem.laws``, in
+    elasticity CHR 2015's eq. (10) with sigma_n(u) = n . sigma(u) n, written from the physics'
+    own stress; the flux by a skeleton integral, the same Gauss rule) in NGSolve's Cartesian
+    basis, and solved by a textbook Newton loop with NGSolve's linearisation and UMFPACK."""
+    mesh, fes, physics = problem.mesh, problem.fes, case.physics
+    eps = gamma0 / physics.modulus * cell_sizes(problem)
     u, v = fes.TnT()
-    n = ngs.specialcf.normal(2)
-    load = case.contact_load if case.contact_load is not None else ngs.CF(0)
-    gap = case.gap if case.gap is not None else ngs.CF(0)
-    P = flux * eps * (ngs.grad(u) * n - load) + gap - u
-    P_theta_v = theta * flux * eps * (ngs.grad(v) * n) - v
-    gamma_c = ngs.ds(skeleton=True, definedon=mesh.Boundaries("contact"),
-                     intrules={ngs.SEGM: ngs.IntegrationRule(ngs.SEGM, 7)})
+    n = ngs.specialcf.normal(mesh.dim)
+    if physics.elastic:
+        def c(w):
+            return -w * n
+
+        def flux_of(w):
+            return -(n * (physics.stress(ngs.Grad(w)) * n))
+        load = -(case.contact_load * n) if case.contact_load is not None else ngs.CF(0)
+        gap = -case.gap if case.gap is not None else ngs.CF(0)
+    else:
+        def c(w):
+            return w
+
+        def flux_of(w):
+            return ngs.grad(w) * n
+        load = case.contact_load if case.contact_load is not None else ngs.CF(0)
+        gap = case.gap if case.gap is not None else ngs.CF(0)
+    P = flux * eps * (flux_of(u) - load) + gap - c(u)
+    P_theta_v = theta * flux * eps * flux_of(v) - c(v)
+    rule = {ngs.SEGM: ngs.IntegrationRule(ngs.SEGM, 7), ngs.TRIG: ngs.IntegrationRule(ngs.TRIG, 7)}
+    gamma_c = ngs.ds(skeleton=True, definedon=mesh.Boundaries("contact"), intrules=rule)
     form = ngs.BilinearForm(fes)
-    form += ngs.grad(u) * ngs.grad(v) * ngs.dx
-    form += (-theta * flux * eps * (ngs.grad(u) * n - load) * (ngs.grad(v) * n)
+    form += physics.form(u, v) * ngs.dx
+    form += (-theta * flux * eps * (flux_of(u) - load) * flux_of(v)
              + (1 / eps) * ngs.IfPos(P, P, 0) * P_theta_v) * gamma_c
     gfu = ngs.GridFunction(fes)
-    gfu.vec.FV().NumPy()[:] = problem.lift
+    gfu.vec.FV().NumPy()[:] = problem.cartesian(problem.lift)
     b, r = gfu.vec.CreateVector(), gfu.vec.CreateVector()
-    b.FV().NumPy()[:] = problem.b
+    b.FV().NumPy()[:] = problem.cartesian(problem.b)
     for _ in range(50):
         form.Apply(gfu.vec, r)
         r.data -= b
@@ -72,13 +124,13 @@ def ngsolve_reference(case, problem, gamma0, theta, flux):
 
 @pytest.mark.parametrize("flux, theta", VARIANTS)
 @pytest.mark.parametrize("order", [1, 2])
-@pytest.mark.parametrize("case_name", CASES)
-def test_newton_solution_equals_ngsolve_assembled_nonlinear_form(case_name, order, flux, theta):
-    case = load_case(case_name)
-    reference = ngsolve_reference(case, problem_at(case_name, 2, order), 0.05, theta, flux)
-    solution = solve_semismooth_newton(weak_contact_system(case, problem_at(case_name, 2, order), 0.05, theta, flux))
+@pytest.mark.parametrize("case_name, level", [(name, 2) for name in CASES] + PHYSICS_CASES)
+def test_newton_solution_equals_ngsolve_assembled_nonlinear_form(case_name, level, order, flux, theta):
+    case, problem = load_case(case_name), problem_at(case_name, level, order)
+    reference = ngsolve_reference(case, problem_at(case_name, level, order), 0.05, theta, flux)
+    solution = solve_semismooth_newton(weak_contact_system(case, problem, 0.05, theta, flux))
     assert solution.status == "converged" and solution.residual <= 1e-10
-    assert np.abs(solution.u - reference).max() <= 1e-10 * np.abs(reference).max()
+    assert np.abs(problem.cartesian(solution.u) - reference).max() <= 1e-10 * np.abs(reference).max()
 
 
 @pytest.mark.parametrize("method_name", WEAK_NAMES)
@@ -88,17 +140,16 @@ def test_multigrid_newton_equals_direct_newton(case_name, method_name):
     and UMFPACK give the same u_h; the residual is recomputed from scratch."""
     case, method = load_case(case_name), METHODS[method_name]
     problem, multilevel = problem_with_hierarchy(case_name, 3, method.order)
-    system = weak_contact_system(case, problem, method.gamma0, method.theta, method.flux)
+    system = method_system(case, problem, method)
     fast = solve_semismooth_newton(system, multilevel=multilevel)
-    direct = solve_semismooth_newton(weak_contact_system(case, problem_at(case_name, 3, method.order), method.gamma0,
-                                                         method.theta, method.flux))
+    direct = solve_semismooth_newton(method_system(case, problem_at(case_name, 3, method.order), method))
     assert fast.status == direct.status == "converged"
     assert fast.linear_iterations > direct.linear_iterations     # CG iterations against factorisations
     assert np.abs(fast.u - direct.u).max() <= 1e-9 * np.abs(direct.u).max()
-    F = problem.A @ fast.u - system.rhs + system.Btheta.T @ (system.quadrature.weights * system.pressure(fast.u))
-    if method.flux and method.theta:
-        N = system.quadrature.N
-        F -= method.theta * (N.T @ (system.quadrature.weights * system.eps * (N @ fast.u)))
+    # F(u) from scratch: the law's terms at u, against A (not the Jacobian's memory)
+    q = system.quadrature
+    p, f = method.law.term(system.at(fast.u), method.law.branch(system.at(fast.u)))
+    F = problem.A @ fast.u - problem.b - q.T.T @ (q.weights * p) + q.N.T @ (q.weights * f)
     scale = np.abs((problem.b - problem.A @ problem.lift)[problem.free]).max()
     assert np.abs(F[problem.free]).max() <= 1e-10 * scale
 
@@ -110,19 +161,22 @@ def test_pressure_is_the_bracket_over_eps_and_never_negative():
     u = solve_semismooth_newton(system).u
     pressure = system.pressure(u)
     assert pressure.min() >= 0 and (pressure > 0).any()
-    np.testing.assert_allclose(pressure * system.eps, np.maximum(system.bracket(u), 0.0))
+    P, eps = system.law.bracket(system.at(u))
+    np.testing.assert_allclose(pressure * eps, np.maximum(P, 0.0))
 
 
 def test_method_parameters_are_parsed_named_and_checked():
     method = get_method("nitsche:theta=-1,gamma0=0.5")
-    assert (method.name, method.theta, method.gamma0) == ("nitsche:gamma0=0.5,theta=-1", -1.0, 0.5)
+    assert (method.name, method.law) == ("nitsche:gamma0=0.5,theta=-1", Nitsche(0.5, -1.0))
+    assert method.roles == frozenset() and METHODS["nitsche"].roles     # a variant takes no role
     assert get_method("penalty:epsilon0=1e-3").parameters == {"epsilon0": 1e-3}
     assert [m.name for m in methods_named(["paper", "penalty:epsilon0=0.1"])] == ["mean", "nodal", "penalty:epsilon0=0.1"]
-    for bad in ["nitsche:gamma=1", "nitsche:theta", "penalty:theta=1", "nodal:gamma0=1"]:
+    for bad in ["nitsche:gamma=1", "nitsche:theta", "penalty:theta=1", "nodal:gamma0=1", "nitsche:theta=0.5",
+                "nitsche:gamma0=0", "penalty:epsilon0=-1"]:
         with pytest.raises(ValueError):
             get_method(bad)
     with pytest.raises(ValueError, match="positive"):
-        weak_contact_system(load_case("transition-r32"), problem_at("transition-r32", 0), 0.0, 1.0, 1.0)
+        Nitsche(0.0, 1.0)
 
 
 def test_nitsche_past_its_coercivity_bound_leaves_cg_at_once_and_matches_ngsolve():
@@ -147,7 +201,7 @@ def test_newton_below_the_round_off_floor_ends_converged_at_round_off(method_nam
     round-off instead of running its 60 steps."""
     case, method = load_case("transition-r32"), METHODS[method_name]
     problem, multilevel = problem_with_hierarchy("transition-r32", 4, method.order)
-    system = weak_contact_system(case, problem, method.gamma0, method.theta, method.flux)
+    system = method_system(case, problem, method)
     solution = solve_semismooth_newton(system, multilevel=multilevel, options=SolverOptions(tolerance=1e-17))
     assert solution.status == "converged" and solution.residual > 1e-17
     assert solution.backward <= SolverOptions().roundoff_backward_error and solution.iterations < 20
@@ -175,11 +229,39 @@ def test_loose_newton_steps_on_new_sets_reach_the_same_solution_with_fewer_cg_it
     problem, multilevel = problem_with_hierarchy("transition-r32", 3, method.order)
 
     def solve(options=SolverOptions()):
-        return solve_semismooth_newton(weak_contact_system(case, problem, method.gamma0, method.theta, method.flux),
-                                       multilevel=multilevel, options=options)
+        return solve_semismooth_newton(method_system(case, problem, method), multilevel=multilevel, options=options)
     loose = solve()
     full = solve(SolverOptions(forcing=0.0))        # every step to the full depth
     assert loose.status == full.status == "converged"
     assert loose.residual <= 1e-10
     assert np.abs(loose.u - full.u).max() <= 1e-9 * np.abs(full.u).max()
     assert loose.linear_iterations < full.linear_iterations
+
+
+def test_the_weak_methods_of_0_6_are_built_with_a_deprecation_warning():
+    """0.6's ``replace(method, gamma0=...)`` and ``WeakContact(flux=..., gamma0=...)`` give the
+    law they meant, with a DeprecationWarning (removed in 0.8.0)."""
+    from dataclasses import replace
+
+    from harness.methods import WeakContact
+    with pytest.warns(DeprecationWarning, match="with_parameters"):
+        small = replace(METHODS["nitsche"], name="nitsche-g002", gamma0=0.02, theta=-1)
+    assert small.law == Nitsche(0.02, -1.0)
+    with pytest.warns(DeprecationWarning, match="with_parameters"):
+        assert replace(METHODS["penalty"], name="stiff", gamma0=0.01).law == Penalty(0.01)
+    with pytest.warns(DeprecationWarning, match="ContactLawMethod"):
+        old = WeakContact(name="old", order=2, contact="", reference="", expected=None, flux=0.0, gamma0=0.3)
+    assert old.law == Penalty(0.3)
+
+
+@pytest.mark.parametrize("case_name", ["elastic-transition-r32", "elastic-transition-3d"])
+def test_elastic_multigrid_newton_equals_direct_newton(case_name):
+    """Plane strain and 3D elasticity: the vector V-cycle in the rotated frame, truncated at the
+    active Gamma_C vertices' contact component, gives the factorisation's u_h."""
+    case, method = load_case(case_name), METHODS["nitsche"]
+    level = 3 if case.dimension == 2 else 1
+    problem, multilevel = problem_with_hierarchy(case_name, level)
+    fast = solve_semismooth_newton(method_system(case, problem, method), multilevel=multilevel)
+    direct = solve_semismooth_newton(method_system(case, problem_at(case_name, level), method))
+    assert fast.status == direct.status == "converged" and fast.linear_iterations > direct.linear_iterations
+    assert np.abs(fast.u - direct.u).max() <= 1e-9 * np.abs(direct.u).max()

@@ -12,5 +12,5 @@ from dataclasses import replace
 
 from harness.methods import get_method
 
-method = replace(get_method("nitsche"), name="nitsche-g002", gamma0=0.02,
+method = replace(get_method("nitsche").with_parameters(gamma0=0.02), name="nitsche-g002",
                  reference="Chouly, Hild & Renard 2015, Thm 3.8 (γ₀ = 0.02)")

@@ -11,4 +11,4 @@ from dataclasses import replace
 from harness.methods import get_method
 
 nitsche_skew = replace(get_method("nitsche").with_parameters(theta=-1), name="nitsche-skew")
-penalty_stiff = replace(get_method("penalty"), name="penalty-stiff", gamma0=0.01)
+penalty_stiff = replace(get_method("penalty").with_parameters(epsilon0=0.01), name="penalty-stiff")

@@ -88,6 +88,7 @@ def _weak_problem(method_name: str, level: int, coarse_maxh: float | None):
     from ..fem.assembly import discretise
     from ..mesh.levels import UniformRefinement
     from ..methods import get_method
+    from ..methods.protocol import nested_guess
     from ..problem.case import load_case
     from ..solvers.multigrid import Multilevel
 
@@ -102,7 +103,7 @@ def _weak_problem(method_name: str, level: int, coarse_maxh: float | None):
         if lev == level - 1:
             carry = method.solve(case, problem, None, multilevel, take_stiffness=True).carry
     system = method.system(case, problem, take_stiffness=True)
-    start, predicted = method.nested_guess(system, carry, multilevel)
+    start, predicted = nested_guess(system, carry, multilevel)
     return system, start, predicted, multilevel
 
 
@@ -110,7 +111,7 @@ def _measure_weak(method: str, model_name: str, level: int, coarse_maxh) -> dict
     """`contact`: one penalty/Nitsche solve (semismooth Newton, nested start); `multigrid` and
     `cholesky`: one linear solve with its matrix (no contact term active)."""
     from ..solvers.active_set import DEFAULT_TOLERANCE, Cholesky, MultigridSystem
-    from ..solvers.multigrid import HIERARCHICAL
+    from ..solvers.multigrid import ContactEdges
     from ..solvers.newton import load_scale, solve_semismooth_newton
 
     system, start, predicted, multilevel = _weak_problem(model_name, level, coarse_maxh)
@@ -121,7 +122,7 @@ def _measure_weak(method: str, model_name: str, level: int, coarse_maxh) -> dict
         out |= {"t": t, "iterations": solution.iterations, "kkt_residual": solution.residual,
                 "cg_iterations": solution.linear_iterations}
     elif method == "multigrid":
-        linear = MultigridSystem(system.J_ngs, system.rhs, multilevel, HIERARCHICAL)
+        linear = MultigridSystem(system.J_ngs, system.rhs, multilevel, ContactEdges.of(problem, model=False))
         tol = 0.1 * DEFAULT_TOLERANCE * load_scale(system)
         def solve():
             linear.cg_iterations = 0

@@ -1,31 +1,35 @@
-"""A weak contact method given by its contact law on Gamma_C: the second level of the method
-protocol (``harness.methods.protocol.ContactLawMethod``), solved by the harness's semismooth
-Newton method (``solvers.newton``) as the built-in penalty and Nitsche methods are.
+"""A weak contact method given by its contact law on Gamma_C: the method protocol's second level
+(``harness.methods.ContactLawMethod``), solved by the harness's semismooth Newton method
+(``solvers.newton``). The built-in penalty and Nitsche methods are such laws (``laws``).
 
-The law. At each Gauss point of Gamma_C (``contact_quadrature``) the law sees the state
-``GammaPoints`` (u_h, d_n u_h, the gap alpha, the contact load g_C, the cell size h, the point)
-and returns two terms, a pressure p and a flux term f, which enter the discrete system as
+The law. At each Gauss point of Gamma_C (``contact_quadrature``: edges in 2D, triangles in 3D)
+the law sees the state ``GammaPoints`` -- the contact variable c(u_h) and its flux, the obstacle
+alpha, the contact load g_C, the cell size h, the point -- and returns two terms, a pressure p
+and a flux term f, which enter the discrete system as
 
-    F(u) = A u - b - int_{Gamma_C} p v + int_{Gamma_C} f d_n v = 0      for all v in X_h,
+    F(u) = A u - b - int_{Gamma_C} p c(v) + int_{Gamma_C} f flux(v) = 0      for all v in X_h,
 
-i.e. F(u) = A u - b - T^T W p + N^T W f with T, N the trace and normal-derivative rows of the
-basis at the points and W the weights. Penalty (Chouly & Hild, Appl. Numer. Math. 65 (2013)) is
-p = (1/eps)[alpha - u]_+, f = 0; Nitsche's theta-family (Chouly, Hild & Renard, Math. Comp. 84
-(2015), eq. (10); ``weak_contact``, (N)) is p = (1/eps)[P(u)]_+, f = theta ([P(u)]_+ -
-eps (d_n u - g_C)) with P(u) = eps (d_n u - g_C) + alpha - u.
+i.e. F(u) = A u - b - T^T W p + N^T W f with T, N the rows of c and of its flux at the points
+and W the weights. One law serves every physics, because each is written on its contact
+variable (``problem.physics``): c = u, flux = d_n u for the scalar problem (u >= alpha,
+lambda = d_n u - g_C >= 0); c = -u . n, flux = -sigma_n(u) for frictionless elasticity (u . n <=
+g reads c >= alpha = -g, and the pressure -sigma_n(u) + g_n = flux - g_C with g_C = -g_n),
+where -int p c(v) = int p v_n and sigma_t = 0 stays natural.
 
 Semismooth Newton converges in finitely many steps, to the exact discrete solution, when F is
 piecewise affine (Qi & Sun, Math. Program. 58 (1993); Hintermueller, Ito & Kunisch, SIAM J.
 Optim. 13 (2002)). So a law has two branches per point, told by ``branch`` (True: "in contact"),
-and on each branch its terms are affine in (u, d_n u):
+and on each branch its terms are affine in (c, flux):
 
-    p = p0 + p_u u + p_dn d_n u,      f = f0 + f_u u + f_dn d_n u,
+    p = p0 + p_u c + p_dn flux,      f = f0 + f_u c + f_dn flux,
 
 ``derivative`` returning (p_u, p_dn, f_u, f_dn) of the given branch. The Jacobian of a branch set
 S is then J_S = A - T^T W (p_u T + p_dn N) + N^T W (f_u T + f_dn N), symmetric exactly when
 f_u = -p_dn; and F_S(v) = J_S v - r_S with r_S = -F_S(0). ``check_law`` verifies both
 promises (affine terms, a derivative that is theirs) on every level before the solve, and
-refuses a law that breaks them in one line.
+refuses a law that breaks them in one line. J_S differs from A only in the rows and columns of
+the elements along Gamma_C, inside A's sparsity pattern (each Gauss point lies in one element):
+it is A with a few values changed, written in place (``BoundaryTerms``).
 """
 from __future__ import annotations
 
@@ -34,10 +38,12 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.spatial import cKDTree
 
+from ..mesh.points import evaluate
 from .assembly import DiscreteProblem
 from .contact_quadrature import ContactQuadrature, at_points, contact_quadrature
-from .weak_contact import BoundaryTerms, boundary_jacobian, obstacle_force
+from .sparse import csr_positions, csr_view
 
 # the relative mismatch of ``check_law`` beyond which a law's terms are not affine on a branch
 # or its derivative is not theirs (round-off of the terms' evaluation is ~1e-15)
@@ -46,14 +52,46 @@ LAW_TOLERANCE = 1e-8
 
 @dataclass(frozen=True)
 class GammaPoints:
-    """The state a contact law sees at the Gauss points of Gamma_C, each an array (q,)."""
+    """The state a contact law sees at the Gauss points of Gamma_C, each an array (q,), on the
+    contact variable of the case's physics (the module's note): the contact condition is
+    ``u >= gap``, the pressure ``dn - load >= 0``, their product zero. Scalar problem: u_h,
+    d_n u_h, alpha, g_C. Elasticity: -u_h . n, -sigma_n(u_h), -g, -g_n; the views
+    ``normal_displacement``, ``normal_stress``, ``initial_gap`` and ``normal_load`` give u_h . n,
+    sigma_n(u_h), g and g_n for a law written in elasticity's own terms (its derivative is still taken with
+    respect to ``u`` and ``dn``: d/du = -d/du_n, d/ddn = -d/dsigma_n)."""
 
-    u: np.ndarray       # u_h
-    dn: np.ndarray      # the outward normal derivative d_n u_h
-    gap: np.ndarray     # alpha (u_h >= alpha is the contact condition)
-    load: np.ndarray    # g_C, the contact load (lambda = d_n u - g_C; zero in the paper)
-    h: np.ndarray       # the size of the point's contact edge
-    x: np.ndarray       # (q, 2) the points
+    u: np.ndarray       # the contact variable c(u_h): u_h, or -u_h . n
+    dn: np.ndarray      # its flux: d_n u_h, or -sigma_n(u_h) (n the outward normal)
+    gap: np.ndarray     # its obstacle: alpha, or -g (u_h . n <= g)
+    load: np.ndarray    # g_C, the contact load (the pressure is dn - load; zero in the paper), or -g_n
+    h: np.ndarray       # the size of the point's contact cell (edge in 2D, triangle in 3D)
+    x: np.ndarray       # (q, dim) the points
+    physics: str = "scalar"     # ``problem.physics.name``: "scalar" or "elasticity"
+    # the stiffness scale of the flux: 1 for the scalar problem, lambda + 2 mu in elasticity
+    # (``physics.modulus``); a weak method's eps ~ h / modulus keeps its parameter's range
+    # independent of the material (``laws``)
+    modulus: float = 1.0
+
+    @property
+    def normal_displacement(self) -> np.ndarray:
+        """u_h . n (elasticity)."""
+        return -self.u
+
+    @property
+    def normal_stress(self) -> np.ndarray:
+        """sigma_n(u_h) = n . sigma(u_h) n (elasticity; compression negative)."""
+        return -self.dn
+
+    @property
+    def initial_gap(self) -> np.ndarray:
+        """g of u_h . n <= g (elasticity)."""
+        return -self.gap
+
+    @property
+    def normal_load(self) -> np.ndarray:
+        """g_n = g_C . n, the normal part of a manufactured contact traction (elasticity; zero
+        in a physical problem): the contact pressure is -(sigma_n(u_h) - g_n)."""
+        return -self.load
 
 
 @runtime_checkable
@@ -72,6 +110,31 @@ class ContactLaw(Protocol):
 
 class LawError(ValueError):
     """A contact law that breaks its protocol, in one line."""
+
+
+class BoundaryTerms:
+    """What a system of the form F(u) = A u - b - T^T W p + N^T W f shares: its Jacobian J is A
+    with the boundary terms written into A's pattern (``J``, ``delta``, ``positions``), and the
+    multigrid's hint of the P1 dofs an active term stiffens."""
+
+    def stiff_vertices(self, active: np.ndarray, n: int) -> np.ndarray:
+        """The P1 dofs (vertex v of component k at k nv + v, ``n`` of them) whose contact dof
+        carries an active contact term (a multigrid hint: ``multigrid.TruncatedVCycle``)."""
+        problem = self.problem
+        block, nv = problem.ndof // problem.physics.components, problem.mesh.nv
+        columns = self.quadrature.T[np.flatnonzero(active)].indices
+        vertex = columns % block
+        touched = np.zeros(n, bool)
+        touched[(columns // block * nv + vertex)[vertex < nv]] = True
+        return touched
+
+    def write_terms(self, terms: sp.spmatrix) -> None:
+        """J = A + ``terms`` (within ``delta``'s pattern), written into J's memory."""
+        terms = terms.tocoo()
+        values = np.zeros(self.delta.nnz)
+        np.add.at(values, _index_in(self.delta, terms.row, terms.col), terms.data)
+        self.J.data[self.positions] += values - self.delta.data
+        self.delta.data[:] = values
 
 
 @dataclass
@@ -93,7 +156,8 @@ class LawSystem(BoundaryTerms):
 
     def at(self, u: np.ndarray) -> GammaPoints:
         q = self.quadrature
-        return GammaPoints(q.T @ u, q.N @ u, self.gap, self.load, q.h, q.points)
+        physics = self.problem.physics
+        return GammaPoints(q.T @ u, q.N @ u, self.gap, self.load, q.h, q.points, physics.name, physics.modulus)
 
     def zero(self) -> GammaPoints:
         """The state u_h = 0: where an affine term takes its constant part."""
@@ -139,12 +203,11 @@ class LawSystem(BoundaryTerms):
 
 
 def law_system(case, problem: DiscreteProblem, law, take_stiffness: bool = False) -> LawSystem:
-    """The system of ``law`` on ``problem`` (2D scalar: d_n u_h needs ``ContactQuadrature.N``),
-    its law checked (``check_law``), its Jacobian set for no active point."""
+    """The system of ``law`` on ``problem`` (any physics, dimension and order), its law checked
+    (``check_law``), its Jacobian set for no active point. ``take_stiffness``: J is made in A's
+    memory (the level's last method of its order)."""
     quadrature = contact_quadrature(problem)
-    if quadrature.N is None:
-        raise LawError("a contact law needs d_n u_h on Gamma_C: 2D scalar cases only")
-    gap, load = at_points(case.gap, problem.mesh, quadrature), at_points(case.contact_load, problem.mesh, quadrature)
+    gap, load = contact_data(case, problem, quadrature)
     T, N = quadrature.T, quadrature.N
     both = (abs(T) + abs(N)).tocsr()
     J, J_ngs, delta, positions = boundary_jacobian(problem, both.T @ both, take_stiffness)
@@ -173,3 +236,55 @@ def check_law(system: LawSystem, seed: int = 0) -> bool:
                                f"in (u, d_n u) with the slopes its derivative gives")
     # J_S is symmetric for every set S when the cross slopes cancel on both branches
     return all(np.allclose(d[2], -d[1], rtol=1e-12, atol=0.0) for d in (system.derivatives(np.full(q, b)) for b in (True, False)))
+
+
+def contact_data(case, problem: DiscreteProblem, quadrature: ContactQuadrature) -> tuple[np.ndarray, np.ndarray]:
+    """(obstacle, load) of the contact variable at the points (``GammaPoints.gap``, ``.load``)."""
+    physics, mesh = problem.physics, problem.mesh
+    gap = physics.obstacle(at_points(case.gap, mesh, quadrature))
+    if case.contact_load is None:
+        return gap, np.zeros(len(gap))
+    return gap, physics.normal_load(evaluate(case.contact_load, mesh, quadrature.points), quadrature.normals)
+
+
+def _index_in(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
+    """Index in M.data of the entries (rows, cols) of M's (sorted) pattern."""
+    keys = np.repeat(np.arange(M.shape[0], dtype=np.int64), np.diff(M.indptr)) * M.shape[1] + M.indices
+    return np.searchsorted(keys, rows.astype(np.int64) * M.shape[1] + cols)
+
+
+def boundary_jacobian(problem: DiscreteProblem, pattern: sp.spmatrix, take_stiffness: bool):
+    """(J, J_ngs, delta, positions): J a copy of A (or A itself: ``take_stiffness``, the level's
+    last method of its order), delta a zero matrix on ``pattern`` (every entry a boundary term
+    can touch, inside A's pattern: each Gauss point lies in one element) and where its entries
+    sit in J.data."""
+    delta = pattern.tocsr()
+    delta.sum_duplicates()
+    delta.sort_indices()
+    delta.data[:] = 0.0
+    if take_stiffness:
+        J, J_ngs = problem.take_stiffness()
+    else:
+        J_ngs = problem.A_ngs.CreateMatrix()
+        J = csr_view(J_ngs)
+    coo = delta.tocoo()
+    return J, J_ngs, delta, csr_positions(J, coo.row.astype(np.int64), coo.col.astype(np.int64))
+
+
+def obstacle_force(case, problem: DiscreteProblem, J: sp.csr_matrix) -> float:
+    """max |A w| over the free dofs, w = the obstacle at Gamma_C's vertices (in their contact
+    dofs): the force that holds Gamma_C at the obstacle, a scale of F beside the loads
+    (``newton.load_scale``). J's values off Gamma_C's elements are A's, and w lives on Gamma_C's
+    vertices; set before any term."""
+    obstacle = np.zeros(problem.ndof)
+    if case.gap is not None:
+        obstacle[problem.vertex_dofs] = problem.physics.obstacle(evaluate(case.gap, problem.mesh, problem.trace.vertex_points))
+    return float(np.abs((J @ obstacle)[problem.free]).max(initial=0.0))
+
+
+def predicted_active(coarse_points: np.ndarray, coarse_active: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """Nested iteration: each Gauss point takes the status of the nearest Gauss point of the
+    coarser level's solution. (The sign of the bracket of the interpolated coarse solution is a
+    poor guess: its bubbles are zero and near a transition where c - alpha and lambda both vanish
+    smoothly (the smooth case) it took Newton 15 steps on level 6, a few points per step.)"""
+    return coarse_active[cKDTree(coarse_points).query(points)[1]]

@@ -1,22 +1,22 @@
-"""The basis of X_h on Gamma_C, sampled at Gauss points of the contact edges: what penalty and
-Nitsche methods integrate (their contact terms are integrals over Gamma_C of functions of
-u_h and of its normal derivative, which the bound-constrained cones never need).
+"""The basis of X_h on Gamma_C, sampled at Gauss points of its cells (edges in 2D, triangles in
+3D): what the weak methods integrate (their contact terms are integrals over Gamma_C of the
+contact variable and of its flux, which the bound-constrained cones never need).
 
-Each contact edge [a, b] lies in one triangle (a, b, c). On it lambda_c = 0, and with the edge
-parameter t, lambda_a = 1 - t, lambda_b = t. NGSolve's hierarchical P2 basis (docs/mathematics.md §3)
-has the hats lambda_i and one bubble -lambda_i lambda_j / 2 per edge, so at a point of [a, b]
+Two kinds of rows, in every physics and dimension (``problem.physics``: the contact variable
+c(v) and its flux, u and d_n u for the scalar problem, -v . n and -sigma_n(v) in elasticity):
 
-    trace:  hats a, b: 1 - t, t;   bubble ab: -t (1 - t) / 2   (bubbles ac, bc and the hat c vanish)
-    d/dn:   hat i: d_n lambda_i;   bubble ab: -(t d_n lambda_a + (1 - t) d_n lambda_b) / 2;
-            bubble ac: -(1 - t) d_n lambda_c / 2;   bubble bc: -t d_n lambda_c / 2,
+* ``T``, the trace of c(v): built here from the hierarchical basis of the contact dofs. Each
+  contact edge [a, b] lies in one triangle; on it, with the edge parameter t, the hats are
+  1 - t, t and the P2 bubble -t (1 - t) / 2 (NGSolve's hierarchical P2 basis, docs/mathematics.md
+  §3). In 3D, at a point of a triangle of Gamma_C with barycentric coordinates lambda, the hats
+  are lambda_i and the bubble of side ij is -lambda_i lambda_j / 2. In elasticity the contact
+  dofs are those of c in the rotated frame at Gamma_C's nodes (``rotated_frame``), and Gamma_C
+  is flat through each of its vertices, so these rows are -v_h . n exactly.
+* ``N``, the flux of c(v) at the points: the gradients of the volume element holding each point,
+  of any order, evaluated by NGSolve (``scalar_basis_gradients``), combined by the physics
+  (``physics.flux_rows``) and written in the problem's variables (the rotated frame).
 
-the gradients of the barycentric coordinates being constant on the triangle. P1 keeps the
-hats. tests/test_weak_contact.py checks both operators against NGSolve's own evaluation.
-
-In 3D Gamma_C is a union of triangles (a, b, c) of the boundary: at a point with barycentric
-coordinates lambda, the hats are lambda_i and the bubble of side ij is -lambda_i lambda_j / 2
-(``ContactQuadrature`` integrates over the triangles; the normal derivatives, which only the
-weak methods need, are 2D only).
+tests/test_weak_contact.py checks both against NGSolve's own evaluation of a random u_h.
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..mesh.points import TRIANGLE_EDGES, cells, coordinates, evaluate, in_elements
+from ..mesh.points import evaluate, in_elements
 
 # Gauss points per contact edge: exact for polynomials of degree 7 (the P2 contact terms are of
 # degree <= 4 where the bracket [.]_+ does not switch); the few edges where it switches, at a
@@ -47,19 +47,19 @@ class ContactQuadrature:
     edge: np.ndarray            # (q,) index of the point's cell (in problem.trace's edges; 3D: its faces)
     T: sp.csr_matrix            # (q, ndof) trace values of the basis (of the contact variable)
     normals: np.ndarray         # (q, dim) outward unit normal at each point
-    # what ``N`` is made from, when it is first asked for, for a 2D scalar problem: its space,
-    # trace and the points' edge parameters (not the problem: the problem's caches hold
+    # what ``N`` is made from, when it is first asked for: the space, the physics, the change
+    # of basis and each point's volume element (not the problem: the problem's caches hold
     # quadratures, and a cycle would keep its matrices alive until a full garbage collection)
     _flux: tuple | None = field(default=None, repr=False, compare=False)
 
     @cached_property
-    def N(self) -> sp.csr_matrix | None:
-        """(q, ndof) outward normal derivatives of the basis at the points (2D scalar problems,
-        else None); made on first use: only the weak methods and the estimator read it, and
-        the error measurement, the loads and the best approximation make quadratures too."""
-        if self._flux is None:
-            return None
-        return _normal_derivatives(*self._flux, self.edge, self.T.shape)
+    def N(self) -> sp.csr_matrix:
+        """(q, ndof) the flux of the contact variable of every basis function at the points:
+        d_n v (scalar), -sigma_n(v) = -n . sigma(v) n (elasticity); made on first use: only
+        the weak methods read it, and the error measurement, the loads and the best
+        approximation make quadratures too."""
+        fes, physics, basis, volumes = self._flux
+        return flux_rows(fes, physics, basis, volumes, self.points, self.normals)
 
     def edge_means(self, values: np.ndarray) -> np.ndarray:
         """Mean over each contact edge of a function given at the points."""
@@ -117,7 +117,7 @@ def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: 
         edge=edge,
         T=_rows(cols_T, vals_T, shape),
         normals=trace.normals[edge],
-        _flux=(problem.fes, trace, T_t) if problem.physics.flux_rows else None,
+        _flux=(problem.fes, problem.physics, problem.basis, trace.volumes[edge]),
     )
 
 
@@ -126,7 +126,9 @@ def _face_quadrature(problem, degree: int) -> ContactQuadrature:
     trace, faces = problem.trace, problem.trace.faces
     rule = ngs.IntegrationRule(ngs.TRIG, degree)
     xi = np.array([ip.point[:2] for ip in rule])
-    lam = np.column_stack([1.0 - xi.sum(axis=1), xi])                 # (k, 3) barycentric
+    # barycentric as NGSolve maps its reference triangle (vertices (1, 0), (0, 1), (0, 0)) onto a
+    # boundary element, whose corner order ``faces.vertices`` keeps: the points are NGSolve's own
+    lam = np.column_stack([xi, 1.0 - xi.sum(axis=1)])                 # (k, 3)
     unit_w = 2.0 * np.array([ip.weight for ip in rule])               # the reference triangle's area is 1/2
     corners = faces.corners(trace)                                     # (f, 3, 3)
     area = 0.5 * np.linalg.norm(np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]), axis=1)
@@ -149,53 +151,52 @@ def _face_quadrature(problem, degree: int) -> ContactQuadrature:
         edge=face,
         T=_rows(cols_T, vals_T, (f * k, problem.ndof)),
         normals=faces.normals[face],
+        _flux=(problem.fes, problem.physics, problem.basis, faces.volumes[face]),
     )
 
 
-def _normal_derivatives(fes, trace, T_t: np.ndarray, edge: np.ndarray, shape) -> sp.csr_matrix:
-    """The outward normal derivative of every scalar basis function at the points (Nitsche's
-    flux term; see the module docstring)."""
-    mesh, order = fes.mesh, fes.globalorder
-    m = len(trace.edges)
-    a, b = trace.edge_vertices.T
-    c = trace.opposite                                  # vertex c of the triangle on each edge
-    # each contact triangle's dofs: one per local vertex (in the cell table's order), then, for
-    # P2, one per side in the order of TRIANGLE_EDGES (one call per triangle, no node objects)
-    dofs = np.array([fes.GetDofNrs(ngs.ElementId(ngs.VOL, int(t))) for t in trace.volumes], dtype=np.int64)
-    local = cells(mesh)[trace.volumes]
-    if not all(((local == v[:, None]).sum(axis=1) == 1).all() for v in (a, b, c)):
-        raise RuntimeError("a contact edge's triangle does not hold its vertices and the opposite one")
-    vertex_dofs = np.column_stack([(dofs[:, :3] * (local == v[:, None])).sum(axis=1) for v in (a, b, c)])
-    edge_dofs = np.zeros((m, 3), dtype=np.int64)        # bubble dofs of ab, ac, bc (order 2)
-    if order == 2:
-        for k, (p, q) in enumerate(((a, b), (a, c), (b, c))):
-            for side, (i, j) in enumerate(TRIANGLE_EDGES):
-                joins = ((local[:, i] == p) & (local[:, j] == q)) | ((local[:, i] == q) & (local[:, j] == p))
-                edge_dofs[joins, k] = dofs[joins, 3 + side]
-    grad = _barycentric_gradients(trace.a, trace.b, coordinates(mesh)[c])    # (m, 3, 2): a, b, c
-    dn = np.einsum("mij,mj->mi", grad, trace.normals)                   # (m, 3)
-    la, lb = 1.0 - T_t, T_t
-    dna, dnb, dnc = (dn[edge, i] for i in range(3))
-    cols_N = [vertex_dofs[edge, 0], vertex_dofs[edge, 1], vertex_dofs[edge, 2]]
-    vals_N = [dna, dnb, dnc]
-    if order == 2:
-        cols_N += [edge_dofs[edge, 0], edge_dofs[edge, 1], edge_dofs[edge, 2]]
-        vals_N += [-0.5 * (lb * dna + la * dnb), -0.5 * la * dnc, -0.5 * lb * dnc]
-    return _rows(cols_N, vals_N, shape)
+def flux_rows(fes, physics, basis, volumes: np.ndarray, points: np.ndarray, normals: np.ndarray) -> sp.csr_matrix:
+    """(q, ndof) the flux of the contact variable of every basis function of ``fes`` at
+    ``points`` (each in the volume element ``volumes``, outward unit ``normals``), in the
+    problem's variables (``basis``: NGSolve's coefficients = basis @ ours, or None)."""
+    # the scalar space of the same order numbers its dofs as each component block of VectorH1
+    scalar = ngs.H1(fes.mesh, order=fes.globalorder)
+    dofs, grads = scalar_basis_gradients(scalar, volumes, points)
+    block = scalar.ndof              # component k's copy of scalar dof d is k * block + d
+    q, local = dofs.shape
+    rows = np.repeat(np.arange(q), local)
+    pieces = [sp.csr_matrix((values.ravel(), (rows, (k * block + dofs).ravel())), shape=(q, fes.ndof))
+              for k, values in physics.flux_rows(grads, normals)]
+    N = sum(pieces[1:], pieces[0]).tocsr()
+    return N if basis is None else (N @ basis).tocsr()
+
+
+def scalar_basis_gradients(fes, volumes: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(dofs (q, l), gradients (q, l, dim)): the dofs of the volume element of each point (a
+    scalar H1 space of any order) and the gradients of their basis functions there. NGSolve
+    evaluates them: the element's j-th local basis function is the j-th dof of the element in
+    the discontinuous copy of the space (the same element, its dofs numbered element by element),
+    so one GridFunction per local index, evaluated at every point at once, gives them all."""
+    mesh = fes.mesh
+    unique, which = np.unique(volumes, return_inverse=True)
+    element_dofs = np.array([fes.GetDofNrs(ngs.ElementId(ngs.VOL, int(e))) for e in unique], dtype=np.int64)
+    broken = ngs.Discontinuous(fes)
+    first = np.array([broken.GetDofNrs(ngs.ElementId(ngs.VOL, int(e)))[0] for e in unique], dtype=np.int64)
+    in_elements(mesh, points, volumes)
+    indicator = ngs.GridFunction(broken)
+    values = indicator.vec.FV().NumPy()
+    gradient = ngs.grad(indicator)
+    grads = np.empty((len(points), element_dofs.shape[1], mesh.dim))
+    for j in range(element_dofs.shape[1]):
+        values[:] = 0.0
+        values[first + j] = 1.0
+        grads[:, j] = evaluate(gradient, mesh, points)
+    return element_dofs[which], grads
 
 
 def _rows(columns: list, values: list, shape) -> sp.csr_matrix:
     rows = np.tile(np.arange(shape[0]), len(columns))
     return sp.csr_matrix((np.concatenate(values), (rows, np.concatenate(columns))), shape=shape)
-
-
-def _barycentric_gradients(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
-    """Gradients of lambda_a, lambda_b, lambda_c on each triangle (a, b, c): (m, 3, 2)."""
-    J = np.stack([b - a, c - a], axis=2)               # columns: the edges from a
-    # (lambda_b, lambda_c) = J^{-1} (x - a): their gradients are the rows of J^{-1}
-    inverse = np.linalg.inv(J)
-    grad_b, grad_c = inverse[:, 0, :], inverse[:, 1, :]
-    return np.stack([-grad_b - grad_c, grad_b, grad_c], axis=1)
 
 
 def at_points(cf, mesh, quadrature: ContactQuadrature) -> np.ndarray:

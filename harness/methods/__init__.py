@@ -27,10 +27,9 @@ from .base import (
     FunctionalCone,
     LevelSolve,
     Method,
-    WeakContact,
 )
 from .plugins import MethodError, check_method, installed_methods, load_external
-from .protocol import ContactLawMethod, ContactPoints, LevelProblem, OwnSolution, OwnSolve
+from .protocol import ContactLawMethod, ContactPoints, LevelProblem, OwnSolution, OwnSolve, WeakContact
 
 # Named groups besides the method names themselves.
 GROUPS = {
@@ -142,8 +141,8 @@ def methods_named(names) -> list[Method]:
 
 
 def methods_for(case, methods) -> list[Method]:
-    """Those of ``methods`` that discretise ``case``'s physics and dimension (the weak methods
-    are scalar and 2D only), in the order given; a study runs each case with these."""
+    """Those of ``methods`` that discretise ``case``'s physics, dimension and bodies (``Method.
+    supports``), in the order given; a study runs each case with these."""
     return [m for m in methods if m.supports(case)]
 
 

@@ -8,23 +8,19 @@ the next level (nested iteration) and the report need (``LevelSolve``).
 """
 from __future__ import annotations
 
-import math
 from contextlib import nullcontext
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
 import numpy as np
 
-from ..fem.assembly import ContactTraceFunction
 from ..fem.cones import ContactModel, contact_pressure, contact_qp
 from ..fem.edge_functionals import check_rules, edge_functional_qp
 from ..fem.face_means import face_mean_qp
 from ..fem.penetration import max_penetration
-from ..fem.weak_contact import predicted_active, weak_contact_system
 from ..solvers.active_set import solve_contact_qp
 from ..solvers.general_constraints import GeneralConstraintSolver
-from ..solvers.multigrid import HIERARCHICAL, ContactEdges, nested_start, p1_values
-from ..solvers.newton import solve_semismooth_newton
+from ..solvers.multigrid import ContactEdges, nested_start, p1_values
 from ..solvers.options import SolverOptions
 from ..solvers.projected import ProjectedMultigridSystem
 
@@ -76,8 +72,8 @@ class Method:
     ``Expectation``, or None: no theory), the physics, dimensions and bodies it discretises, its
     roles (``PAPER``, ``BASELINE``, ``REFERENCE``, ``SWEPT``, ``MESH_STUDY``), its cost model and
     its solver settings (``solvers.SolverOptions``). Subclasses solve a level (``solve``): a
-    cone (``BoundConstrained``, ``FunctionalCone``), a weak method (``WeakContact``,
-    ``protocol.ContactLawMethod``) or a solve of its own (``protocol.OwnSolve``)."""
+    cone (``BoundConstrained``, ``FunctionalCone``), a weak method given by its contact law
+    (``protocol.ContactLawMethod``) or a solve of its own (``protocol.OwnSolve``)."""
 
     name: str
     order: int
@@ -251,94 +247,6 @@ class FunctionalCone(Method):
         return solve_general_rows(case, problem, carry, hierarchy, phases,
                                   lambda: edge_functional_qp(case, problem, self.functionals, take_stiffness=take_stiffness),
                                   self.solver)
-
-
-# theta: the three members of the family of Chouly, Hild & Renard, Math. Comp. 84 (2015), eq. (10)
-# (symmetric, incomplete, skew-symmetric); its analysis covers no other value
-THETAS = (1.0, 0.0, -1.0)
-
-
-def check_parameter(method: str, name: str, key: str, value) -> float:
-    """``value`` of a weak method's parameter as a float, or a one-line ValueError naming what
-    the method allows: the scale of eps (gamma0, epsilon0) a finite positive number, theta one
-    of 1, 0, -1. The one place where parameter values are checked."""
-    number = float(value)
-    if key == "theta":
-        if number not in THETAS:
-            raise ValueError(f"method {method!r}: theta must be 1, 0 or -1 (Chouly, Hild & Renard 2015), got {value}")
-    elif not (math.isfinite(number) and number > 0):
-        raise ValueError(f"method {method!r}: {name} must be a finite positive number, got {value}")
-    return number
-
-
-@dataclass(frozen=True)
-class WeakContact(Method):
-    """Contact by a term on Gamma_C (``weak_contact``): Nitsche's method (``flux`` = 1, variant
-    ``theta``) or the penalty method (``flux`` = 0), eps = gamma0 h_e on each contact edge. Solved
-    by semismooth Newton (``newton``) to a relative residual <= 1e-10; nested iteration starts
-    each level from the coarser level's u_h."""
-
-    flux: float = 1.0
-    theta: float = 1.0
-    gamma0: float = 1.0
-    parameter_names: tuple = ("gamma0", "theta")   # the first is the scale of eps
-    cost_model: str | float = "newton"
-
-    @property
-    def parameters(self) -> dict:
-        values = {"gamma0": self.gamma0, "theta": self.theta}
-        return {name: values[key] for name, key in zip(self.parameter_names, ("gamma0", "theta"))}
-
-    def with_parameters(self, **values) -> "WeakContact":
-        """The same method with other parameter values, named by them: nitsche:gamma0=0.1,theta=-1.
-        Each value is checked against what the method's theory allows (``check_parameter``)."""
-        unknown = set(values) - set(self.parameter_names)
-        if unknown:
-            raise ValueError(f"method {self.name!r} has parameters {', '.join(self.parameter_names)}, not {', '.join(sorted(unknown))}")
-        keys = dict(zip(self.parameter_names, ("gamma0", "theta")))
-        changed = {keys[name]: check_parameter(self.name, name, keys[name], value) for name, value in values.items()}
-        base = self.name.split(":")[0]
-        label = ",".join(f"{name}={_number(float(values[name]))}" for name in self.parameter_names if name in values)
-        # other parameter values make another method: it takes none of this one's roles
-        return replace(self, name=f"{base}:{label}" if label else base, roles=self.roles if not label else frozenset(),
-                       **changed)
-
-    def system(self, case, problem, take_stiffness: bool = False):
-        return weak_contact_system(case, problem, self.gamma0, self.theta, self.flux, take_stiffness)
-
-    @staticmethod
-    def nested_guess(system, carry, multilevel):
-        """(start, predicted active Gauss points) from the coarser level's ``carry``: its u_h
-        interpolated, and the status of its nearest Gauss points."""
-        if carry is None:
-            return None, None
-        coarse_values, coarse_points, coarse_active = carry
-        start = nested_start(multilevel, coarse_values, system.problem, HIERARCHICAL) if multilevel is not None else None
-        return start, predicted_active(coarse_points, coarse_active, system.quadrature.points)
-
-    def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
-        timed = phases or (lambda phase: nullcontext())
-        with timed("setup"):
-            system = self.system(case, problem, take_stiffness)
-            start, predicted = self.nested_guess(system, carry, multilevel)
-        with timed("solve"):
-            solution = solve_semismooth_newton(system, start, multilevel, predicted=predicted, options=self.solver)
-        u = solution.u
-        trace_u = ContactTraceFunction.of(problem, u)
-        pressure = system.quadrature.edge_means(system.pressure(u))
-        fields = {
-            "n_contact_constraints": 0,
-            "max_penetration": max_penetration(case, problem.mesh, trace_u),
-            "min_pressure": float(pressure.min()),
-            "active_constraints": int(solution.active.sum()),
-            "solver_iterations": solution.iterations,
-            "linear_iterations": solution.linear_iterations,
-            "kkt_residual": solution.residual, "backward_error": solution.backward,
-            "solve_seconds": solution.seconds,
-            "status": solution.status,
-        }
-        return LevelSolve(fields, u, trace_u, pressure,
-                          (u[:problem.mesh.nv].copy(), system.quadrature.points, solution.active))
 
 
 def _number(value: float) -> str:

@@ -1,5 +1,6 @@
-"""`penalty`: P2, u_h minimises 1/2 a(v,v) - L(v) + (1/2 eps) int_{Gamma_C} [alpha - v]_+^2 over X_h,
-eps = eps0 h_e (``weak_contact``, (P)); Chouly & Hild, Appl. Numer. Math. 65 (2013) 27-40.
+"""`penalty`: P2, u_h minimises 1/2 a(v,v) - L(v) + (1/2 eps) int_{Gamma_C} [alpha - c(v)]_+^2 over
+X_h, eps = eps0 h (the law (P) of ``fem.laws``, c the contact variable: u, or -u . n in
+elasticity, 2D and 3D); Chouly & Hild, Appl. Numer. Math. 65 (2013) 27-40.
 
 Default eps0 = 0.05, the scale of `nitsche`'s gamma0 (``python -m harness sweep`` shows others).
 
@@ -13,7 +14,9 @@ whatever the order of the elements (Gustafsson & Stenberg, J. Struct. Mech. 58 (
 """
 import math
 
-from .base import SWEPT, Expectation, WeakContact
+from ..fem.laws import Penalty
+from .base import SWEPT, Expectation
+from .protocol import ContactLawMethod
 
 REFERENCE = "Chouly & Hild 2013 (Appl. Numer. Math. 65), eps = eps0 h"
 EPS0 = 0.05
@@ -25,12 +28,12 @@ def expected(case) -> Expectation:
     return Expectation(min(case.nu - 1.0, 1.0), 0.0, REFERENCE)
 
 
-method = WeakContact(
+method = ContactLawMethod(
     name="penalty",
     order=2,
     contact="penalty: (1/ε)[α − u]₊ on Γ_C, ε = ε₀h",
     reference="Chouly & Hild 2013 (Appl. Numer. Math.)",
     expected=expected,
-    flux=0.0, gamma0=EPS0, parameter_names=("epsilon0",),
+    law=Penalty(epsilon0=EPS0),
     roles=frozenset({SWEPT}),
 )

@@ -20,8 +20,9 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from contextlib import nullcontext
-from dataclasses import dataclass, fields, is_dataclass, replace
+from dataclasses import InitVar, dataclass, fields, is_dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -29,12 +30,14 @@ import scipy.sparse as sp
 
 from ..fem.assembly import ContactTraceFunction
 from ..fem.cones import contact_pressure
-from ..fem.contact_law import law_system
-from ..fem.contact_quadrature import at_points, contact_quadrature
+from ..fem.contact_law import contact_data, law_system, predicted_active
+from ..fem.contact_quadrature import contact_quadrature
+from ..fem.laws import Nitsche, Penalty
 from ..fem.penetration import max_penetration
 from ..mesh.points import evaluate
-from ..solvers.multigrid import HIERARCHICAL, nested_start
-from .base import Expectation, LevelSolve, Method, WeakContact
+from ..solvers.multigrid import ContactEdges, nested_start, p1_values
+from ..solvers.newton import solve_semismooth_newton
+from .base import Expectation, LevelSolve, Method
 
 
 def no_theory(case) -> Expectation:
@@ -43,14 +46,32 @@ def no_theory(case) -> Expectation:
 
 
 @dataclass(frozen=True)
-class ContactLawMethod(WeakContact):
-    """A weak method given by its contact law (``fem.contact_law.ContactLaw``): F(u) = A u - b -
-    int p v + int f d_n v, solved by the semismooth Newton method of the built-in penalty and
-    Nitsche methods (nested iteration, multigrid CG when the law's Jacobian is symmetric, a
-    factorisation else), to the same relative residual. The law's parameters, if it is a
-    dataclass, are the method's (``nitsche-law:gamma0=0.1`` on the command line)."""
+class ContactLawMethod(Method):
+    """A weak method given by its contact law (``fem.contact_law.ContactLaw``; the built-in
+    ``fem.laws.Nitsche`` and ``fem.laws.Penalty`` are such laws): F(u) = A u - b - int p c(v) +
+    int f flux(v), in every physics (c and its flux: u and d_n u, or -u . n and -sigma_n(u)) and
+    dimension, solved by semismooth Newton (nested iteration, multigrid CG when the law's
+    Jacobian is symmetric and the case has a hierarchy, a factorisation else) to a relative
+    residual <= 1e-10. The law's parameters, if it is a dataclass, are the method's
+    (``nitsche:gamma0=0.1,theta=-1`` on the command line), checked by the law itself."""
 
     law: object = None
+    physics: tuple = ("scalar", "elasticity")
+    dimensions: tuple = (2, 3)
+    cost_model: str | float = "newton"
+    # deprecated since 0.7.0 (removed in 0.8.0): ``dataclasses.replace(method, gamma0=..., theta=...)``
+    # of 0.6, the law's scale of eps (its first parameter) and theta; ``with_parameters`` instead
+    gamma0: InitVar[float | None] = None
+    theta: InitVar[float | None] = None
+
+    def __post_init__(self, gamma0, theta):
+        if gamma0 is None and theta is None:
+            return
+        warnings.warn(f"method {self.name!r}: replace(method, gamma0=..., theta=...) is deprecated; use "
+                      f"method.with_parameters(...) (or replace(method, law=...))", DeprecationWarning, stacklevel=3)
+        names = list(self.parameters)
+        values = ({names[0]: float(gamma0)} if gamma0 is not None else {}) | ({"theta": float(theta)} if theta is not None else {})
+        object.__setattr__(self, "law", replace(self.law, **values))
 
     def system(self, case, problem, take_stiffness: bool = False):
         return law_system(case, problem, self.law, take_stiffness)
@@ -60,33 +81,96 @@ class ContactLawMethod(WeakContact):
         return {f.name: getattr(self.law, f.name) for f in fields(self.law)} if is_dataclass(self.law) else {}
 
     def with_parameters(self, **values) -> "ContactLawMethod":
+        """The same method with other parameter values, named by them (nitsche:gamma0=0.1,
+        theta=-1). Another parameter value makes another method: it takes none of this one's
+        roles (the report's sweeps and studies ask for roles)."""
         unknown = set(values) - set(self.parameters)
         if unknown:
             raise ValueError(f"method {self.name!r} has parameters {', '.join(self.parameters) or 'none'}, not {', '.join(sorted(unknown))}")
+        try:
+            law = replace(self.law, **{k: float(v) for k, v in values.items()})
+        except (TypeError, ValueError) as error:
+            raise ValueError(f"method {self.name!r}: {error}") from None
         label = ",".join(f"{name}={float(values[name]):g}" for name in self.parameters if name in values)
-        return replace(self, name=f"{self.name.split(':')[0]}:{label}", law=replace(self.law, **{k: float(v) for k, v in values.items()}))
+        base = self.name.split(":")[0]
+        return replace(self, name=f"{base}:{label}" if label else base, law=law, roles=self.roles if not label else frozenset())
+
+    def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
+        timed = phases or (lambda phase: nullcontext())
+        with timed("setup"):
+            system = self.system(case, problem, take_stiffness)
+            start, predicted = nested_guess(system, carry, multilevel)
+        with timed("solve"):
+            solution = solve_semismooth_newton(system, start, multilevel, predicted=predicted, options=self.solver)
+        u = solution.u
+        trace_u = ContactTraceFunction.of(problem, u)
+        pressure = system.quadrature.edge_means(system.pressure(u))
+        fields = {
+            "n_contact_constraints": 0,
+            "max_penetration": max_penetration(case, problem.mesh, trace_u),
+            "min_pressure": float(pressure.min()),
+            "active_constraints": int(solution.active.sum()),
+            "solver_iterations": solution.iterations,
+            "linear_iterations": solution.linear_iterations,
+            "kkt_residual": solution.residual, "backward_error": solution.backward,
+            "solve_seconds": solution.seconds,
+            "status": solution.status,
+        }
+        return LevelSolve(fields, u, trace_u, pressure, (p1_values(problem, u), system.quadrature.points, solution.active))
+
+
+def nested_guess(system, carry, multilevel):
+    """(start, predicted branch at the Gauss points) from the coarser level's ``carry``: its u_h
+    interpolated, and the branch of its nearest Gauss points."""
+    if carry is None:
+        return None, None
+    coarse_values, coarse_points, coarse_active = carry
+    start = None
+    if multilevel is not None:
+        start = nested_start(multilevel, coarse_values, system.problem, ContactEdges.of(system.problem, model=False))
+    return start, predicted_active(coarse_points, coarse_active, system.quadrature.points)
+
+
+class WeakContact(ContactLawMethod):
+    """Deprecated since 0.7.0 (removed in 0.8.0): the penalty (``flux`` = 0) or Nitsche
+    (``flux`` = 1, variant ``theta``) method as a ``ContactLawMethod`` with the law
+    ``fem.laws.Penalty(epsilon0=gamma0)`` or ``fem.laws.Nitsche(gamma0, theta)``."""
+
+    def __init__(self, *args, flux: float = 1.0, theta: float = 1.0, gamma0: float = 1.0, parameter_names=None, **kwargs):
+        warnings.warn("WeakContact is deprecated: use ContactLawMethod(law=Nitsche(gamma0, theta)) or "
+                      "ContactLawMethod(law=Penalty(epsilon0))", DeprecationWarning, stacklevel=2)
+        if kwargs.get("law") is None:
+            kwargs["law"] = Nitsche(gamma0, theta) if flux else Penalty(gamma0)
+        super().__init__(*args, **kwargs)
 
 
 @dataclass(frozen=True)
 class ContactPoints:
-    """Gamma_C's Gauss points as a user's solve sees them: ``T @ u`` is u_h there, ``N @ u``
-    its normal derivative (2D scalar problems; None else), ``weights`` integrate over Gamma_C."""
+    """Gamma_C's Gauss points as a user's solve sees them, on the contact variable of the case's
+    physics (as a contact law does, ``fem.contact_law.GammaPoints``): ``T @ u`` is c(u_h) there
+    (u_h, or -u_h . n in elasticity), ``N @ u`` its flux (d_n u_h, or -sigma_n(u_h)); the
+    contact condition is T u >= gap, the pressure N u - load >= 0; ``weights`` integrate over
+    Gamma_C. The same rows in 2D and 3D, P1 and P2."""
 
     x: np.ndarray               # (q, dim)
     weights: np.ndarray         # (q,)
     h: np.ndarray               # (q,) size of the point's cell
     cell: np.ndarray            # (q,) the point's contact cell
     T: sp.csr_matrix            # (q, ndof)
-    N: sp.csr_matrix | None     # (q, ndof)
-    gap: np.ndarray             # (q,) alpha
-    load: np.ndarray            # (q,) g_C
+    N: sp.csr_matrix            # (q, ndof)
+    gap: np.ndarray             # (q,) the obstacle: alpha, or -g (u . n <= g)
+    load: np.ndarray            # (q,) g_C, or -g_n
+    physics: str = "scalar"     # "scalar" or "elasticity"
+    normals: np.ndarray | None = None   # (q, dim) the outward unit normal
+    modulus: float = 1.0        # the flux's stiffness scale: 1, or lambda + 2 mu (``GammaPoints.modulus``)
 
 
 @dataclass(frozen=True)
 class LevelProblem:
     """One level, as a method with its own solve receives it. Vectors are over the level's
-    dofs (NGSolve's numbering of the P_k space of ``order``); u_h must equal ``lift`` where
-    ``free`` is False (Gamma_u). Read-only: the harness's matrices are shared."""
+    dofs (NGSolve's numbering of the P_k space of ``order``; in elasticity its vector space, the
+    dofs of Gamma_C's nodes in the rotated frame (t, c = -u . n), ``fem.rotated_frame``); u_h must
+    equal ``lift`` where ``free`` is False (Gamma_u). Read-only: the harness's matrices are shared."""
 
     case: object                # the case (its ``gap``, ``nu``, ... if a solver wants them)
     A: sp.csr_matrix            # stiffness a(phi_j, phi_i), all dofs
@@ -95,7 +179,7 @@ class LevelProblem:
     lift: np.ndarray            # Dirichlet values on Gamma_u, zero elsewhere
     vertex_dofs: np.ndarray     # the dofs of Gamma_C's vertices (u_h there is the trace's value)
     edge_dofs: np.ndarray       # the bubble dof of each contact edge (empty for P1)
-    gap_at_vertices: np.ndarray  # alpha at Gamma_C's vertices
+    gap_at_vertices: np.ndarray  # the obstacle of the contact variable at Gamma_C's vertices (alpha, or -g)
     contact: ContactPoints
     start: np.ndarray | None    # the coarser level's u_h interpolated (nested iteration), or None
     hierarchy: object = None    # the multigrid hierarchy (``solvers.multigrid.Multilevel``), or None
@@ -151,7 +235,7 @@ class OwnSolve(Method):
             "solve_seconds": seconds,
             "status": str(solution.status),
         }
-        return LevelSolve(fields, u, trace_u, pressure, (u[:problem.mesh.nv].copy(),))
+        return LevelSolve(fields, u, trace_u, pressure, (p1_values(problem, u),))
 
 
 def level_problem(case, problem, carry, multilevel) -> LevelProblem:
@@ -159,11 +243,14 @@ def level_problem(case, problem, carry, multilevel) -> LevelProblem:
     quadrature = contact_quadrature(problem)
     mesh = problem.mesh
     contact = ContactPoints(quadrature.points, quadrature.weights, quadrature.h, quadrature.edge, quadrature.T,
-                            quadrature.N, at_points(case.gap, mesh, quadrature), at_points(case.contact_load, mesh, quadrature))
+                            quadrature.N, *contact_data(case, problem, quadrature), problem.physics.name, quadrature.normals,
+                            problem.physics.modulus)
     start = None
     if carry is not None and multilevel is not None:
-        start = nested_start(multilevel, carry[0], problem, HIERARCHICAL)
-    gap = np.zeros(len(problem.vertex_dofs)) if case.gap is None else evaluate(case.gap, mesh, problem.trace.vertex_points)
+        start = nested_start(multilevel, carry[0], problem, ContactEdges.of(problem, model=False))
+    gap = np.zeros(len(problem.vertex_dofs))
+    if case.gap is not None:
+        gap = problem.physics.obstacle(evaluate(case.gap, mesh, problem.trace.vertex_points))
     return LevelProblem(case, problem.A, problem.b, problem.free, problem.lift, problem.vertex_dofs, problem.edge_dofs, gap,
                         contact, start, multilevel)
 

@@ -56,7 +56,6 @@ class Scalar:
     elastic = False         # the report: H1 error tables, u_h drawn on the domain
     rotated_frame = False   # the contact condition is on u itself: no change of basis on Gamma_C
     traction_load = False   # g_C enters through the Gamma_C quadrature (``fem.assembly.contact_load_vector``)
-    flux_rows = True        # d_n u on Gamma_C is a row of normal derivatives: Nitsche and penalty apply
     modulus = 1.0           # the scale of the flux beside the second derivatives of u
     operator = "-Laplace(u)"
 
@@ -103,6 +102,11 @@ class Scalar:
         """The flux of (2.1) from gradients given as arrays (..., 1, dim): grad u itself."""
         return grad
 
+    def flux_rows(self, grads: np.ndarray, normals: np.ndarray) -> list:
+        """The flux of the contact variable, d_n v, of basis functions with gradients ``grads``
+        (q, l, dim) at points with outward ``normals`` (q, dim): [(component 0, (q, l))]."""
+        return [(0, np.einsum("qld,qd->ql", grads, normals))]
+
     def contact_forces(self, flux: np.ndarray, normals: np.ndarray, load: np.ndarray) -> tuple:
         """(pressure, tangential force) on Gamma_C from the flux (..., 1, dim) at points with
         outward ``normals`` (..., dim) and the contact load g_C (...): lambda = d_n u - g_C, and
@@ -111,6 +115,10 @@ class Scalar:
 
     def obstacle(self, gap):
         return gap
+
+    def normal_load(self, load: np.ndarray, normals: np.ndarray) -> np.ndarray:
+        """The contact load as the contact variable's pressure sees it (pressure = flux - it): g_C."""
+        return load
 
     def contact_variable(self, u):
         """The contact variable of a trial function on Gamma_C: u itself."""
@@ -138,7 +146,6 @@ class Elasticity:
     elastic = True          # the report: energy-norm errors, the deformed shape, the Poisson ratio
     rotated_frame = True    # u . n is constrained: Gamma_C's dofs in the normal-tangential frame
     traction_load = True    # g_C is a traction, integrated into the load vector
-    flux_rows = False       # sigma_n(u) is not a normal derivative: no Nitsche or penalty here
     operator = "-div sigma(u)"
 
     def __post_init__(self):
@@ -228,6 +235,14 @@ class Elasticity:
         trace = np.trace(strain, axis1=-2, axis2=-1)
         return 2 * self.mu * strain + self.lam * trace[..., None, None] * np.eye(self.dim)
 
+    def flux_rows(self, grads: np.ndarray, normals: np.ndarray) -> list:
+        """The flux of the contact variable, -sigma_n(v) = -(2 mu (n . grad v_i) n_i + lambda
+        div v), of the vector basis functions e_i phi (i a component, phi a scalar basis function
+        with gradients ``grads`` (q, l, dim)) at points with outward ``normals`` (q, dim):
+        [(i, (q, l)) for each component i]."""
+        dn = np.einsum("qld,qd->ql", grads, normals)
+        return [(i, -(2 * self.mu * normals[:, i, None] * dn + self.lam * grads[:, :, i])) for i in range(self.dim)]
+
     def contact_forces(self, flux: np.ndarray, normals: np.ndarray, load: np.ndarray) -> tuple:
         """(pressure, tangential force) on Gamma_C from sigma (..., dim, dim) at points with
         outward ``normals`` (..., dim) and the contact traction g_C (..., dim): with
@@ -258,6 +273,11 @@ class Elasticity:
 
     def obstacle(self, gap):
         return None if gap is None else -gap
+
+    def normal_load(self, load: np.ndarray, normals: np.ndarray) -> np.ndarray:
+        """The contact traction g_C (q, dim) as the contact variable's pressure sees it: -g_C . n
+        (the pressure -(sigma_n - g_n) is the flux -sigma_n minus it)."""
+        return -(load * normals).sum(axis=-1)
 
     def contact_variable(self, u):
         """c(u) = -u . n of a trial function (a boundary integrand: n the outward normal)."""

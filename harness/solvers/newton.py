@@ -1,4 +1,5 @@
-"""Semismooth Newton for the penalty and Nitsche systems F(u_h) = 0 (``weak_contact``).
+"""Semismooth Newton for the systems F(u_h) = 0 of the weak methods, each a contact law
+(``fem.contact_law``; the built-in penalty and Nitsche laws are ``fem.laws``).
 
 F is piecewise affine: on each set of Gauss points where the bracket P(u) is positive it is
 the affine map J u - r. The generalised Newton step (Qi & Sun, Math. Program. 58 (1993); for
@@ -21,10 +22,11 @@ time). With 12, every run of the report's sweeps that converges in 60 steps stil
 the same steps, and the 16 others stop after 13-25 steps: 32 s of their solves became 9 s
 (measured 2026-11-26).
 
-Linear solves: J is A with the rows of the triangles along Gamma_C changed. Symmetric J
+Linear solves: J is A with the rows of the elements along Gamma_C changed. Symmetric J
 (penalty; Nitsche with theta = 1) goes to the cones' multigrid CG (``active_set.MultigridSystem``:
-the V-cycle smooths with J itself; its P1 coarse spaces are A's, truncated at the Dirichlet
-dofs and at the Gamma_C vertices with an active contact term, which are nearly pins); a
+the V-cycle smooths with J itself; its P1 coarse spaces are A's -- vector P1 in the rotated frame
+for elasticity -- truncated at the Dirichlet dofs and at the Gamma_C vertices with an active
+contact term, which are nearly pins); a
 nonsymmetric J (theta = 0, -1), no hierarchy, or a CG that fails (J indefinite: theta = 1
 past its gamma0 bound; CG stops at the first non-positive curvature) goes to a factorisation
 kept across the steps and updated in place (J keeps its pattern): sparse LDL^T if J is
@@ -40,7 +42,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .active_set import MultigridSystem, row_norm
-from .multigrid import HIERARCHICAL
+from .multigrid import ContactEdges
 from .options import SolverOptions
 from .pdas import loose_depth
 
@@ -144,8 +146,8 @@ class _AffineSolves:
         # the same set again: the same J, r and V-cycle; CG goes on from u
         system, problem = self.system, self.system.problem
         self.linear = self.linear or MultigridSystem(
-            system.J_ngs, self.rhs, self.multilevel, HIERARCHICAL,
-            stiff_vertices=system.stiff_vertices(self.step_set, self.multilevel.nvertices), options=self.options)
+            system.J_ngs, self.rhs, self.multilevel, ContactEdges.of(problem, model=False),
+            stiff_vertices=system.stiff_vertices(self.step_set, self.multilevel.ndof), options=self.options)
         before = self.linear.cg_iterations
         candidate = self.linear.solve(~problem.free, problem.lift, start=u, tol=tol)
         self.iterations += self.linear.cg_iterations - before
@@ -162,7 +164,7 @@ class _AffineSolves:
 
 def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=None,
                             predicted: np.ndarray | None = None, options: SolverOptions = _DEFAULT) -> NewtonSolution:
-    """F(u) = 0 for a ``weak_contact.WeakContactSystem``, from ``start`` (Dirichlet values are
+    """F(u) = 0 for a ``fem.contact_law.LawSystem``, from ``start`` (Dirichlet values are
     imposed on it), with multigrid CG when ``multilevel`` is given and J is symmetric.
     ``predicted``: the active Gauss points of the first step (nested iteration), instead of
     those of ``start``."""

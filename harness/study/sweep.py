@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ..fem.laws import THETAS
 from ..measure.reference import REFERENCE_METHOD
 from ..methods import SWEPT, Method, methods_named, with_role
-from ..methods.base import THETAS
 from . import run_study
 from .budget import solve_weights
 from .rows import study_levels
@@ -22,7 +22,7 @@ SWEEP_VALUES = (1e-4, 1e-3, 1e-2, 0.05, 0.1, 0.3, 1.0, 3.0, 10.0)
 
 def swept_specs(methods) -> tuple[str, ...]:
     """What the report sweeps of ``methods``: each that declares the role SWEPT, and, for one
-    with a parameter theta, the same at each other theta of ``base.THETAS``."""
+    with a parameter theta, the same at each other theta of ``fem.laws.THETAS``."""
     specs = []
     for method in with_role(SWEPT, methods):
         specs.append(method.name)
