@@ -82,9 +82,10 @@ def cone_problem(model_name: str, level: int, coarse_maxh: float | None, case_na
     return qp, qp.predicted_active(previous), multilevel, start
 
 
-def _weak_problem(method_name: str, level: int, coarse_maxh: float | None):
-    """A penalty/Nitsche system of ``level`` on the study's hierarchy and its nested start (the
-    level below solved by the harness's Newton)."""
+def weak_problem(method_name: str, level: int, coarse_maxh: float | None, case_name: str = BENCH_CASE):
+    """A contact law's system of ``level`` on the study's hierarchy (vector P1 for an elastic
+    case) and its nested start (the coarser level solved by the same method): (system, start,
+    predicted branch, multilevel)."""
     from ..fem.assembly import discretise
     from ..mesh.levels import UniformRefinement
     from ..methods import get_method
@@ -92,11 +93,12 @@ def _weak_problem(method_name: str, level: int, coarse_maxh: float | None):
     from ..problem.case import load_case
     from ..solvers.multigrid import Multilevel
 
-    case = dataclasses.replace(load_case(BENCH_CASE), maxh=coarse_maxh)
+    case = load_case(case_name)
+    case = dataclasses.replace(case, maxh=coarse_maxh or case.maxh)
     method = get_method(method_name)
     multilevel, carry = None, None
     for lev, mesh in ((step.index, step.mesh) for step in UniformRefinement(case).levels(level + 1)):
-        multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
         if lev < level - 1:
             continue
         problem = discretise(case, mesh, method.order)
@@ -114,7 +116,7 @@ def _measure_weak(method: str, model_name: str, level: int, coarse_maxh) -> dict
     from ..solvers.multigrid import ContactEdges
     from ..solvers.newton import load_scale, solve_semismooth_newton
 
-    system, start, predicted, multilevel = _weak_problem(model_name, level, coarse_maxh)
+    system, start, predicted, multilevel = weak_problem(model_name, level, coarse_maxh)
     problem = system.problem
     out = {"ndof": problem.ndof}
     if method == "contact":

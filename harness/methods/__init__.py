@@ -14,6 +14,7 @@ import pkgutil
 from contextlib import contextmanager
 
 from ..fem.contact_law import ContactLaw, GammaPoints, LawError
+from ..fem.laws import Nitsche, Penalty
 from ..mesh.plugins import is_external
 from .base import (
     BASELINE,
@@ -180,5 +181,5 @@ def parse_method(spec: str) -> Method:
 
 __all__ = ["METHODS", "GROUPS", "BASELINE", "MESH_STUDY", "PAPER", "REFERENCE", "ROLES", "SWEPT", "known", "names_with_role",
            "role_names", "with_role", "BoundConstrained", "ContactLaw", "ContactLawMethod", "ContactPoints", "GammaPoints", "LawError",
-           "LevelProblem", "OwnSolution", "OwnSolve", "Expectation", "FunctionalCone", "LevelSolve", "Method", "MethodError", "WeakContact",
+           "LevelProblem", "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Expectation", "FunctionalCone", "LevelSolve", "Method", "MethodError", "WeakContact",
            "check_method", "get_method", "method_choices", "methods_for", "methods_named", "parse_method"]

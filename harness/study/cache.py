@@ -23,7 +23,7 @@ import ngsolve as ngs
 import pandas as pd
 
 from .. import __version__
-from ..methods import methods_named
+from ..methods import ContactLawMethod, methods_named
 from ..methods.base import EXTRA_LEVELS
 from ..problem.case import Case
 from ..problem.validate import validate_case
@@ -118,7 +118,8 @@ def case_settings(case: Case, settings: dict) -> dict:
     """The settings ``case``'s study runs with: a 3D case its own (smaller) number of levels (a
     3D level has 8 times the dofs), a two-body case at most the profile's ``levels_two_body``; a case that declares ``asymptotic_levels`` stops there when
     the profile says so (``stop_when_asymptotic``: the default profile, not ``--levels``), one that
-    declares ``report_levels`` at its budget for the profile (not with ``--levels``)."""
+    declares ``report_levels`` at its budget for the profile (not with ``--levels``); a 3D case
+    without the weak methods where the profile says so (``weak_3d``)."""
     levels = settings["levels_3d"] if case.dimension == 3 else settings["levels"]
     if case.bodies == 2:
         # two bodies: about twice a one-body level's dofs, solved by sparse Cholesky
@@ -129,6 +130,9 @@ def case_settings(case: Case, settings: dict) -> dict:
     if budget and not settings.get("levels_given"):
         levels = min(levels, budget)
     own = settings | {"levels": levels}
+    if case.dimension == 3 and not settings.get("weak_3d", True):
+        # the profile leaves the weak methods' 3D rows to a finer one (``chain.PROFILES``)
+        own["methods"] = [m.name for m in methods_named(settings["methods"]) if not isinstance(m, ContactLawMethod)]
     if settings.get("stop_when_asymptotic") and case.asymptotic_levels_p1:
         # P1 stops with P2 (its fits asymptotic) or one level past it (P2's finest dofs)
         own["p1_extra_levels"] = min(max(case.asymptotic_levels_p1 - levels, 0), EXTRA_LEVELS[1])

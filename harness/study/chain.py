@@ -33,13 +33,16 @@ PROFILES = {
     # two bodies (about twice a one-body level's dofs, ``two_body``): at most 6 levels (5.1e5 dofs; see "fine")
     # the 3D mesh study, in the fine profile only (``mesh_study.PLAN``): the budget of uniform level
     # mesh_levels_3d - 1, 1.0e6 P2 dofs on transition-line-3d at 4 (3 here: the same rule)
+    # the weak methods (contact laws) on 3D cases in the fine profile only: at the default's three
+    # 3D levels they would add about 40 s per case, mostly the 3D error integration of four more
+    # methods (``weak_3d``)
     "default": {"levels": 7, "levels_3d": 3, "levels_two_body": 6, "mesh_levels": 4, "mesh_levels_3d": 3,
-                "stop_when_asymptotic": True},
+                "stop_when_asymptotic": True, "weak_3d": False},
     # finest levels: about 2.3e6 dofs; 3D: 1.3e6; two bodies 5.1e5 (mortar-standard's saddle
     # systems are factorised by SuperLU, whose fill at 2e6 dofs grew past 19 GB); the mesh study
     # to 5.8e5 dofs
     "fine": {"levels": 8, "levels_3d": 4, "levels_two_body": 6, "mesh_levels": 7, "mesh_levels_3d": 4,
-             "stop_when_asymptotic": False},
+             "stop_when_asymptotic": False, "weak_3d": True},
 }
 
 def reference_of(case: Case, methods: list[Method]) -> Method | None:
