@@ -18,8 +18,9 @@ from harness.problem.validate import validate_case
 DATA = Path(__file__).parent / "data"
 # hertz-line (elastic, its reference 2e5 dofs at four levels) in `make test-full`: the elastic
 # reference path is test_elastic_reference's and test_hertz's
+# (3D: hertz-sphere's levels cost 8 times the dofs each; its own tests are test_hertz's)
 REFERENCE_CASES = [pytest.param(name, marks=pytest.mark.slow) if name == "hertz-line" else name
-                   for name, case in registered_cases().items() if not case.exact]
+                   for name, case in registered_cases().items() if not case.exact and case.dimension == 2]
 
 
 @pytest.mark.parametrize("order", [1, 2])
@@ -44,6 +45,41 @@ def test_prolongation_reproduces_the_coarse_function_exactly(order, rng):
     assert np.abs(evaluate(coarse_gf, copy, points) - evaluate(fine_gf, mesh, points)).max() < 1e-12
     fine_norms = [fine @ (M @ fine) for M in norm_matrices(mesh, order)]
     assert np.allclose(fine_norms, coarse_norms, rtol=1e-12)
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_prolongation_in_3d_reproduces_the_coarse_function_exactly(order, rng):
+    """One red refinement of tetrahedra (eight children, the inner diagonal's bubble from the six
+    coarse edges of its tetrahedron): P u_h equals u_h at random points, to round-off."""
+    case = load_case("transition-line-3d")
+    copy = coarse_mesh(case)
+    coarse_fes = ngs.H1(copy, order=order)
+    u = ngs.GridFunction(coarse_fes)
+    u.vec.FV().NumPy()[:] = rng.standard_normal(coarse_fes.ndof)
+    numberings = []
+    for level, mesh in mesh_hierarchy(case, 2):
+        numberings.append(LevelNumbering.of(mesh, coarse_nv=numberings[-1].nv if numberings else 0))
+    fine = ngs.GridFunction(ngs.H1(mesh, order=order))
+    fine.vec.FV().NumPy()[:] = prolongation(*numberings, order) @ u.vec.FV().NumPy()
+    points = np.column_stack([rng.uniform(-1, 1, 300), rng.uniform(-1, 1, 300), rng.uniform(0, 1, 300)])
+    assert np.abs(evaluate(u, copy, points) - evaluate(fine, mesh, points)).max() < 1e-12
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case_name", ["transition-line-3d", "elastic-transition-3d"])
+def test_3d_errors_against_a_reference_miss_only_the_reference_error(case_name):
+    """3D, scalar and elastic: the energy error of nodal P2 against the reference one level finer
+    than the finest studied one is the exact error times sqrt(1 - (h_R/h)^{2p}), p = 3/2 (Galerkin
+    orthogonality, the module docstring of ``measure.reference``), to 0.02; P1's, far larger at
+    the same dofs, is the exact one to 1 %."""
+    case = load_case(case_name)
+    exact = run(case, methods=["nodal", "p1"], levels=2, show_progress=False).set_index(["method", "level"])
+    against = run(case.with_reference(1), methods=["nodal", "p1"], levels=2, show_progress=False).set_index(["method", "level"])
+    assert (against.errors_against == "reference").all() and (against.reference_level == 2).all()
+    ratio = against.err_energy / exact.err_energy
+    for level in (0, 1):
+        assert ratio[("nodal", level)] == pytest.approx(np.sqrt(1 - 2.0 ** (-3 * (2 - level))), abs=0.02)
+    np.testing.assert_allclose(ratio.loc["p1"], 1.0, atol=0.01)
 
 
 @pytest.mark.parametrize("case_name", ["transition-r32", "transition-circle-3d"])

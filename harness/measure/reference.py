@@ -8,17 +8,22 @@ function (the cost at equal accuracy compares them), the most accurate one the s
 and solved once (each method's own solution k levels finer cost seven such solves, and P1's,
 on a mesh four times larger than P2's for the same dofs, set the report's peak memory).
 
-The meshes are nested (red refinement: every triangle splits into four), so X_h of a studied
-level is a subspace of X_R and each u_h is *exactly* a function of X_R: its coefficients there
-follow from the hierarchical basis (docs/mathematics.md §3) without interpolation error,
+The meshes are nested (red refinement: every triangle splits into four, every tetrahedron into
+eight), so X_h of a studied level is a subspace of X_R and each u_h is *exactly* a function of
+X_R: its coefficients there follow from the hierarchical basis (docs/mathematics.md §3) without
+interpolation error,
 
     fine vertex at a coarse vertex a:          u_a
     fine vertex at the midpoint of edge ab:    (u_a + u_b)/2 - c_ab/8
     fine edge on half of coarse edge ab:       c_ab/4
     fine edge joining midpoints of ab and ac:  c_bc/4 (the parallel coarse edge),
+    3D, the inner diagonal joining the midpoints of opposite edges ab and cd of a tetrahedron:
+                                               (c_ac + c_ad + c_bc + c_bd - c_ab - c_cd)/4,
 
-because the bubble coefficient of an edge is the second derivative of the function along it
-(a quadratic has a constant Hessian, and halving an edge divides it by 4). P1 keeps the first
+because the bubble coefficient of an edge e is the second derivative of the function along it,
+e^T H e with H the element's constant Hessian (halving an edge divides it by 4). The diagonal
+is (c + d - a - b)/2, and the polarisation identity Q(x + y) = Q(x) + Q(y) + 2B(x, y) with
+2B(c - a, d - b) = Q(c - b) + Q(d - a) - Q(c - d) - Q(a - b) (Q(v) = v^T H v) gives the last line. P1 keeps the first
 two lines without the bubbles, and a P1 function is the P2 function with the same vertex
 values and no bubbles (``embed``). Then e = u_R - P u_h is in X_R and its norms are exact
 matrix norms: |e|_1^2 = e^T K_R e, ||e||_0^2 = e^T M_R e, and on Gamma_C with the boundary mass
@@ -45,6 +50,7 @@ from __future__ import annotations
 import contextlib
 from collections import defaultdict
 from dataclasses import dataclass
+from itertools import combinations
 
 import ngsolve as ngs
 import numpy as np
@@ -99,21 +105,23 @@ class LevelNumbering:
 
 
 def edge_dofs_of_sides(mesh: ngs.Mesh, fes: ngs.H1) -> tuple[np.ndarray, np.ndarray]:
-    """((3 ne, 2) the end vertices of every side of every triangle, (3 ne,) the P2 edge dof of
-    each), without a loop over NGSolve's elements: a P2 function with zero vertex values and
-    edge coefficients 1, 2, 3, ... is c_e phi_e at the midpoint of edge e, where every edge's
-    bubble phi_e has the same value (a multiple of lambda_a lambda_b = 1/4); read there, at
-    mesh points made directly, it gives c_e. Vertex dofs are the vertex numbers, so the P2
-    dofs past nv are the edges' (checked: a mesh that breaks this raises)."""
-    nv, ndof = mesh.nv, fes.ndof
+    """((s ne, 2) the end vertices of every side of every cell (s = 3 in 2D, 6 in 3D), (s ne,)
+    the P2 edge dof of each), without a loop over NGSolve's elements: a P2 function with zero
+    vertex values and edge coefficients 1, 2, 3, ... is c_e phi_e at the midpoint of edge e,
+    where every edge's bubble phi_e has the same value (a multiple of lambda_a lambda_b = 1/4);
+    read there, at mesh points made directly, it gives c_e. Vertex dofs are the vertex numbers,
+    so the P2 dofs past nv are the edges' (checked: a mesh that breaks this raises)."""
+    nv, ndof, dim = mesh.nv, fes.ndof, mesh.dim
     table = cells(mesh)
     ne = len(table)
-    # NGSolve's reference triangle: local vertices at (1, 0), (0, 1), (0, 0)
-    local = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])
-    midpoints = np.array([(local[a] + local[b]) / 2 for a, b in TRIANGLE_EDGES])
-    points = mesh_points(mesh, 3 * ne)
-    points["x"], points["y"] = np.tile(midpoints[:, 0], ne), np.tile(midpoints[:, 1], ne)
-    points["nr"] = np.repeat(np.arange(ne), 3)
+    # NGSolve's reference cells: vertices at (1, 0), (0, 1), (0, 0) and (1, 0, 0), (0, 1, 0), (0, 0, 1), (0, 0, 0)
+    local = np.vstack([np.eye(dim), np.zeros(dim)])
+    sides = TRIANGLE_EDGES if dim == 2 else tuple(combinations(range(4), 2))
+    midpoints = np.array([(local[a] + local[b]) / 2 for a, b in sides])
+    points = mesh_points(mesh, len(sides) * ne)
+    for k, name in enumerate("xyz"[:dim]):
+        points[name] = np.tile(midpoints[:, k], ne)
+    points["nr"] = np.repeat(np.arange(ne), len(sides))
     numbered = ngs.GridFunction(fes)
     values = numbered.vec.FV().NumPy()
     values[:nv], values[nv:] = 0.0, np.arange(1, ndof - nv + 1)
@@ -125,7 +133,7 @@ def edge_dofs_of_sides(mesh: ngs.Mesh, fes: ngs.H1) -> tuple[np.ndarray, np.ndar
     edge = np.rint(label / bubble).astype(np.int64)
     if np.abs(label / bubble - edge).max() > 1e-6 or edge.min() < 1 or edge.max() > ndof - nv:
         raise RuntimeError("the P2 space's dofs past the vertices are not one per edge")
-    pairs = np.concatenate([table[:, list(e)] for e in TRIANGLE_EDGES], axis=1).reshape(-1, 2)
+    pairs = np.concatenate([table[:, list(e)] for e in sides], axis=1).reshape(-1, 2)
     return pairs, nv + edge - 1
 
 
@@ -174,14 +182,21 @@ def prolongation(coarse: LevelNumbering, fine: LevelNumbering, order: int) -> sp
         other = np.where(qa == p, qb, qa)
         pa, pb = fine.parents[p, 0], fine.parents[p, 1]
         # both ends midpoints, of (s, o1) and (s, o2): the parallel coarse edge is (o1, o2)
+        disjoint = ~half & (pa != qa) & (pa != qb) & (pb != qa) & (pb != qb)
         shared = np.where((pa == qa) | (pa == qb), pa, pb)
         o1 = np.where(pa == shared, pb, pa)
         o2 = np.where(qa == shared, qb, qa)
-        parallel_a = np.where(half, p, o1)
-        parallel_b = np.where(half, other, o2)
-        rows.append(fine.edge_dofs)
-        cols.append(coarse.edge_dof(parallel_a, parallel_b))
-        values.append(np.full(len(p), 0.25))
+        parallel = ~disjoint
+        rows.append(fine.edge_dofs[parallel])
+        cols.append(coarse.edge_dof(np.where(half, p, o1)[parallel], np.where(half, other, o2)[parallel]))
+        values.append(np.full(parallel.sum(), 0.25))
+        # 3D: midpoints of the opposite edges (a, b) = (pa, pb) and (c, d) = (qa, qb) of a
+        # tetrahedron (the module's note)
+        a, b, c, d = (x[disjoint] for x in (pa, pb, qa, qb))
+        for (x, y), sign in (((a, c), 1), ((a, d), 1), ((b, c), 1), ((b, d), 1), ((a, b), -1), ((c, d), -1)):
+            rows.append(fine.edge_dofs[disjoint])
+            cols.append(coarse.edge_dof(x, y))
+            values.append(np.full(len(a), 0.25 * sign))
     shape = (fine.ndof(order), coarse.ndof(order))
     return sp.csr_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))), shape=shape)
 

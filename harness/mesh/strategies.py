@@ -86,7 +86,9 @@ class MeshStrategy:
             # each level's own reference (``measure.level_reference``) embeds u_h exactly in 2D only
             return "errors against a reference on graded and adaptive meshes are 2D only (the exact P2 embedding)"
         if self.name == "graded" and case.dimension != 2 and case.singular_points is None and case.singular_lines is None:
-            return "a graded 3D mesh needs the case's singular_lines or singular_points"
+            # a 3D solution's singular set is curves of Gamma_C that no mesh vertex marks (in 2D the
+            # geometry's corners and breaks are found on the mesh); a smooth case declares []
+            return "a graded 3D mesh refines toward the case's singular_lines or singular_points, which it does not declare ([] for none)"
         if self.name == "graded" and not (case.nu > 1):
             return "a graded mesh needs the case's nu (its singular exponent nu - 1)"
         return None

@@ -108,3 +108,25 @@ def disc_box(radius: float):
         if face.name not in ("contact", "dirichlet", "neumann"):
             face.name = "interior"
     return OCCGeometry(Glue([outside, cylinder]))
+
+
+def zone_box(half_width: float, height: float, zone: float, zone_h: float):
+    """(-L, L) x (-L, L) x (0, H) with the box (-zone, zone)^2 x (0, zone) glued in at the middle
+    of the bottom, meshed at the local size ``zone_h`` (its inner faces labelled 'interior'):
+    Gamma_C the whole bottom face (n = -e_z), Gamma_u the top, Gamma_g the four sides. A coarse
+    mesh fine where a contact zone lives, which uniform red refinement keeps; flat faces only, so
+    the refined meshes stay nested (a reference solution's exact prolongation)."""
+    from netgen.occ import Box, Glue, OCCGeometry, Pnt, X, Y, Z
+    L = half_width
+    inner = Box(Pnt(-zone, -zone, 0.0), Pnt(zone, zone, zone))
+    inner.faces.name = "interior"
+    inner.faces.Min(Z).name = "contact"
+    inner.maxh = zone_h
+    outside = Box(Pnt(-L, -L, 0.0), Pnt(L, L, height)) - inner
+    for face in outside.faces:
+        face.name = "interior"
+    outside.faces.Min(Z).name = "contact"
+    outside.faces.Max(Z).name = "dirichlet"
+    for side in (outside.faces.Min(X), outside.faces.Max(X), outside.faces.Min(Y), outside.faces.Max(Y)):
+        side.name = "neumann"
+    return OCCGeometry(Glue([outside, inner]))
