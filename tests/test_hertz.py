@@ -15,8 +15,9 @@ from harness.study.chain import PROFILES
 CASE = Path(__file__).resolve().parent.parent / "cases" / "hertz_line.py"
 
 
-def module():
-    spec = importlib.util.spec_from_file_location("hertz_line_module", CASE)
+def module(path: Path = CASE):
+    """The case file's module (its helpers: ``hertz``, ``setup``)."""
+    spec = importlib.util.spec_from_file_location(f"{path.stem}_module", path)
     loaded = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(loaded)
     return loaded
@@ -113,10 +114,7 @@ SPHERE = Path(__file__).resolve().parent.parent / "cases" / "hertz_sphere.py"
 
 
 def sphere_module():
-    spec = importlib.util.spec_from_file_location("hertz_sphere_module", SPHERE)
-    loaded = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(loaded)
-    return loaded
+    return module(SPHERE)
 
 
 def test_the_sphere_formulas_integrate_to_the_force_they_were_given():

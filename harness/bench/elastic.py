@@ -34,8 +34,11 @@ ELASTIC_COLUMNS = ["case", "method", "ndof", "t_contact", "t_linear", "ratio_lin
                    "cg_iterations", "linear_cg_iterations", "kkt_residual", "peak_rss_mb"]
 
 
-# the weak method of the elastic rows beside the paper's cones
-ELASTIC_WEAK = ("nitsche",)
+def weak_methods() -> list[str]:
+    """The weak methods of the elastic rows beside the paper's cones: the P2 contact laws the
+    report sweeps (role SWEPT: Nitsche, penalty)."""
+    from ..methods import SWEPT, ContactLawMethod, with_role
+    return [m.name for m in with_role(SWEPT) if isinstance(m, ContactLawMethod) and m.order == 2]
 
 
 def _measure_elastic(model_name: str, size: tuple, connection):
@@ -96,9 +99,9 @@ def _weak_row(method_name: str, size: tuple) -> dict:
 
 def run_elastic_bench(sizes=ELASTIC_SIZES, models=None, progress=print) -> pd.DataFrame:
     """Each (model, size) in its own fresh process, like ``run_bench`` (default: the paper's
-    models, the methods that declare the role PAPER, and ``ELASTIC_WEAK``)."""
+    models, the methods that declare the role PAPER, and ``weak_methods``)."""
     from ..methods import PAPER, role_names
-    models = models or [*role_names(PAPER), *ELASTIC_WEAK]
+    models = models or [*role_names(PAPER), *weak_methods()]
     return fresh_rows(_measure_elastic, "elastic", "multigrid CG", sizes, models, progress, ELASTIC_COLUMNS)
 
 
@@ -107,7 +110,7 @@ def elastic_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
     cones) or 2 (Nitsche's Newton solve: a linear solve of its Jacobian per new set) at the
     largest size of each dimension."""
     goals = []
-    weak = frame.method.isin(ELASTIC_WEAK)
+    weak = frame.method.isin(weak_methods())
     for case, label in ((ELASTIC_CASE, "elastic 2D"), (ELASTIC_CASE_3D, "elastic 3D")):
         for rows, kind, bound in ((frame[(frame.case == case) & ~weak], "", 1.5), (frame[(frame.case == case) & weak], " weak", 2.0)):
             if len(rows):

@@ -132,7 +132,7 @@ def case_settings(case: Case, settings: dict) -> dict:
     own = settings | {"levels": levels}
     if case.dimension == 3 and not settings.get("weak_3d", True):
         # the profile leaves the weak methods' 3D rows to a finer one (``chain.PROFILES``)
-        own["methods"] = [m.name for m in methods_named(settings["methods"]) if not isinstance(m, ContactLawMethod)]
+        own["methods"] = [m.name for m in methods_named(settings.get("methods", ["all"])) if not isinstance(m, ContactLawMethod)]
     if settings.get("stop_when_asymptotic") and case.asymptotic_levels_p1:
         # P1 stops with P2 (its fits asymptotic) or one level past it (P2's finest dofs)
         own["p1_extra_levels"] = min(max(case.asymptotic_levels_p1 - levels, 0), EXTRA_LEVELS[1])
