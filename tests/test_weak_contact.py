@@ -265,3 +265,23 @@ def test_elastic_multigrid_newton_equals_direct_newton(case_name):
     direct = solve_semismooth_newton(method_system(case, problem_at(case_name, level), method))
     assert fast.status == direct.status == "converged" and fast.linear_iterations > direct.linear_iterations
     assert np.abs(fast.u - direct.u).max() <= 1e-9 * np.abs(direct.u).max()
+
+
+@pytest.mark.parametrize("order", [1, 2])
+@pytest.mark.parametrize("case_name", ["transition-r32", "elastic-transition-r32", "elastic-transition-incompressible"])
+def test_the_default_gamma0_lies_below_theta_one_coercivity_bound_whatever_the_material(case_name, order):
+    """theta = 1 is coercive while gamma0 C_h < 1, C_h the largest eigenvalue of
+    int (h/M) flux(v)^2 against a(v, v) on X_h (``fem.laws``): with eps = gamma0 h / M,
+    M = lambda + 2 mu, C_h is about the same for lambda/mu = 1.5 and 49, and the default
+    gamma0 = 0.05 keeps a factor 2.5 on levels 0-1."""
+    import scipy.linalg
+    import scipy.sparse as sp
+    largest = 0.0
+    for level in (0, 1):
+        problem = problem_at(case_name, level, order)
+        q = contact_quadrature(problem)
+        B = (q.N.T @ sp.diags(q.weights * q.h / problem.physics.modulus) @ q.N).tocsr()
+        free = problem.free
+        A, Bf = problem.A[free][:, free].toarray(), B[free][:, free].toarray()
+        largest = max(largest, scipy.linalg.eigh(Bf, A, eigvals_only=True, subset_by_index=[len(A) - 1, len(A) - 1])[0])
+    assert 2.5 * METHODS["nitsche"].law.gamma0 * largest < 1, largest

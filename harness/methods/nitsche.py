@@ -4,15 +4,18 @@ variants theta = 0, -1 of Chouly, Hild & Renard, Math. Comp. 84 (2015) 1089-1112
 is (N) for elasticity (eps = gamma0 h_T). The same law runs on the scalar problem and on
 elasticity, in 2D and 3D (``fem.contact_law``: one law on the contact variable).
 
-Default theta = 1, gamma0 = 0.05. theta = 1 is coercive only for gamma0 h ||flux(v)||^2_{Gamma_C}
-< a(v, v) on X_h ("gamma0 sufficiently small"); measured here, the largest h_e ||d_n v||^2 /
-|v|_1^2 over X_h on levels 0-2 of every registered 2D scalar case is 6.87 for P2 (wedge-r23) and
-1.57 for P1, so gamma0 < 0.145 (P2) and < 0.64 (P1): 0.05 keeps a factor 2.9. The report's sweep
-measures the bound on an elastic case too (``python -m harness sweep``).
+Default theta = 1, gamma0 = 0.05. theta = 1 is coercive only while gamma0 C_h < 1, C_h the largest
+ratio of int (h/M) flux(v)^2 over Gamma_C to a(v, v) on X_h (CHR 2015 Theorem 3.4: "gamma0
+sufficiently small"; M = lambda + 2 mu in elasticity, ``fem.laws``): a discrete trace-inverse
+constant of the order and the elements along Gamma_C, about 7 for P2 and 2 for P1 on the
+registered cases, scalar and elastic alike (tests/test_weak_contact.py checks that 0.05 keeps a
+factor 2.5 below the bound, also at lambda/mu = 49). The report's sweep shows the rest of the range.
 
-Expected H^1 rate (``expected_for``): CHR 2015's a priori estimate, u in H^{3/2 + m},
-0 < m <= k - 1/2, gives h^{1/2 + m}: h^{nu - 1} for 3/2 < nu <= k + 1, capped at h^k beyond. Nothing
-is proven for nu <= 3/2 (corner-r12): no expected rate, the rate is measured.
+Expected H^1 rate (``expected_for``): CHR 2015 Theorem 3.8 (stated for d = 2 and 3, k = 1 and 2,
+every theta under Theorem 3.4's conditions; read through a detailed review of the paper, not its
+text), u in H^{3/2 + m}, 0 < m <= k - 1/2, gives h^{1/2 + m}: h^{nu - 1} for 3/2 < nu <= k + 1,
+capped at h^k beyond. Nothing is proven for nu <= 3/2 (corner-r12): no expected rate, the rate is
+measured.
 """
 import math
 
