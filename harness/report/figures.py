@@ -243,7 +243,8 @@ def sweep(case, frame, folder: Path) -> dict[str, Path]:
                 ax.axhline(row[column], color="0.3", ls="--", lw=1.0, label=f"{row.method} (no parameter)")
     names = sorted(set(swept.sweep_parameter))
     for ax, ylabel in ((left, r"$H^1$ error"), (right, r"max penetration $\max(\alpha - u_h)$ on $\Gamma_C$")):
-        ax.set_xlabel(" / ".join(names) + r"  ($\varepsilon = $ value $\cdot\, h$)")
+        scale = r"$\cdot\, h$" if case.physics.modulus == 1 else rf"$\cdot\, h / M$, $M = \lambda + 2\mu = {case.physics.modulus:.3g}$"
+        ax.set_xlabel(" / ".join(names) + r"  ($\varepsilon = $ value " + scale + ")")
         ax.set_ylabel(ylabel)
         ax.grid(True, which="both", alpha=0.3)
     ndof = ", ".join(f"{n:.3g}" for n in sorted(set(frame.ndof)))

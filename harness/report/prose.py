@@ -204,7 +204,8 @@ INTRO = (
     "vertex values ≥ 0) has an exact cone. Each discrete inequality is solved exactly: every row's KKT "
     "residual is listed. What users of NGSolve or FEniCS write instead impose contact weakly, by a term "
     "on Γ_C with no constraint on the space: `nitsche` (Chouly & Hild 2013; θ-variants of Chouly, Hild "
-    "& Renard 2015) and `penalty` (Chouly & Hild 2013), P2 and P1 (`-p1`), ε = γ₀h; their nonlinear "
+    "& Renard 2015) and `penalty` (Chouly & Hild 2013), P2 and P1 (`-p1`), ε = γ₀h/M (M = 1, or λ + 2μ "
+    "in elasticity, where they act on u·n and σₙ(u)); their nonlinear "
     "equations are solved by semismooth Newton to a relative residual ≤ 1e-10, listed in the same "
     "column. Max penetration is max over Γ_C of α - u_h, between nodes included: the nonconformity of "
     "the cones, and how far the weak methods let u_h through the obstacle. P1 runs one level more than "
@@ -249,11 +250,13 @@ EFFICIENCY_NOTE = (
 
 
 SWEEP_NOTE = (
-    "Penalty and Nitsche ask the user for a parameter: ε = ε₀h (penalty) or γ₀h (Nitsche) on each "
-    "contact edge. Each curve is one method over that parameter at one level, every other setting "
-    "fixed; the dashed line is `nodal`, which has no parameter. Hollow markers: Newton did not "
-    "converge (its status is in the table below). Nitsche with θ = 1 is coercive only while "
-    "γ₀ h‖∂ₙv‖² < a(v, v) on X_h, measured here as γ₀ < 0.145 for P2 on every registered case "
-    "(`methods/nitsche.py`); θ = -1 is coercive for every γ₀. The penalty method is not consistent: "
-    "in contact u_h sits about ε λ below the obstacle, so its error and penetration grow with ε₀."
+    "Penalty and Nitsche ask the user for a parameter: ε = ε₀h/M (penalty) or γ₀h/M (Nitsche) on each "
+    "contact cell, M = 1 for the scalar problem and λ + 2μ in elasticity. Each curve is one method over "
+    "that parameter at one level, every other setting fixed; the dashed line is `nodal`, which has no "
+    "parameter. Hollow markers: Newton did not converge (its status is in the table below). Nitsche "
+    "with θ = 1 is coercive only while γ₀ (h/M)‖flux(v)‖² < a(v, v) on X_h (flux: ∂ₙv, or σₙ(v) in "
+    "elasticity), a bound of about γ₀ < 0.14 for P2 on the registered cases, scalar and elastic "
+    "alike (`methods/nitsche.py`); θ = -1 is coercive for every γ₀. The penalty method is not "
+    "consistent: in contact u_h sits about ε λ below the obstacle, so its error and penetration grow "
+    "with ε₀."
 )
