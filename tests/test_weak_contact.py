@@ -122,9 +122,22 @@ def ngsolve_reference(case, problem, gamma0, theta, flux):
     return gfu.vec.FV().NumPy().copy()
 
 
-@pytest.mark.parametrize("flux, theta", VARIANTS)
-@pytest.mark.parametrize("order", [1, 2])
-@pytest.mark.parametrize("case_name, level", [(name, 2) for name in CASES] + PHYSICS_CASES)
+def cross_checks():
+    """(case, level, order, flux, theta) of the NGSolve cross-check: every variant and order on the
+    2D cases; in 3D (2-4 s each) one variant per physics in `make test`, the rest in `make test-full`."""
+    quick_3d = {("transition-line-3d", 2, 1.0, -1.0), ("elastic-transition-3d", 1, 0.0, 1.0)}
+    out = []
+    for name, level in [(name, 2) for name in CASES] + PHYSICS_CASES:
+        for order in (1, 2):
+            for variant in VARIANTS:
+                flux, theta = variant.values
+                slow = load_case(name).dimension == 3 and (name, order, flux, theta) not in quick_3d
+                out.append(pytest.param(name, level, order, flux, theta, id=f"{name}-P{order}-{variant.id}",
+                                        marks=pytest.mark.slow if slow else ()))
+    return out
+
+
+@pytest.mark.parametrize("case_name, level, order, flux, theta", cross_checks())
 def test_newton_solution_equals_ngsolve_assembled_nonlinear_form(case_name, level, order, flux, theta):
     case, problem = load_case(case_name), problem_at(case_name, level, order)
     reference = ngsolve_reference(case, problem_at(case_name, level, order), 0.05, theta, flux)
@@ -254,7 +267,7 @@ def test_the_weak_methods_of_0_6_are_built_with_a_deprecation_warning():
     assert old.law == Penalty(0.3)
 
 
-@pytest.mark.parametrize("case_name", ["elastic-transition-r32", "elastic-transition-3d"])
+@pytest.mark.parametrize("case_name", ["elastic-transition-r32", pytest.param("elastic-transition-3d", marks=pytest.mark.slow)])
 def test_elastic_multigrid_newton_equals_direct_newton(case_name):
     """Plane strain and 3D elasticity: the vector V-cycle in the rotated frame, truncated at the
     active Gamma_C vertices' contact component, gives the factorisation's u_h."""
