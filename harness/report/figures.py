@@ -107,6 +107,10 @@ def contact_faces(case, snapshots: dict, folder: Path) -> dict[str, Path]:
     fig, axes = plt.subplots(2, len(methods), figsize=(3.3 * len(methods) + 0.6, 6.4), squeeze=False)
     gaps = [snap["u_h"] - snap["gap"] for snap in snapshots.values()]
     scale = max(np.abs(g).max() for g in gaps) or 1.0
+    windows = [_pressure_window(snap) for snap in snapshots.values()]
+    # one window for every column: the largest of the methods' (none if one has none)
+    window = None if any(w is None for w in windows) else tuple(
+        (min(w[axis][0] for w in windows), max(w[axis][1] for w in windows)) for axis in (0, 1))
     for k, (method, snap) in enumerate(snapshots.items()):
         tri = mtri.Triangulation(snap["points"][:, 0], snap["points"][:, 1], snap["triangles"])
         top, bottom = axes[0, k], axes[1, k]
@@ -123,11 +127,33 @@ def contact_faces(case, snapshots: dict, folder: Path) -> dict[str, Path]:
             for line in case.transition_curve:
                 ax.plot(*np.array(line).T, color="k", lw=1.0)
             ax.set_aspect("equal")
+            if window is not None:
+                ax.set_xlim(*window[0])
+                ax.set_ylim(*window[1])
             ax.invert_xaxis()                 # seen from below
             ax.set_xlabel("x (seen from below)", fontsize=8)
             ax.tick_params(labelsize=7)
-    fig.suptitle(f"{case.name}: Γ_C on the finest level; black: the exact transition curve", fontsize=10)
+    curve = "; black: the exact transition curve" if case.transition_curve else ""
+    fig.suptitle(f"{case.name}: Γ_C on the finest level{curve}", fontsize=10)
     return save(fig, folder, f"{case.name}_contact")
+
+
+def _pressure_window(snap: dict) -> tuple | None:
+    """((x0, x1), (y0, y1)): where the discrete pressure is positive (above a thousandth of its
+    largest value) and as much again on each side, when that covers less than a quarter of
+    Gamma_C's width (a Hertz disc); else None."""
+    points, triangles = snap["points"], snap["triangles"]
+    pressure = np.tile(snap["pressure"], 4)
+    # above round-off and the discrete pressure's small ripples far from the zone
+    pressed = triangles[np.flatnonzero(pressure > 1e-3 * pressure.max(initial=0.0))]
+    if not len(pressed):
+        return None
+    low, high = points[pressed.ravel(), :2].min(axis=0), points[pressed.ravel(), :2].max(axis=0)
+    extent = points[:, :2].max(axis=0) - points[:, :2].min(axis=0)
+    if np.any(high - low > extent / 4):
+        return None
+    middle, half = (low + high) / 2, (high - low).max()
+    return (middle[0] - half, middle[0] + half), (middle[1] - half, middle[1] + half)
 
 
 def domain(case, snapshot: dict, folder: Path) -> dict[str, Path] | None:

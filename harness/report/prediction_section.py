@@ -12,6 +12,10 @@ from ..measure.quantities import QUANTITY_MEANINGS
 # the deviation from the theory that the dofs table asks each method to reach
 WITHIN = 0.01
 NAMES = {f"qoi_{name}": name for name in QUANTITY_MEANINGS}
+# what the case's contact figure shows of the theory, by dimension (``figures.contact``, ``contact_faces``)
+FIGURE_NOTE = {2: "The contact figure in the case's section draws the theory's pressure beside the discrete ones.",
+               3: "The contact figure in the case's section maps each method's discrete pressure over Γ_C; the "
+                  "contact measure is an area (π a² for a disc), whose deviation is about twice the radius's."}
 
 
 def deviations(case, rows: pd.DataFrame) -> pd.DataFrame:
@@ -61,8 +65,7 @@ def add_prediction_section(doc, cases, results: pd.DataFrame) -> None:
         doc.paragraph(f"{case.description}. Each row's quantities of interest set against {case.prediction.split(' (')[0]}'s "
                       "at the row's own computed contact force (the prescribed motion sets the force, the theory "
                       "the rest); what is left is discretisation and the body's finite size (the case file measures "
-                      "the latter). The contact figure in the case's section draws the theory's pressure beside the "
-                      "discrete ones.")
+                      f"the latter). {FIGURE_NOTE[case.dimension]}")
         doc.table(dofs_view(case, rows))
         with doc.details(f"Every level ({len(rows)} rows)", f"{case.name}-prediction"):
             doc.table(level_view(case, rows))
