@@ -388,12 +388,12 @@ def test_multigrid_on_a_3d_bisection_hierarchy_matches_the_factorised_solve(case
 
 @pytest.mark.slow     # 13 s; make test grades 3D meshes in test_a_3d_graded_mesh_meets_its_size_function...
 def test_run_grades_a_3d_case(tmp_path):
-    """`run --case transition-line-3d --mesh graded --levels 2`: every 3D method converges
-    exactly on the graded levels."""
+    """`run --case transition-line-3d --mesh graded --levels 2`: every 3D method, the cones and
+    the contact laws, converges exactly on the graded levels."""
     code = main(["run", "--case", "transition-line-3d", "--mesh", "graded", "--levels", "2", "--out", str(tmp_path), "--quiet"])
     frame = pd.read_csv(tmp_path / "results.csv")
     assert code == 0 and (frame["mesh"] == "graded").all()
-    assert set(frame.method) == {"mean", "mean-edges", "nodal", "p1"}
+    assert set(frame.method) == {"mean", "mean-edges", "nodal", "p1", "nitsche", "nitsche-p1", "penalty", "penalty-p1"}
     assert (frame.status == "converged").all() and (frame.kkt_residual <= TOLERANCE).all()
 
 
