@@ -26,14 +26,12 @@ wedge-r23, same geometry, has r^{2/3}: elasticity is more singular here.)
 """
 from math import pi, sin
 
-from scipy.optimize import brentq
-
-from harness.problem.functions import roller_free_mode
+from harness.problem.functions import bracketed_root, roller_free_mode
 from harness.problem.geometry import polygon
 from harness.problem.physics import Elasticity
 
 OMEGA = 3 * pi / 4
-EXPONENT = brentq(lambda s: sin(2 * s * OMEGA) + s * sin(2 * OMEGA), 0.3, 0.9, xtol=1e-15)
+EXPONENT = bracketed_root(lambda s: sin(2 * s * OMEGA) + s * sin(2 * OMEGA), 0.3, 0.9, xtol=1e-15)
 
 name = "elastic-wedge"
 description = f"elastic binding contact meets a traction-free face at 3pi/4: r^{{{EXPONENT:.4f}}} (plane strain, Poisson 0.3)"

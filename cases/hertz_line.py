@@ -60,7 +60,8 @@ from math import cos, pi, sin
 import numpy as np
 from netgen.geom2d import SplineGeometry
 from ngsolve import CF, x
-from scipy.optimize import brentq
+
+from harness.problem.functions import bracketed_root
 
 YOUNG, POISSON, RADIUS = 1.0, 0.3, 1.0
 E_STAR = YOUNG / (1 - POISSON**2)
@@ -121,7 +122,7 @@ def setup(half_width=1.0, height=1.0, delta=0.015, zone=0.2, zone_h=0.025, maxh=
 def clamped_free_exponent(omega: float, poisson: float) -> float:
     """The least root l of Williams' clamped-free wedge equation (module docstring), plane strain."""
     kappa = 3 - 4 * poisson
-    return brentq(lambda s: kappa**2 + 1 + 2 * kappa * cos(2 * s * omega) - 4 * s**2 * sin(omega) ** 2, 0.5, 0.99,
+    return bracketed_root(lambda s: kappa**2 + 1 + 2 * kappa * cos(2 * s * omega) - 4 * s**2 * sin(omega) ** 2, 0.5, 0.99,
                   xtol=1e-14)
 
 

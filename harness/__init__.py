@@ -3,9 +3,24 @@ Z. Belhachmi and F. Ben Belgacem, Math. Comp. 72 (2003), beside other discretisa
 docs/development/architecture.md ("How the code is laid out")."""
 __version__ = "0.7.0"      # the one version: pyproject.toml reads it
 
-from .api import case_table, cases, method_table, run  # noqa: E402
-from .methods import METHODS, methods_named  # noqa: E402
-from .problem.case import Case, CaseError, load_case, registered_cases  # noqa: E402
+# The public names, each imported from its stage when first used (PEP 562): `import harness`
+# and the listing commands cost the standard library, not NGSolve, pandas or SciPy (issue 61).
+_PUBLIC = {
+    "run": "api", "cases": "api", "case_table": "api", "method_table": "api",
+    "load_case": "problem.case", "registered_cases": "problem.case", "Case": "problem.case",
+    "CaseError": "problem.case", "METHODS": "methods", "methods_named": "methods",
+}
+__all__ = list(_PUBLIC)
 
-__all__ = ["run", "cases", "case_table", "method_table", "load_case", "registered_cases", "Case", "CaseError",
-           "METHODS", "methods_named"]
+
+def __getattr__(name: str):
+    if name not in _PUBLIC:
+        raise AttributeError(f"module 'harness' has no attribute {name!r}")
+    import importlib
+    value = getattr(importlib.import_module(f"{__name__}.{_PUBLIC[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *__all__})

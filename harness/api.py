@@ -8,12 +8,13 @@
 """
 from __future__ import annotations
 
-import pandas as pd
+from typing import TYPE_CHECKING
 
-from .mesh.strategies import parse_meshes
-from .methods import METHODS, PAPER, methods_named, role_names
-from .problem.case import Case, fraction, load_case, registered_cases
-from .study import run_study
+if TYPE_CHECKING:
+    import pandas as pd
+
+# Every stage is imported by the function that needs it: listing the cases must not cost
+# pandas, SciPy or the methods' modules (``harness/__init__``).
 
 
 def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_level=None,
@@ -28,6 +29,10 @@ def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_le
     object (``harness.mesh.strategies.Strategy``); ``methods`` may hold ``Method`` objects and
     files or modules of your own beside names (``harness.methods.plugins``); each case runs on
     each strategy that applies to it, and the rows say which in their ``mesh`` column."""
+    from .mesh.strategies import parse_meshes
+    from .methods import PAPER, methods_named, role_names
+    from .problem.case import Case, load_case
+    from .study import run_study
     if isinstance(cases, (str, Case)):
         cases = [cases]
     if models is not None:
@@ -38,20 +43,34 @@ def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_le
                      engine=engine, checkpoints=checkpoints, meshes=strategies)
 
 
-def case_table(cases=None) -> pd.DataFrame:
-    """One row per case: regularity, theorem and the rate it predicts."""
+def case_rows(cases=None) -> list[dict]:
+    """One dict per case: regularity, theorem and the rate it predicts (``case_table``'s rows)."""
+    from .problem.case import fraction, registered_cases
     cases = list(registered_cases().values()) if cases is None else cases
-    return pd.DataFrame([{
+    return [{
         "case": c.name, "nu": fraction(c.nu), "regime": c.regime, "theorem": c.theorem,
         "expected_rate": c.expected_rate, "expected_log_exponent": c.expected_log_exponent,
         "bound": c.expected_bound, "description": c.description,
-    } for c in cases])
+    } for c in cases]
+
+
+def case_table(cases=None) -> pd.DataFrame:
+    """One row per case: regularity, theorem and the rate it predicts."""
+    import pandas as pd
+    return pd.DataFrame(case_rows(cases))
+
+
+def method_rows() -> list[dict]:
+    """One dict per registered method: order, how it imposes contact, where it comes from."""
+    from .methods import METHODS
+    return [{"method": m.name, "order": m.order, "contact condition": m.contact,
+             "parameters": m.parameter_text, "reference": m.reference} for m in METHODS.values()]
 
 
 def method_table() -> pd.DataFrame:
     """One row per method: order, how it imposes contact, where it comes from."""
-    return pd.DataFrame([{"method": m.name, "order": m.order, "contact condition": m.contact,
-                          "parameters": m.parameter_text, "reference": m.reference} for m in METHODS.values()])
+    import pandas as pd
+    return pd.DataFrame(method_rows())
 
 
 cases = case_table

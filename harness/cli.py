@@ -8,10 +8,14 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import pandas as pd
+if TYPE_CHECKING:
+    import pandas as pd
 
-from .problem.case import CaseError
+# Each command imports the stages it needs, and the parser is built in full only for the
+# command given: `cases`, `methods` and `--help` start without NGSolve's solvers, pandas or
+# SciPy (issue 61).
 
 EXIT_BAD_INPUT = 2
 EXIT_FAILED = 1
@@ -36,18 +40,29 @@ def _positive_int(text: str) -> int:
     return value
 
 
+def text_table(rows: list[dict], width: int = 60) -> str:
+    """Rows as left-aligned columns, each cell cut to ``width`` characters (the listing commands'
+    tables, without pandas)."""
+    if not rows:
+        return ""
+    cells = [[str(value) if len(str(value)) <= width else str(value)[:width - 3] + "..." for value in row.values()]
+             for row in rows]
+    header = list(rows[0])
+    widths = [max(len(text) for text in column) for column in zip(header, *cells)]
+    return "\n".join("  ".join(text.ljust(w) for text, w in zip(line, widths)).rstrip() for line in [header, *cells])
+
+
 def cmd_cases(args) -> int:
-    from .api import case_table
-    table = case_table()
-    with pd.option_context("display.max_colwidth", 70, "display.width", 200):
-        print(table.drop(columns=["expected_rate", "expected_log_exponent"]).to_string(index=False))
+    from .api import case_rows
+    rows = [{key: value for key, value in row.items() if key not in ("expected_rate", "expected_log_exponent")}
+            for row in case_rows()]
+    print(text_table(rows, width=70))
     return 0
 
 
 def cmd_methods(args) -> int:
-    from .api import method_table
-    with pd.option_context("display.max_colwidth", 80, "display.width", 220):
-        print(method_table().to_string(index=False))
+    from .api import method_rows
+    print(text_table(method_rows(), width=80))
     return 0
 
 
@@ -135,6 +150,7 @@ def _run_into(out: Path, args, cases, methods, engine):
 
 def _print_run(frame: pd.DataFrame, checkpoints: Path) -> None:
     """The run's rows as a table, and the chains it resumed."""
+    import pandas as pd
     for (case, method), level in frame.attrs["resumed"].items():
         if level:
             print(f"{case} {method}: resumed after level {level - 1} from {checkpoints}")
@@ -220,6 +236,8 @@ def _print_references(frame: pd.DataFrame) -> None:
 
 
 def cmd_sweep(args) -> int:
+    import pandas as pd
+
     from .problem.case import load_case
     from .report import figures
     from .study.files import write_csv
@@ -273,6 +291,8 @@ def _method_spec(text: str) -> str:
 
 
 def cmd_rates(args) -> int:
+    import pandas as pd
+
     from .measure.rates import rate_table
     from .measure.results_file import read_results
     from .study.files import write_csv
@@ -298,6 +318,8 @@ def cmd_rates(args) -> int:
 
 def print_quantities(frame: pd.DataFrame, path: Path) -> int:
     """``rates --qoi``: the quantities of interest with their Richardson bands."""
+    import pandas as pd
+
     from .measure.richardson import coverage, quantity_table
     from .study.files import write_csv
     from .study.folder import owned
@@ -317,6 +339,8 @@ def print_quantities(frame: pd.DataFrame, path: Path) -> int:
 
 
 def cmd_report(args) -> int:
+    import pandas as pd
+
     from .report.build import make_report
     engine = engine_of(args)
     try:
@@ -395,22 +419,46 @@ def add_engine_options(p) -> None:
                    help="run even if the estimated peak memory exceeds the machine's (or a worker's)")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def _add_cases(sub) -> None:
+    sub.add_parser("cases", help=COMMANDS["cases"]).set_defaults(func=cmd_cases)
+
+
+def _add_methods(sub) -> None:
+    sub.add_parser("methods", help=COMMANDS["methods"]).set_defaults(func=cmd_methods)
+
+
+COMMANDS = {
+    "cases": "list the registered cases with regularity and expected rate",
+    "methods": "list the discretisations: order, contact condition, reference",
+    "run": "run a convergence study and write DIR/results.csv",
+    "sweep": "a penalty/Nitsche method over values of its parameter, at one level of one case",
+    "rates": "fit rates of a results CSV; writes rates.csv beside it (--qoi: quantities.csv)",
+    "report": "run the study (reusing unchanged results) and render the report",
+    "bench": "contact solve vs one linear solve, textbook PDAS and Clarabel",
+}
+
+
+def build_parser(argv=None) -> argparse.ArgumentParser:
+    """The parser; with ``argv``, only the command it names gets its options (the others their
+    one-line help): building `run`'s or `bench`'s options imports the methods, which listing
+    the cases does not need."""
     parser = _Parser(prog="python -m harness", description=__doc__.splitlines()[0])
     parser.add_argument("--debug", action="store_true",
                         help="let an error through with its traceback (accepted anywhere on the line)")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    p = sub.add_parser("cases", help="list the registered cases with regularity and expected rate")
-    p.set_defaults(func=cmd_cases)
-    p = sub.add_parser("methods", help="list the discretisations: order, contact condition, reference")
-    p.set_defaults(func=cmd_methods)
-    for add in (_add_run, _add_sweep, _add_rates, _add_report, _add_bench):
-        add(sub)
+    given = next((arg for arg in argv or () if not arg.startswith("-")), None) if argv is not None else None
+    adders = {"cases": _add_cases, "methods": _add_methods, "run": _add_run, "sweep": _add_sweep,
+              "rates": _add_rates, "report": _add_report, "bench": _add_bench}
+    for name, add in adders.items():
+        if given is None or given == name or given not in adders:
+            add(sub)
+        else:
+            sub.add_parser(name, help=COMMANDS[name])
     return parser
 
 
 def _add_run(sub) -> None:
-    p = sub.add_parser("run", help="run a convergence study and write DIR/results.csv")
+    p = sub.add_parser("run", help=COMMANDS["run"])
     p.add_argument("--case", action="append", required=True, metavar="NAME|PATH",
                    help="a registered case name or a case file; repeat for several")
     add_method_options(p)
@@ -431,7 +479,7 @@ def _add_run(sub) -> None:
 def _add_sweep(sub) -> None:
     from .measure.reference import REFERENCE_METHOD as reference
     from .study.sweep import REPORT_SWEEP, SWEEP_VALUES
-    p = sub.add_parser("sweep", help="a penalty/Nitsche method over values of its parameter, at one level of one case")
+    p = sub.add_parser("sweep", help=COMMANDS["sweep"])
     p.add_argument("--case", required=True, metavar="NAME|PATH")
     p.add_argument("--method", action="append", type=_method_spec, required=True, metavar="METHOD",
                    help=f"a method with a parameter (penalty, Nitsche), e.g. {', '.join(REPORT_SWEEP['methods'])}; "
@@ -447,7 +495,7 @@ def _add_sweep(sub) -> None:
 
 
 def _add_rates(sub) -> None:
-    p = sub.add_parser("rates", help="fit rates of a results CSV; writes rates.csv beside it (--qoi: quantities.csv)")
+    p = sub.add_parser("rates", help=COMMANDS["rates"])
     p.add_argument("results", metavar="RESULTS.csv")
     p.add_argument("--fit-levels", type=_positive_int, default=3, help="levels in the asymptotic fit (>= 3)")
     p.add_argument("--case", action="append", metavar="PATH",
@@ -461,7 +509,7 @@ def _add_rates(sub) -> None:
 
 
 def _add_report(sub) -> None:
-    p = sub.add_parser("report", help="run the study (reusing unchanged results) and render the report")
+    p = sub.add_parser("report", help=COMMANDS["report"])
     p.add_argument("--profile", default="default", choices=["default", "fine"])
     p.add_argument("--levels", type=_positive_int, help="override the profile's number of levels")
     p.add_argument("--case", action="append", metavar="NAME", help="only these registered cases")
@@ -479,7 +527,7 @@ def _add_bench(sub) -> None:
     from .bench.command import bench_names
     from .measure.reference import REFERENCE_METHOD as reference
     from .methods import PAPER, role_names
-    p = sub.add_parser("bench", help="contact solve vs one linear solve, textbook PDAS and Clarabel")
+    p = sub.add_parser("bench", help=COMMANDS["bench"])
     p.add_argument("--sizes", type=_sizes, default=None, metavar="MAXH:LEVEL,...",
                    help="coarse mesh size and level of each problem (default: 9e3 to 4.2e6 dofs)")
     p.add_argument("--method", action="append", choices=_method_names(),
@@ -497,25 +545,40 @@ def _add_bench(sub) -> None:
     p.set_defaults(func=cmd_bench)
 
 
+# An except clause's classes are looked up only when an exception reaches it: the study's
+# modules are imported then, not at start-up.
+def _output_errors() -> tuple:
+    from .study.files import OutputError
+    return (OutputError,)
+
+
+def _engine_errors() -> tuple:
+    from .study.dask_engine import SchedulerUnreachable
+    from .study.processes import WorkerDied
+    return (SchedulerUnreachable, WorkerDied)
+
+
 def main(argv=None) -> int:
     """Every failure ends as one line on stderr and a non-zero exit: 2 for bad input (before
     anything on disk is touched), 1 for a run that failed; ``--debug`` (anywhere on the line)
     lets the exception through with its traceback."""
-    from .study.dask_engine import SchedulerUnreachable
-    from .study.files import OutputError
-    from .study.processes import WorkerDied
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     argv = [arg for arg in argv if arg != "--debug"]
     try:
-        args = build_parser().parse_args(argv)
+        args = build_parser(argv).parse_args(argv)
         return args.func(args)
-    except (BadInput, CaseError, OutputError, ValueError, FileNotFoundError) as exc:
+    except (BadInput, ValueError, FileNotFoundError) as exc:     # CaseError is a ValueError
         if debug:
             raise
         print(f"harness: error: {exc}", file=sys.stderr)
         return EXIT_BAD_INPUT
-    except (SchedulerUnreachable, WorkerDied) as exc:
+    except _output_errors() as exc:
+        if debug:
+            raise
+        print(f"harness: error: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except _engine_errors() as exc:
         if debug:
             raise
         print(f"harness: error: {exc}", file=sys.stderr)

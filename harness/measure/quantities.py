@@ -112,7 +112,8 @@ def exact_peak(case, problem, graded: np.ndarray) -> float:
     (``UNBOUNDED_FACTOR``)."""
     trace = problem.trace
     regular = exact_pressure(case, problem, DiscretePressure.of(problem).quadrature)      # Gauss points, no grading
-    ends = [case.physics.pressure(case, problem.mesh, points, trace.normals) for points in (trace.a, trace.b)]
-    bounded = np.nanmax(np.concatenate([regular, *ends]))      # nan, inf: the pressure at a singular vertex
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):    # nan, inf: at a singular vertex
+        ends = [case.physics.pressure(case, problem.mesh, points, trace.normals) for points in (trace.a, trace.b)]
+    bounded = np.nanmax(np.concatenate([regular, *ends]))
     largest = np.nanmax(graded)
     return float("inf") if largest > UNBOUNDED_FACTOR * abs(bounded) else float(max(bounded, largest))

@@ -190,3 +190,22 @@ class PolarSeries:
             im = im + scale * (even.imag * cos_q + odd.imag * sin_q)
         return re, im
 
+
+
+def bracketed_root(f, a: float, b: float, xtol: float = 1e-15) -> float:
+    """The root of f in [a, b], where f changes sign, by bisection to ``xtol``: the cases'
+    singular exponents (Williams' wedge equations) are roots of a scalar function, found at
+    import time; SciPy's brentq would cost every case listing 0.3 s of imports."""
+    fa = f(a)
+    if fa * f(b) > 0:
+        raise ValueError(f"f does not change sign on [{a}, {b}]")
+    while b - a > xtol:
+        m = 0.5 * (a + b)
+        fm = f(m)
+        if fm == 0.0:
+            return m
+        if (fm < 0) == (fa < 0):
+            a, fa = m, fm
+        else:
+            b = m
+    return 0.5 * (a + b)
