@@ -25,8 +25,16 @@ studies two levels (h = a/4 on the zone) with the reference one level finer.
 Measured (nodal P2, solved level by level without the reference; a_h = sqrt(area / pi), the
 deviations at the computed force): a_h / a - 1 = +2.30, +1.16, +0.46 % and p_max / p0 - 1 =
 +3.06, +0.83, +0.41 % on levels 0, 1, 2 (2.4e4, 1.8e5, 1.4e6 dofs). With the zone meshed at a
-instead of a/2, level 2 (4.7e5 dofs) was still +1.1 % and +4.2 %; with a = 0.2 in the same block
-(5 a), +0.98 % and +2.47 % on level 1: the finite block's stiffness shows at 5 a, as in 2D.
+instead of a/2, level 2 (4.7e5 dofs) was still +1.1 % and +4.2 %.
+
+Domain size, measured (2026-11-28, nodal P2 on level 2, the same zone mesh, maxh 0.5 outside, the
+block scaled and delta found again for a = 0.103): p_max / p0 - 1 = +0.67, +0.41, +0.36 % for
+L = H = 4.9 a, 9.7 a, 19.4 a (1.3e6, 1.4e6, 2.1e6 dofs): the block's share falls by about 5 per
+doubling (0.26, then 0.05 percentage points), faster than hertz-line's 4 (a point load's field
+decays like 1/r, a line load's like log r), so at 10 a it is under 0.1 % and the rest of the
++0.4 % is discretisation. a_h / a - 1 = +0.43, +0.46, +0.65 %: quantized by the Gauss points of
+Gamma_C, as in hertz-line, with no trend in the size. (Level 1, same blocks: p_max / p0 - 1 =
++3.09, +0.83, +1.37 %: there the discretisation, not the size, decides.)
 
 Regularity. As in hertz-line, the clamped top meets the traction-free sides at right angles:
 along those edges the plane-strain clamped-free exponent 0.7112 (Williams; the antiplane part's
