@@ -1,6 +1,6 @@
 """The tutorials of the documentation (docs/tutorials/*.py, executed by sphinx-gallery when
-`make docs` builds the site) run as scripts, from a scratch folder. Slow tier: `make docs` in CI
-executes them too."""
+`make docs` builds the site) run as scripts, from a scratch folder. Slow tier, and left out of
+.ci/run (`make test-full MARKERS='not tutorial'`), whose `make docs` executes them."""
 import os
 import subprocess
 import sys
@@ -17,6 +17,7 @@ def test_there_is_a_tutorial_for_each_topic_the_docs_promise():
         "first_study", "your_own_case", "your_own_method", "graded_and_adaptive", "paraview", "dask_and_resume"]
 
 
+@pytest.mark.tutorial
 @pytest.mark.parametrize("script", TUTORIALS, ids=lambda p: p.stem)
 def test_the_tutorial_runs_as_a_script(script, tmp_path):
     done = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True, text=True,
