@@ -247,3 +247,26 @@ def test_an_unexpected_error_is_one_line_and_debug_shows_its_traceback(tmp_path,
     assert _one_line(capsys.readouterr().err) == "harness: error: RuntimeError: something inside (run with --debug for the traceback)"
     with pytest.raises(RuntimeError, match="something inside"):
         cli.main(args + ["--debug"])
+
+
+HEAVY = ("ngsolve", "pandas", "scipy", "matplotlib")
+
+
+def _modules_after(code: str) -> set:
+    done = subprocess.run([sys.executable, "-c", f"import sys\n{code}\nprint(' '.join(sys.modules))"],
+                          capture_output=True, text=True, cwd=Path(__file__).resolve().parent.parent)
+    assert done.returncode == 0, done.stderr
+    return set(done.stdout.split())
+
+
+def test_import_harness_imports_no_solver_table_or_plot_library():
+    """Issue 61: `import harness` costs the standard library; its public names load on use."""
+    assert not _modules_after("import harness") & set(HEAVY)
+    # the subprocess fails (and _modules_after with it) unless the names resolve
+    assert "harness.methods" in _modules_after("import harness\nassert callable(harness.run) and 'mean' in harness.METHODS")
+
+
+def test_listing_the_cases_imports_neither_pandas_nor_scipy_nor_matplotlib():
+    """`python -m harness cases` needs the case files (which use NGSolve), nothing else heavy."""
+    loaded = _modules_after("from harness.cli import main\nmain(['cases'])")
+    assert not loaded & {"pandas", "scipy", "matplotlib"}, loaded & {"pandas", "scipy", "matplotlib"}
