@@ -447,3 +447,32 @@ def test_graded_meshes_beat_uniform_ones_in_n_on_transition_line_3d():
     # the issue's goal on the finest pair; over all levels, above what uniform meshes can do (1/2)
     assert -pairwise_rates(frame.ndof, frame.err_h1)[-1] >= 0.6
     assert fit_ndof_rate(frame.ndof, frame.err_h1) > 0.5
+
+
+def test_the_nested_prediction_keeps_the_status_of_an_edge_that_bisection_leaves_whole(corner):
+    """An adaptive level bisects the marked triangles only: a Gamma_C edge left whole inherits its
+    own edge constraint's status, whatever its ends' (`mean`'s vertex constraints are degenerate
+    in binding zones; predicting from them set hundreds of such edges free and cost 18 active
+    sets on adaptive corner-r12's finest level, 4 since)."""
+    from harness.fem.cones import contact_qp
+    from harness.solvers.active_set import solve_contact_qp
+
+    def edges(trace):
+        return [tuple(np.round(np.r_[a, b], 12)) for a, b in zip(trace.a, trace.b)]
+
+    method = get_method("mean")
+    sequence = MeshStrategy("adaptive").sequence(corner, method.order)
+    previous, coarse_status = None, {}
+    for level in sequence.levels(3):
+        problem = discretise(corner, level.mesh, 2)
+        qp, nv = contact_qp(corner, problem, method.cone), len(problem.vertex_dofs)
+        if previous is not None:
+            predicted = qp.predicted_active(previous)[nv:]
+            kept = [i for i, edge in enumerate(edges(problem.trace)) if edge in coarse_status]
+            assert 0 < len(kept) < len(predicted)         # some edges bisected, some left whole
+            assert [bool(predicted[i]) for i in kept] == [coarse_status[edges(problem.trace)[i]] for i in kept]
+        solution = solve_contact_qp(qp)
+        u = qp.to_u(solution.z)
+        previous = qp.trace_function(u, solution.active)
+        coarse_status = dict(zip(edges(problem.trace), map(bool, solution.active[nv:])))
+        sequence.observe(ResidualEstimator(corner, problem).indicators(u))
