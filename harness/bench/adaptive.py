@@ -11,6 +11,7 @@ from .common import fastest, own_seconds
 
 ADAPTIVE_CASE = "corner-r12"
 ADAPTIVE_LEVELS = 7            # the budget of uniform level 6: about 5.8e5 P2 dofs
+ADAPTIVE_GOAL = 1.5            # contact solve / one linear solve of the same matrix
 
 ADAPTIVE_COLUMNS = ["case", "method", "levels", "ndof", "t_contact", "t_linear", "ratio_linear", "iterations",
                     "cg_iterations", "linear_cg_iterations", "kkt_residual", "cost_exponent", "multigrid_levels"]
@@ -84,7 +85,9 @@ def adaptive_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
     """Exact on every adaptive level's finest mesh; the contact solve against one linear solve."""
     exact = bool((frame.kkt_residual <= 1e-10).all())
     return [("adaptive meshes: KKT <= 1e-10 on the finest mesh", exact, f"max {frame.kkt_residual.max():.1e}"),
-            ("adaptive meshes: contact solve / one linear solve on the finest mesh (shown)", True,
+            # issue 61's goal: the nested iteration across bisection levels as good as across red ones
+            (f"adaptive meshes: contact solve <= {ADAPTIVE_GOAL}x one linear solve on the finest mesh",
+             bool((frame.ratio_linear <= ADAPTIVE_GOAL).all()),
              ", ".join(f"{m} {r:.2f}" for m, r in zip(frame.method, frame.ratio_linear))),
             ("adaptive meshes: cost per level ~ N^a (shown)", True,
              ", ".join(f"{m} a = {a:.2f}" for m, a in zip(frame.method, frame.cost_exponent)))]
