@@ -446,7 +446,7 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
     parser.add_argument("--debug", action="store_true",
                         help="let an error through with its traceback (accepted anywhere on the line)")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    given = next((arg for arg in argv or () if not arg.startswith("-")), None) if argv is not None else None
+    given = next((arg for arg in argv if not arg.startswith("-")), None) if argv is not None else None
     adders = {"cases": _add_cases, "methods": _add_methods, "run": _add_run, "sweep": _add_sweep,
               "rates": _add_rates, "report": _add_report, "bench": _add_bench}
     for name, add in adders.items():
@@ -547,9 +547,9 @@ def _add_bench(sub) -> None:
 
 # An except clause's classes are looked up only when an exception reaches it: the study's
 # modules are imported then, not at start-up.
-def _output_errors() -> tuple:
+def _bad_input() -> tuple:
     from .study.files import OutputError
-    return (OutputError,)
+    return (BadInput, ValueError, FileNotFoundError, OutputError)       # CaseError is a ValueError
 
 
 def _engine_errors() -> tuple:
@@ -568,12 +568,7 @@ def main(argv=None) -> int:
     try:
         args = build_parser(argv).parse_args(argv)
         return args.func(args)
-    except (BadInput, ValueError, FileNotFoundError) as exc:     # CaseError is a ValueError
-        if debug:
-            raise
-        print(f"harness: error: {exc}", file=sys.stderr)
-        return EXIT_BAD_INPUT
-    except _output_errors() as exc:
+    except _bad_input() as exc:
         if debug:
             raise
         print(f"harness: error: {exc}", file=sys.stderr)
