@@ -42,7 +42,7 @@ def problem_with_hierarchy(case_name: str, level: int, order: int = 2):
     case = load_case(case_name)
     multilevel = None
     for lev, mesh in mesh_hierarchy(case, level + 1):
-        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined(mesh)
     return discretise(case, mesh, order), multilevel
 
 

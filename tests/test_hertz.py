@@ -142,7 +142,7 @@ def test_sphere_p2_is_within_two_percent_of_hertz_on_its_second_level():
     case, method, hertz = load_case("hertz-sphere"), get_method("nodal"), sphere_module().hertz
     multilevel, carry, deviations = None, None, []
     for step in UniformRefinement(case).levels(2):
-        multilevel = Multilevel(step.mesh, case.physics) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(step.mesh, case.physics) if multilevel is None else multilevel.refined(step.mesh)
         problem = discretise(case, step.mesh, method.order)
         solved = method.solve(case, problem, carry, multilevel)
         carry = solved.carry

@@ -166,8 +166,10 @@ def test_multigrid_across_several_bisection_sweeps_matches_the_factorised_solve(
     sequence = GradedRefinement(corner, corner.nu - 1, 2, singular_points(corner))
     multilevel, method = None, get_method("nodal")
     for level in sequence.levels(4):
-        multilevel = Multilevel(level.mesh) if multilevel is None else multilevel.refined()
-    assert multilevel.mesh_levels[-1] - multilevel.mesh_levels[-2] >= 5      # bisection sweeps between the last two levels
+        multilevel = Multilevel(level.mesh) if multilevel is None else multilevel.refined(level.mesh, level.prolongation)
+    # several bisection sweeps between the last two levels: the level's prolongation is their
+    # product, with weights 1/4, 3/4, ... where a sweep halved an edge of the sweep before
+    assert not np.isin(level.prolongation.data, [0.5, 1.0]).all()
     problem = discretise(corner, level.mesh, 2)
     with_multigrid = method.solve(corner, problem, None, multilevel)
     factorised = method.solve(corner, discretise(corner, level.mesh, 2), None, None)
@@ -309,7 +311,7 @@ def test_a_level_without_refinement_keeps_the_multigrid_hierarchy(corner):
     gains no level, and the study goes on."""
     mesh = ngs.Mesh(corner.geometry.GenerateMesh(maxh=corner.maxh))
     multilevel = Multilevel(mesh)
-    assert multilevel.refined() is multilevel and len(multilevel.matrices) == 1
+    assert multilevel.refined(mesh) is multilevel and len(multilevel.matrices) == 1
 
 
 def test_mesh_all_runs_every_strategy_on_every_kind_of_case(tmp_path, capsys):
@@ -378,7 +380,7 @@ def test_multigrid_on_a_3d_bisection_hierarchy_matches_the_factorised_solve(case
     case = load_case(case_name)
     multilevel, method = None, get_method("nodal")
     for level in MeshStrategy("graded").sequence(case, 2).levels(2):
-        multilevel = Multilevel(level.mesh, case.physics) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(level.mesh, case.physics) if multilevel is None else multilevel.refined(level.mesh)
     assert multilevel.mesh_levels[-1] - multilevel.mesh_levels[-2] == sweeps
     with_multigrid = method.solve(case, discretise(case, level.mesh, 2), None, multilevel)
     factorised = method.solve(case, discretise(case, level.mesh, 2), None, None)

@@ -39,7 +39,7 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
         mesh = level.mesh
         if level.index and mesh.ne > budget:
             break
-        multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(mesh) if multilevel is None else multilevel.refined(mesh, level.prolongation)
         with ngs.TaskManager():
             problem = discretise(case, mesh, method.order)
             estimator = ResidualEstimator(case, problem)
@@ -53,8 +53,8 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
             sequence.observe(estimator.indicators(u))
         ndofs.append(problem.ndof)
         seconds.append(t_contact)
-        last = (qp, solution, t_contact, multilevel.mesh_levels[-1] + 1, len(multilevel.matrices))
-    qp, solution, t_contact, sweeps, stored = last
+        last = (qp, solution, t_contact, len(multilevel.matrices))
+    qp, solution, t_contact, stored = last
     with ngs.TaskManager():
         t_linear, system = linear_multigrid_seconds(qp, multilevel)
     # the cost per level against N over the finer half of the levels: t ~ N^a
@@ -64,7 +64,7 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
             "t_contact": t_contact, "t_linear": t_linear, "ratio_linear": t_contact / t_linear,
             "iterations": solution.iterations, "cg_iterations": solution.work.get("cg_iterations"),
             "linear_cg_iterations": system.cg_iterations, "kkt_residual": solution.kkt.residual,
-            "cost_exponent": exponent, "multigrid_levels": f"{stored} of {sweeps} bisection sweeps"}
+            "cost_exponent": exponent, "multigrid_levels": stored}
 
 
 def run_adaptive_bench(methods=None, levels: int = ADAPTIVE_LEVELS, progress=print) -> pd.DataFrame:

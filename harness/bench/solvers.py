@@ -67,7 +67,7 @@ def cone_problem(model_name: str, level: int, coarse_maxh: float | None, case_na
     method = get_method(model_name)
     multilevel, previous, start = None, None, None
     for lev, mesh in ((step.index, step.mesh) for step in UniformRefinement(case).levels(level + 1)):
-        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined(mesh)
         if lev < level - 1:
             continue
         problem = discretise(case, mesh, method.order)
@@ -98,7 +98,7 @@ def weak_problem(method_name: str, level: int, coarse_maxh: float | None, case_n
     method = get_method(method_name)
     multilevel, carry = None, None
     for lev, mesh in ((step.index, step.mesh) for step in UniformRefinement(case).levels(level + 1)):
-        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined(mesh)
         if lev < level - 1:
             continue
         problem = discretise(case, mesh, method.order)

@@ -43,7 +43,7 @@ def face_mean_problem(level: int, case_name: str = THREE_D_CASE, model_name: str
     case, method = load_case(case_name), get_method(model_name or _cell_means()[0])
     multilevel, carry = None, None
     for lev, mesh in ((step.index, step.mesh) for step in UniformRefinement(case).levels(level + 1)):
-        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined()
+        multilevel = Multilevel(mesh, case.physics) if multilevel is None else multilevel.refined(mesh)
         if lev == level - 1:
             carry = method.solve(case, discretise(case, mesh, 2), None, multilevel).carry
     qp = face_mean_qp(case, discretise(case, mesh, 2), take_stiffness=True)

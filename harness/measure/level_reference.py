@@ -132,7 +132,7 @@ class LevelReferenceErrors:
             for k in range(last + 1):
                 if k:
                     mesh.ngmesh.Refine()
-                    multilevel = multilevel.refined() if multilevel is not None else None
+                    multilevel = multilevel.refined(mesh) if multilevel is not None else None
                     if k < last:
                         errors.skip_level(k, mesh)
                 problem = discretise(case, mesh, self.reference.order, ElementQuadrature.of(case, mesh))

@@ -1,7 +1,9 @@
 """Meshes that fit the singularity: graded a priori (Remark 4.4) and adaptive (SOLVE -> ESTIMATE
--> MARK -> REFINE), both by NGSolve's bisection of marked elements, so that each level refines
-the previous one in place (nested: the multigrid's prolongations and the nested iteration work
-as on uniform meshes, ``solvers.multigrid.Multilevel``).
+-> MARK -> REFINE), both by bisection of marked elements, so that each level refines the
+previous one (nested: the multigrid's prolongations and the nested iteration work as on
+uniform meshes, ``solvers.multigrid.Multilevel``). Polygons are bisected on arrays, each level
+a new mesh (``newest_vertex``: the cost of a sweep grows with the marked elements); solids and
+curved 2D geometries by NGSolve, in place (``InPlaceBisection``).
 
 Both are ``mesh.levels.LevelSequence`` implementations; ``strategies`` names them.
 """
@@ -13,6 +15,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .levels import Level, coarse_mesh, mesh_size
+from .newest_vertex import TriangleMesh, straight_polygon
 from .points import cells, coordinates
 
 # Graded meshes: the size function h(r) = H (r / R)^(1 - mu) holds within GRADING_RADIUS of a
@@ -46,6 +49,62 @@ def refine_marked(mesh: ngs.Mesh, marked: np.ndarray) -> None:
         raise ValueError(f"{len(marked)} refinement flags for a mesh of {mesh.ne} elements")
     mesh.SetRefinementFlags([bool(m) for m in marked])
     mesh.Refine()
+
+
+class InPlaceBisection:
+    """NGSolve's bisection of the marked elements of one mesh, in place (``refine_marked``):
+    tetrahedra, and triangles of a geometry with curved sides (NGSolve puts a new boundary
+    vertex on the curve)."""
+
+    def __init__(self, mesh: ngs.Mesh):
+        self.mesh = mesh
+
+    @property
+    def ne(self) -> int:
+        return self.mesh.ne
+
+    def element_sizes(self) -> tuple[np.ndarray, np.ndarray]:
+        return element_sizes(self.mesh)
+
+    def refine(self, marked: np.ndarray) -> None:
+        refine_marked(self.mesh, marked)
+
+    def level(self, index: int) -> Level:
+        return Level(index, self.mesh, mesh_size(self.mesh))
+
+
+class ArrayBisection:
+    """Newest vertex bisection on arrays (``newest_vertex.TriangleMesh``): sweeps refine the
+    arrays; ``level`` builds the NGSolve mesh, with the prolongation of all sweeps since the
+    last level (their product)."""
+
+    def __init__(self, mesh: ngs.Mesh):
+        self.mesh, self.arrays, self.pending = mesh, TriangleMesh.of(mesh), None
+
+    @property
+    def ne(self) -> int:
+        return self.arrays.ne
+
+    def element_sizes(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.arrays.element_sizes()
+
+    def refine(self, marked: np.ndarray) -> None:
+        self.arrays, prolongation = self.arrays.refine(marked)
+        self.pending = prolongation if self.pending is None else prolongation @ self.pending
+
+    def level(self, index: int) -> Level:
+        prolongation, self.pending = self.pending, None
+        if prolongation is not None:
+            self.mesh = self.arrays.ngsolve_mesh()
+        return Level(index, self.mesh, float(self.arrays.element_sizes()[0].max()), prolongation)
+
+
+def bisection(case):
+    """The bisection of ``case``'s coarse mesh: on arrays for a polygon, else NGSolve's in place."""
+    mesh = coarse_mesh(case)
+    if mesh.dim == 2 and straight_polygon(case.geometry):
+        return ArrayBisection(mesh)
+    return InPlaceBisection(mesh)
 
 
 def dorfler(indicators: np.ndarray, theta: float) -> np.ndarray:
@@ -135,17 +194,18 @@ class GradedRefinement:
             return np.full(len(centroids), H)
         return H * np.minimum(1.0, self.distance(centroids) / GRADING_RADIUS) ** (1.0 - self.mu)
 
-    def grade(self, mesh: ngs.Mesh, H: float, limit: float = np.inf) -> int | None:
-        """Bisect until h(r) holds; the number of sweeps it took, or None once the mesh has more
-        than ``limit`` elements (the level is abandoned half made)."""
+    def grade(self, refiner, H: float, limit: float = np.inf) -> int | None:
+        """Bisect until h(r) holds (``refiner``: ``ArrayBisection`` or ``InPlaceBisection``);
+        the number of sweeps it took, or None once the mesh has more than ``limit`` elements
+        (the level is abandoned half made)."""
         for sweep in range(MAX_SWEEPS):
-            sizes, centroids = element_sizes(mesh)
+            sizes, centroids = refiner.element_sizes()
             marked = sizes > self.target(H, centroids) * (1 + 1e-9)
             if not marked.any():
                 return sweep
-            if mesh.ne > limit:
+            if refiner.ne > limit:
                 return None
-            refine_marked(mesh, marked)
+            refiner.refine(marked)
         raise RuntimeError(f"graded mesh of {self.case.name}: {MAX_SWEEPS} bisection sweeps did not meet h(r) at H = {H:g}")
 
     def levels(self, count: int) -> Iterator[Level]:
@@ -153,17 +213,17 @@ class GradedRefinement:
         (2^d times the coarse mesh's per level): the study's budget (``study.one_body``), which
         would drop such a level; its bisection stops as soon as it has more (in 3D, where mu < 1/3
         makes N ~ H^(-1/mu), the level past the budget could be ten times it)."""
-        mesh = coarse_mesh(self.case)
-        limit = mesh.ne * (2 ** mesh.dim) ** (count - 1)
+        refiner = bisection(self.case)
+        limit = refiner.ne * (2 ** self.case.dimension) ** (count - 1)
         H = GRADED_START * self.case.maxh
         index = 0
         while index < count:
-            sweeps = self.grade(mesh, H, limit if index else np.inf)
+            sweeps = self.grade(refiner, H, limit if index else np.inf)
             if sweeps is None:
                 return
             # an H the mesh already meets (the coarse mesh, at the first halvings) is no new level
             if sweeps or index == 0:
-                yield Level(index, mesh, mesh_size(mesh))
+                yield refiner.level(index)
                 index += 1
             H /= 2
 
@@ -195,17 +255,17 @@ class AdaptiveRefinement:
         self._indicators = np.asarray(indicators, dtype=float)
 
     def levels(self, count: int) -> Iterator[Level]:
-        mesh = coarse_mesh(self.case)
+        refiner = bisection(self.case)
         for index in range(count):
             if index:
-                if self._indicators is None or len(self._indicators) != mesh.ne:
+                if self._indicators is None or len(self._indicators) != refiner.ne:
                     raise RuntimeError("adaptive refinement: observe() the level's indicators before asking for the next level")
                 marked = dorfler(self._indicators, self.theta)
                 self._indicators = None
                 # each marked element is bisected at least once: past the budget already, the
                 # level would be made only to be dropped (in 3D the P1 level past the budget had
                 # 4 times its elements: 2.3 GB more than the whole chain before it)
-                if mesh.ne + marked.sum() > self.element_limit:
+                if refiner.ne + marked.sum() > self.element_limit:
                     return
-                refine_marked(mesh, marked)
-            yield Level(index, mesh, mesh_size(mesh))
+                refiner.refine(marked)
+            yield refiner.level(index)

@@ -3,8 +3,8 @@
 ``UniformRefinement`` is today's sequence (red refinement, h halves per level); a mesh strategy
 (graded, adaptive) is another implementation of ``LevelSequence``: the study (``study.chain``)
 only iterates over ``levels(count)`` and asks ``nested`` whether a level's mesh refines the
-previous one in place (then NGSolve keeps the parents of new vertices, the multigrid's
-prolongations, ``solvers.multigrid.Multilevel.refined``).
+previous one (in place, NGSolve keeping the parents of new vertices, or as a new mesh with its
+``Level.prolongation``: the multigrid's prolongations, ``solvers.multigrid.Multilevel.refined``).
 """
 from __future__ import annotations
 
@@ -21,19 +21,24 @@ from .points import cells, coordinates
 @dataclass(frozen=True)
 class Level:
     """One mesh of a sequence: its index (0 = coarsest), the mesh and h (the largest element
-    diameter, ``mesh_size``). A nested sequence refines one mesh object in place: a level's
-    mesh is valid until the next level is produced."""
+    diameter, ``mesh_size``). A nested sequence either refines one mesh object in place (a
+    level's mesh is then valid until the next level is produced; NGSolve keeps the parents of
+    its new vertices) or makes each level a new mesh that refines the previous one, with
+    ``prolongation``: the P1 prolongation from the previous level's vertices, a sparse
+    (nv, nv_previous) matrix (SciPy), whose first nv_previous rows are the identity (the
+    previous vertices keep their numbers)."""
 
     index: int
     mesh: ngs.Mesh
     h: float
+    prolongation: object = None
 
 
 class LevelSequence(Protocol):
     """What a study needs of the meshes of one chain (``MeshStrategy.sequence`` makes one)."""
 
     name: str
-    nested: bool        # each mesh refines the previous one in place (multigrid prolongations)
+    nested: bool        # each mesh refines the previous one (multigrid prolongations; ``Level``)
     adaptive: bool      # the next level needs ``observe(indicators)`` of this level's solve
     budgeted: bool      # the chain stops at the uniform chain's number of elements (graded, adaptive)
 

@@ -18,7 +18,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from .bisection import GRADED_START, GradedRefinement, dorfler, refine_marked
+from .bisection import GRADED_START, GradedRefinement, InPlaceBisection, dorfler, refine_marked
 from .levels import Level, UniformRefinement, coarse_mesh, mesh_size
 
 
@@ -71,7 +71,7 @@ class GradedPair:
             for grading, mesh, size in zip(self.gradings, meshes, H):
                 # the other body's elements count against the same budget
                 others = sum(m.ne for m in meshes if m is not mesh)
-                sweeps.append(grading.grade(mesh, size, self.limit - others if index else np.inf))
+                sweeps.append(grading.grade(InPlaceBisection(mesh), size, self.limit - others if index else np.inf))
             if any(s is None for s in sweeps):
                 return
             if any(sweeps) or index == 0:

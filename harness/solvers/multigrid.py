@@ -44,31 +44,41 @@ from ..problem.physics import SCALAR
 
 
 class Multilevel:
-    """The P1 spaces of a mesh hierarchy refined in place (``mesh.levels``): their stiffness
-    matrices and free dofs per level, and NGSolve's P1 prolongation between them.
+    """The P1 spaces of a nested mesh hierarchy (``mesh.levels``): their stiffness matrices and
+    free dofs per level, and the P1 prolongations between them.
 
-    Create it on the coarse mesh, call ``refined()`` at every level of the sequence. Between two
-    levels the mesh may have been refined several times (a graded or adaptive level is many
-    bisection sweeps, ``mesh.bisection``): a level's prolongation is then the product of the
-    sweeps' ones, each parent-averaging only the vertices its sweep created, so it stays
-    O(new vertices); the spaces are nested all the same and every coarse matrix is still the
-    Galerkin product R A P.
+    Create it on the coarse mesh, call ``refined(level)`` at every level of the sequence. A mesh
+    refined in place carries its prolongation in NGSolve (the parents of its new vertices);
+    between two levels it may have been refined several times (a 3D graded or adaptive level
+    is many bisection sweeps, ``mesh.bisection``), and a level's prolongation is then the
+    product of the sweeps' ones, each parent-averaging only the vertices its sweep created. A
+    level that is a new mesh (2D bisection, ``mesh.newest_vertex``) brings its prolongation as
+    a sparse matrix (``Level.prolongation``), the product of its sweeps already. Either way the
+    spaces are nested and every coarse matrix is the Galerkin product R A P.
     """
 
     def __init__(self, mesh: ngs.Mesh, physics=SCALAR):
         """``physics`` (``problem.physics``): the P1 space and bilinear form of its own
         (``space(mesh, 1)``, ``form``): P1 hats for the scalar problem, vector P1 for elasticity."""
-        self.mesh = mesh
-        self.fes = physics.space(mesh, 1)
-        u, v = self.fes.TnT()
-        self._form = ngs.BilinearForm(physics.form(u, v) * ngs.dx)
+        self.physics = physics
         self.components = physics.components
         self._rotated = physics.rotated_frame
         self.matrices: list = []
         self.free: list[np.ndarray] = []
         self.frames: list = []                # per level: (pairs (k, dim), Q (k, dim, dim)) at Gamma_C, or None
         self.mesh_levels: list[int] = []      # NGSolve's refinement count at each of our levels
+        # per level from 1: (the P1 space whose NGSolve prolongation goes there, or None) and
+        # (the explicit prolongation from the level below, a sparse vertex matrix, or None)
+        self._steps: list[tuple] = [(None, None)]
+        self._space(mesh)
         self._add_level()
+
+    def _space(self, mesh) -> None:
+        """The P1 space and form of a new mesh."""
+        self.mesh = mesh
+        self.fes = self.physics.space(mesh, 1)
+        u, v = self.fes.TnT()
+        self._form = ngs.BilinearForm(self.physics.form(u, v) * ngs.dx)
 
     def _add_level(self) -> None:
         self._form.Assemble()
@@ -90,12 +100,21 @@ class Multilevel:
         pairs, Q = self.frames[level]
         values[pairs] = np.einsum("kij,kj->ki" if to_cartesian else "kji,kj->ki", Q, values[pairs])
 
-    def refined(self) -> "Multilevel":
-        """The hierarchy with the mesh's current refinement as its finest level (unchanged if
-        the mesh was not refined since: a graded level may need no bisection at all)."""
-        if self.mesh.levels - 1 == self.mesh_levels[-1]:
+    def refined(self, mesh, prolongation=None) -> "Multilevel":
+        """The hierarchy with ``mesh`` as its finest level: the mesh refined in place, or a new
+        mesh with its ``prolongation`` from the finest level so far (``mesh.levels.Level``).
+        Unchanged if the mesh is the finest level's, not refined since (a graded level may need
+        no bisection at all)."""
+        if mesh is not self.mesh:
+            if prolongation is None:
+                raise ValueError("a new mesh in a nested hierarchy needs its prolongation (Level.prolongation)")
+            self._space(mesh)
+            self._steps.append((None, prolongation.tocsr()))
+        elif self.mesh.levels - 1 == self.mesh_levels[-1]:
             return self
-        self.fes.Update()
+        else:
+            self.fes.Update()
+            self._steps.append((self.fes, None))
         self._add_level()
         return self
 
@@ -109,8 +128,14 @@ class Multilevel:
         ``rotate=False``: P^T alone, for indicators (``truncated_pins``)."""
         if rotate:
             self._rotate(level, vector.FV().NumPy(), to_cartesian=True)
-        for sweep in reversed(self._sweeps(level)):
-            self._prolongation.Restrict(sweep, vector)
+        space, matrix = self._steps[level]
+        if matrix is not None:
+            values = vector.FV().NumPy()
+            coarse = (matrix.T @ values.reshape(self.components, -1).T).T
+            values[: coarse.size] = coarse.ravel()
+        else:
+            for sweep in reversed(self._sweeps(level)):
+                space.Prolongation().Restrict(sweep, vector)
         if rotate:
             self._rotate(level - 1, vector.FV().NumPy(), to_cartesian=False)
 
@@ -118,13 +143,15 @@ class Multilevel:
         """In place: ``vector``'s first ndof(level - 1) entries, prolongated to all of level's:
         Q_f^T P Q_c."""
         self._rotate(level - 1, vector.FV().NumPy(), to_cartesian=True)
-        for sweep in self._sweeps(level):
-            self._prolongation.Prolongate(sweep, vector)
+        space, matrix = self._steps[level]
+        if matrix is not None:
+            values = vector.FV().NumPy()
+            coarse = values[: matrix.shape[1] * self.components].reshape(self.components, -1)
+            values[:] = (matrix @ coarse.T).T.ravel()
+        else:
+            for sweep in self._sweeps(level):
+                space.Prolongation().Prolongate(sweep, vector)
         self._rotate(level, vector.FV().NumPy(), to_cartesian=False)
-
-    @property
-    def _prolongation(self):
-        return self.fes.Prolongation()
 
     @property
     def nvertices(self) -> int:

@@ -61,9 +61,10 @@ class OneBody:
     def size(self, mesh) -> int:
         return p2_size(mesh)
 
-    def multilevel(self, mesh):
+    def multilevel(self, level: Level):
         if self.hierarchical:
-            self._multilevel = Multilevel(mesh, self.case.physics) if self._multilevel is None else self._multilevel.refined()
+            self._multilevel = Multilevel(level.mesh, self.case.physics) if self._multilevel is None else \
+                self._multilevel.refined(level.mesh, level.prolongation)
         return self._multilevel
 
     def quadrature(self, mesh) -> ElementQuadrature:

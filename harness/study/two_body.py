@@ -85,7 +85,7 @@ class TwoBodies:
     def size(self, meshes) -> int:
         return p2_size(*meshes)
 
-    def multilevel(self, meshes):
+    def multilevel(self, level):
         return None
 
     def quadrature(self, meshes) -> tuple:

@@ -60,8 +60,8 @@ class Discretisation(Protocol):
     def size(self, mesh) -> int:
         """The level's scalar P2 dofs, for its threads (``threads.p2_size``)."""
 
-    def multilevel(self, mesh):
-        """The multigrid hierarchy up to ``mesh`` (None: the solves factorise)."""
+    def multilevel(self, level: Level):
+        """The multigrid hierarchy up to the ``level``'s mesh (None: the solves factorise)."""
 
     def quadrature(self, mesh):
         """The level's element quadrature."""
@@ -166,7 +166,7 @@ class ChainWalk:
         with self.phases("mesh"):
             # under the level's threads: the P1 levels' assembly (outside the task manager it
             # was 5 s of the paper methods' default study)
-            multilevel = self.discretisation.multilevel(step.mesh)
+            multilevel = self.discretisation.multilevel(step)
         active = [m for m in self.methods if self.start[m.name] <= level < self.plan.chain[m.name]]
         if not active:          # a level every method has finished: rebuilt, not solved
             self.measure.skip_level(level, step.mesh)
