@@ -123,3 +123,16 @@ def test_refinement_flags_must_match_the_elements():
     mesh = ngs.Mesh(split_strip(0.0).GenerateMesh(maxh=0.5))
     with pytest.raises(ValueError, match="refinement flags"):
         refine_marked(mesh, np.ones(mesh.ne + 1, dtype=bool))
+
+
+def test_the_adaptive_bench_replays_the_loop_by_both_bisections_on_the_same_meshes():
+    """`bench --only adaptive` on a small budget: the replay finds the same elements in both
+    bisections' meshes at every level (else it raises), and every figure is filled."""
+    from harness.bench.adaptive import ADAPTIVE_COLUMNS, adaptive_goals, run_adaptive_bench
+
+    frame = run_adaptive_bench(["p1"], levels=3, progress=lambda line: None)
+    assert list(frame.columns) == ADAPTIVE_COLUMNS and len(frame) == 1
+    row = frame.iloc[0]
+    assert row.levels >= 3 and row.kkt_residual <= 1e-10
+    assert row.t_refine_arrays > 0 and row.t_refine_in_place > 0 and row.t_chain >= row.t_chain_solves > 0
+    assert {goal for goal, _, _ in adaptive_goals(frame)} >= {"adaptive chain, P1: total <= 3.0x its solves"}

@@ -1,16 +1,18 @@
 """Newest vertex bisection of triangles on arrays: local refinement at the cost of the marked
 elements, each level a new NGSolve mesh built from the arrays.
 
-NGSolve's ``Mesh.Refine`` with refinement flags refines in place at about 3.5 us per element of
-the whole mesh, however few are marked, and a graded level is a dozen such sweeps. Here a
-sweep touches arrays: the marked elements, their closure and the vertices they create; an
-NGSolve mesh is built once per level (netgen's ``AddPoints``/``AddElements``, about 0.5 us per
-element), and the level's P1 prolongation is the sparse matrix of the new vertices' parents
-(``solvers.multigrid.Multilevel`` takes it where NGSolve's refinement would have kept them).
-``python -m harness bench --only adaptive`` times both.
+NGSolve's ``Mesh.Refine`` with refinement flags refines one mesh in place at a cost that grows
+with the whole mesh, however few elements are marked, and a graded level is a dozen such sweeps.
+Here a sweep touches arrays: the marked elements, their closure and the vertices they create; an
+NGSolve mesh is built once per level (netgen's ``AddPoints``/``AddElements``), and the level's
+P1 prolongation is the sparse matrix of the new vertices' parents (``solvers.multigrid.Multilevel``
+takes it where NGSolve's refinement would have kept them). ``python -m harness bench --only
+adaptive`` times both on the same marked sets.
 
-The rule is that of p1afem's ``refineNVB`` (S. Funken, D. Praetorius and P. Wissgott, Comput.
-Methods Appl. Math. 11 (2011) 460-490, Section 4): every edge of a marked element is marked;
+The rule is that of p1afem's ``refineNVB`` (S. Funken, D. Praetorius and P. Wissgott, "Efficient
+implementation of adaptive P1-FEM in Matlab", Comput. Methods Appl. Math. 11 (2011) 460-490,
+whose abstract was read, not its code: the rule below is checked against NGSolve's bisection,
+``tests/test_newest_vertex.py``): every edge of a marked element is marked;
 the closure marks the refinement edge of every element with a marked edge; an element is then
 bisected on its refinement edge, and its two children on theirs (its other two edges) where
 those are marked -- 2, 3 or 4 children, a conforming mesh. Each triangle is stored (a, b, c)

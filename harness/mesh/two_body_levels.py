@@ -18,8 +18,8 @@ from collections.abc import Iterator
 
 import numpy as np
 
-from .bisection import GRADED_START, GradedRefinement, InPlaceBisection, dorfler, refine_marked
-from .levels import Level, UniformRefinement, coarse_mesh, mesh_size
+from .bisection import GRADED_START, GradedRefinement, bisection, dorfler
+from .levels import Level, UniformRefinement
 
 
 class UniformPair:
@@ -63,19 +63,19 @@ class GradedPair:
         pass
 
     def levels(self, count: int) -> Iterator[Level]:
-        meshes = [coarse_mesh(body) for body in self.bodies]
+        refiners = [bisection(body) for body in self.bodies]
         H = [GRADED_START * body.maxh for body in self.bodies]
         index = 0
         while index < count:
             sweeps = []
-            for grading, mesh, size in zip(self.gradings, meshes, H):
+            for grading, refiner, size in zip(self.gradings, refiners, H):
                 # the other body's elements count against the same budget
-                others = sum(m.ne for m in meshes if m is not mesh)
-                sweeps.append(grading.grade(InPlaceBisection(mesh), size, self.limit - others if index else np.inf))
+                others = sum(r.ne for r in refiners if r is not refiner)
+                sweeps.append(grading.grade(refiner, size, self.limit - others if index else np.inf))
             if any(s is None for s in sweeps):
                 return
             if any(sweeps) or index == 0:
-                yield Level(index, tuple(meshes), max(mesh_size(mesh) for mesh in meshes))
+                yield pair_level(index, refiners)
                 index += 1
             H = [size / 2 for size in H]
 
@@ -102,19 +102,26 @@ class AdaptivePair:
         self._indicators = np.asarray(indicators, dtype=float)
 
     def levels(self, count: int) -> Iterator[Level]:
-        meshes = [coarse_mesh(body) for body in self.bodies]
+        refiners = [bisection(body) for body in self.bodies]
         for index in range(count):
             if index:
-                self.refine(meshes)
-            yield Level(index, tuple(meshes), max(mesh_size(mesh) for mesh in meshes))
+                self.refine(refiners)
+            yield pair_level(index, refiners)
 
-    def refine(self, meshes: list) -> None:
+    def refine(self, refiners: list) -> None:
         """Dörfler's set over both bodies, each body's part bisected in its mesh."""
-        sizes = [mesh.ne for mesh in meshes]
+        sizes = [refiner.ne for refiner in refiners]
         if self._indicators is None or len(self._indicators) != sum(sizes):
             raise RuntimeError("adaptive refinement: observe() the level's indicators (both bodies) before the next level")
         marked = dorfler(self._indicators, self.theta)
-        for mesh, flags in zip(meshes, np.split(marked, np.cumsum(sizes)[:-1])):
+        for refiner, flags in zip(refiners, np.split(marked, np.cumsum(sizes)[:-1])):
             if flags.any():
-                refine_marked(mesh, flags)
+                refiner.refine(flags)
         self._indicators = None
+
+
+def pair_level(index: int, refiners: list) -> Level:
+    """The level of both bodies' meshes as their bisections stand (``mesh.bisection``); no
+    prolongation: the two-body solves factorise."""
+    levels = [refiner.level(index) for refiner in refiners]
+    return Level(index, tuple(level.mesh for level in levels), max(level.h for level in levels))
