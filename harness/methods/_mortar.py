@@ -14,8 +14,10 @@ from ..fem.cones import ContactModel, contact_pressure
 from ..fem.mortar import mortar_coupling
 from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
 from ..mesh.points import evaluate
-from ..solvers.active_set import ActiveSetSolver, FactorisedSystem, ngsolve_matrix
+from ..solvers.active_set import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix
 from ..solvers.general_constraints import GeneralConstraintSolver
+from ..solvers.joint_multigrid import SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injection, p1_map
+from ..solvers.multigrid import nested_start, p1_values
 from .base import Expectation, LevelSolve, Method
 
 
@@ -41,7 +43,7 @@ def predicted_active(carry, points: np.ndarray) -> np.ndarray | None:
     """Nested iteration: each row takes the status of the coarser level's row nearest to it."""
     if carry is None:
         return None
-    coarse_points, coarse_active = carry
+    coarse_points, coarse_active = carry.points, carry.active
     order = np.argsort(coarse_points)
     sorted_points = coarse_points[order]
     right = np.clip(np.searchsorted(sorted_points, points), 1, len(sorted_points) - 1)
@@ -60,12 +62,17 @@ class Mortar(Method):
     physics: tuple = ("scalar", "elasticity")
     bodies: tuple = (2,)
 
+    def contact_weight(self, order: int) -> float | None:
+        """The weight w of the P2 edge variables (``two_body.dual_bound_qp``): the one-body cones'."""
+        return ContactModel(self.edge_functional).weight if order == 2 else None
+
     def solve(self, case, problem: TwoBodyProblem, carry, multilevel, take_stiffness: bool = False, phases=None,
               general: bool = False) -> LevelSolve:
-        """Dual multipliers: the bounds of ``two_body.dual_bound_qp`` by the active set method on
-        sparse Cholesky (``solvers.active_set``); standard ones, or ``general=True`` (the
-        cross-check), the rows themselves by the general-constraint active set method on the
-        saddle system (``solvers.general_constraints``)."""
+        """Dual multipliers: the bounds of ``two_body.dual_bound_qp`` by the active set method
+        (``solvers.active_set``), on the two bodies' multigrid where ``multilevel`` is given
+        (``solvers.joint_multigrid``: uniform pairs), else on sparse Cholesky; standard ones, or
+        ``general=True`` (the cross-check), the rows themselves by the general-constraint active
+        set method on the saddle system (``solvers.general_constraints``)."""
         timed = phases or (lambda phase: nullcontext())
         with timed("setup"):
             dual = self.multipliers == "dual"
@@ -73,14 +80,14 @@ class Mortar(Method):
                                        self.edge_functional if general or not dual else "midpoint")
             points = row_points(problem)
             predicted = predicted_active(carry, points)
+            start = None
             if dual and not general:
-                weight = ContactModel(self.edge_functional).weight if problem.order == 2 else None
-                qp = dual_bound_qp(problem, coupling, weight)
-                system = FactorisedSystem(qp.K, ngsolve_matrix(qp.K), qp.b, self.solver.refactor_above)
+                qp = dual_bound_qp(problem, coupling, self.contact_weight(problem.order))
+                system, start = bound_system(qp, problem, carry, multilevel, self.solver)
         with timed("solve"):
             if dual and not general:
                 solution = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system,
-                                           options=self.solver).solve(predicted)
+                                           options=self.solver).solve(predicted, start)
                 u = qp.to_u(solution.z)
                 # the bound's multiplier is the force on its variable: D_i times the row's
                 forces = solution.multipliers
@@ -98,12 +105,42 @@ class Mortar(Method):
             "min_pressure": float(pressure.min()),
             "active_constraints": int(solution.active.sum()),
             "solver_iterations": solution.iterations,
-            "linear_iterations": solution.work.get("factorizations"),
+            "linear_iterations": solution.work.get("cg_iterations", solution.work.get("factorizations")),
             "kkt_residual": solution.kkt.residual, "backward_error": solution.kkt.backward,
             "solve_seconds": solution.seconds,
             "status": solution.status,
         }
-        return LevelSolve(fields, u, None, pressure, (points, solution.active))
+        return LevelSolve(fields, u, None, pressure, MortarCarry(points, solution.active, joint_p1_values(problem, u)))
+
+
+@dataclass(frozen=True)
+class MortarCarry:
+    """What a mortar solve hands the next level: each row's slave node and status (the predicted
+    active set) and the solution's vertex values, both bodies' (the multigrid's nested start)."""
+
+    points: np.ndarray
+    active: np.ndarray
+    p1: np.ndarray
+
+
+def joint_p1_values(problem: TwoBodyProblem, u: np.ndarray) -> np.ndarray:
+    """u's vertex values, body 1's then body 2's, in the joint P1 hierarchy's numbering."""
+    return np.concatenate([p1_values(body, part) for body, part in zip(problem.bodies, problem.split(u))])
+
+
+def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
+    """(the linear system of the active set iteration, the start): the two bodies' truncated
+    multigrid in the dual variables (``joint_multigrid``), started from the coarser level's u_h
+    prolongated, where ``multilevel`` is given; else sparse Cholesky from nothing."""
+    K_ngs = ngsolve_matrix(qp.K)
+    if multilevel is None or problem.ndof < options.mortar_multigrid_from:
+        return FactorisedSystem(qp.K, K_ngs, qp.b, options.refactor_above), None
+    E = mortar_injection(problem)
+    hierarchy = multilevel.coupled(mortar_coupling_matrix(problem, qp.S, qp.C, E))
+    # the coarser u_h prolongated, in z: S^{-1} of it (E is not: it keeps the slave's trace)
+    start = None if carry is None else nested_start(hierarchy, carry.p1, problem,
+                                                    SparseEdges(p1_map(qp.S, qp.C, p1_injection(problem))))
+    return MultigridSystem(K_ngs, qp.b, hierarchy, SparseEdges(E), options=options), start
 
 
 def _general(problem: TwoBodyProblem, coupling, predicted, options):

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
+import scipy.sparse as sp
 
 from ..fem.rotated_frame import RotatedFrame, rotate_in_place
 from ..fem.sparse import csr_view, free_dofs
@@ -66,6 +67,7 @@ class Multilevel:
         self.matrices: list = []
         self.free: list[np.ndarray] = []
         self.frames: list = []                # per level: (pairs (k, dim), Q (k, dim, dim)) at Gamma_C, or None
+        self.rotations: list = []             # per level: the sparse rotation Q (u_cartesian = Q u_ours), or None
         self.mesh_levels: list[int] = []      # NGSolve's refinement count at each of our levels
         # per level from 1: (the P1 space whose NGSolve prolongation goes there, or None) and
         # (the explicit prolongation from the level below, a sparse vertex matrix, or None)
@@ -74,22 +76,26 @@ class Multilevel:
         self._add_level()
 
     def _space(self, mesh) -> None:
-        """The P1 space and form of a new mesh."""
+        """The P1 space and form of a new mesh (and a scalar P1 space beside a vector one: its
+        prolongation is each component's, ``prolongation_matrix``)."""
         self.mesh = mesh
         self.fes = self.physics.space(mesh, 1)
+        self._scalar = self.fes if self.components == 1 else ngs.H1(mesh, order=1)
         u, v = self.fes.TnT()
         self._form = ngs.BilinearForm(self.physics.form(u, v) * ngs.dx)
 
     def _add_level(self) -> None:
         self._form.Assemble()
-        frame = None
+        frame, rotation = None, None
         if self._rotated:
             rotated = RotatedFrame.of(self.fes, contact_trace(self.mesh))
             if not rotated.identity:
-                rotate_in_place(csr_view(self._form.mat), rotated.matrix(self.fes.ndof))
+                rotation = rotated.matrix(self.fes.ndof)
+                rotate_in_place(csr_view(self._form.mat), rotation)
                 frame = rotated.pairs, rotated.blocks()
         self.matrices.append(self._form.mat)
         self.frames.append(frame)
+        self.rotations.append(rotation)
         self.free.append(free_dofs(self.fes))
         self.mesh_levels.append(self.mesh.levels - 1)
 
@@ -114,6 +120,8 @@ class Multilevel:
             return self
         else:
             self.fes.Update()
+            if self._scalar is not self.fes:
+                self._scalar.Update()
             self._steps.append((self.fes, None))
         self._add_level()
         return self
@@ -153,6 +161,23 @@ class Multilevel:
                 space.Prolongation().Prolongate(sweep, vector)
         self._rotate(level, vector.FV().NumPy(), to_cartesian=False)
 
+    def prolongation_matrix(self, level: int) -> sp.csr_matrix:
+        """The prolongation from ``level`` - 1 to ``level`` as a sparse matrix, Q_f^T P Q_c in the
+        variables of the levels (components blocked): for an algebraic Galerkin product (two
+        bodies' coupled coarse matrices, ``joint_multigrid``)."""
+        space, matrix = self._steps[level]
+        if matrix is None:
+            for sweep in self._sweeps(level):
+                step = csr_view(self._scalar.Prolongation().CreateMatrix(sweep)).copy()
+                matrix = step if matrix is None else step @ matrix
+        P = sp.kron(sp.identity(self.components), matrix, format="csr") if self.components > 1 else matrix.tocsr()
+        fine, coarse = self.rotations[level], self.rotations[level - 1]
+        if fine is not None:
+            P = fine.T @ P
+        if coarse is not None:
+            P = P @ coarse
+        return P.tocsr()
+
     @property
     def nvertices(self) -> int:
         """Vertices of the finest mesh."""
@@ -164,18 +189,23 @@ class Multilevel:
         return self.matrices[-1].height
 
     def truncated_pins(self, pinned: np.ndarray) -> list[np.ndarray]:
-        """Pinned P1 dofs per level, coarse to fine, from those of the finest level: a coarse hat
-        is pinned when its prolongation touches a pinned finer dof (or it lies on Gamma_u). In a
-        rotated frame, variable by variable (the module's note): the indicator is restricted by
-        P^T alone, component block by component block."""
-        pins = [pinned | ~self.free[-1]]
-        for level in range(len(self.matrices) - 1, 0, -1):
-            indicator = self.matrices[level].CreateColVector()
-            indicator.FV().NumPy()[:] = pins[0]
-            self.restrict(level, indicator, rotate=False)
-            coarse = indicator.FV().NumPy()[: self.matrices[level - 1].height] > 0
-            pins.insert(0, coarse | ~self.free[level - 1])
-        return pins
+        return truncated_pins(self, pinned)
+
+
+def truncated_pins(hierarchy, pinned: np.ndarray) -> list[np.ndarray]:
+    """Pinned P1 dofs per level of ``hierarchy`` (a ``Multilevel``, or two bodies'
+    ``joint_multigrid.JointMultilevel``), coarse to fine, from those of the finest level: a
+    coarse hat is pinned when its prolongation touches a pinned finer dof (or it lies on
+    Gamma_u). In a rotated frame, variable by variable (the module's note): the indicator is
+    restricted by P^T alone, component block by component block."""
+    pins = [pinned | ~hierarchy.free[-1]]
+    for level in range(len(hierarchy.matrices) - 1, 0, -1):
+        indicator = hierarchy.matrices[level].CreateColVector()
+        indicator.FV().NumPy()[:] = pins[0]
+        hierarchy.restrict(level, indicator, rotate=False)
+        coarse = indicator.FV().NumPy()[: hierarchy.matrices[level - 1].height] > 0
+        pins.insert(0, coarse | ~hierarchy.free[level - 1])
+    return pins
 
 
 def nested_start(multilevel: Multilevel, coarse_values: np.ndarray, problem, edges=None) -> np.ndarray:
@@ -240,6 +270,11 @@ class ContactEdges:
         same = p1_dofs[-1] == len(p1_dofs) - 1
         return cls(edges, (ends // block) * nv + ends % block, None if same else p1_dofs)
 
+    @property
+    def identity(self) -> bool:
+        """Whether E is the identity (a P1 problem without changed variables)."""
+        return self.p1_dofs is None and not len(self.edge_dofs)
+
     def _vertex_part(self, r: np.ndarray, n: int) -> np.ndarray:
         return r[:n].copy() if self.p1_dofs is None else r[self.p1_dofs]
 
@@ -289,7 +324,8 @@ class TruncatedVCycle:
         pinned_vertices = edges.touched(~free, n)
         self.multilevel, self.K, self.edges, self.nv = multilevel, K_ngs, edges, n
         self.free = free.astype(float)
-        self.fine_is_p1 = K_ngs.height == n
+        # a P1 problem in the P1 hierarchy's own variables: the cycle starts at its finest level
+        self.fine_is_p1 = K_ngs.height == n and edges.identity
         truncated = pinned_vertices if stiff_vertices is None else pinned_vertices | stiff_vertices
         self.pins = multilevel.truncated_pins(truncated)
         if self.fine_is_p1:

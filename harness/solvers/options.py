@@ -34,6 +34,10 @@ class SolverOptions:
     # a pin set needing more new bordered columns is refactorised (``active_set.FactorisedSystem``):
     # ~ the cost of a factorisation in solves, at 1e5-1e6 dofs
     refactor_above: int = 24
+    # two bodies: the dual mortar QP of this many dofs (both bodies) or more is solved on their
+    # coupled multigrid (``joint_multigrid``), a smaller one on sparse Cholesky, which is as fast
+    # or faster there (``python -m harness bench --only mortar`` times both)
+    mortar_multigrid_from: int = 1_000_000
     # the saddle systems' regularisation, times the block's scale (``general_constraints``)
     regularisation: float = 1e-14
     # steps of iterative refinement of each saddle solve (``general_constraints.SaddleSystem``)

@@ -22,8 +22,9 @@ mortar coupling of a level is assembled on that level's two meshes (the method's
 Every row gets the two-body estimator and its effectivity, on uniform meshes too (it costs about
 3 % of a uniform chain: 6.2 s of 178 s on two-body-junction's six levels, every mortar method).
 
-Not yet: checkpoints (a killed two-body chain starts again from its first level), the multigrid
-(each body's R_h u and the mortar QP are solved by sparse Cholesky).
+Not yet: checkpoints (a killed two-body chain starts again from its first level). The mortar QP
+is solved on both bodies' multigrid on uniform pairs from ``SolverOptions.mortar_multigrid_from``
+dofs (``solvers.joint_multigrid``), else by sparse Cholesky; each body's R_h u by Cholesky.
 """
 from __future__ import annotations
 
@@ -41,6 +42,8 @@ from ..mesh.strategies import UNIFORM, element_budget, singular_lines, singular_
 from ..mesh.two_body_levels import AdaptivePair, GradedPair, UniformPair
 from ..methods import methods_for
 from ..problem.bodies import lower_body
+from ..solvers.joint_multigrid import JointMultilevel
+from ..solvers.multigrid import Multilevel
 from .rows import ChainOutput, Phases, study_levels
 from .threads import p2_size
 from .walk import ChainPlan, ChainWalk
@@ -63,7 +66,7 @@ class TwoBodies:
     """The levels of a two-body case (the ``walk.Discretisation`` of ``run_two_body_chain``):
     the pairs of meshes of ``sequence`` (``mesh.two_body_levels``), a level's mesh and
     quadrature the pair of the bodies', its h the coarser body's; each order's problem a
-    ``fem.two_body.TwoBodyProblem`` solved by sparse Cholesky (no multigrid). A graded or
+    ``fem.two_body.TwoBodyProblem``, its multigrid hierarchy both bodies' on uniform pairs. A graded or
     adaptive chain stops before its two meshes have more elements than ``budget``. Its rows get
     the two-body estimator (``measure.two_body_estimator``), whose indicators drive an adaptive
     sequence."""
@@ -75,6 +78,7 @@ class TwoBodies:
         self.estimating = True
         self.adaptive = self.sequence.adaptive
         self._exact = (None, {})        # (the level's quadratures, their exact quantities)
+        self._multilevel = None
 
     def levels(self, count: int) -> Iterator[Level]:
         for step in self.sequence.levels(count):
@@ -85,8 +89,15 @@ class TwoBodies:
     def size(self, meshes) -> int:
         return p2_size(*meshes)
 
-    def multilevel(self, level):
-        return None
+    def multilevel(self, level: Level):
+        """Both bodies' P1 hierarchies as one (``solvers.joint_multigrid``) on uniform pairs, whose
+        meshes are refined in place level by level; graded and adaptive pairs factorise."""
+        if not (self.case.physics.multigrid and isinstance(self.sequence, UniformPair)):
+            return None
+        if self._multilevel is None:
+            self._multilevel = JointMultilevel(*(Multilevel(mesh, self.case.physics) for mesh in level.mesh))
+            return self._multilevel
+        return self._multilevel.refined(level.mesh)
 
     def quadrature(self, meshes) -> tuple:
         return tuple(ElementQuadrature.of(body, mesh) for body, mesh in zip(self.bodies, meshes))
@@ -96,7 +107,7 @@ class TwoBodies:
                                 for body, mesh, quadrature in zip(self.bodies, meshes, quadratures)))
 
     def solve(self, method, problem, carry, multilevel, last_of_order: bool, phases):
-        return method.solve(self.case, problem, carry, None, phases=phases)
+        return method.solve(self.case, problem, carry, multilevel, phases=phases)
 
     def estimator(self, problem: TwoBodyProblem) -> TwoBodyEstimator:
         return TwoBodyEstimator(self.bodies, problem)

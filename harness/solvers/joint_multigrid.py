@@ -1,0 +1,202 @@
+"""Multigrid for two bodies: the P1 hierarchies of both bodies as one, coupled by the mortar
+change of variables, and the map of the joint P1 space into the variables of a mortar QP.
+
+A dual mortar QP (``fem.two_body.dual_bound_qp``) is min 1/2 z^T K z - b^T z over bounds on the
+slave's trace variables, K = S^T A S, A = diag(A_1, A_2) the two bodies' matrices and u = S z
+the change of variables that makes the mortar rows bounds (Wohlmuth's, local to the slave's
+trace: a slave trace variable is the dual projection of the opening). The V-cycle of
+``multigrid.TruncatedVCycle`` needs coarse spaces inside the z variables. Here they are the
+two bodies' P1 functions written in z (``mortar_injection``, E): a slave hat sets the slave's
+trace variables to its values, a master hat moves the master and leaves them unchanged -- in
+u, the slave's trace follows the master (u = S E c), as in the mortar basis of Wohlmuth and
+Krause's monotone multigrid for contact on non-matching grids (SIAM J. Sci. Comput. 25 (2003),
+abstract read: the basis, not their algorithm, is what is used here). With pins on the slave's
+trace variables (the active bounds) a master hat touches no pin: the coarse spaces keep the
+motion of both bodies together, which a smoother alone cannot resolve. (The coarse functions
+S^{-1} I of each body's P1 functions give block-diagonal Galerkin matrices, but truncate every
+master hat under the contact zone; they took more CG iterations.) Not optimal either: the slave's
+trace follows a master hat on the finest trace nodes only, a layer one fine element thick, and
+the iterations grow with the level (``bench --only mortar``).
+
+The coarse matrices are the Galerkin products of K, so the cycle stays symmetric positive
+definite: E^T K E = I^T A I + C, the two bodies' own P1 matrices (``Multilevel``) plus a
+coupling C, nonzero only near Gamma_C, which every coarser level restricts algebraically by
+the bodies' prolongation matrices (``JointMultilevel.coupled``).
+"""
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..fem.sparse import csr_view
+from .multigrid import ContactEdges, Multilevel, truncated_pins
+
+
+class JointMultilevel:
+    """Two bodies' ``Multilevel`` hierarchies, level l the pair of their levels l: the joint
+    P1 dofs (body 1's, then body 2's), the prolongations and restrictions body by body. Both
+    hierarchies must have the same number of levels (uniform pairs: each body refined once per
+    level). Its matrices are those of a mortar QP's coarse spaces (``coupled``): it has none of
+    its own."""
+
+    def __init__(self, upper: Multilevel, lower: Multilevel):
+        self.bodies = (upper, lower)
+        self.components = upper.components
+        self.free: list[np.ndarray] = []
+        self._work: list = []
+        self._extend()
+
+    def refined(self, meshes) -> "JointMultilevel":
+        """Both hierarchies with ``meshes`` (the pair, each refined in place) as their finest level."""
+        for body, mesh in zip(self.bodies, meshes):
+            body.refined(mesh)
+        self._extend()
+        return self
+
+    def _extend(self) -> None:
+        upper, lower = self.bodies
+        if len(upper.matrices) != len(lower.matrices):
+            raise ValueError("the two bodies' hierarchies have different numbers of levels")
+        for level in range(len(self.free), len(upper.matrices)):
+            self.free.append(np.concatenate([body.free[level] for body in self.bodies]))
+            self._work.append([body.matrices[level].CreateColVector() for body in self.bodies])
+
+    @property
+    def ndof(self) -> int:
+        return sum(self._sizes(len(self.free) - 1))
+
+    def _sizes(self, level: int) -> list[int]:
+        return [body.matrices[level].height for body in self.bodies]
+
+    def restrict(self, level: int, vector, rotate: bool = True) -> None:
+        """In place, as ``Multilevel.restrict``: each body's part restricted by its hierarchy."""
+        values = vector.FV().NumPy()
+        parts = np.split(values[: sum(self._sizes(level))], [self._sizes(level)[0]])
+        coarse = []
+        for body, work, part, n in zip(self.bodies, self._work[level], parts, self._sizes(level - 1)):
+            work.FV().NumPy()[:] = part
+            body.restrict(level, work, rotate)
+            coarse.append(work.FV().NumPy()[:n].copy())
+        values[: sum(self._sizes(level - 1))] = np.concatenate(coarse)
+
+    def prolongate(self, level: int, vector) -> None:
+        """In place, as ``Multilevel.prolongate``: each body's part prolongated by its hierarchy."""
+        values = vector.FV().NumPy()
+        parts = np.split(values[: sum(self._sizes(level - 1))], [self._sizes(level - 1)[0]])
+        fine = []
+        for body, work, part in zip(self.bodies, self._work[level], parts):
+            work.FV().NumPy()[:] = 0.0
+            work.FV().NumPy()[: len(part)] = part
+            body.prolongate(level, work)
+            fine.append(work.FV().NumPy().copy())
+        values[:] = np.concatenate(fine)
+
+    def truncated_pins(self, pinned: np.ndarray) -> list[np.ndarray]:
+        return truncated_pins(self, pinned)
+
+    def prolongation_matrix(self, level: int) -> sp.csr_matrix:
+        return sp.block_diag([body.prolongation_matrix(level) for body in self.bodies], format="csr")
+
+    def coupled(self, coupling: sp.csr_matrix) -> "JointMultilevel":
+        """The same hierarchy with the matrices diag(A_1, A_2)_l + C_l, C_L = ``coupling`` on
+        the finest level and C_{l-1} = P_l^T C_l P_l: the Galerkin products of the finest."""
+        from .active_set import ngsolve_matrix
+        view = copy.copy(self)
+        view.matrices = [None] * len(self.free)
+        C = coupling.tocsr()
+        for level in range(len(self.free) - 1, -1, -1):
+            blocks = sp.block_diag([csr_view(body.matrices[level]) for body in self.bodies], format="csr")
+            view.matrices[level] = ngsolve_matrix(blocks + C)
+            if level:
+                P = self.prolongation_matrix(level)
+                C = (P.T @ C @ P).tocsr()
+        return view
+
+
+class SparseEdges:
+    """The finest P1 level inside the variables z of a QP, z = E c for a sparse E: the interface
+    of ``multigrid.ContactEdges`` (which is E for one body's contact models) for any E."""
+
+    identity = False        # a mortar QP's P1 variables are not the P1 hierarchy's (S changes them)
+
+    def __init__(self, E: sp.csr_matrix):
+        self.E = E.tocsr()
+        self.ET = self.E.T.tocsr()
+        self._pattern = abs(self.ET).astype(bool).astype(float)
+
+    def prolongate(self, c: np.ndarray, z: np.ndarray) -> None:
+        """z += E c."""
+        z += self.E @ c
+
+    def restrict(self, r: np.ndarray, n: int) -> np.ndarray:
+        """E^T r."""
+        return self.ET @ r
+
+    def touched(self, mask: np.ndarray, n: int) -> np.ndarray:
+        """The P1 dofs whose image E e_j reaches a variable of ``mask``."""
+        return self._pattern @ mask.astype(float) > 0
+
+
+def p1_injection(problem) -> sp.csr_matrix:
+    """I: the joint P1 dofs of a ``fem.two_body.TwoBodyProblem`` -> its joint dofs (a P1
+    function's vertex values, bubbles zero; components blocked as each body's space numbers them)."""
+    blocks = []
+    for body in problem.bodies:
+        blocks.append(_injection(body, ContactEdges.of(body, model=False)))
+    return sp.block_diag(blocks, format="csr")
+
+
+def mortar_injection(problem) -> sp.csr_matrix:
+    """E: the joint P1 dofs -> the variables z of the dual mortar QP: each body's P1 function in
+    its variables, the slave's trace variables its values there (a trace edge's: the mean of its
+    ends', ``multigrid.ContactEdges`` of the slave's contact model), the master's unchanged."""
+    upper, lower = problem.bodies
+    return sp.block_diag([_injection(upper, ContactEdges.of(upper)), _injection(lower, ContactEdges.of(lower, model=False))],
+                         format="csr")
+
+
+def _injection(body, edges: ContactEdges) -> sp.csr_matrix:
+    """``edges`` (z = E c for one body) as a sparse matrix."""
+    n1 = body.mesh.nv * body.physics.components
+    rows = np.arange(n1) if edges.p1_dofs is None else edges.p1_dofs
+    E = sp.csr_matrix((np.ones(n1), (rows, np.arange(n1))), shape=(body.ndof, n1))
+    if len(edges.edge_dofs):
+        ends = edges.end_dofs
+        half = sp.csr_matrix((np.full(2 * len(ends), 0.5), (np.repeat(edges.edge_dofs, 2), ends.ravel())), shape=E.shape)
+        E = E + half
+    return E.tocsr()
+
+
+def mortar_coupling_matrix(problem, S: sp.csr_matrix, trace: np.ndarray, E: sp.csr_matrix) -> sp.csr_matrix:
+    """C = E^T K E - I^T A I for K = S^T A S (``trace``: the rows where S is not the identity,
+    the slave's trace dofs): with S E = I + D, D nonzero in those rows only,
+    C = D^T A I + I^T A D + D^T A D, from the slave's rows there (never a product with all of A)."""
+    injection = p1_injection(problem)
+    D = (S[trace] @ E - injection[trace]).tocsr()                   # |T| x joint P1
+    A_T = problem.upper.A[trace]                                    # the slave's rows there (T is in body 1)
+    n1 = problem.upper.ndof
+    AI = (A_T[:, :n1] @ injection[:n1]).tocsr()                     # (A I)[T], body 1's columns of I
+    X = (D.T @ AI).tocsr()
+    return (X + X.T + D.T @ A_T[:, trace] @ D).tocsr()
+
+
+def p1_map(S: sp.csr_matrix, trace: np.ndarray, injection: sp.csr_matrix) -> sp.csr_matrix:
+    """S^{-1} I for a change of variables u = S z that is the identity off the rows ``trace``:
+    there z_T = S_TT^{-1} (u_T - S_TR u_R), elsewhere z = u. (A P1 function of u in z: the
+    nested start.)"""
+    from scipy.sparse.linalg import spsolve
+    n = S.shape[0]
+    rest = np.setdiff1d(np.arange(n), trace)
+    S_T = S[trace]
+    rhs = (injection[trace] - S_T[:, rest] @ injection[rest]).tocsr()
+    # S_TT^{-1} column by column of the identity (|T| small sparse solves), not of rhs, whose
+    # columns are every joint P1 dof
+    inverse_TT = sp.csr_matrix(spsolve(S_T[:, trace].tocsc(), sp.identity(len(trace), format="csc")))
+    rows_T = (inverse_TT @ rhs).tocsr()
+    order = np.concatenate([rest, trace])
+    stacked = sp.vstack([injection[rest], rows_T], format="csr")
+    inverse = np.empty(n, dtype=np.int64)
+    inverse[order] = np.arange(n)
+    return stacked[inverse]
