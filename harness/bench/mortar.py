@@ -18,8 +18,6 @@ from .common import fresh_rows, timed
 MORTAR_CASE = "two-body-transition-r32"
 # levels of the two-body hierarchy: 1.3e5, 5.1e5, 2.0e6 and 8.1e6 dofs (both bodies)
 MORTAR_LEVELS = (4, 5, 6, 7)
-# the Cholesky columns up to this many dofs (past it the factorisation's fill is the machine's memory)
-CHOLESKY_MAX_NDOF = 3_000_000
 
 
 def mortar_methods() -> tuple:
@@ -109,6 +107,7 @@ def _mortar_row(case, method, problem, carry, multilevel) -> dict:
     """The level's contact solve on the multigrid and on Cholesky, and the linear solves of both
     bodies without contact by multigrid and by Cholesky."""
     from ..solvers.active_set import Cholesky
+    from ..solvers.options import SolverOptions
 
     # the multigrid at every size (the study takes it from ``mortar_multigrid_from`` dofs)
     on_multigrid = dataclasses.replace(method, solver=dataclasses.replace(method.solver, mortar_multigrid_from=0))
@@ -119,7 +118,8 @@ def _mortar_row(case, method, problem, carry, multilevel) -> dict:
            "ratio_linear": t_contact / t_linear, "iterations": fields["solver_iterations"],
            "cg_iterations": fields["linear_iterations"], "linear_cg_iterations": linear_iterations,
            "kkt_residual": fields["kkt_residual"]}
-    if problem.ndof > CHOLESKY_MAX_NDOF:
+    # the Cholesky columns where the study factorises
+    if problem.ndof >= SolverOptions().mortar_multigrid_from:
         return row | dict.fromkeys(["t_contact_cholesky", "t_linear_cholesky", "ratio_cholesky", "kkt_residual_cholesky"],
                                    float("nan"))
     t_cholesky, factorised = timed(method.solve, case, problem, carry, None)
