@@ -188,7 +188,9 @@ def p1_map(S: sp.csr_matrix, trace: np.ndarray, injection: sp.csr_matrix) -> sp.
     nested start.)"""
     from scipy.sparse.linalg import spsolve
     n = S.shape[0]
-    rest = np.setdiff1d(np.arange(n), trace)
+    off_trace = np.ones(n, dtype=bool)
+    off_trace[trace] = False
+    rest = np.flatnonzero(off_trace)
     S_T = S[trace]
     rhs = (injection[trace] - S_T[:, rest] @ injection[rest]).tocsr()
     # S_TT^{-1} column by column of the identity (|T| small sparse solves), not of rhs, whose
