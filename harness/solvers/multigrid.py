@@ -76,11 +76,11 @@ class Multilevel:
         self._add_level()
 
     def _space(self, mesh) -> None:
-        """The P1 space and form of a new mesh (and a scalar P1 space beside a vector one: its
-        prolongation is each component's, ``prolongation_matrix``)."""
+        """The P1 space and form of a new mesh, and a scalar P1 space beside it, whose
+        prolongation is each component's (``prolongation_matrix``)."""
         self.mesh = mesh
         self.fes = self.physics.space(mesh, 1)
-        self._scalar = self.fes if self.components == 1 else ngs.H1(mesh, order=1)
+        self._scalar = ngs.H1(mesh, order=1)
         u, v = self.fes.TnT()
         self._form = ngs.BilinearForm(self.physics.form(u, v) * ngs.dx)
 
@@ -120,8 +120,7 @@ class Multilevel:
             return self
         else:
             self.fes.Update()
-            if self._scalar is not self.fes:
-                self._scalar.Update()
+            self._scalar.Update()
             self._steps.append((self.fes, None))
         self._add_level()
         return self
@@ -170,7 +169,7 @@ class Multilevel:
             for sweep in self._sweeps(level):
                 step = csr_view(self._scalar.Prolongation().CreateMatrix(sweep)).copy()
                 matrix = step if matrix is None else step @ matrix
-        P = sp.kron(sp.identity(self.components), matrix, format="csr") if self.components > 1 else matrix.tocsr()
+        P = sp.kron(sp.identity(self.components), matrix, format="csr")
         fine, coarse = self.rotations[level], self.rotations[level - 1]
         if fine is not None:
             P = fine.T @ P
