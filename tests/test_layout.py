@@ -115,6 +115,13 @@ def test_every_cited_file_exists():
     assert not missing
 
 
+def test_no_docstring_or_comment_blames_the_sandbox_for_what_was_not_read():
+    """A citation says what was read (the abstract, a secondary source) and what was not checked,
+    not where the reading happened."""
+    sources = [*modules(), *(REPOSITORY / "cases").glob("*.py")]
+    assert not [str(path.relative_to(REPOSITORY)) for path in sources if "sandbox" in path.read_text().lower()]
+
+
 @pytest.mark.parametrize("old", ["harness.geometry", "harness.functions", "harness.rates", "harness.execution"])
 def test_the_import_paths_of_version_0_2_are_gone_as_their_deprecation_said(old):
     """Deprecated in 0.3.0 (harness.problem.geometry, .problem.functions, .measure.rates,

@@ -26,7 +26,7 @@ def one_body_rate(case, order: int) -> Expectation:
     give the cones (Belhachmi & Ben Belgacem 2003 for P2, Ben Belgacem 2000 and Drouet & Hild
     2015 for P1) and the dual mortar condition reduces to on matching meshes. On non-matching
     meshes it is the rate the mortar analyses aim at (Ben Belgacem, Hild & Laborde 1999 for P1;
-    Hild & Laborde 2002 for P2); their exact statements were not reachable from this sandbox,
+    Hild & Laborde 2002 for P2); only their abstracts were read, not their exact statements,
     so the harness holds the methods to the one-body rate and the report says so."""
     return Expectation(min(case.nu - 1.0, float(order)), 0.0,
                        "one-body rate min(nu - 1, k) (mortar: Ben Belgacem, Hild & Laborde 1999; Hild & Laborde 2002)")

@@ -274,9 +274,9 @@ def drouet_hild_for(order: int):
     """The H^1 bound of G. Drouet and P. Hild, SIAM J. Numer. Anal. 53 (2015) 1488-1507, for P_k
     (abstract: "optimal H^1-error estimates with the only standard Sobolev regularity", P1 and
     P2, 2D and 3D, no assumption on the contact set, O(h) for P1 with H^2 alone): h^{nu - 1} for
-    3/2 < nu, up to DROUET_HILD_CAP[k], with no log factor. Their theorem's text, numbers and
-    exact ranges were not reachable from this sandbox: the ranges are read from "optimal" (the
-    best approximation's rate) and the H^{3/2 + m}, m > 0, of the whole literature. For
+    3/2 < nu, up to DROUET_HILD_CAP[k], with no log factor. Only the abstract was read, not
+    the theorems' text: the ranges are read from "optimal" (the best approximation's rate) and
+    the H^{3/2 + m}, m > 0, of the whole literature, not checked against their statements. For
     nu <= 3/2 it says nothing (NaN)."""
     def drouet_hild(case) -> Expectation:
         if case.nu <= 1.5:

@@ -6,13 +6,13 @@ Expected H^1 rate h^{min(nu - 1, 1)}, no log factor:
 * F. Ben Belgacem, SIAM J. Numer. Anal. 37 (2000) 1198-1216, the paper's reference [3], which
   its Section 1 cites for the quasi-optimal analysis of linear elements; the paper (Section 2,
   after Remark 2.2) adds that affine elements cannot profit from regularity beyond H^2 ("the
-  effective useful regularity is that of H^2"): the rate stops at 1. (Its exact statements and
-  regime assumptions were not reachable from this sandbox.)
+  effective useful regularity is that of H^2"): the rate stops at 1. (Ben Belgacem 2000 itself
+  was not read: its exact statements and regime assumptions are taken from the paper's summary.)
 * G. Drouet and P. Hild, SIAM J. Numer. Anal. 53 (2015) 1488-1507: optimal H^1 estimates for
   linear (and quadratic) elements, 2D and 3D, "with the only standard Sobolev regularity" and
   no assumption on the contact set -- in particular order h for u in H^2 with P1, without the
-  finite-transition assumption or a |log h| factor. (Read here from the abstract: its full text,
-  and so its theorem numbers, were not reachable from this sandbox.)
+  finite-transition assumption or a |log h| factor. (Read from the abstract only: its theorem
+  numbers are not given here.)
 """
 from ..fem.cones import ContactModel
 from .base import BASELINE, MESH_STUDY, BoundConstrained, Expectation, drouet_hild_for

@@ -6,8 +6,8 @@ Default eps0 = 0.05, the scale of `nitsche`'s gamma0 (``python -m harness sweep`
 
 Expected H^1 rate: h^{min(nu - 1, 1)} for nu > 3/2, for P1 and P2. Chouly & Hild (abstract): with
 eps = h the error estimates are "the same as in the case of the constrained problem"; their
-analysis covers u in H^{3/2 + m}, 0 < m <= 1/2 (as recalled: the theorem's text and number were not
-reachable from this sandbox). Beyond H^2 nothing better holds: the method is not consistent --
+analysis covers u in H^{3/2 + m}, 0 < m <= 1/2 (the abstract was read; the range is recalled,
+not checked against the theorem's text, whose number is not given here). Beyond H^2 nothing better holds: the method is not consistent --
 in contact u_h sits about eps lambda = eps0 h lambda below the obstacle, an H^1 error of order h
 whatever the order of the elements (Gustafsson & Stenberg, J. Struct. Mech. 58 (2025), abstract:
 "an optimal convergence rate cannot be achieved"). Nothing is proven for nu <= 3/2.
