@@ -32,6 +32,16 @@ SIGNATURES = {
 }
 
 
+def test_the_citation_cites_this_version_on_its_changelog_date():
+    """CITATION.cff's version and release date are the CHANGELOG's latest entry's (the version
+    is written once in the code, ``harness.__version__``; a static file can only be checked)."""
+    root = Path(harness.__file__).parents[1]
+    version, date = re.search(r"^## (\S+) — (\d{4}-\d{2}-\d{2})", (root / "CHANGELOG.md").read_text(), re.M).groups()
+    citation = (root / "CITATION.cff").read_text()
+    assert re.search(r"^version: (\S+)$", citation, re.M)[1] == version == harness.__version__
+    assert re.search(r'^date-released: "(\S+)"$', citation, re.M)[1] == date
+
+
 def test_the_api_readme_shows_exists_with_its_signatures():
     # the version is the CHANGELOG's latest entry
     assert re.search(r"^## (\S+)", (Path(harness.__file__).parents[1] / "CHANGELOG.md").read_text(), re.M)[1] == harness.__version__
