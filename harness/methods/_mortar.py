@@ -129,9 +129,10 @@ def joint_p1_values(problem: TwoBodyProblem, u: np.ndarray) -> np.ndarray:
 
 
 def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
-    """(the linear system of the active set iteration, the start): the two bodies' truncated
-    multigrid in the dual variables (``joint_multigrid``), started from the coarser level's u_h
-    prolongated, where ``multilevel`` is given; else sparse Cholesky from nothing."""
+    """(the linear system of the active set iteration, the start): the two bodies' coupled,
+    truncated multigrid in the dual variables (``joint_multigrid``), started from the coarser
+    level's u_h prolongated, where ``multilevel`` is given and the QP has at least
+    ``options.mortar_multigrid_from`` dofs; else sparse Cholesky from nothing."""
     K_ngs = ngsolve_matrix(qp.K)
     if multilevel is None or problem.ndof < options.mortar_multigrid_from:
         return FactorisedSystem(qp.K, K_ngs, qp.b, options.refactor_above), None

@@ -43,7 +43,6 @@ class JointMultilevel:
 
     def __init__(self, upper: Multilevel, lower: Multilevel):
         self.bodies = (upper, lower)
-        self.components = upper.components
         self.free: list[np.ndarray] = []
         self._work: list = []
         self._extend()

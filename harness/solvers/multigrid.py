@@ -48,7 +48,8 @@ class Multilevel:
     """The P1 spaces of a nested mesh hierarchy (``mesh.levels``): their stiffness matrices and
     free dofs per level, and the P1 prolongations between them.
 
-    Create it on the coarse mesh, call ``refined(level)`` at every level of the sequence. A mesh
+    Create it on the coarse mesh, call ``refined(mesh, prolongation)`` at every level of the
+    sequence (``mesh.levels.Level``'s two fields). A mesh
     refined in place carries its prolongation in NGSolve (the parents of its new vertices);
     between two levels it may have been refined several times (a 3D graded or adaptive level
     is many bisection sweeps, ``mesh.bisection``), and a level's prolongation is then the
