@@ -72,7 +72,7 @@ class Multilevel:
         self.mesh_levels: list[int] = []      # NGSolve's refinement count at each of our levels
         # per level from 1: (the P1 space whose NGSolve prolongation goes there, or None) and
         # (the explicit prolongation from the level below, a sparse vertex matrix, or None)
-        self._steps: list[tuple] = [(None, None)]
+        self._steps: list[tuple] = [(None, None, None)]  # (space, P, P^T as CSR) per level
         self._space(mesh)
         self._add_level()
 
@@ -116,13 +116,15 @@ class Multilevel:
             if prolongation is None:
                 raise ValueError("a new mesh in a nested hierarchy needs its prolongation (Level.prolongation)")
             self._space(mesh)
-            self._steps.append((None, prolongation.tocsr()))
+            matrix = prolongation.tocsr()
+            # the restriction's own CSR copy: a transposed view is CSC, rebuilt at every call
+            self._steps.append((None, matrix, matrix.T.tocsr()))
         elif self.mesh.levels - 1 == self.mesh_levels[-1]:
             return self
         else:
             self.fes.Update()
             self._scalar.Update()
-            self._steps.append((self.fes, None))
+            self._steps.append((self.fes, None, None))
         self._add_level()
         return self
 
@@ -136,10 +138,10 @@ class Multilevel:
         ``rotate=False``: P^T alone, for indicators (``truncated_pins``)."""
         if rotate:
             self._rotate(level, vector.FV().NumPy(), to_cartesian=True)
-        space, matrix = self._steps[level]
-        if matrix is not None:
+        space, _, restriction = self._steps[level]
+        if restriction is not None:
             values = vector.FV().NumPy()
-            coarse = (matrix.T @ values.reshape(self.components, -1).T).T
+            coarse = (restriction @ values.reshape(self.components, -1).T).T
             values[: coarse.size] = coarse.ravel()
         else:
             for sweep in reversed(self._sweeps(level)):
@@ -151,7 +153,7 @@ class Multilevel:
         """In place: ``vector``'s first ndof(level - 1) entries, prolongated to all of level's:
         Q_f^T P Q_c."""
         self._rotate(level - 1, vector.FV().NumPy(), to_cartesian=True)
-        space, matrix = self._steps[level]
+        space, matrix, _ = self._steps[level]
         if matrix is not None:
             values = vector.FV().NumPy()
             coarse = values[: matrix.shape[1] * self.components].reshape(self.components, -1)
@@ -165,7 +167,7 @@ class Multilevel:
         """The prolongation from ``level`` - 1 to ``level`` as a sparse matrix, Q_f^T P Q_c in the
         variables of the levels (components blocked): for an algebraic Galerkin product (two
         bodies' coupled coarse matrices, ``joint_multigrid``)."""
-        space, matrix = self._steps[level]
+        space, matrix, _ = self._steps[level]
         if matrix is None:
             for sweep in self._sweeps(level):
                 step = csr_view(self._scalar.Prolongation().CreateMatrix(sweep)).copy()

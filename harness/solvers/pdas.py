@@ -133,7 +133,13 @@ def primal_dual_active_set(kind: ConstraintKind, active: np.ndarray, start: np.n
     (``loose_depth``): an inexact semismooth Newton step (the forcing term of Dembo, Eisenstat &
     Steihaug, SIAM J. Numer. Anal. 19 (1982)). That solve only decides the next set; the set it
     leaves unchanged is solved again, from there, to the full depth, which decides convergence,
-    and only sets judged on full-depth solves count as seen (for Murty's rule)."""
+    and only sets judged on full-depth solves count as seen (for Murty's rule).
+
+    A set is updated by the rows that violate it beyond the KKT tolerance, when there are any: a
+    row within the tolerance is not why the KKT check failed, and flipping it churns degenerate
+    rows (`mean`'s vertex constraints inside a contact zone: their basis functions have zero
+    mean on every contact edge, so their multipliers and slacks are second differences of the
+    pressure, O(h^2) and of either sign; ``bench --only adaptive`` counts the sets)."""
     seen: set[bytes] = set()
     pivoting = False
     iterative = getattr(kind.system, "iterative", False)
@@ -147,7 +153,9 @@ def primal_dual_active_set(kind: ConstraintKind, active: np.ndarray, start: np.n
         if kkt.converged(options):
             status = "converged"
             break
-        leave, enter = _violated(kind, z, lam, active, depth)
+        leave, enter = _violated(kind, z, lam, active, max(depth, options.tolerance))
+        if not (leave.any() or enter.any()):
+            leave, enter = _violated(kind, z, lam, active, depth)
         if not (leave.any() or enter.any()):
             if depth > full:
                 depth = full        # the set of a loose solve: solve it to the full depth
