@@ -4,11 +4,16 @@ docs/development/architecture.md ("How the code is laid out")."""
 __version__ = "0.7.2"      # the one version: pyproject.toml reads it
 
 # The public names, each imported from its stage when first used (PEP 562): `import harness`
-# and the listing commands cost the standard library, not NGSolve, pandas or SciPy (issue 61).
+# and the listing commands cost the standard library, not NGSolve, pandas or SciPy. The
+# protocols of what a user brings are in `harness.methods`, `harness.mesh` and `harness.problem`.
 _PUBLIC = {
-    "run": "api", "cases": "api", "case_table": "api", "method_table": "api",
+    "run": "api", "rates": "api", "quantities": "api", "efficiency": "api", "plot": "api", "store": "api",
+    "cases": "api", "case_table": "api", "method_table": "api", "StudyWarning": "api",
+    "report": "report",             # the report package, callable: harness.report(...) builds the report
     "load_case": "problem.case", "registered_cases": "problem.case", "Case": "problem.case",
     "CaseError": "problem.case", "METHODS": "methods", "methods_named": "methods",
+    "InProcess": "study", "LocalProcesses": "study", "DaskEngine": "study",
+    "FolderBusy": "study.folder", "StudyFailed": "study.store", "VtkWriter": "report.vtk",
 }
 __all__ = list(_PUBLIC)
 
@@ -17,7 +22,8 @@ def __getattr__(name: str):
     if name not in _PUBLIC:
         raise AttributeError(f"module 'harness' has no attribute {name!r}")
     import importlib
-    value = getattr(importlib.import_module(f"{__name__}.{_PUBLIC[name]}"), name)
+    module = importlib.import_module(f"{__name__}.{_PUBLIC[name]}")
+    value = module if _PUBLIC[name] == name else getattr(module, name)
     globals()[name] = value
     return value
 

@@ -1,13 +1,22 @@
-"""The Python API, for scripts and notebooks:
+"""The Python API, for scripts and notebooks: what ``python -m harness`` does, as functions.
 
     >>> import harness
-    >>> df = harness.run(["transition-r32"], methods="all", levels=5)
-    >>> harness.cases(), harness.method_table()
-    >>> from harness.report.build import make_report     # a method object of your own in the report too
-    >>> make_report(case_names=["transition-r32"], methods=[my_method, "paper"], levels=3)
+    >>> rows = harness.run(["transition-r32"], methods="paper", levels=4, out="results")
+    >>> harness.rates(rows)             # fitted rates, each against its theorem, with a verdict
+    >>> harness.quantities(rows)        # quantities of interest with Richardson/GCI bands
+    >>> harness.efficiency(rows)        # cost at equal accuracy against the P1 baseline
+    >>> harness.plot(rows)              # a Matplotlib figure: H^1 error against h
+    >>> harness.report(cases=["transition-r32"], methods=["paper"], levels=3)
+
+Every function takes rows (a DataFrame of ``run``, or a results folder or file) and returns a
+table, a figure or a path; ``out=`` writes what the command line writes, into a folder that one
+command owns at a time. The command line calls these functions and adds only argument parsing
+and printing.
 """
 from __future__ import annotations
 
+import warnings
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -17,30 +26,159 @@ if TYPE_CHECKING:
 # pandas, SciPy or the methods' modules (``harness/__init__``).
 
 
-def run(cases, methods="all", levels: int = 5, show_progress: bool = True, on_level=None,
-        models=None, engine=None, checkpoints=None, meshes="uniform") -> pd.DataFrame:
-    """Run a convergence study; ``cases`` are names, paths or Case objects (or one of them);
-    ``methods`` names, groups ('paper' = mean + nodal) or 'all' (``models`` is the old name:
-    'all' there means the paper's two models). ``engine``: ``harness.study.LocalProcesses(2)`` (local
-    processes), ``DaskEngine(scheduler="tcp://...")`` to run on Dask (default: this process);
-    ``checkpoints``: a folder that makes every finished level durable (run again to resume).
-    ``meshes``: a mesh strategy or a list of them -- "uniform" (the default), "graded",
-    "adaptive" (or "adaptive:theta=0.3"), "all", a file or a module of your own, or a strategy
-    object (``harness.mesh.strategies.Strategy``); ``methods`` may hold ``Method`` objects and
-    files or modules of your own beside names (``harness.methods.plugins``); each case runs on
-    each strategy that applies to it, and the rows say which in their ``mesh`` column."""
+class StudyWarning(UserWarning):
+    """A case, method or mesh strategy a study leaves out, and why (the command line prints it as
+    one ``harness:`` line)."""
+
+
+def run(cases, methods="all", levels: int = 5, meshes="uniform", *, out=None, reference_levels: int | None = None,
+        engine=None, checkpoints=None, vtk: bool = False, show_progress: bool = True, on_level=None,
+        check_memory: bool = True) -> pd.DataFrame:
+    """Run a convergence study: one row per case x method x mesh x level (the columns of
+    ``docs/guide/results.md``).
+
+    ``cases``: names, case files, modules or ``Case`` objects (or one of them). ``methods``:
+    names, groups ('paper', 'weak', ...), 'all', parameters (``nitsche:gamma0=0.1``), files or
+    modules of your own, or ``Method`` objects. ``meshes``: "uniform", "graded", "adaptive"
+    ("adaptive:theta=0.3"), "all", a strategy of your own or a list of them; each case runs on
+    each strategy that meshes it. ``out``: a results folder, owned by this run while it lasts
+    (another command's folder is refused before anything is computed); every finished level is
+    made durable there (run again to resume), and the rows are merged by key into its
+    results.csv, as ``python -m harness run --out`` does. ``reference_levels``: measure every
+    method against one nodal P2 reference that many levels finer. ``engine``: where the jobs run
+    (``harness.LocalProcesses(2)``, ``harness.DaskEngine(scheduler=...)``; default this
+    process). ``checkpoints``: a folder for the durable levels when there is no ``out``.
+    ``vtk``: write every level's solutions for ParaView under ``out``/vtk. Cases, methods and
+    meshes a study leaves out are named in a ``StudyWarning``. Input is refused (ValueError,
+    ``CaseError``, ``FolderBusy``) before anything is computed; an error once the study has
+    started is a ``StudyFailed`` (``harness.study.store``) whose cause is the error."""
+    from .study import InProcess, run_study
+    from .study.engines import study_jobs
+    loaded, chosen, strategies = _study_inputs(cases, methods, meshes, reference_levels)
+    engine = engine or InProcess()
+    if vtk and out is None:
+        raise ValueError("vtk=True writes under the results folder: give out=")
+    if vtk and on_level is not None:
+        raise ValueError("vtk=True is an on_level hook of its own: give one of them")
+    if out is not None and checkpoints is not None:
+        raise ValueError("a run with out= keeps its checkpoints in out/.checkpoints: give out= or checkpoints=, not both")
+    # refused before a folder is touched or a worker started
+    study_jobs(loaded, chosen, levels, engine, check_memory=check_memory, meshes=strategies)
+    _warn_left_out(loaded, chosen, strategies, methods)
+    from .study.store import run_into, study_phase
+    if out is None:
+        with study_phase():
+            return run_study(loaded, chosen, levels, show_progress=show_progress, on_level=on_level, engine=engine,
+                             checkpoints=checkpoints, check_memory=False, meshes=strategies)
+    if vtk:
+        from .report.vtk import VtkWriter
+        on_level = VtkWriter(Path(out) / "vtk")
+    frame, stored = run_into(out, loaded, chosen, levels, engine=engine, meshes=strategies, show_progress=show_progress,
+                             on_level=on_level)
+    frame.attrs["stored"] = stored.summary()
+    return frame
+
+
+def _study_inputs(cases, methods, meshes, reference_levels):
+    """(cases, methods, mesh strategies) of ``run``'s arguments, each parsed or loaded."""
     from .mesh.strategies import parse_meshes
-    from .methods import PAPER, methods_named, role_names
+    from .methods import methods_named
     from .problem.case import Case, load_case
-    from .study import run_study
-    if isinstance(cases, (str, Case)):
+    if isinstance(cases, (str, Path, Case)):
         cases = [cases]
-    if models is not None:
-        methods = role_names(PAPER) if models == "all" else models
-    loaded = [c if isinstance(c, Case) else load_case(c) for c in cases]
+    loaded = [c if isinstance(c, Case) else load_case(str(c)) for c in cases]
+    if reference_levels:
+        loaded = [case.with_reference(reference_levels) for case in loaded]
+    chosen = methods_named([methods] if isinstance(methods, str) else list(methods))
     strategies = parse_meshes(list(meshes) if isinstance(meshes, (list, tuple)) else [meshes])
-    return run_study(loaded, methods_named(methods), levels, show_progress=show_progress, on_level=on_level,
-                     engine=engine, checkpoints=checkpoints, meshes=strategies)
+    return loaded, chosen, strategies
+
+
+def _warn_left_out(cases, methods, meshes, asked) -> None:
+    """A ``StudyWarning`` per mesh strategy a case cannot have, and per method named one by one
+    (not through a group) that discretises none of the cases."""
+    from .methods import GROUPS
+    from .study.engines import skipped_meshes, skipped_methods
+    asked = [asked] if isinstance(asked, str) else list(asked)
+    named = {a if isinstance(a, str) else a.name for a in asked if not (isinstance(a, str) and (a == "all" or a in GROUPS))}
+    lines = skipped_meshes(cases, meshes) + skipped_methods(cases, [m for m in methods if m.name in named])
+    for line in lines:
+        warnings.warn(line, StudyWarning, stacklevel=3)
+
+
+def rows_of(rows) -> pd.DataFrame:
+    """A study's rows: a DataFrame as it is, or the results.csv of a folder or the file itself."""
+    import pandas as pd
+    if isinstance(rows, pd.DataFrame):
+        return rows
+    from .measure.results_file import read_results
+    path = Path(rows)
+    return read_results(path / "results.csv" if path.is_dir() else path)
+
+
+def _written(table: pd.DataFrame, out, name: str) -> pd.DataFrame:
+    """``table``, written as ``out``/``name`` (while this process owns the folder) if ``out``."""
+    if out is not None:
+        from .study.files import write_csv
+        from .study.folder import owned
+        with owned(Path(out)) as folder:
+            table.attrs["path"] = str(write_csv(table, folder / name))
+    return table
+
+
+def rates(rows, fit_levels: int = 3, *, out=None) -> pd.DataFrame:
+    """One row per (case, mesh, method): the H^1 rate fitted over the last ``fit_levels`` levels
+    against the rate its theorem predicts, with a verdict (the columns of rates.csv); ``out``:
+    also write rates.csv there."""
+    from .measure.rates import rate_table
+    return _written(rate_table(rows_of(rows), levels=fit_levels), out, "rates.csv")
+
+
+def quantities(rows, *, out=None) -> pd.DataFrame:
+    """One row per quantity of interest and chain of three levels or more: observed order,
+    Richardson's extrapolation and the grid convergence index band (the columns of
+    quantities.csv); ``out``: also write quantities.csv there."""
+    from .measure.richardson import quantity_table
+    frame = rows_of(rows)
+    table = quantity_table(frame)
+    if table.empty:
+        raise ValueError("no chain with quantities of interest on three levels or more")
+    return _written(table, out, "quantities.csv")
+
+
+def efficiency(rows, mesh: str = "uniform", baseline: str | None = None, methods=()) -> pd.DataFrame:
+    """One row per (case, method) on ``mesh``'s rows: the dofs and seconds that reach the case's
+    target error, and the baseline's cost over each method's (by default the method with the
+    role BASELINE, P1; ``methods``: Method objects of your own whose roles count)."""
+    from .measure.efficiency import efficiency_table
+    frame = rows_of(rows)
+    if "mesh" in frame:
+        frame = frame[frame["mesh"].fillna("uniform") == mesh]
+    if frame.empty:
+        raise ValueError(f"no rows on {mesh} meshes")
+    return efficiency_table(frame, baseline, methods)
+
+
+def plot(rows, case: str | None = None, kind: str = "convergence"):
+    """A Matplotlib figure of the rows (a notebook shows it): ``kind`` "convergence", the H^1
+    error of every method of ``case`` against h on uniform meshes with each theorem's bound, or
+    "verdicts", the matrix of rate verdicts of every case and method."""
+    from .report import plots
+    frame = rows_of(rows)
+    if kind == "convergence":
+        return plots.convergence(frame, case)
+    if kind == "verdicts":
+        return plots.verdict_matrix(rates(frame))
+    raise ValueError(f"unknown kind of plot {kind!r}: convergence or verdicts")
+
+
+def store(rows, folder) -> Path:
+    """``rows`` merged into ``folder``/results.csv by key (case, method, parameters, mesh, level:
+    a row computed again replaces the earlier one, every other is kept), while this process owns
+    the folder (another command's folder is refused before anything is written); the file's
+    path. ``harness.run(out=...)`` stores its rows so."""
+    from .study.store import store_rows
+    return store_rows(rows_of(rows), folder).path
 
 
 def case_rows(cases=None) -> list[dict]:
@@ -74,4 +212,3 @@ def method_table() -> pd.DataFrame:
 
 
 cases = case_table
-

@@ -1,33 +1,36 @@
-"""The public API the docs show (harness 0.3): names and signatures pinned, the hook's two forms."""
+"""The public API the docs show: names and signatures pinned, the hook, and `harness.run(out=...)`
+writing what `python -m harness run --out` writes."""
+import importlib
 import inspect
 import re
-import warnings
 from pathlib import Path
 
 import pytest
 
 import harness
-from harness.measure.rates import rate_table
-from harness.methods.base import LevelSolve
-from harness.report import plots
-from harness.report.vtk import VtkWriter
-from harness.study import DaskEngine, InProcess, LocalProcesses
+from harness import DaskEngine, InProcess, LocalProcesses, VtkWriter
+from harness.methods import LevelSolve
 
 E = inspect.Parameter.empty
 # parameter names and defaults, in order (annotations are strings under `from __future__ import annotations`)
 SIGNATURES = {
-    harness.run: [("cases", E), ("methods", "all"), ("levels", 5), ("show_progress", True), ("on_level", None),
-                  ("models", None), ("engine", None), ("checkpoints", None), ("meshes", "uniform")],
+    harness.run: [("cases", E), ("methods", "all"), ("levels", 5), ("meshes", "uniform"), ("out", None),
+                  ("reference_levels", None), ("engine", None), ("checkpoints", None), ("vtk", False),
+                  ("show_progress", True), ("on_level", None), ("check_memory", True)],
+    harness.rates: [("rows", E), ("fit_levels", 3), ("out", None)],
+    harness.quantities: [("rows", E), ("out", None)],
+    harness.efficiency: [("rows", E), ("mesh", "uniform"), ("baseline", None), ("methods", ())],
+    harness.plot: [("rows", E), ("case", None), ("kind", "convergence")],
+    harness.store: [("rows", E), ("folder", E)],
+    type(harness.report).__call__: [("self", E), ("cases", None), ("methods", ("all",)), ("levels", None),
+                                    ("profile", "default"), ("results", "results"), ("out", "report"), ("engine", None),
+                                    ("show_progress", True), ("vtk", False), ("check_memory", True)],
     harness.case_table: [("cases", None)],
     harness.method_table: [],
     harness.load_case: [("spec", E)],
     harness.registered_cases: [("dimension", None)],
-    rate_table: None,
     harness.methods_named: None,
-    # the report's figures from DataFrames, and the ParaView writer as an on_level hook (0.3.2)
-    plots.convergence: [("results", E), ("case", None), ("ax", None), ("title", None)],
-    plots.verdict_matrix: [("rates", E), ("ax", None)],
-    plots.rate_summary: [("rates", E), ("ax", None), ("band", 0.1)],
+    # the ParaView writer as an on_level hook
     VtkWriter: [("directory", E), ("finest", None)],
 }
 
@@ -53,8 +56,11 @@ def test_the_api_readme_shows_exists_with_its_signatures():
     assert {"workers", "scheduler", "threads"} <= set(inspect.signature(DaskEngine).parameters)
     assert "threads" in inspect.signature(InProcess).parameters
     assert {"workers", "threads"} <= set(inspect.signature(LocalProcesses).parameters)
-    assert set(harness.__all__) >= {"run", "cases", "case_table", "method_table", "load_case", "registered_cases",
-                                    "Case", "CaseError", "METHODS", "methods_named"}
+    assert set(harness.__all__) >= {"run", "rates", "quantities", "efficiency", "plot", "report", "store", "cases",
+                                    "case_table", "method_table", "load_case", "registered_cases", "Case", "CaseError",
+                                    "METHODS", "methods_named"}
+    plots = importlib.import_module("harness.report.plots")
+    assert callable(harness.report) and harness.report.plots is plots    # the package, callable
 
 
 def test_the_hook_sees_every_studied_solve_and_keeps_what_it_returns():
@@ -68,14 +74,19 @@ def test_the_hook_sees_every_studied_solve_and_keeps_what_it_returns():
     assert seen == [("nodal", 0, "converged"), ("nodal", 1, "converged")] and len(frame) == 2
 
 
-def test_a_hook_of_version_0_1_is_refused_in_one_line_since_0_4():
-    def old_hook(case, model, level, problem, u, solution, trace_u):
-        raise AssertionError("never called")
+def test_run_into_a_folder_writes_what_the_command_line_writes(tmp_path):
+    """`harness.run(out=...)` and `python -m harness run --out` store the same rows the same way:
+    the same results.csv but for the timing columns (and each refuses a folder another owns:
+    tests/test_shared_folder.py runs both)."""
+    import pandas as pd
 
-    with pytest.raises(ValueError, match=r"removed in 0.4.0: write on_level\(case, method, level, problem, solve\)"):
-        harness.run("transition-r32", methods="nodal", levels=2, show_progress=False, on_level=old_hook)
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")          # the current form warns about nothing
-        harness.run("transition-r32", methods="nodal", levels=1, show_progress=False,
-                    on_level=lambda case, method, level, problem, solve: None)
-
+    from harness.cli import main
+    frame = harness.run("transition-r32", methods="nodal", levels=2, out=tmp_path / "api", show_progress=False)
+    assert frame.attrs["stored"] == f"wrote {tmp_path / 'api' / 'results.csv'}: 2 rows of this run"
+    assert main(["run", "--case", "transition-r32", "--method", "nodal", "--levels", "2", "--out", str(tmp_path / "cli"),
+                 "--quiet"]) == 0
+    api, cli = (pd.read_csv(tmp_path / name / "results.csv") for name in ("api", "cli"))
+    timing = [c for c in api.columns if c.endswith("seconds") or c in ("threads", "started", "wall_seconds")]
+    assert list(api.columns) == list(cli.columns)
+    pd.testing.assert_frame_equal(api.drop(columns=timing), cli.drop(columns=timing))
+    assert sorted(p.name for p in (tmp_path / "api").iterdir()) == sorted(p.name for p in (tmp_path / "cli").iterdir())

@@ -61,12 +61,11 @@ def test_a_named_method_that_serves_none_of_the_cases_is_named_in_one_line(tmp_p
     assert set(pd.read_csv(tmp_path / "results.csv").method) == {"nodal"}
 
 
-@pytest.mark.parametrize("option, methods", [(["--model", "all"], {"mean", "nodal"}), (["--model", "nodal"], {"nodal"}),
-                                             (["--method", "weak"], {"nitsche", "penalty", "nitsche-p1", "penalty-p1"}),
+@pytest.mark.parametrize("option, methods", [(["--method", "weak"], {"nitsche", "penalty", "nitsche-p1", "penalty-p1"}),
                                              (["--method", "nitsche:theta=-1,gamma0=0.5"], {"nitsche:gamma0=0.5,theta=-1"}),
                                              (["--method", "paper"], {"mean", "nodal"}),
                                              (["--method", "p1", "--method", "mean"], {"mean", "p1"})])
-def test_method_and_old_model_options_select_methods(tmp_path, option, methods):
+def test_method_options_select_methods(tmp_path, option, methods):
     # in this process (``cli.main``): the other tests here run the command as a user does
     from harness.cli import main
     assert main(["run", "--case", "transition-r32", *option, "--levels", "1", "--out", str(tmp_path), "--quiet"]) == 0
@@ -150,16 +149,14 @@ def test_case_file_by_path_runs_every_method_and_rates_needs_no_case_option(tmp_
                                                             "penalty": 1.0, "nitsche-p1": 1.0, "penalty-p1": 1.0}
 
 
-def test_old_results_with_a_model_column_are_read(tmp_path):
-    """Results of harness 0.1 (`model`, no theory in the rows) still fit, with a note."""
+def test_results_of_harness_0_1_are_refused_in_one_line(tmp_path):
+    """A `model` column and no theory in the rows (harness 0.1): not read any more."""
     old = tmp_path / "results.csv"
     pd.DataFrame({"case": "smooth", "model": "nodal", "level": [0, 1, 2], "h": [0.4, 0.2, 0.1],
                   "err_h1": [1e-2, 2.5e-3, 6.25e-4]}).to_csv(old, index=False)
     done = harness_here("rates", str(old))
-    assert done.returncode == 0, done.stderr
-    assert "`model` column" in done.stderr
-    rates = pd.read_csv(tmp_path / "rates.csv")
-    assert rates.method.tolist() == ["nodal"] and rates.fitted_rate.iloc[0] == pytest.approx(2.0)
+    assert done.returncode == 2 and "is not a results CSV: missing column(s) method" in _one_line(done.stderr)
+    assert not (tmp_path / "rates.csv").exists()
 
 
 def test_sweep_writes_one_row_per_value_and_method_beside_the_reference(tmp_path):
@@ -217,7 +214,7 @@ def test_an_unreachable_scheduler_is_one_line_within_its_timeout(tmp_path, capsy
     monkeypatch.setattr(dask_engine, "SCHEDULER_TIMEOUT", 1)
     code = cli.main(["run", "--case", "transition-r32", "--method", "nodal", "--levels", "1", "--out", str(tmp_path),
                      "--scheduler", "tcp://127.0.0.1:1", "--quiet"])
-    assert code == 1
+    assert code == cli.EXIT_STUDY_FAILED == 3
     assert "no Dask scheduler answered at tcp://127.0.0.1:1 within 1 s" in _one_line(capsys.readouterr().err)
 
 
@@ -243,9 +240,9 @@ def test_an_unexpected_error_is_one_line_and_debug_shows_its_traceback(tmp_path,
         raise RuntimeError("something inside")
     monkeypatch.setattr(engines, "run_chain", broken)
     args = ["run", "--case", "transition-r32", "--method", "nodal", "--levels", "1", "--out", str(tmp_path), "--quiet"]
-    assert cli.main(args) == 1
+    assert cli.main(args) == cli.EXIT_STUDY_FAILED
     assert _one_line(capsys.readouterr().err) == "harness: error: RuntimeError: something inside (run with --debug for the traceback)"
-    with pytest.raises(RuntimeError, match="something inside"):
+    with pytest.raises(Exception, match="something inside"):
         cli.main(args + ["--debug"])
 
 

@@ -52,6 +52,20 @@ def test_a_folder_in_use_is_refused_in_one_line_naming_its_owner_and_left_as_it_
                 pass
 
 
+def test_the_python_api_refuses_a_folder_in_use_as_the_command_line_does(tmp_path):
+    """`harness.run(out=...)` and `harness.store` take the folder as `run --out` does: another
+    command's folder is refused before anything is computed or written."""
+    import harness
+    with owned(tmp_path, command="python -m harness run --case corner-r12"):
+        with pytest.raises(FolderBusy, match="is in use by `python -m harness run --case corner-r12`"):
+            harness.run("transition-r32", methods="nodal", levels=1, out=tmp_path, show_progress=False)
+        rows = harness.run("transition-r32", methods="nodal", levels=1, show_progress=False)
+        with pytest.raises(FolderBusy):
+            harness.store(rows, tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+    assert harness.store(rows, tmp_path) == tmp_path / "results.csv" and len(pd.read_csv(tmp_path / "results.csv")) == 1
+
+
 def test_two_runs_started_together_on_one_folder_keep_every_row_or_refuse_in_one_line(tmp_path):
     commands = [["transition-r32", "nodal", "5"], ["corner-r12", "p1", "4"]]
     started = [subprocess.Popen([sys.executable, "-m", "harness", "run", "--case", case, "--method", method, "--levels", levels,
@@ -112,7 +126,7 @@ def test_a_failed_run_leaves_only_the_checkpoints_its_resume_reuses(tmp_path, mo
         solved.append(level)
         return original(on_level, phases, kept, case, method, level, problem, solve)
     monkeypatch.setattr(walk, "keep", fail_on_the_second_level)
-    assert run(tmp_path, "transition-r32", "nodal", 3) == 1
+    assert run(tmp_path, "transition-r32", "nodal", 3) == 3          # the study stopped on an error
     assert sorted(p.name for p in tmp_path.iterdir()) == [".checkpoints"]
     monkeypatch.setattr(walk, "keep", original)
     assert main(["run", "--case", "transition-r32", "--method", "nodal", "--levels", "3", "--out", str(tmp_path)]) == 0

@@ -251,20 +251,16 @@ def test_loose_newton_steps_on_new_sets_reach_the_same_solution_with_fewer_cg_it
     assert loose.linear_iterations < full.linear_iterations
 
 
-def test_the_weak_methods_of_0_6_are_built_with_a_deprecation_warning():
-    """0.6's ``replace(method, gamma0=...)`` and ``WeakContact(flux=..., gamma0=...)`` give the
-    law they meant, with a DeprecationWarning (removed in 0.8.0)."""
+def test_the_weak_method_forms_of_0_6_are_gone_as_their_deprecation_said():
+    """0.7 deprecated ``replace(method, gamma0=...)`` and ``WeakContact`` for removal in 0.8.0:
+    a weak method is a ``ContactLawMethod`` whose law holds its parameters (``with_parameters``)."""
     from dataclasses import replace
 
-    from harness.methods import WeakContact
-    with pytest.warns(DeprecationWarning, match="with_parameters"):
-        small = replace(METHODS["nitsche"], name="nitsche-g002", gamma0=0.02, theta=-1)
-    assert small.law == Nitsche(0.02, -1.0)
-    with pytest.warns(DeprecationWarning, match="with_parameters"):
-        assert replace(METHODS["penalty"], name="stiff", gamma0=0.01).law == Penalty(0.01)
-    with pytest.warns(DeprecationWarning, match="ContactLawMethod"):
-        old = WeakContact(name="old", order=2, contact="", reference="", expected=None, flux=0.0, gamma0=0.3)
-    assert old.law == Penalty(0.3)
+    import harness.methods
+    with pytest.raises(TypeError, match="gamma0"):
+        replace(METHODS["nitsche"], name="nitsche-g002", gamma0=0.02)
+    assert not hasattr(harness.methods, "WeakContact")
+    assert METHODS["nitsche"].with_parameters(gamma0=0.02, theta=-1).law == Nitsche(0.02, -1.0)
 
 
 @pytest.mark.parametrize("case_name", ["elastic-transition-r32", pytest.param("elastic-transition-3d", marks=pytest.mark.slow)])

@@ -30,7 +30,7 @@ from .base import (
     Method,
 )
 from .plugins import MethodError, check_method, installed_methods, load_external
-from .protocol import ContactLawMethod, ContactPoints, LevelProblem, OwnSolution, OwnSolve, WeakContact
+from .protocol import ContactLawMethod, ContactPoints, LevelProblem, OwnSolution, OwnSolve
 
 # Named groups besides the method names themselves.
 GROUPS = {
@@ -181,5 +181,5 @@ def parse_method(spec: str) -> Method:
 
 __all__ = ["METHODS", "GROUPS", "BASELINE", "MESH_STUDY", "PAPER", "REFERENCE", "ROLES", "SWEPT", "known", "names_with_role",
            "role_names", "with_role", "BoundConstrained", "ContactLaw", "ContactLawMethod", "ContactPoints", "GammaPoints", "LawError",
-           "LevelProblem", "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Expectation", "FunctionalCone", "LevelSolve", "Method", "MethodError", "WeakContact",
+           "LevelProblem", "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Expectation", "FunctionalCone", "LevelSolve", "Method", "MethodError",
            "check_method", "get_method", "method_choices", "methods_for", "methods_named", "parse_method"]

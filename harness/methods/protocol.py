@@ -20,9 +20,8 @@ from __future__ import annotations
 
 import math
 import time
-import warnings
 from contextlib import nullcontext
-from dataclasses import InitVar, dataclass, fields, is_dataclass, replace
+from dataclasses import dataclass, fields, is_dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -32,7 +31,6 @@ from ..fem.assembly import ContactTraceFunction
 from ..fem.cones import contact_pressure
 from ..fem.contact_law import contact_data, law_system, predicted_active
 from ..fem.contact_quadrature import contact_quadrature
-from ..fem.laws import Nitsche, Penalty
 from ..fem.penetration import max_penetration
 from ..mesh.points import evaluate
 from ..solvers.multigrid import ContactEdges, nested_start, p1_values
@@ -59,20 +57,6 @@ class ContactLawMethod(Method):
     physics: tuple = ("scalar", "elasticity")
     dimensions: tuple = (2, 3)
     cost_model: str | float = "newton"
-    # deprecated since 0.7.0 (removed in 0.8.0): ``dataclasses.replace(method, gamma0=..., theta=...)``
-    # of 0.6, the law's scale of eps (its first parameter) and theta; ``with_parameters`` instead
-    gamma0: InitVar[float | None] = None
-    theta: InitVar[float | None] = None
-
-    def __post_init__(self, gamma0, theta):
-        if gamma0 is None and theta is None:
-            return
-        warnings.warn(f"method {self.name!r}: replace(method, gamma0=..., theta=...) is deprecated; use "
-                      f"method.with_parameters(...) (or replace(method, law=...))", DeprecationWarning, stacklevel=3)
-        names = list(self.parameters)
-        values = ({names[0]: float(gamma0)} if gamma0 is not None else {}) | ({"theta": float(theta)} if theta is not None else {})
-        object.__setattr__(self, "law", replace(self.law, **values))
-
     def system(self, case, problem, take_stiffness: bool = False):
         return law_system(case, problem, self.law, take_stiffness)
 
@@ -129,19 +113,6 @@ def nested_guess(system, carry, multilevel):
     if multilevel is not None:
         start = nested_start(multilevel, coarse_values, system.problem, ContactEdges.of(system.problem, model=False))
     return start, predicted_active(coarse_points, coarse_active, system.quadrature.points)
-
-
-class WeakContact(ContactLawMethod):
-    """Deprecated since 0.7.0 (removed in 0.8.0): the penalty (``flux`` = 0) or Nitsche
-    (``flux`` = 1, variant ``theta``) method as a ``ContactLawMethod`` with the law
-    ``fem.laws.Penalty(epsilon0=gamma0)`` or ``fem.laws.Nitsche(gamma0, theta)``."""
-
-    def __init__(self, *args, flux: float = 1.0, theta: float = 1.0, gamma0: float = 1.0, parameter_names=None, **kwargs):
-        warnings.warn("WeakContact is deprecated: use ContactLawMethod(law=Nitsche(gamma0, theta)) or "
-                      "ContactLawMethod(law=Penalty(epsilon0))", DeprecationWarning, stacklevel=2)
-        if kwargs.get("law") is None:
-            kwargs["law"] = Nitsche(gamma0, theta) if flux else Penalty(gamma0)
-        super().__init__(*args, **kwargs)
 
 
 @dataclass(frozen=True)

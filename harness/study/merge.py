@@ -26,8 +26,6 @@ def read_rows(path: Path) -> pd.DataFrame | None:
         frame = pd.read_csv(path)
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise OutputError(f"{path} is not a results CSV ({exc}): move it away or choose another output folder") from None
-    if "model" in frame.columns and "method" not in frame.columns:      # harness 0.1
-        frame = frame.rename(columns={"model": "method"})
     missing = [c for c in ("case", "method", "level") if c not in frame.columns]
     if missing:
         raise OutputError(f"{path} is not a results CSV (no column {', '.join(missing)}): "

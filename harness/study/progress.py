@@ -8,7 +8,7 @@ the ETA count only work done now. Workers report through Dask's event log (``Eve
 """
 from __future__ import annotations
 
-from tqdm import tqdm
+from tqdm.auto import tqdm
 
 BAR_FORMAT = "{desc}{percentage:3.0f}%|{bar}| {elapsed}<{remaining}"
 # the description, then the percentage, the bar and the times (the bar takes what is left of a
