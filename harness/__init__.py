@@ -18,15 +18,24 @@ _PUBLIC = {
 __all__ = list(_PUBLIC)
 
 
-def __getattr__(name: str):
-    if name not in _PUBLIC:
-        raise AttributeError(f"module 'harness' has no attribute {name!r}")
+def lazy(package: str, public: dict[str, str]):
+    """(``__getattr__``, ``__dir__``) of a package whose ``public`` names (name -> module, relative
+    to ``package``) are imported from their modules when first used (PEP 562); a name that is its
+    module's own is the module."""
     import importlib
-    module = importlib.import_module(f"{__name__}.{_PUBLIC[name]}")
-    value = module if _PUBLIC[name] == name else getattr(module, name)
-    globals()[name] = value
-    return value
+    import sys
+
+    def __getattr__(name: str):
+        if name not in public:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        module = importlib.import_module(f"{package}.{public[name]}")
+        value = module if public[name] == name else getattr(module, name)
+        setattr(sys.modules[package], name, value)
+        return value
+
+    def __dir__() -> list[str]:
+        return sorted({*vars(sys.modules[package]), *public})
+    return __getattr__, __dir__
 
 
-def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+__getattr__, __dir__ = lazy(__name__, _PUBLIC)

@@ -159,17 +159,24 @@ def efficiency(rows, mesh: str = "uniform", baseline: str | None = None, methods
     return efficiency_table(frame, baseline, methods)
 
 
-def plot(rows, case: str | None = None, kind: str = "convergence"):
-    """A Matplotlib figure of the rows (a notebook shows it): ``kind`` "convergence", the H^1
-    error of every method of ``case`` against h on uniform meshes with each theorem's bound, or
-    "verdicts", the matrix of rate verdicts of every case and method."""
+PLOTS = ("convergence", "verdicts", "rates")
+
+
+def plot(rows, case: str | None = None, kind: str = "convergence", ax=None):
+    """A Matplotlib figure of the rows (a notebook shows it), or drawn into ``ax``. ``kind``:
+    "convergence", the H^1 error of every method of ``case`` (needed when the rows hold several)
+    against h on uniform meshes, with each theorem's bound dashed and a slope triangle;
+    "verdicts", the matrix cases x methods of fitted / expected rates, coloured by verdict;
+    "rates", the fitted rates against the expected ones."""
     from .report import plots
     frame = rows_of(rows)
     if kind == "convergence":
-        return plots.convergence(frame, case)
+        return plots.convergence(frame, case, ax=ax)
     if kind == "verdicts":
-        return plots.verdict_matrix(rates(frame))
-    raise ValueError(f"unknown kind of plot {kind!r}: convergence or verdicts")
+        return plots.verdict_matrix(rates(frame), ax=ax)
+    if kind == "rates":
+        return plots.rate_summary(rates(frame), ax=ax)
+    raise ValueError(f"unknown kind of plot {kind!r}: one of {', '.join(PLOTS)}")
 
 
 def store(rows, folder) -> Path:

@@ -5,8 +5,6 @@ import inspect
 import re
 from pathlib import Path
 
-import pytest
-
 import harness
 from harness import DaskEngine, InProcess, LocalProcesses, VtkWriter
 from harness.methods import LevelSolve
@@ -20,7 +18,7 @@ SIGNATURES = {
     harness.rates: [("rows", E), ("fit_levels", 3), ("out", None)],
     harness.quantities: [("rows", E), ("out", None)],
     harness.efficiency: [("rows", E), ("mesh", "uniform"), ("baseline", None), ("methods", ())],
-    harness.plot: [("rows", E), ("case", None), ("kind", "convergence")],
+    harness.plot: [("rows", E), ("case", None), ("kind", "convergence"), ("ax", None)],
     harness.store: [("rows", E), ("folder", E)],
     type(harness.report).__call__: [("self", E), ("cases", None), ("methods", ("all",)), ("levels", None),
                                     ("profile", "default"), ("results", "results"), ("out", "report"), ("engine", None),

@@ -14,7 +14,6 @@ import pandas as pd
 import pytest
 
 import harness
-from harness.measure.rates import rate_table
 from harness.methods import LawError, MethodError, OwnSolution, check_method, methods_named
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -77,7 +76,7 @@ def test_a_law_without_a_declared_theory_is_measured_with_no_expected_rate(laws)
     rows = study([laws.penalty_h2], levels=4)
     assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
     assert rows.expected_rate.isna().all() and (rows.reference == "no theory declared").all()
-    rates = rate_table(rows.reset_index())
+    rates = harness.rates(rows.reset_index())
     assert rates.verdict.eq("no theory").all(), rates.verdict.tolist()
 
 
@@ -109,9 +108,11 @@ class NotAffine(WrongSlope):
 @pytest.mark.parametrize("law, broken", [(WrongSlope(), "pressure on the branch 'in contact' is not affine"),
                                          (NotAffine(), "not affine")])
 def test_a_law_that_breaks_its_promises_is_refused_in_one_line(laws, law, broken):
-    with pytest.raises(LawError, match=broken) as refused:
+    """Found on the law's first level: the study stops (``StudyFailed``, its cause the law's
+    ``LawError``), in one line."""
+    with pytest.raises(harness.StudyFailed, match=broken) as refused:
         study([replace(laws.penalty_h2, name="broken", law=law)], levels=1)
-    assert "\n" not in str(refused.value)
+    assert isinstance(refused.value.__cause__, LawError) and "\n" not in str(refused.value)
 
 
 def test_a_law_or_a_solve_that_is_not_one_is_refused_when_checked(laws, own):
@@ -128,9 +129,9 @@ def test_a_law_or_a_solve_that_is_not_one_is_refused_when_checked(laws, own):
     (lambda level: OwnSolution(np.where(level.free, 0.0, level.lift + 1.0), 0.0), "Dirichlet values"),
 ])
 def test_an_own_solve_returning_no_solution_of_the_level_is_refused_in_one_line(own, answer, refusal):
-    with pytest.raises(ValueError, match=refusal) as refused:
+    with pytest.raises(harness.StudyFailed, match=refusal) as refused:
         study([replace(own.method, solve_level=answer)], levels=1)
-    assert "\n" not in str(refused.value)
+    assert isinstance(refused.value.__cause__, ValueError) and "\n" not in str(refused.value)
 
 
 def test_the_protocol_examples_run_from_outside_on_every_mesh_and_two_workers(tmp_path):
@@ -159,7 +160,7 @@ def test_the_case_example_runs_by_path_and_its_cones_meet_the_paper_rate():
     rows = harness.run([str(ROOT / "examples" / "cases" / "transition_off_vertex.py")], ["paper", "p1"], levels=5,
                        show_progress=False)
     assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
-    rates = rate_table(rows).set_index("method")
+    rates = harness.rates(rows).set_index("method")
     assert rates.verdict.eq("meets").all(), rates[["fitted_rate", "verdict"]]
 
 

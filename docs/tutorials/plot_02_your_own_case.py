@@ -12,7 +12,6 @@ transition to x = 1/3, a point no mesh of the study has as a vertex
 from pathlib import Path
 
 import harness
-from harness.measure.rates import rate_table
 
 here = Path(__file__).resolve().parent if "__file__" in globals() else Path.cwd()
 path = next(p / "examples" / "cases" / "transition_off_vertex.py" for p in [here, *here.parents]
@@ -24,4 +23,4 @@ print(path.read_text().split('"""')[2])          # the case's code, after its do
 # (``--case path/to/file.py``).
 case = harness.load_case(str(path))
 rows = harness.run(case, methods=["paper", "p1"], levels=4, show_progress=False)
-print(rate_table(rows)[["method", "expected_rate", "fitted_rate", "pairwise_rates"]].to_string(index=False))
+print(harness.rates(rows)[["method", "expected_rate", "fitted_rate", "pairwise_rates"]].to_string(index=False))

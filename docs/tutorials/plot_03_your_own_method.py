@@ -14,7 +14,6 @@ from dataclasses import dataclass
 import numpy as np
 
 import harness
-from harness.measure.rates import rate_table
 from harness.methods import ContactLawMethod
 
 
@@ -42,4 +41,4 @@ mine = ContactLawMethod(name="penalty-h2", order=2, contact="penalty, ε = ε₀
 rows = harness.run("transition-r32", methods=[mine, "penalty", "nodal"], levels=4, show_progress=False)
 finest = rows[rows.level == rows.level.max()]
 print(finest[["method", "ndof", "err_h1", "max_penetration", "kkt_residual"]].to_string(index=False))
-print(rate_table(rows)[["method", "expected_rate", "fitted_rate", "verdict"]].to_string(index=False))
+print(harness.rates(rows)[["method", "expected_rate", "fitted_rate", "verdict"]].to_string(index=False))

@@ -10,11 +10,10 @@ the optimal N^{-k/2}.
 
 # %%
 import harness
-from harness.measure.rates import rate_table
 
 rows = harness.run("corner-r12", methods=["nodal", "p1"], levels=4, meshes=["uniform", "graded", "adaptive"],
                    show_progress=False)
-rates = rate_table(rows)
+rates = harness.rates(rows)
 print(rates[["mesh", "method", "fitted_rate_ndof", "optimal_rate_ndof", "ndof_verdict", "effectivity_finest"]]
       .to_string(index=False))
 

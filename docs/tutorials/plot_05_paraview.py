@@ -14,10 +14,9 @@ from pathlib import Path
 import meshio
 
 import harness
-from harness.report.vtk import VtkWriter
 
 folder = Path(tempfile.mkdtemp()) / "vtk"
-harness.run("transition-r32", methods=["nodal"], levels=2, show_progress=False, on_level=VtkWriter(folder))
+harness.run("transition-r32", methods=["nodal"], levels=2, show_progress=False, on_level=harness.VtkWriter(folder))
 for path in sorted(folder.rglob("*")):
     if path.is_file():
         print(path.relative_to(folder))

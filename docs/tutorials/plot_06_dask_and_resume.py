@@ -3,7 +3,7 @@ Running on a Dask cluster, and resuming
 =======================================
 
 A study's jobs (one per case, split by order where large) run on any Dask cluster:
-``harness.study.DaskEngine(scheduler="tcp://host:8786")``, or ``--scheduler`` on the command
+``harness.DaskEngine(scheduler="tcp://host:8786")``, or ``--scheduler`` on the command
 line. Here a cluster inside this process (one worker thread) stands in for one; on a real
 cluster, ``dask scheduler`` and ``dask worker tcp://host:8786 --nthreads 1`` on each machine, or
 ``DaskEngine(workers=N)`` for N local worker processes. With a checkpoint folder
@@ -20,12 +20,11 @@ from pathlib import Path
 from distributed import LocalCluster
 
 import harness
-from harness.study import DaskEngine
 
 logging.getLogger("distributed").setLevel(logging.ERROR)      # the cluster's own chatter
 cluster = LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0",
                        silence_logs=logging.ERROR)
-engine = DaskEngine(scheduler=cluster.scheduler_address)
+engine = harness.DaskEngine(scheduler=cluster.scheduler_address)
 checkpoints = Path(tempfile.mkdtemp()) / "checkpoints"
 clock = time.perf_counter()
 rows = harness.run(["transition-r32", "corner-r12"], methods=["paper"], levels=3, engine=engine,

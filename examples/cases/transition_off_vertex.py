@@ -17,8 +17,7 @@ u = −r^{3/2} sin(3θ/2) about (x₀, 0): binding (u = 0, ∂ₙu ≥ 0) for x 
 """
 from ngsolve import atan2, sin, sqrt, x, y
 
-from harness.problem.functions import transition_gradient
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip, transition_gradient
 
 X0 = 1.0 / 3.0
 

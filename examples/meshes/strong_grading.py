@@ -7,12 +7,11 @@ with μ < λ/k); a smaller μ grades harder, spending dofs near the singular poi
 
 A strategy is any object with a ``label`` (the rows' ``mesh`` column), ``applies_to(case)``
 (None, or why not), ``group_key(method)`` (methods with equal keys share a sequence) and
-``sequence(case, order)`` (a ``harness.mesh.levels.LevelSequence``).
+``sequence(case, order)`` (a ``harness.mesh.LevelSequence``).
 """
 from dataclasses import dataclass
 
-from harness.mesh.bisection import GradedRefinement
-from harness.mesh.strategies import MeshStrategy, singular_lines, singular_points
+from harness.mesh import GradedRefinement, MeshStrategy, singular_lines, singular_points
 
 
 @dataclass(frozen=True)

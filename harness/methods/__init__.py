@@ -24,10 +24,13 @@ from .base import (
     ROLES,
     SWEPT,
     BoundConstrained,
+    Carry,
     Expectation,
     FunctionalCone,
     LevelSolve,
     Method,
+    SolveFields,
+    timer,
 )
 from .plugins import MethodError, check_method, installed_methods, load_external
 from .protocol import ContactLawMethod, ContactPoints, LevelProblem, OwnSolution, OwnSolve
@@ -181,5 +184,5 @@ def parse_method(spec: str) -> Method:
 
 __all__ = ["METHODS", "GROUPS", "BASELINE", "MESH_STUDY", "PAPER", "REFERENCE", "ROLES", "SWEPT", "known", "names_with_role",
            "role_names", "with_role", "BoundConstrained", "ContactLaw", "ContactLawMethod", "ContactPoints", "GammaPoints", "LawError",
-           "LevelProblem", "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Expectation", "FunctionalCone", "LevelSolve", "Method", "MethodError",
+           "LevelProblem", "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Carry", "Expectation", "SolveFields", "timer", "FunctionalCone", "LevelSolve", "Method", "MethodError",
            "check_method", "get_method", "method_choices", "methods_for", "methods_named", "parse_method"]

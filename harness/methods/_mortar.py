@@ -4,7 +4,6 @@ opening of the interface against a multiplier space on the upper (slave) body's 
 KKT <= 1e-10) on the joint system of both bodies (``fem.two_body``)."""
 from __future__ import annotations
 
-from contextlib import nullcontext
 from dataclasses import dataclass
 
 import numpy as np
@@ -18,7 +17,7 @@ from ..solvers.active_set import ActiveSetSolver, FactorisedSystem, MultigridSys
 from ..solvers.general_constraints import GeneralConstraintSolver
 from ..solvers.joint_multigrid import SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injection, p1_map
 from ..solvers.multigrid import nested_start, p1_values
-from .base import Expectation, LevelSolve, Method
+from .base import Carry, Expectation, LevelSolve, Method, SolveFields, timer
 
 
 def one_body_rate(case, order: int) -> Expectation:
@@ -73,7 +72,7 @@ class Mortar(Method):
         (``solvers.joint_multigrid``: uniform pairs), else on sparse Cholesky; standard ones, or
         ``general=True`` (the cross-check), the rows themselves by the general-constraint active
         set method on the saddle system (``solvers.general_constraints``)."""
-        timed = phases or (lambda phase: nullcontext())
+        timed = timer(phases)
         with timed("setup"):
             dual = self.multipliers == "dual"
             coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, self.multipliers,
@@ -99,28 +98,9 @@ class Mortar(Method):
                 forces = solution.multipliers
         # per slave edge, as the one-body cones report it: the forces shared among the edges
         pressure = contact_pressure(problem.upper, forces)
-        fields = {
-            "n_contact_constraints": coupling.rows,
-            "max_penetration": max_penetration(case, problem, u),
-            "min_pressure": float(pressure.min()),
-            "active_constraints": int(solution.active.sum()),
-            "solver_iterations": solution.iterations,
-            "linear_iterations": solution.work.get("cg_iterations", solution.work.get("factorizations")),
-            "kkt_residual": solution.kkt.residual, "backward_error": solution.kkt.backward,
-            "solve_seconds": solution.seconds,
-            "status": solution.status,
-        }
-        return LevelSolve(fields, u, None, pressure, MortarCarry(points, solution.active, joint_p1_values(problem, u)))
-
-
-@dataclass(frozen=True)
-class MortarCarry:
-    """What a mortar solve hands the next level: each row's slave node and status (the predicted
-    active set) and the solution's vertex values, both bodies' (the multigrid's nested start)."""
-
-    points: np.ndarray
-    active: np.ndarray
-    p1: np.ndarray
+        fields = SolveFields.of_exact(solution, max_penetration(case, problem, u), pressure, coupling.rows)
+        # each row's slave node and status (the predicted active set) and both bodies' vertex values
+        return LevelSolve(fields, u, None, pressure, Carry(joint_p1_values(problem, u), points=points, active=solution.active))
 
 
 def joint_p1_values(problem: TwoBodyProblem, u: np.ndarray) -> np.ndarray:

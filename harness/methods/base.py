@@ -8,8 +8,10 @@ the next level (nested iteration) and the report need (``LevelSolve``).
 """
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
 from contextlib import nullcontext
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from typing import Callable
 
 import numpy as np
@@ -51,17 +53,78 @@ class Expectation:
     reference: str
 
 
+@dataclass(frozen=True)
+class SolveFields(Mapping):
+    """The solver columns a level's solve gives its row (docs/guide/results.md), read as a
+    mapping too (``fields["status"]``, ``{**fields}``)."""
+
+    max_penetration: float          # the largest penetration of u_h between the nodes of Gamma_C
+    min_pressure: float             # the smallest discrete contact pressure (an edge's mean)
+    kkt_residual: float             # relative KKT or Newton residual (<= 1e-10: converged)
+    status: str                     # "converged", or why not
+    solver_iterations: int = 0      # active sets or Newton steps
+    linear_iterations: int | None = 0   # CG iterations (multigrid) or factorisations
+    active_constraints: int = 0
+    n_contact_constraints: int = 0
+    backward_error: float = math.nan    # the normwise backward error of the stationarity
+    solve_seconds: float = 0.0
+
+    def __getitem__(self, name: str):
+        if name not in self._names():
+            raise KeyError(name)
+        return getattr(self, name)
+
+    def __iter__(self):
+        return iter(self._names())
+
+    def __len__(self) -> int:
+        return len(self._names())
+
+    @classmethod
+    def _names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))
+
+    @classmethod
+    def of_exact(cls, solution, max_penetration: float, pressure: np.ndarray, rows: int) -> "SolveFields":
+        """The fields of a QP solved exactly (``solvers.active_set.QPSolution`` or
+        ``solvers.general_constraints.GeneralQPSolution``) with ``rows`` constraints."""
+        return cls(max_penetration=max_penetration, min_pressure=float(pressure.min()), kkt_residual=solution.kkt.residual,
+                   status=solution.status, solver_iterations=solution.iterations,
+                   linear_iterations=solution.work.get("cg_iterations", solution.work.get("factorizations")),
+                   active_constraints=int(solution.active.sum()), n_contact_constraints=rows,
+                   backward_error=solution.kkt.backward, solve_seconds=solution.seconds)
+
+
+@dataclass(frozen=True)
+class Carry:
+    """What a level's solve hands the next, finer level (nested iteration): u_h's values at the
+    vertices (``p1``: the multigrid's start, prolongated) and what predicts the next active set:
+    the trace of u_h with its constraints' status (the cones: ``trace``) or the contact points
+    with their branch (contact laws and mortars: ``points``, ``active``)."""
+
+    p1: np.ndarray
+    trace: object = None            # fem.assembly.ContactTraceFunction
+    points: np.ndarray | None = None
+    active: np.ndarray | None = None
+
+
 @dataclass
 class LevelSolve:
     """One method on one level: the row's solver fields, u_h (NGSolve numbering of its space),
     its trace on Gamma_C, its discrete contact pressure (mean over each contact edge, in the
     order of ``problem.trace``), and what the next level starts from."""
 
-    fields: dict
+    fields: SolveFields
     u: np.ndarray
     trace_u: object
     pressure: np.ndarray
-    carry: tuple
+    carry: Carry | None
+
+
+def timer(phases):
+    """``phases`` (``study.Phases``: ``with phases("setup"): ...`` times a phase of the level),
+    or, when the solve is not timed, a timer that times nothing."""
+    return phases or (lambda phase: nullcontext())
 
 
 @dataclass(frozen=True)
@@ -149,14 +212,13 @@ class BoundConstrained(Method):
     dimensions: tuple = (2, 3)
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
-        timed = phases or (lambda phase: nullcontext())
-        previous, coarse_vertex_values = carry or (None, None)
+        timed = timer(phases)
         with timed("setup"):
             qp = contact_qp(case, problem, self.cone, take_stiffness=take_stiffness)
             start = None
-            if multilevel is not None and coarse_vertex_values is not None:
-                start = nested_start(multilevel, coarse_vertex_values, problem)
-            predicted = qp.predicted_active(previous)
+            if multilevel is not None and carry is not None:
+                start = nested_start(multilevel, carry.p1, problem)
+            predicted = qp.predicted_active(None if carry is None else carry.trace)
         with timed("solve"):
             solution = solve_contact_qp(qp, predicted, multilevel=multilevel, start=start, options=self.solver)
         u = qp.to_u(solution.z)
@@ -166,18 +228,8 @@ class BoundConstrained(Method):
 
 def _exact_level(case, problem, u, trace_u, pressure, solution) -> LevelSolve:
     """The row of a level solved exactly (a bound or general-constraint QP's ``solution``)."""
-    fields = {
-        "n_contact_constraints": len(solution.active),
-        "max_penetration": max_penetration(case, problem.mesh, trace_u),
-        "min_pressure": float(pressure.min()),
-        "active_constraints": int(solution.active.sum()),
-        "solver_iterations": solution.iterations,
-        "linear_iterations": solution.work.get("cg_iterations", solution.work.get("factorizations")),
-        "kkt_residual": solution.kkt.residual, "backward_error": solution.kkt.backward,
-        "solve_seconds": solution.seconds,
-        "status": solution.status,
-    }
-    return LevelSolve(fields, u, trace_u, pressure, (trace_u, p1_values(problem, u)))
+    fields = SolveFields.of_exact(solution, max_penetration(case, problem.mesh, trace_u), pressure, len(solution.active))
+    return LevelSolve(fields, u, trace_u, pressure, Carry(p1_values(problem, u), trace=trace_u))
 
 
 @dataclass(frozen=True)
@@ -202,15 +254,14 @@ def solve_general_rows(case, problem, carry, multilevel, phases, make_qp,
     ``EdgeFunctionalQP``), solved exactly by the general-constraint active set method, by
     projected multigrid CG on ``multilevel``'s hierarchy (else SuperLU's factorised saddle
     system), nested from ``carry``."""
-    timed = phases or (lambda phase: nullcontext())
-    previous, coarse_vertex_values = carry or (None, None)
+    timed = timer(phases)
     embedding = ContactEdges.of(problem, model=False)
     with timed("setup"):
         qp = make_qp()
         start = None
-        if multilevel is not None and coarse_vertex_values is not None:
-            start = nested_start(multilevel, coarse_vertex_values, problem, embedding)
-        predicted = qp.predicted_active(previous)
+        if multilevel is not None and carry is not None:
+            start = nested_start(multilevel, carry.p1, problem, embedding)
+        predicted = qp.predicted_active(None if carry is None else carry.trace)
     with timed("solve"):
         system = None if multilevel is None else ProjectedMultigridSystem(qp.K_ngs, multilevel, embedding, options)
         solution = GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift, system=system,

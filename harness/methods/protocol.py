@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 import time
-from contextlib import nullcontext
 from dataclasses import dataclass, fields, is_dataclass, replace
 from typing import Callable
 
@@ -35,7 +34,7 @@ from ..fem.penetration import max_penetration
 from ..mesh.points import evaluate
 from ..solvers.multigrid import ContactEdges, nested_start, p1_values
 from ..solvers.newton import solve_semismooth_newton
-from .base import Expectation, LevelSolve, Method
+from .base import Carry, Expectation, LevelSolve, Method, SolveFields, timer
 
 
 def no_theory(case) -> Expectation:
@@ -80,7 +79,7 @@ class ContactLawMethod(Method):
         return replace(self, name=f"{base}:{label}" if label else base, law=law, roles=self.roles if not label else frozenset())
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
-        timed = phases or (lambda phase: nullcontext())
+        timed = timer(phases)
         with timed("setup"):
             system = self.system(case, problem, take_stiffness)
             start, predicted = nested_guess(system, carry, multilevel)
@@ -89,18 +88,12 @@ class ContactLawMethod(Method):
         u = solution.u
         trace_u = ContactTraceFunction.of(problem, u)
         pressure = system.quadrature.edge_means(system.pressure(u))
-        fields = {
-            "n_contact_constraints": 0,
-            "max_penetration": max_penetration(case, problem.mesh, trace_u),
-            "min_pressure": float(pressure.min()),
-            "active_constraints": int(solution.active.sum()),
-            "solver_iterations": solution.iterations,
-            "linear_iterations": solution.linear_iterations,
-            "kkt_residual": solution.residual, "backward_error": solution.backward,
-            "solve_seconds": solution.seconds,
-            "status": solution.status,
-        }
-        return LevelSolve(fields, u, trace_u, pressure, (p1_values(problem, u), system.quadrature.points, solution.active))
+        fields = SolveFields(max_penetration(case, problem.mesh, trace_u), float(pressure.min()), solution.residual,
+                             solution.status, solution.iterations, solution.linear_iterations,
+                             active_constraints=int(solution.active.sum()), backward_error=solution.backward,
+                             solve_seconds=solution.seconds)
+        return LevelSolve(fields, u, trace_u, pressure,
+                          Carry(p1_values(problem, u), points=system.quadrature.points, active=solution.active))
 
 
 def nested_guess(system, carry, multilevel):
@@ -108,11 +101,10 @@ def nested_guess(system, carry, multilevel):
     interpolated, and the branch of its nearest Gauss points."""
     if carry is None:
         return None, None
-    coarse_values, coarse_points, coarse_active = carry
     start = None
     if multilevel is not None:
-        start = nested_start(multilevel, coarse_values, system.problem, ContactEdges.of(system.problem, model=False))
-    return start, predicted_active(coarse_points, coarse_active, system.quadrature.points)
+        start = nested_start(multilevel, carry.p1, system.problem, ContactEdges.of(system.problem, model=False))
+    return start, predicted_active(carry.points, carry.active, system.quadrature.points)
 
 
 @dataclass(frozen=True)
@@ -181,7 +173,7 @@ class OwnSolve(Method):
     solve_level: Callable | None = None
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
-        timed = phases or (lambda phase: nullcontext())
+        timed = timer(phases)
         with timed("setup"):
             level = level_problem(case, problem, carry, multilevel)
         with timed("solve"):
@@ -195,18 +187,9 @@ class OwnSolve(Method):
         else:
             force = np.concatenate([problem.contact_residual(u)[:len(problem.vertex_dofs)], np.zeros(len(problem.edge_dofs))])
             pressure = contact_pressure(problem, force)
-        fields = {
-            "n_contact_constraints": 0,
-            "max_penetration": max_penetration(case, problem.mesh, trace_u),
-            "min_pressure": float(pressure.min()),
-            "active_constraints": 0,
-            "solver_iterations": int(solution.iterations),
-            "linear_iterations": 0,
-            "kkt_residual": float(solution.residual), "backward_error": math.nan,
-            "solve_seconds": seconds,
-            "status": str(solution.status),
-        }
-        return LevelSolve(fields, u, trace_u, pressure, (p1_values(problem, u),))
+        fields = SolveFields(max_penetration(case, problem.mesh, trace_u), float(pressure.min()), float(solution.residual),
+                             str(solution.status), int(solution.iterations), solve_seconds=seconds)
+        return LevelSolve(fields, u, trace_u, pressure, Carry(p1_values(problem, u)))
 
 
 def level_problem(case, problem, carry, multilevel) -> LevelProblem:
@@ -218,7 +201,7 @@ def level_problem(case, problem, carry, multilevel) -> LevelProblem:
                             problem.physics.modulus)
     start = None
     if carry is not None and multilevel is not None:
-        start = nested_start(multilevel, carry[0], problem, ContactEdges.of(problem, model=False))
+        start = nested_start(multilevel, carry.p1, problem, ContactEdges.of(problem, model=False))
     gap = np.zeros(len(problem.vertex_dofs))
     if case.gap is not None:
         gap = problem.physics.obstacle(evaluate(case.gap, mesh, problem.trace.vertex_points))

@@ -1,3 +1,16 @@
 """Stage 2, the problem: what a case declares (``case``: the contract and its loading,
 ``geometry``, ``functions``: exact-solution helpers), its ``physics`` (every scalar/elastic and
 2D/3D difference) and the checks of a case (``validate``). Imports only ``mesh``."""
+from .. import lazy
+
+# The case protocol and the helpers a case file of your own uses (``examples/cases/``,
+# docs/guide/cases.md), imported when first used.
+_PUBLIC = {
+    "Case": "case", "CaseError": "case", "load_case": "case", "registered_cases": "case",
+    "polygon": "geometry", "contact_strip": "geometry", "split_strip": "geometry", "contact_box": "geometry",
+    "disc_box": "geometry", "zone_box": "geometry",
+    "polar": "functions", "transition": "functions", "transition_gradient": "functions",
+    "roller_free_mode": "functions", "roller_free_series": "functions",
+}
+__all__ = list(_PUBLIC)
+__getattr__, __dir__ = lazy(__name__, _PUBLIC)
