@@ -187,3 +187,21 @@ def test_a_mesh_strategy_that_cannot_be_used_is_refused_in_one_line(tmp_path, so
     err = capsys.readouterr().err
     assert code == 2 and err.count("\n") == 1 and message in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_variant_takes_none_of_the_roles_of_the_method_it_varies():
+    """``dataclasses.replace`` under another name and ``with_parameters`` make variants that join
+    no sweep or study of the report unasked; ``with_roles`` gives a variant roles of its own, and
+    a copy under the same name (``with_extra_levels``) keeps them."""
+    from dataclasses import replace
+
+    from harness.methods import METHODS, SWEPT, Nitsche, with_role
+    nitsche = METHODS["nitsche"]
+    assert SWEPT in nitsche.roles
+    renamed = replace(nitsche, name="my-nitsche", law=Nitsche(0.02, -1.0))
+    variant = nitsche.with_parameters(gamma0=0.02)
+    assert renamed.roles == variant.roles == frozenset() and with_role(SWEPT, [renamed, variant]) == []
+    assert renamed.with_roles(SWEPT).roles == {SWEPT} and replace(renamed.with_roles(SWEPT), order=2).roles == {SWEPT}
+    assert nitsche.with_extra_levels(1).roles == nitsche.roles
+    with pytest.raises(ValueError, match="unknown role"):
+        nitsche.with_roles("favourite")

@@ -76,7 +76,7 @@ class ContactLawMethod(Method):
             raise ValueError(f"method {self.name!r}: {error}") from None
         label = ",".join(f"{name}={float(values[name]):g}" for name in self.parameters if name in values)
         base = self.name.split(":")[0]
-        return replace(self, name=f"{base}:{label}" if label else base, law=law, roles=self.roles if not label else frozenset())
+        return replace(self, name=f"{base}:{label}" if label else base, law=law)
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         timed = timer(phases)
