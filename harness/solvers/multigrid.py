@@ -426,44 +426,72 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
     off the affine space (without it the drift stalled CG at 1e-9 relative on transition-line-3d).
     The residual that decides convergence is P r, the stationarity once the constraints'
     least-squares multipliers are taken off."""
-    mask = preconditioner.free      # the float indicator of ``free``, made once per pin set
-    (x, x_np), (r, r_np), (p, _), (q, q_np), (s, s_np) = _vectors(K_ngs, 5)
-    x_np[:] = z
-    iterations = 0
+    cg = _PreconditionedCG(K_ngs, preconditioner, projection, z)
+    for _restart in range(3):
+        cg.true_residual(rhs)
+        if cg.converged(tol) or not cg.iterate(tol, max_iterations):
+            break
+    return cg.x_np.copy(), cg.iterations
 
-    def converged(bound: float) -> bool:
+
+class _PreconditionedCG:
+    """``pcg``'s iteration: its NGSolve work vectors with their NumPy views, made once per solve
+    (a view costs microseconds, ``TruncatedVCycle``), and the iterate x and the count of CG
+    steps, which carry over the restarts."""
+
+    def __init__(self, K_ngs, preconditioner: TruncatedVCycle, projection, z: np.ndarray):
+        self.K, self.preconditioner, self.projection = K_ngs, preconditioner, projection
+        self.mask = preconditioner.free      # the float indicator of ``free``, made once per pin set
+        (self.x, self.x_np), (self.r, self.r_np), (self.p, _), (self.q, self.q_np), (self.s, self.s_np) = \
+            _vectors(K_ngs, 5)
+        self.x_np[:] = z
+        self.iterations = 0
+
+    def true_residual(self, rhs: np.ndarray) -> None:
+        """r = rhs - K x on the free dofs, computed afresh: the recurrence's r drifts from it by
+        round-off, and a restart must judge convergence on the true one."""
+        self.r.data = self.K * self.x
+        self.r_np[:] = (rhs - self.r_np) * self.mask
+
+    def converged(self, bound: float) -> bool:
+        """max |r| <= bound, or max |P r| with a projection: the stationarity once the constraints'
+        least-squares multipliers are taken off (``pcg``)."""
+        r_np, projection = self.r_np, self.projection
         if projection is None:
             return _max_abs(r_np) <= bound
-        # max |P r|: P changes r on the constraints' columns only
+        # P changes r on the constraints' columns only: those are kept and put back, not all of r
         kept = r_np[projection.columns]
         projection.apply_in_place(r_np)
         largest = _max_abs(r_np)
         r_np[projection.columns] = kept
         return largest <= bound
 
-    def precondition() -> None:
-        preconditioner.apply(r, s)
-        if projection is not None:
-            projection.apply_in_place(s_np)
+    def precondition(self) -> None:
+        """s = B r, projected once more with a projection so that round-off never moves the
+        iterate off the affine space (``pcg``)."""
+        self.preconditioner.apply(self.r, self.s)
+        if self.projection is not None:
+            self.projection.apply_in_place(self.s_np)
 
-    for _restart in range(3):
-        r.data = K_ngs * x
-        r_np[:] = (rhs - r_np) * mask
-        if converged(tol):
-            break
+    def iterate(self, tol: float, max_iterations: int) -> bool:
+        """CG steps from the current residual until the recurrence's max |r| <= tol / 2 (the
+        restart then checks the true one against tol) or ``max_iterations`` steps in all. False
+        when a curvature is not positive: K or the V-cycle (smoothing with K) is not positive
+        definite (Nitsche with theta = 1 past its gamma0 bound), CG cannot converge, and the
+        caller checks the residual and solves directly (without the max_iterations CG steps
+        first)."""
+        K, mask, x, r, p, q, q_np, s = self.K, self.mask, self.x, self.r, self.p, self.q, self.q_np, self.s
+        converged, precondition = self.converged, self.precondition
         precondition()
         p.data = s
         rs = ngs.InnerProduct(r, s)
-        while iterations < max_iterations:
-            iterations += 1
-            q.data = K_ngs * p
+        while self.iterations < max_iterations:
+            self.iterations += 1
+            q.data = K * p
             q_np *= mask
             curvature = ngs.InnerProduct(p, q)
             if not (curvature > 0 and rs > 0):
-                # K or the V-cycle (smoothing with K) is not positive definite (Nitsche with
-                # theta = 1 past its gamma0 bound): CG cannot converge, the caller checks the
-                # residual and solves directly (without the max_iterations CG steps first)
-                return x_np.copy(), iterations
+                return False
             step = rs / curvature
             x.data += step * p
             r.data -= step * q
@@ -473,7 +501,7 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
             rs_new = ngs.InnerProduct(r, s)
             p.data = s + (rs_new / rs) * p
             rs = rs_new
-    return x_np.copy(), iterations
+        return True
 
 
 # No change of variables, scalar problems: penalty and Nitsche work in NGSolve's own hierarchical
