@@ -172,58 +172,93 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
     problem = system.problem
     u = np.where(~problem.free, problem.lift, 0.0 if start is None else start)
     scale = load_scale(system)
-    full = options.linear_depth * options.tolerance
-    solves = _AffineSolves(system, multilevel, options)
-    seen, damped = set(), False
+    steps = _NewtonSteps(system, multilevel, options, scale)
+    stall = _StallWatch(options.stall_steps)
     status = f"not converged in {options.newton_iterations} iterations"
-    step_set, previous_set = None, None
-    best, best_iteration = np.inf, 0
     for iteration in range(options.newton_iterations + 1):
         F = system.residual(u)
         residual = float(np.abs(F).max(initial=0.0) / scale)
         active = system.bracket(u) > 0
-        if residual <= options.tolerance:
-            status = "converged"
-            break
-        if step_set is not None and np.array_equal(active, step_set):
-            # u solved the affine system of its own set: what is left of F is the linear solve's,
-            # at the round-off floor when its backward error is (``pdas.KKT.converged``)
-            if backward_error(system, u, F) <= options.roundoff_backward_error:
-                status = "converged"
-                break
-        if not np.isfinite(residual):
-            status = "diverged: the residual is not finite"
-            break
-        # after the round-off and divergence tests: a stall is what is left
-        if residual < best:
-            best, best_iteration = residual, iteration
-        elif iteration - best_iteration >= options.stall_steps:
-            status = f"stalled: max |F| not below its best ({best:.1e}) in {options.stall_steps} steps"
+        # a stall is what is left after the convergence and divergence tests
+        stopped = _stopped(system, u, F, residual, active, steps.last_set, options) or stall.stalled(residual, iteration)
+        if stopped:
+            status = stopped
             break
         if iteration == options.newton_iterations:
             break
-        step_set = predicted if iteration == 0 and predicted is not None else active
+        u = steps.step(u, residual, predicted if iteration == 0 and predicted is not None else active)
+    backward = backward_error(system, u, F)
+    return NewtonSolution(u, active, residual, iteration, steps.solves.iterations, time.perf_counter() - clock, status, backward)
+
+
+def _stopped(system, u: np.ndarray, F: np.ndarray, residual: float, active: np.ndarray, last_set, options) -> str | None:
+    """The status "converged" or "diverged: ..." when u ends the iteration (the module's
+    stopping test), else None. ``last_set``: the set the last step solved on (None before the first step)."""
+    if residual <= options.tolerance:
+        return "converged"
+    if last_set is not None and np.array_equal(active, last_set):
+        # u solved the affine system of its own set: what is left of F is the linear solve's,
+        # at the round-off floor when its backward error is (``pdas.KKT.converged``)
+        if backward_error(system, u, F) <= options.roundoff_backward_error:
+            return "converged"
+    if not np.isfinite(residual):
+        return "diverged: the residual is not finite"
+    return None
+
+
+class _StallWatch:
+    """The best max |F| so far and its step: a run that has not gone below it for ``steps``
+    steps stops as "stalled" (``SolverOptions.stall_steps``; the module's note: past Nitsche's
+    coercivity bound the discrete problem may have no solution, and Newton wanders)."""
+
+    def __init__(self, steps: int):
+        self.steps = steps
+        self.best, self.best_iteration = np.inf, 0
+
+    def stalled(self, residual: float, iteration: int) -> str | None:
+        """The status "stalled: ..." once the best is ``steps`` steps old, else None."""
+        if residual < self.best:
+            self.best, self.best_iteration = residual, iteration
+        elif iteration - self.best_iteration >= self.steps:
+            return f"stalled: max |F| not below its best ({self.best:.1e}) in {self.steps} steps"
+        return None
+
+
+class _NewtonSteps:
+    """The Newton steps of a run: each one's set, the depth its affine system is solved to, and
+    damping once a set comes again (the module's note)."""
+
+    def __init__(self, system, multilevel, options: SolverOptions, scale: float):
+        self.system, self.options, self.scale = system, options, scale
+        self.full = options.linear_depth * options.tolerance
+        self.solves = _AffineSolves(system, multilevel, options)
+        self.seen, self.damped = set(), False
+        self.last_set = None        # the set of the last step
+
+    def step(self, u: np.ndarray, residual: float, step_set: np.ndarray) -> np.ndarray:
+        """The next iterate from u (of max |F| ``residual``, relative) by the step on ``step_set``.
+
+        A set that differs from the last step's is solved to ``options.forcing`` times the
+        residual when that is much shallower (``pdas.loose_depth``; inexact semismooth Newton:
+        such a step decides the next set); a set a step leaves unchanged is solved to the full
+        depth (``options.linear_depth`` of the tolerance), which decides convergence, keeping
+        J, r and the V-cycle. A set solved to full depth before, met again, means cycling of the
+        full steps: from then on every step is damped."""
+        options, full, solves = self.options, self.full, self.solves
         key = step_set.tobytes()
-        damped = damped or key in seen
-        # A set that differs from the last step's is solved to ``options.forcing`` times the
-        # residual when that is much shallower (``pdas.loose_depth``; inexact semismooth Newton:
-        # such a step decides the next set); a set a step leaves unchanged is solved to the full
-        # depth (``options.linear_depth`` of the tolerance), which decides convergence, keeping
-        # J, r and the V-cycle.
-        new_set = previous_set is None or not np.array_equal(step_set, previous_set)
-        loose = new_set and not (solves.direct or damped)
+        self.damped = self.damped or key in self.seen
+        new_set = self.last_set is None or not np.array_equal(step_set, self.last_set)
+        loose = new_set and not (solves.direct or self.damped)
         depth = loose_depth(residual, full, options.forcing, options.loose_gain) if loose else full
         if depth <= full:
-            seen.add(key)           # sets of full-depth steps only: a loose one is solved again
-        previous_set = step_set
+            self.seen.add(key)      # sets of full-depth steps only: a loose one is solved again
+        self.last_set = step_set
         if new_set:
             solves.new_set(step_set)
-        candidate = solves.solve(u, depth * scale, full * scale)
-        if damped:
-            candidate = _damped(system, u, candidate, residual * scale)
-        u = candidate
-    backward = backward_error(system, u, F)
-    return NewtonSolution(u, active, residual, iteration, solves.iterations, time.perf_counter() - clock, status, backward)
+        candidate = solves.solve(u, depth * self.scale, full * self.scale)
+        if self.damped:
+            candidate = _damped(self.system, u, candidate, residual * self.scale)
+        return candidate
 
 
 def backward_error(system, u: np.ndarray, F: np.ndarray) -> float:
