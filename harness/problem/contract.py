@@ -38,26 +38,56 @@ def import_file(path: Path):
 def check_declared(module, source: str) -> None:
     """The plain values of the contract, each of the type and range it must have, refused in
     one line (wrong type, NaN or infinite where a finite number is meant, wrong sign), before
-    anything is built from them."""
-    def number(key: str, low: float, finite: bool = True, optional_nan: bool = False):
-        if not hasattr(module, key):
-            return
-        value = getattr(module, key)
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
-        if ok and math.isnan(value):
-            ok = optional_nan
-        elif ok:
-            ok = value > low and (math.isfinite(value) or not finite)
-        if not ok:
-            bound = f"> {low:g}" + ("" if finite else " (inf allowed)")
-            raise CaseError(f"case {source}: {key} must be a number {bound}, got {value!r}")
+    anything is built from them. The checks run in this order: of several faults, the first
+    is the one reported."""
+    _check_strings(module, source)
+    _check_number(module, source, "maxh", 0.0)
+    _check_level_counts(module, source)
+    _check_predictions(module, source)
+    if getattr(module, "report_profile", REPORT_PROFILES[0]) not in REPORT_PROFILES:
+        raise CaseError(f"case {source}: report_profile must be one of {', '.join(REPORT_PROFILES)}, "
+                        f"got {module.report_profile!r}")
+    if hasattr(module, "reference_levels"):
+        reference_levels(module, source)
+    reference = not hasattr(module, "u")
+    _check_number(module, source, "nu", 1.0, finite=False, optional_nan=reference)       # u in H^{nu - eps}, nu > 1
+    _check_number(module, source, "expected_rate", 0.0, optional_nan=reference)
+    _check_number(module, source, "expected_log_exponent", -math.inf)
+    if hasattr(module, "geometry") and not hasattr(module.geometry, "GenerateMesh"):
+        raise CaseError(f"case {source}: geometry must be a netgen geometry (harness.problem.geometry.polygon builds one), "
+                        f"got {type(module.geometry).__name__}")
+    _check_coefficients(module, source)
+    check_singular_sets(module, source)
 
+
+def _check_strings(module, source: str) -> None:
+    """The texts are strings, and the name, which names the case everywhere, is not blank."""
     for key in ("name", "description", "theorem", "regime"):
         if hasattr(module, key) and not isinstance(getattr(module, key), str):
             raise CaseError(f"case {source}: {key} must be a string, got {getattr(module, key)!r}")
     if hasattr(module, "name") and not module.name.strip():
         raise CaseError(f"case {source}: name must not be empty")
-    number("maxh", 0.0)
+
+
+def _check_number(module, source: str, key: str, low: float, finite: bool = True, optional_nan: bool = False) -> None:
+    """``key``, if declared, is a number (not a bool) > ``low``, finite unless ``finite`` is
+    False, and NaN only where ``optional_nan`` allows it (a reference case's unknown rate)."""
+    if not hasattr(module, key):
+        return
+    value = getattr(module, key)
+    ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+    if ok and math.isnan(value):
+        ok = optional_nan
+    elif ok:
+        ok = value > low and (math.isfinite(value) or not finite)
+    if not ok:
+        bound = f"> {low:g}" + ("" if finite else " (inf allowed)")
+        raise CaseError(f"case {source}: {key} must be a number {bound}, got {value!r}")
+
+
+def _check_level_counts(module, source: str) -> None:
+    """The levels a case asks for: enough for a rate fit (three levels), P1's asymptotic levels
+    P2's or one more, and report_levels per report profile."""
     for key in ("asymptotic_levels", "asymptotic_levels_p1"):
         levels = getattr(module, key, None)
         if levels is not None and (isinstance(levels, bool) or not isinstance(levels, int) or levels < 3):
@@ -74,30 +104,27 @@ def check_declared(module, source: str) -> None:
             for profile, n in capped.items())):
         raise CaseError(f"case {source}: report_levels must map report profiles ({', '.join(REPORT_PROFILES)}) to "
                         f"integers >= {fewest}, got {capped!r}")
+
+
+def _check_predictions(module, source: str) -> None:
+    """A theory's predictions are functions of the contact force, and the theory has a name,
+    which the report prints beside them."""
     for key in ("predicted_quantities", "predicted_pressure"):
         if getattr(module, key, None) is not None and not callable(getattr(module, key)):
             raise CaseError(f"case {source}: {key} must be a function of the contact force, got {getattr(module, key)!r}")
     if hasattr(module, "predicted_quantities") and not isinstance(getattr(module, "prediction", None), str):
         raise CaseError(f"case {source}: predicted_quantities needs prediction, the theory's name (a string)")
-    if getattr(module, "report_profile", REPORT_PROFILES[0]) not in REPORT_PROFILES:
-        raise CaseError(f"case {source}: report_profile must be one of {', '.join(REPORT_PROFILES)}, "
-                        f"got {module.report_profile!r}")
-    if hasattr(module, "reference_levels"):
-        reference_levels(module, source)
-    reference = not hasattr(module, "u")
-    number("nu", 1.0, finite=False, optional_nan=reference)               # u in H^{nu - eps}, nu > 1
-    number("expected_rate", 0.0, optional_nan=reference)
-    number("expected_log_exponent", -math.inf)
-    if hasattr(module, "geometry") and not hasattr(module.geometry, "GenerateMesh"):
-        raise CaseError(f"case {source}: geometry must be a netgen geometry (harness.problem.geometry.polygon builds one), "
-                        f"got {type(module.geometry).__name__}")
+
+
+def _check_coefficients(module, source: str) -> None:
+    """u and the data are NGSolve CoefficientFunctions or finite numbers; the data may be None
+    (not given), a declared u may not (a reference case leaves u out instead)."""
     for key in ("u", "f", "dirichlet", "neumann", "gap", "contact_load"):
         value = getattr(module, key, None)
         if (value is None and not (key == "u" and hasattr(module, "u"))) or isinstance(value, ngs.CoefficientFunction):
             continue
         if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
             raise CaseError(f"case {source}: {key} must be an NGSolve CoefficientFunction or a finite number, got {value!r}")
-    check_singular_sets(module, source)
 
 
 def _points_of(values, count: int | None) -> bool:
