@@ -70,7 +70,39 @@ from .vtk import VtkWriter
 def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame, efficiency: pd.DataFrame,
                    figs: dict, meta: dict, sweeps: dict | None = None, meshes: pd.DataFrame | None = None,
                    quantities: pd.DataFrame | None = None, quantity_costs: pd.DataFrame | None = None) -> Document:
+    """The report of a study: what was run, the verdicts at a glance, the problem and methods,
+    the rates against the theorems, then the sections a study's cases call for (the cost at
+    equal accuracy, quantities, parameter sweeps, meshes, elasticity, two bodies, 3D), and each
+    case in full."""
     doc = Document("The Signorini problem in P2 and P1: measured against the theorems")
+    settings = meta["settings"]
+    _provenance_paragraph(doc, cases, meta)
+    doc.contents()
+    _glance_section(doc, rates, figs)
+    methods = methods_named(settings["methods"])
+    _methods_section(doc, methods)
+    _summary_section(doc, rates, results, figs)
+    _efficiency_section(doc, cases, efficiency, rates, methods)
+    if quantities is not None:
+        add_quantity_section(doc, quantities, quantity_costs)
+    add_prediction_section(doc, cases, results)
+    if sweeps:
+        _sweep_section(doc, sweeps, figs)
+    if meshes is not None and not meshes.empty:
+        add_mesh_section(doc, results, meshes, figs)
+    if any(case.physics.elastic for case in cases):
+        _elasticity_section(doc, cases, rates)
+    if any(case.bodies == 2 for case in cases):
+        _two_body_section(doc, cases, rates, results, figs)
+    if any(case.dimension == 3 for case in cases):
+        _three_d_section(doc, cases, rates, results, settings)
+    _cases_section(doc, cases, results, rates, figs)
+    return doc
+
+
+def _provenance_paragraph(doc: Document, cases: list[Case], meta: dict) -> None:
+    """What the report was computed with and how (versions, machine, profile, levels, methods):
+    a reader can tell whether two reports are comparable."""
     settings = meta["settings"]
     doc.paragraph(
         f"Belhachmi and Ben Belgacem, Math. Comp. 72 (2003). Harness {meta['harness_version']} "
@@ -78,22 +110,34 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         f"{meta['machine']['node']} ({meta['machine']['cpus']} cpus); profile {settings['profile']}, "
         f"{levels_text(cases, settings)}{left_out_text(cases, settings)}; methods {', '.join(settings['methods'])}; "
         + study_sentence(meta), css="meta")
-    doc.contents()
+
+
+def _glance_section(doc: Document, rates: pd.DataFrame, figs: dict) -> None:
+    """Every verdict in one matrix, first: the answer before the detail."""
     doc.heading("At a glance: every case × method")
     cells = verdict_cells(rates)
     doc.paragraph(MATRIX_NOTE + " " + verdict_counts(rates) + ".")
     doc.matrix(cells, cells.attrs["verdicts"])
     with doc.details("The same as a figure (report/figures/verdict_matrix.pdf, for a paper)", "verdict-matrix-figure"):
         doc.figures([(figs["summary"]["matrix"]["png"], "Fitted / expected H¹ rate, coloured by verdict.")], wide=True)
+
+
+def _methods_section(doc: Document, methods) -> None:
+    """The problem and each method studied, with its order, contact condition and reference
+    (and where a method of your own comes from)."""
     doc.heading("Problem and methods")
     doc.paragraph(INTRO)
-    methods = methods_named(settings["methods"])
     own = own_methods_sentence(methods)
     if own:
         doc.paragraph(own)
     doc.table(pd.DataFrame([{"method": m.name, "order": m.order, "contact condition": m.contact,
                              "parameters": m.parameter_text, "reference": m.reference}
                             for m in methods]))
+
+
+def _summary_section(doc: Document, rates: pd.DataFrame, results: pd.DataFrame, figs: dict) -> None:
+    """The fitted rates against the theorems' (figure, and every row on demand), then the
+    regularity check by the best approximation when the study measured it."""
     doc.heading("Summary: fitted against expected rates")
     doc.paragraph(RATES_NOTE)
     doc.figures([(figs["summary"]["rates"]["png"], "Fitted against theory rates; grey band: ±0.1; the points outside it named.")],
@@ -107,35 +151,46 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         doc.table(regularity_view(rates, results), verdict_column="verdict")
         doc.heading("Errors on Γ_C")
         doc.paragraph(GAMMA_C_NOTE)
-    _efficiency_section(doc, cases, efficiency, rates, methods)
-    if quantities is not None:
-        add_quantity_section(doc, quantities, quantity_costs)
-    add_prediction_section(doc, cases, results)
-    if sweeps:
-        doc.heading("Penalty and Nitsche: where their parameter is safe")
-        doc.paragraph(SWEEP_NOTE)
-        for name, frame in sweeps.items():
-            doc.figures([(figs["sweeps"][name]["png"], f"{name}: H¹ error and largest penetration against ε₀ / γ₀.")],
-                        wide=True)
-            doc.table(sweep_view(frame))
-    if meshes is not None and not meshes.empty:
-        add_mesh_section(doc, results, meshes, figs)
-    if any(case.physics.elastic for case in cases):
-        doc.heading("Unilateral contact in linear elasticity (Remark 2.3)")
-        doc.paragraph(ELASTICITY_NOTE)
-        doc.table(elasticity_view(cases, rates))
-    if any(case.bodies == 2 for case in cases):
-        doc.heading("Two bodies, non-matching meshes (Section 6)")
-        doc.paragraph(TWO_BODY_NOTE)
-        doc.table(two_body_view(cases, rates, results), verdict_column="verdict")
-        first = next(case for case in cases if case.bodies == 2)
-        if figs.get(first.name, {}).get("interface") is not None:
-            doc.figures([(figs[first.name]["interface"]["png"], f"{first.name}: the two meshes at the interface on level 1.")],
-                        wide=True)
-    if any(case.dimension == 3 for case in cases):
-        doc.heading("Three dimensions (Section 6)")
-        doc.paragraph(THREE_D_NOTE + f" Levels: {settings.get('levels_3d', settings['levels'])} per 3D case.")
-        doc.table(three_d_view(cases, rates, results), verdict_column="verdict")
+
+
+def _sweep_section(doc: Document, sweeps: dict, figs: dict) -> None:
+    """Penalty's and Nitsche's errors over their parameter: where it is safe to choose."""
+    doc.heading("Penalty and Nitsche: where their parameter is safe")
+    doc.paragraph(SWEEP_NOTE)
+    for name, frame in sweeps.items():
+        doc.figures([(figs["sweeps"][name]["png"], f"{name}: H¹ error and largest penetration against ε₀ / γ₀.")],
+                    wide=True)
+        doc.table(sweep_view(frame))
+
+
+def _elasticity_section(doc: Document, cases: list[Case], rates: pd.DataFrame) -> None:
+    """The elastic cases' rates in one table, apart from the scalar cases' (Remark 2.3)."""
+    doc.heading("Unilateral contact in linear elasticity (Remark 2.3)")
+    doc.paragraph(ELASTICITY_NOTE)
+    doc.table(elasticity_view(cases, rates))
+
+
+def _two_body_section(doc: Document, cases: list[Case], rates: pd.DataFrame, results: pd.DataFrame, figs: dict) -> None:
+    """The two-body cases (the paper's Section 6 names them as the next step), with the first
+    one's non-matching meshes at the interface."""
+    doc.heading("Two bodies, non-matching meshes (Section 6)")
+    doc.paragraph(TWO_BODY_NOTE)
+    doc.table(two_body_view(cases, rates, results), verdict_column="verdict")
+    first = next(case for case in cases if case.bodies == 2)
+    if figs.get(first.name, {}).get("interface") is not None:
+        doc.figures([(figs[first.name]["interface"]["png"], f"{first.name}: the two meshes at the interface on level 1.")],
+                    wide=True)
+
+
+def _three_d_section(doc: Document, cases: list[Case], rates: pd.DataFrame, results: pd.DataFrame, settings: dict) -> None:
+    """The 3D cases (the paper's Section 6 names 3D as open), with their own number of levels."""
+    doc.heading("Three dimensions (Section 6)")
+    doc.paragraph(THREE_D_NOTE + f" Levels: {settings.get('levels_3d', settings['levels'])} per 3D case.")
+    doc.table(three_d_view(cases, rates, results), verdict_column="verdict")
+
+
+def _cases_section(doc: Document, cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame, figs: dict) -> None:
+    """Each case in full, collapsed under its verdicts: the report stays navigable with many."""
     doc.heading("Cases")
     doc.paragraph("Each case in full (click to open): its regime and bound, every method's fitted rates against "
                   "both theories, the errors on Γ_C, the figures, and every level of every method.")
@@ -143,7 +198,6 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         with doc.details(f"{case.name}: P2 {theorem_label(case.theorem)}", anchor(case.name),
                          verdict_counts(rates[rates.case == case.name]), listed=case.name):
             _case_section(doc, case, results, rates, figs)
-    return doc
 
 
 def _efficiency_section(doc: Document, cases: list[Case], efficiency: pd.DataFrame, rates: pd.DataFrame, methods) -> None:
