@@ -11,7 +11,9 @@ PACKAGE = Path(__file__).resolve().parent.parent / "harness"
 REPOSITORY = PACKAGE.parent
 # the stages in pipeline order: a module imports only from its own stage and earlier ones
 STAGES = ["mesh", "problem", "fem", "solvers", "methods", "measure", "study", "report", "bench"]
-TOP = {"__init__", "__main__", "api", "cli"}                  # the entry points: import anything
+# the entry points: import anything (cli_options: the command line's options, which cli.py
+# imports per command)
+TOP = {"__init__", "__main__", "api", "cli", "cli_options"}
 
 
 def modules() -> list[Path]:
@@ -73,8 +75,8 @@ def test_the_study_takes_h_from_its_level_sequence():
     assert "h / 2" not in (PACKAGE / "study" / "chain.py").read_text()
 
 
-# a function longer than this does more than one job (issue 51 item 7)
-LONGEST_FUNCTION = 80
+# a function longer than this does more than one job (issue 51 item 7; 60 since issue 62)
+LONGEST_FUNCTION = 60
 
 
 def long_functions(folder: Path, limit: int) -> list[str]:
@@ -90,7 +92,7 @@ def long_functions(folder: Path, limit: int) -> list[str]:
     return found
 
 
-def test_every_function_of_the_package_fits_in_80_lines():
+def test_every_function_of_the_package_fits_in_60_lines():
     assert long_functions(PACKAGE, LONGEST_FUNCTION) == []
 
 
@@ -101,7 +103,8 @@ def test_the_length_check_measures_methods_and_nested_functions(tmp_path):
               "class A:\n    def method(self):\n        def nested():\n" + body(LONGEST_FUNCTION, 12) + "        return nested\n")
     (tmp_path / "m.py").write_text(source)
     found = [text.split(" ", 1)[1] for text in long_functions(tmp_path, LONGEST_FUNCTION)]
-    assert found == ["method (83 lines)", "nested (81 lines)"]
+    # fits: exactly the limit; nested: one line over it; method: nested and its own three lines
+    assert found == ["method (63 lines)", "nested (61 lines)"]
 
 
 def test_every_cited_file_exists():
