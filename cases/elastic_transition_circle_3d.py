@@ -27,8 +27,8 @@ f = -div sigma(u), by the plane Navier equations mu Laplace U + (lambda + mu) d_
     f = (2/R) ( (lambda + 2 mu)(s U_ss + 2 U_s) grad s,
                 mu (s W_ss + W_s) + (lambda + mu)(s U_sz + U_z) ),
 bounded (second derivatives rho^{-1/2} times s), declared in closed form below with grad u
-(validation checks both against the ones it derives from u: the derived load through the
-level set cost 30 times this one in the load vector, 37 s on level 2). g_C is derived from u.
+(validation checks both against the ones it derives from u; the derived load, through the
+level set, costs many times this one in the load vector). g_C is derived from u.
 Regularity: as for the straight line, u is in H^{5/2 - eps} near the circle: nu = 5/2, h^{3/2}
 the 2D expectation (elastic Theorems 4.1 ii, 5.1 ii, Remark 2.3); in 3D the paper proves
 nothing (Section 6). Mesh: ``disc_box`` glues the cylinder of the circle into the box, so the
@@ -90,7 +90,6 @@ transition_curve = [[(radius * cos(2 * pi * k / 128), radius * sin(2 * pi * k / 
 singular_lines = [((radius * cos(2 * pi * k / 128), radius * sin(2 * pi * k / 128), 0.0),
                    (radius * cos(2 * pi * (k + 1) / 128), radius * sin(2 * pi * (k + 1) / 128), 0.0)) for k in range(128)]
 
-# Its study is the dearest of the 3D cases (92 s of the default report's work on one thread,
-# 2026-11-26: three P2 methods at 1.7e5 dofs and P1 on 3.3e5 tetrahedra, a curved refinement):
-# more than the five minutes of `make report` leave. `make report-fine` and `report --case` run it.
+# Its study is the dearest of the 3D cases (three P2 methods at 1.7e5 dofs and P1 on 3.3e5
+# tetrahedra, a curved refinement): more than the five minutes of `make report` leave. `make report-fine` and `report --case` run it.
 report_profile = "fine"

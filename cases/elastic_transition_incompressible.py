@@ -28,6 +28,5 @@ u, grad_u = roller_free_mode(1.5, pi, Elasticity(young, poisson), with_gradient=
 f = 0
 singular_points = [(0.0, 0.0)]
 # The default report stops at six levels (the fine profile runs eight): the seventh P2 level and
-# P1's eighth cost 25 s of the report's five minutes; the fitted H1 rates on six levels are 1.502
-# (mean), 1.505 (nodal), 1.083 (p1), every verdict the same as on seven (2026-11-27).
+# P1's eighth cost a large share of the report's five minutes and change no verdict.
 report_levels = {"default": 6}

@@ -19,23 +19,20 @@ body and F is read off: F = int lambda_h = qoi_force.
 
 Hertz (Johnson, Contact Mechanics, 1985, Sect. 4.2): E* = E/(1 - nu^2),
     a = sqrt(4 F R / (pi E*)),   p0 = 2 F / (pi a),   p(x) = p0 sqrt(1 - x^2/a^2)   (``hertz``).
-a = 0.1 needs F = pi a^2 E* / (4R) = 8.63e-3; delta = 0.015 gives F = 8.578e-3 here
-(L = H = 1 = 10 a), a_Hertz(F) = 0.0997. The log law shows in the deltas that keep a = 0.1 as
-the block grows: 0.0152, 0.0186, 0.0221, 0.0256 for L = H = 1, 2, 4, 8, steps of
-0.0034-0.0035 per doubling against 2 F ln 2 / (pi E*) = 0.0035 of the Flamant field.
+a = 0.1 needs F = pi a^2 E* / (4R) = 8.63e-3; delta = 0.015 gives about that force here
+(L = H = 1 = 10 a). The log law: the delta that keeps a = 0.1 grows by
+2 F ln 2 / (pi E*) = 0.0035 per doubling of the block (the Flamant field).
 
-Domain size, measured (2026-11-27, nodal P2 on the finest level of 1.96e5 dofs, the block
-scaled with delta found again for a = 0.1): p_max / p0 - 1 = +0.39, +0.10, +0.026, +0.007 % for
-L = H = 10, 20, 40, 80 a: it falls by 4 per doubling, like (a/L)^2, and has the sign of a block
-stiffer than the half-space (higher, narrower pressure at equal F); a block of about 6 a
-reproduces the half-space's peak pressure to 1 %. a_h is read from the contact-law argument at
-the pressure's Gauss points and is quantized by them: it wanders by a few tenths of a percent
-from level to level (-0.44, -0.11, +0.05, +0.22 % at the same four sizes).
+Domain size. A finite block is stiffer than the half-space (a higher, narrower pressure at
+equal F), by a share of p0 that falls like (a/L)^2 as the block grows: at L = H = 10 a a
+fraction of a percent (scale the block, find delta again for a = 0.1 and compare p_max / p0).
+a_h is read from the contact-law argument at the pressure's Gauss points and is quantized by
+them: it wanders by a few tenths of a percent from level to level.
 
 Mesh. The contract has one maxh, but a netgen geometry carries local sizes: corners of Gamma_C at
 x = +-2a (not at +-a, which the solution chooses) and maxh a/4 on [-2a, 2a] give a coarse mesh
-fine where the pressure lives, which uniform red refinement keeps. (The plain rectangle's a_h is
-4 % off up to 1.8e4 dofs.)
+fine where the pressure lives, which uniform red refinement keeps. (On the plain rectangle a_h
+would be read off a contact zone only a few elements wide on the coarse levels.)
 
 Regularity. At x = +-a the transition gives r^{3/2} (nu = 5/2, Remark 2.2). The top corners,
 where the clamped top meets a traction-free side at 90 degrees, are worse: Williams' clamped-free
@@ -45,9 +42,9 @@ has at omega = pi/2, kappa = 1.8 the least root l = 0.71117 (checked against a 4
 built without the elimination, and at omega = pi against the known 1/2 + i ln(kappa)/(2 pi) of
 a bonded edge; no complex root with 0 < Re l < 1.5). So u is in H^{1.7112 - eps} and the
 whole-domain H1 error on uniform meshes falls at most like h^{0.711}, the corners', not the
-transitions' h^{3/2}. Measured through the strain energy (about twice the H1 order): pairwise
-orders 2.85, 2.27, 1.84, 1.59 toward 2 x 0.711 = 1.42; with maxh 0.01 at the two top corners
-they stay 3.5, 3.5, 3.45, 3.3. The contract's boundary labels have no roller side (u_x = 0,
+transitions' h^{3/2}: the strain energy's pairwise orders (about twice the H1 order) fall
+toward 2 x 0.711 = 1.42 on uniform meshes, and stay well above it with maxh 0.01 at the two top
+corners. The contract's boundary labels have no roller side (u_x = 0,
 sigma_xy = 0) that would make the corners regular. Declared accordingly: nu = 1.7112 (Theorems
 4.2 i / 5.2 i through Remark 2.3), graded meshes grade toward the two corners.
 
@@ -137,7 +134,7 @@ theorem = "4.2 i, 5.2 i (Remark 2.3)"
 nu = 1 + CORNER_EXPONENT
 expected_rate = CORNER_EXPONENT
 
-# L = H = 1 (10 a), delta = 0.015 (a = 0.0997), Gamma_C corners at +-0.2 (2 a) with local maxh
+# L = H = 1 (10 a), delta = 0.015 (a close to 0.1), Gamma_C corners at +-0.2 (2 a) with local maxh
 # 0.025 (a/4) there, maxh 0.25 elsewhere: level 3 has 49,410 P2 dofs, level 4 196,098
 globals().update(setup())
 # one level finer: a reference two levels finer than the default report's finest has 7.8e5 dofs

@@ -22,19 +22,15 @@ contact disc (a glued box, ``geometry.zone_box``: flat faces, so the refined mes
 (``maxh``) elsewhere. Uniform refinement multiplies 3D dofs by 8 per level: the fine profile
 studies two levels (h = a/4 on the zone) with the reference one level finer.
 
-Measured (nodal P2, solved level by level without the reference; a_h = sqrt(area / pi), the
-deviations at the computed force): a_h / a - 1 = +2.30, +1.16, +0.46 % and p_max / p0 - 1 =
-+3.06, +0.83, +0.41 % on levels 0, 1, 2 (2.4e4, 1.8e5, 1.4e6 dofs). With the zone meshed at a
-instead of a/2, level 2 (4.7e5 dofs) was still +1.1 % and +4.2 %.
+The zone is meshed at a/2 (a_h = sqrt(area / pi), read with p_max at the computed force): at
+a, the deviations of a_h and p_max from Hertz's a and p0 stay several times larger on the same
+levels.
 
-Domain size, measured (2026-11-28, nodal P2 on level 2, the same zone mesh, maxh 0.5 outside, the
-block scaled and delta found again for a = 0.103): p_max / p0 - 1 = +0.67, +0.41, +0.36 % for
-L = H = 4.9 a, 9.7 a, 19.4 a (1.3e6, 1.4e6, 2.1e6 dofs): the block's share falls by about 5 per
-doubling (0.26, then 0.05 percentage points), faster than hertz-line's 4 (a point load's field
-decays like 1/r, a line load's like log r), so at 10 a it is under 0.1 % and the rest of the
-+0.4 % is discretisation. a_h / a - 1 = +0.43, +0.46, +0.65 %: quantized by the Gauss points of
-Gamma_C, as in hertz-line, with no trend in the size. (Level 1, same blocks: p_max / p0 - 1 =
-+3.09, +0.83, +1.37 %: there the discretisation, not the size, decides.)
+Domain size. As in hertz-line, a finite block is stiffer than the half-space (a higher peak
+pressure at equal F), but a point load's field decays like 1/r, a line load's like log r, so
+the block's share of p_max / p0 - 1 falls faster as the block grows: at L = H = 10 a the
+discretisation, not the size, decides the deviations (scale the block, find delta again and
+compare p_max / p0). a_h / a is quantized by the Gauss points of Gamma_C, as in hertz-line.
 
 Regularity. As in hertz-line, the clamped top meets the traction-free sides at right angles:
 along those edges the plane-strain clamped-free exponent 0.7112 (Williams; the antiplane part's
@@ -105,8 +101,7 @@ globals().update(setup())
 reference_levels = 1
 # 3D elastic P2 levels cost 8 times the dofs each: the fine profile only (``report_profile``)
 report_profile = "fine"
-# L = H = 1 (10 a), delta = 0.01 (a = 0.103), the zone (-0.2, 0.2)^2 (2 a) at maxh 0.05 (a/2),
-# maxh 0.5 elsewhere: level 0 has 2.4e4 P2 dofs, level 1 1.8e5, level 2 1.4e6 (150 s and 3.7 GB
-# for nodal on 2 cores). The fine profile studies two levels, the reference one level finer: a
+# L = H = 1 (10 a), delta = 0.01 (a close to 0.1), the zone (-0.2, 0.2)^2 (2 a) at maxh 0.05 (a/2),
+# maxh 0.5 elsewhere: level 0 has 2.4e4 P2 dofs, level 1 1.8e5, level 2 1.4e6. The fine profile studies two levels, the reference one level finer: a
 # third studied level would need a reference of 1.1e7 dofs
 report_levels = {"fine": 2}

@@ -84,7 +84,7 @@ def _dv(angle, sign_x):
     return CF((sign_x * (A_EXPONENT * re - BETA * im), -(A_EXPONENT * im + BETA * re)))
 
 
-# in closed form: half the cost of the derived one in the error norms (validation compares them)
+# in closed form: cheaper than the derived one in the error norms (validation compares them)
 grad_u = IfPos(_positive, _dv(theta, 1.0) + _dv(pi - theta, -1.0), CF((0.0, 0.0)))
 
 # on Gamma_C (y = 0): |x| and s(x)
@@ -96,7 +96,5 @@ gap = IfPos(_abs_x - 1e-300, u - _free_part, 0.0)
 contact_load = IfPos(_abs_x - 1e-300, -u.Diff(y) - _pressure, 0.0)     # du/dn = -du/dy
 singular_points = [(0.0, 0.0)]
 # The default report stops at six levels (the fine profile runs eight): the seventh P2 level and
-# P1's eighth cost 65 s of the report's five minutes; the fitted H1 rates on six levels are
-# 0.736 (mean), 0.743 (nodal), 0.705 (p1), 0.775 (nitsche), 0.725 (penalty), 0.708 (nitsche-p1),
-# 0.709 (penalty-p1), every verdict the same as on seven (2026-11-27).
+# P1's eighth cost a large share of the report's five minutes and change no verdict.
 report_levels = {"default": 6}

@@ -5,9 +5,10 @@ f = 0, u = 0 on the top, du/dn = 0 on the sides, and the constraint u >= alpha o
 with the obstacle
     alpha(x) = cos(pi x) + 0.3 sin(pi x / 2) - 0.2,
 positive around x = 0 and negative near the sides. The obstacle lifts the bottom: u = alpha with
-a positive pressure du/dn on a contact zone, u > alpha and du/dn = 0 outside. Measured (P2,
-nodal, 1.4e5 dofs): contact on about [-0.19, 0.30]. Nobody placed these two transition points:
-they fall inside contact edges of every mesh, unlike the exact cases' transitions at vertices.
+a positive pressure du/dn on a contact zone, u > alpha and du/dn = 0 outside: one interval
+around x = 0 (the report's pictures of Gamma_C show it). Nobody placed its ends, the two
+transition points: they fall inside contact edges of every mesh, unlike the exact cases'
+transitions at vertices.
 
 Regularity. The sides are no corners for the solution: alpha'(+-1) = 0, and the even reflection
 x -> 2 - x (and x -> -2 - x) of the data is smooth (cos(pi x) and sin(pi x/2) are even about
@@ -40,12 +41,11 @@ gap = cos(pi * x) + 0.3 * sin(pi * x / 2) - 0.2
 singular_points = []            # the transitions are unknown; the data are smooth everywhere
 reference_levels = 2
 
-# P1 runs one level past P2 by default (to P2's finest number of dofs); that level moved no P1
-# method's fitted H1 rate by more than 0.006 (nor any verdict; measured 2026-11-26 on the default
-# report), so the default report stops P1 with P2.
+# P1 runs one level past P2 by default (to P2's finest number of dofs); that level moves no P1
+# method's fitted H1 rate by more than 0.01 nor any verdict, so the default report stops P1
+# with P2.
 asymptotic_levels_p1 = 7
-# The default report stops P2 at six levels (P1 at seven, as before; the fine profile runs eight):
-# the seventh P2 level's reference, 1.8e6 dofs, cost 45 s of the report's five minutes; the
-# fitted H1 rates of the P2 methods on six levels are 1.428 (mean), 1.509 (nodal), 1.515
-# (nitsche), 1.188 (penalty), every verdict the same as on seven (2026-11-27).
+# The default report stops P2 at six levels (P1 at seven, asymptotic_levels_p1; the fine profile
+# runs eight): the seventh P2 level's reference, 1.8e6 dofs, costs a large share of the report's
+# five minutes, and the seventh level changes no verdict.
 report_levels = {"default": 6}

@@ -19,8 +19,8 @@ Euclidean distance to the circle would be singular at the centre). With w = s + 
 g = -Im w^{3/2}, so g_s = -(3/2) rho^{1/2} sin(theta/2), g_ss = (3/4) rho^{-1/2} sin(theta/2),
 and Laplace(s) = -2/R:
     f = (2/R) (s g_ss + g_s) = (2/R) ((3/4) s rho^{-1/2} - (3/2) rho^{1/2}) sin(theta/2),
-declared below (validation checks it against the derived -Laplace(u)): six times cheaper to
-evaluate than the derived expression, whose load vector was a third of this case's study.
+declared below (validation checks it against the derived -Laplace(u)): cheaper to evaluate
+than the derived expression, whose load vector would be a large share of this case's study.
 Regularity: as for the straight line, u is in H^{5/2 - eps} near the circle: nu = 5/2.
 Mesh: the cylinder x^2 + y^2 < R^2 is glued into the box, so the circle is a curve of the
 geometry: the coarse mesh has vertices on it, and netgen's refinement moves every new vertex
@@ -53,7 +53,7 @@ u = transition(0.0, binding_side="right", coordinates=(level_set, z))
 _rho, _theta = polar(px=level_set, py=z)
 f = (2 / radius) * (0.75 * level_set * _rho**-0.5 - 1.5 * _rho**0.5) * ngsolve.sin(_theta / 2)
 # grad u = g_s grad s + g_z e_z, grad s = -(x, y, 0)/R, in closed form (the derived one of this
-# composition costs five times u per point)
+# composition costs several times u per point)
 _g_s, _g_z = transition_gradient(0.0, binding_side="right", coordinates=(level_set, z))
 grad_u = (-_g_s * x / radius, -_g_s * y / radius, _g_z)
 # the exact transition curve on Gamma_C, drawn on the report's pictures of it

@@ -39,6 +39,6 @@ maxh = 0.25
 v = transition(0.0, binding_side="right", coordinates="xz")
 u = (1 + 0.5 * y * y) * v
 f = -v
-# grad u = (w v_x, w' v, w v_z) in closed form (a third of the derived one's cost per point)
+# grad u = (w v_x, w' v, w v_z) in closed form (cheaper per point than the derived one)
 v_x, v_z = transition_gradient(0.0, binding_side="right", coordinates="xz")
 grad_u = ((1 + 0.5 * y * y) * v_x, y * v, (1 + 0.5 * y * y) * v_z)

@@ -25,18 +25,18 @@ maxh = 0.25
 
 # u = -r^{3/2} sin(3 theta/2) with theta's branch cut outside the body (``functions.transition``):
 # written with atan2(y, x), a Gamma_C point with x < 0 that NGSolve's map of a bisected triangle
-# puts at y = -1e-17 got theta = -pi, and u there the wrong sign (the trace error of graded and
-# adaptive rows was wrong; uniform meshes did not meet it)
+# puts at y = -1e-17 would get theta = -pi, and u there the wrong sign (graded and adaptive
+# meshes make such points; uniform ones do not)
 u = transition(0.0)
-grad_u = transition_gradient(0.0)   # in closed form: a third of the derived one's cost per point
+grad_u = transition_gradient(0.0)   # in closed form: cheaper per point than the derived one
 f = 0                         # u is harmonic
 singular_points = [(0.0, 0.0)]  # the transition point
 
-# Asymptotic by six P2 levels: a seventh moved no method's fitted H1 rate by more than 0.005 (nor any
-# verdict; measured 2026-11-26 on the default report), so the default report stops at six.
+# Asymptotic by six P2 levels: a seventh moves no method's fitted H1 rate by more than 0.01
+# (the rule of asymptotic_levels) nor any verdict, so the default report stops at six.
 asymptotic_levels = 6
 
-# P1 runs one level past P2 by default (to P2's finest number of dofs); that level moved no P1
-# method's fitted H1 rate by more than 0.001 (nor any verdict; measured 2026-11-26 on the default
-# report), so the default report stops P1 with P2.
+# P1 runs one level past P2 by default (to P2's finest number of dofs); that level moves no P1
+# method's fitted H1 rate by more than 0.01 nor any verdict, so the default report stops P1
+# with P2.
 asymptotic_levels_p1 = 6
