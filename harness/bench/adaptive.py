@@ -143,7 +143,7 @@ def adaptive_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
     """Exact on every adaptive level's finest mesh; the contact solve against one linear solve."""
     exact = bool((frame.kkt_residual <= 1e-10).all())
     return [("adaptive meshes: KKT <= 1e-10 on the finest mesh", exact, f"max {frame.kkt_residual.max():.1e}"),
-            # issue 61's goal: the nested iteration across bisection levels as good as across red ones
+            # the goal: the nested iteration across bisection levels as good as across red ones
             (f"adaptive meshes: contact solve <= {ADAPTIVE_GOAL}x one linear solve on the finest mesh",
              bool((frame.ratio_linear <= ADAPTIVE_GOAL).all()),
              ", ".join(f"{m} {r:.2f}" for m, r in zip(frame.method, frame.ratio_linear))),

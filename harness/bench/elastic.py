@@ -20,8 +20,8 @@ ELASTIC_CASE_3D = "elastic-transition-3d"
 
 
 # (case, coarse maxh, level): 5.8e4 and 2.3e5 dofs on the plane-strain case's own hierarchy
-# (maxh 0.5), 1.2e6 on a finer coarse mesh (maxh 0.25), then 3D: 8.1e4 and 6.0e5 dofs; issue
-# 33's goals are set at the 2D 1.2e6 and the 3D 6.0e5
+# (maxh 0.5), 1.2e6 on a finer coarse mesh (maxh 0.25), then 3D: 8.1e4 and 6.0e5 dofs; the
+# goals are set at the 2D 1.2e6 and the 3D 6.0e5
 ELASTIC_SIZES = ((ELASTIC_CASE, None, 5), (ELASTIC_CASE, None, 6), (ELASTIC_CASE, 0.25, 6),
                  (ELASTIC_CASE_3D, None, 2), (ELASTIC_CASE_3D, None, 3))
 
@@ -87,7 +87,7 @@ def _weak_row(method_name: str, size: tuple) -> dict:
     problem = system.problem
     # the affine system of the solution's own set, J u_h = r, with the V-cycle of Newton's last step
     # (its coarse spaces truncated where the contact term is active, ``multigrid.TruncatedVCycle``;
-    # without that hint CG took 20 times longer at 1.1e6 dofs)
+    # without that hint CG needs many times the iterations)
     system.set_jacobian(solution.active)
     rhs, embedding = system.affine_rhs(solution.active), ContactEdges.of(problem, model=False)
     stiff = system.stiff_vertices(solution.active, multilevel.ndof)

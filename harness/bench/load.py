@@ -1,9 +1,9 @@
-"""The load rows of `bench` (issue 50): a study's wall time on an idle machine and beside one
+"""The load rows of `bench`: a study's wall time on an idle machine and beside one
 busy process (a Python loop holding a core, as a browser tab, a second study or a CI
 neighbour does), with the default thread policy (``study.threads``: per level, the cores the
-other processes leave free), with one thread, and with every core on every level (the default
-of harness 0.3.10). Each run is a fresh ``python -m harness run``, timed from outside, all in
-one command so that the ratios are measured in one sitting."""
+other processes leave free), with one thread, and with every core on every level (``--threads``
+= the core count, which the goals label 0.3.10). Each run is a fresh ``python -m harness run``,
+timed from outside, all in one command so that the ratios are measured in one sitting."""
 from __future__ import annotations
 
 import subprocess
@@ -42,8 +42,8 @@ def _timed_run(arguments: list[str], threads: str, folder: Path) -> float:
     return seconds
 
 
-# each time is the fastest of this many runs, interleaved with the other settings' (these
-# machines' noise: the same run took 24 to 28 s idle within minutes)
+# each time is the fastest of this many runs, interleaved with the other settings' (the same
+# run's idle time varies from run to run on a shared machine)
 LOAD_REPEATS = {"2 levels (609 dofs)": 3, "7 levels (5.7e5 dofs)": 2}
 
 
@@ -73,9 +73,9 @@ def run_load_bench(runs=None, progress=print) -> pd.DataFrame:
 
 
 def load_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
-    """Issue 50's goals: beside one busy process the two-level run takes at most twice its idle
-    time and the large one at most 1.3 times its one-thread time; idle, no slower than every
-    core on every level (0.3.10's default; 10% for the noise of these machines)."""
+    """The goals: beside one busy process the two-level run takes at most twice its idle time
+    and the large one at most 1.3 times its one-thread time; idle, no slower than every core on
+    every level (within 10%, for the noise of shared machines)."""
     t = frame.set_index(["run", "threads", "load"]).seconds
     labels = list(dict.fromkeys(frame.run))
     small, large = labels[0], labels[-1]

@@ -69,7 +69,7 @@ def profile_tables(profile_rows: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFra
 
 
 def report_goals(frame: pd.DataFrame, make_workers: int | None = None) -> list[tuple[str, bool, str]]:
-    """Issue 28's goals: ``make report`` (the variant with ``make_workers`` workers, the
+    """The goals: ``make report`` (the variant with ``make_workers`` workers, the
     Makefile's one per core; else the first) within 5 minutes and 3 GB per process on 2 cores;
     2 local processes at least 1.2x faster than this process."""
     out = []

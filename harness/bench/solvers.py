@@ -262,7 +262,7 @@ def run_bench(sizes=DEFAULT_SIZES, models=None, qp_max_ndof=QP_MAX_NDOF,
             textbook = measure("textbook", model, level, coarse_maxh) if cone and ndof <= textbook_max_ndof else {}
             qp = measure("qp", model, level, coarse_maxh) if cone and ndof <= qp_max_ndof else {}
             row = {
-                # one linear solve with the fastest back end at this size (issue 5)
+                # one linear solve with the fastest back end at this size
                 "method": model, "ndof": ndof, "t_contact": contact["t"],
                 "t_linear": min(multigrid["t"], cholesky["t"], ngsolve_multigrid["t"]),
                 "t_linear_multigrid": multigrid["t"], "multigrid_iterations": multigrid["iterations"],
@@ -287,13 +287,13 @@ def run_bench(sizes=DEFAULT_SIZES, models=None, qp_max_ndof=QP_MAX_NDOF,
 
 
 def goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
-    """The goals of the fast-solver issue, each with the measured figure."""
+    """The solver table's goals, each with the measured figure."""
     from ..measure.reference import REFERENCE_METHOD
     out = []
     cones = frame.method.map(_is_cone)
     big = frame[frame.ndof >= 1_000_000]
     weak = big[~cones.loc[big.index]]
-    big = big[cones.loc[big.index]]      # the goals of the fast-solver issue are the cones'
+    big = big[cones.loc[big.index]]      # the goals are the cones'
     if len(weak):
         out.append(("penalty/Nitsche solve / one linear solve at >= 1M dofs (shown)", True,
                     ", ".join(f"{m} {r:.2f}" for m, r in zip(weak.method, weak.ratio_linear))))
@@ -325,7 +325,7 @@ def goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
 
 def _is_cone(name: str) -> bool:
     """Whether the method ``name`` is a cone of bounds (``BoundConstrained``: its solve is the
-    active set method the fast-solver issue set its goals for)."""
+    active set method the goals are set for)."""
     from ..methods import BoundConstrained, get_method
     return isinstance(get_method(name), BoundConstrained)
 

@@ -18,7 +18,7 @@ def _measure_study(methods: str, connection):
     from ..study import run_study
     from ..study.chain import PROFILES
 
-    # one body: the row's cases since it was set (two bodies have no `paper` method, and their
+    # one body: the row's cases (two bodies have no `paper` method, and their
     # factorised solves would move the ratio of the multigrid path it measures)
     cases = [case for case in registered_cases(dimension=2).values() if case.bodies == 1]
     frame = run_study(cases, methods_named(methods), PROFILES["default"]["levels"], show_progress=False)
@@ -39,20 +39,18 @@ def _measure_study(methods: str, connection):
 
 
 def measure_study() -> pd.DataFrame:
-    """The `study` rows: the default profile with the paper's two methods (the measure of the
-    study-pipeline issue) and with every method (`make report`), each in a fresh process. The
-    contact solves are all of them, the reference chains' included (``reference_solve_seconds``;
-    until harness 0.3.0 they counted as overhead)."""
+    """The `study` rows: the default profile with the paper's two methods (whose ratio the goal
+    judges) and with every method (`make report`), each in a fresh process. The contact solves
+    are all of them, the reference chains' included (``reference_solve_seconds``)."""
     from ..methods import PAPER
     return pd.DataFrame([in_fresh_process(_measure_study, (methods,), f"the default study ({methods})")
                          for methods in (PAPER, "all")])
 
 
 def study_goals(study: pd.DataFrame) -> list[tuple[str, bool, str]]:
-    """The goal of the everyday-loop issue (28), set for the paper's methods: a study costs at
-    most 2.5x its contact solves (the study-pipeline issue asked 3x). With P1 the ratio is
-    shown, not judged: P1's extra level is a mesh four times larger, whose refinement, assembly
-    and error integration cost per element while its solve is cheap."""
+    """The goal, set for the paper's methods: a study costs at most 2.5x its contact solves.
+    With P1 the ratio is shown, not judged: P1's extra level is a mesh four times larger, whose
+    refinement, assembly and error integration cost per element while its solve is cheap."""
     from ..methods import PAPER
     out = []
     for row in study.to_dict("records"):

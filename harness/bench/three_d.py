@@ -98,9 +98,9 @@ def solve_row(model_name: str, level: int, case_name: str = THREE_D_CASE, coarse
 
 
 def _measure_3d(model_name: str, level: int, connection):
-    """Issue 19: a 3D contact solve (truncated multigrid, nested iteration) against one
-    unconstrained solve of the same matrix by the same multigrid CG, from zero, as deep; and
-    (issue 50) from the same start."""
+    """A 3D contact solve (truncated multigrid, nested iteration) against one unconstrained
+    solve of the same matrix by the same multigrid CG, from zero, as deep; and from the same
+    start."""
     import ngsolve as ngs
 
     ngs.ngsglobals.msg_level = 0
@@ -137,6 +137,6 @@ def run_3d_bench(levels=THREE_D_LEVELS, models=None, progress=print) -> pd.DataF
 
 
 def three_d_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
-    """Issues 19 and 33: the 3D contact solve is exact and within 1.5x one linear solve at the
-    largest size (issue 19 asked 2x)."""
+    """The goals: the 3D contact solve is exact and within 1.5x one linear solve at the largest
+    size."""
     return contact_goals(frame, "3D", 1.5)

@@ -94,7 +94,7 @@ class DiscreteProblem:
 
     def take_stiffness(self):
         """(A, A_ngs), handed over for good: the last method of a level changes A's values in
-        place into its own matrix (``models.contact_qp``), so a level holds one matrix, not two."""
+        place into its own matrix (``cones.contact_qp``), so a level holds one matrix, not two."""
         taken = self._stiffness()
         self._A = self._A_ngs = None
         return taken
@@ -123,7 +123,7 @@ def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
             load += f * v * dx
     n = ngs.specialcf.normal(fes.mesh.dim)
     # compiled (common subexpressions once per point): the derived traction sigma(u) n of an elastic u
-    # is a deep tree (elastic-junction-3d, P1 on 1.5e5 tetrahedra: this load 14.8 s -> 1.2 s)
+    # is a deep tree, whose shared subexpressions would otherwise be evaluated once per use
     load += case.neumann_data(n).Compile() * v * ngs.ds("neumann", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
     if case.physics.traction_load and case.contact_load is not None:
         load += case.contact_load.Compile() * v * ngs.ds("contact", bonus_intorder=BOUNDARY_LOAD_BONUS_ORDER)
@@ -291,10 +291,10 @@ class ContactTraceFunction:
         it is (a refinement that leaves it whole: bisection on adaptive and graded meshes) or
         halves (its midpoint at the coarse edge's midpoint or at one of its quarter points); a
         fine edge inside a coarse triangle (3D) is predicted active when both its ends are.
-        (Matching halves only, an edge left whole was predicted from its ends: in `mean`'s
-        binding zones, whose vertex constraints are degenerate and often inactive, that set
-        hundreds of edges free that were in contact, and cost adaptive corner-r12 18 active
-        sets on its finest level.)"""
+        (An edge left whole keeps its own status rather than one predicted from its ends: in
+        `mean`'s binding zones the vertex constraints are degenerate and often inactive, so the
+        ends would set free edges that are in contact, and the active set method would spend
+        sets on taking them back; ``python -m harness bench --only adaptive`` counts the sets.)"""
         length = np.linalg.norm(self.b - self.a, axis=1)
         anchors = np.concatenate([0.5 * (self.a + self.b), 0.75 * self.a + 0.25 * self.b, 0.25 * self.a + 0.75 * self.b])
         index, near = self._nearest(anchors, 0.5 * (a + b), 0.125 * np.tile(length, 3))

@@ -37,7 +37,7 @@ _GL_T, _GL_W = 0.5 * (_GL_T + 1.0), 0.5 * _GL_W
 # Each edge functional as a rule sum_k w_k v(t_k) on [0, 1], exact for quadratics: the midpoint
 # value, or Simpson's rule for the edge mean.
 EDGE_RULES = {"midpoint": ((0.5, 1.0),), "edge-mean": ((0.0, 1 / 6), (0.5, 4 / 6), (1.0, 1 / 6))}
-# the 0.3 names of the rules, accepted with a DeprecationWarning until 0.5
+# other names of the rules, accepted with a DeprecationWarning and read as the rule's own
 DEPRECATED_RULES = {"mean": "edge-mean"}
 
 
@@ -50,7 +50,7 @@ class ContactModel:
 
     def __post_init__(self):
         if self.edge_functional in DEPRECATED_RULES:
-            # 0.3 named the edge mean like the method that uses it: deprecated in 0.4.0, removed in 0.5.0
+            # "mean", the name of the method that uses the edge mean
             new = DEPRECATED_RULES[self.edge_functional]
             warnings.warn(f"ContactModel({self.edge_functional!r}) is now ContactModel({new!r})", DeprecationWarning, stacklevel=3)
             object.__setattr__(self, "edge_functional", new)

@@ -119,7 +119,7 @@ class BoundaryTerms:
 
     def stiff_vertices(self, active: np.ndarray, n: int) -> np.ndarray:
         """The P1 dofs (vertex v of component k at k nv + v, ``n`` of them) whose contact dof
-        carries an active contact term (a multigrid hint: ``multigrid.TruncatedVCycle``)."""
+        carries an active contact term (a multigrid hint: ``solvers.multigrid.TruncatedVCycle``)."""
         problem = self.problem
         block, nv = problem.ndof // problem.physics.components, problem.mesh.nv
         columns = self.quadrature.T[np.flatnonzero(active)].indices
@@ -274,7 +274,7 @@ def boundary_jacobian(problem: DiscreteProblem, pattern: sp.spmatrix, take_stiff
 def obstacle_force(case, problem: DiscreteProblem, J: sp.csr_matrix) -> float:
     """max |A w| over the free dofs, w = the obstacle at Gamma_C's vertices (in their contact
     dofs): the force that holds Gamma_C at the obstacle, a scale of F beside the loads
-    (``newton.load_scale``). J's values off Gamma_C's elements are A's, and w lives on Gamma_C's
+    (``solvers.newton.load_scale``). J's values off Gamma_C's elements are A's, and w lives on Gamma_C's
     vertices; set before any term."""
     obstacle = np.zeros(problem.ndof)
     if case.gap is not None:
@@ -286,5 +286,5 @@ def predicted_active(coarse_points: np.ndarray, coarse_active: np.ndarray, point
     """Nested iteration: each Gauss point takes the status of the nearest Gauss point of the
     coarser level's solution. (The sign of the bracket of the interpolated coarse solution is a
     poor guess: its bubbles are zero and near a transition where c - alpha and lambda both vanish
-    smoothly (the smooth case) it took Newton 15 steps on level 6, a few points per step.)"""
+    smoothly (the smooth case) it is wrong at many points, which Newton corrects a few per step.)"""
     return coarse_active[cKDTree(coarse_points).query(points)[1]]

@@ -14,7 +14,7 @@ c(v) and its flux, u and d_n u for the scalar problem, -v . n and -sigma_n(v) in
   is flat through each of its vertices, so these rows are -v_h . n exactly.
 * ``N``, the flux of c(v) at the points: the gradients of the volume element holding each point,
   of any order, evaluated by NGSolve (``scalar_basis_gradients``), combined by the physics
-  (``physics.flux_rows``) and written in the problem's variables (the rotated frame).
+  (``flux_rows`` of ``problem.physics.Scalar`` and ``problem.physics.Elasticity``) and written in the problem's variables (the rotated frame).
 
 tests/test_weak_contact.py checks both against NGSolve's own evaluation of a random u_h.
 """

@@ -1,4 +1,4 @@
-"""The 3D counterpart of K_h as general linear constraints (issue 33): on every triangle T of
+"""The 3D counterpart of K_h as general linear constraints: on every triangle T of
 Gamma_C, the mean of v_h - alpha is non-negative,
 
     (1/|T|) int_T v_h  >=  (1/|T|) int_T alpha,
@@ -8,7 +8,7 @@ beside v_h(x) >= alpha(x) at the vertices of Gamma_C. In 2D the edge mean of the
 triangle the P2 mean is the average of the three edge-midpoint values (the vertex functions
 of the Lagrange basis integrate to 0 over T; docs/mathematics.md §6), and each midpoint belongs
 to two triangles, so these rows couple variables and stay general rows of a matrix B, solved by
-``solvers.general_constraints`` (and ``solvers.projected``): the 3D ``mean`` since 0.3.5. (The
+``solvers.general_constraints`` (and ``solvers.projected``): the 3D ``mean``. (The
 edge-wise cone, ``mean-edges``, constrains edge means only, which do not control the trace
 inside the triangles: its H^1 rate stalls near 1/2.)
 """
@@ -30,7 +30,7 @@ def face_mean_rows(problem, obstacle: ngs.CoefficientFunction | None = None,
                    order: int = 8) -> tuple[sp.csr_matrix, np.ndarray, np.ndarray]:
     """(B, g, elements): one row per triangle of Gamma_C (``elements``: its surface element
     number), B u = the mean over the triangle of the contact variable (u, or -u . n in
-    elasticity: ``physics.contact_variable``) of the function with coefficients u (the
+    elasticity: ``problem.physics.Elasticity.contact_variable``) of the function with coefficients u (the
     problem's variables: NGSolve's basis, rotated at Gamma_C in elasticity) and g = the mean of
     ``obstacle`` (alpha; 0 if None) there, integrated with ``order`` more than the integrands'
     degree."""

@@ -42,10 +42,11 @@ modulus``: 1 for the scalar problem, lambda + 2 mu in elasticity). theta = 1 is 
 eps ||flux(v)||^2_{Gamma_C} stays below a(v, v) on X_h; with the discrete trace inequality
 h ||grad v||^2_{dT} <= C_I ||grad v||^2_T and sigma_n(v) = 2 mu eps_nn(v) + lambda div v,
 gamma0 h ||sigma_n(v)||^2 <= 2 C_I gamma0 max(2 mu, lambda) a(v, v): dividing by M makes the
-admissible gamma0 independent of the material, also as lambda/mu grows (measured: with eps =
-gamma0 h, gamma0 = 0.05, P1 Nitsche stalled on elastic-transition-incompressible, lambda/mu = 49,
-where J is indefinite). CHR 2015 write gamma = gamma0 h_T with E = 1; dolfinx_contact divides
-by E, which is not robust near incompressibility.
+admissible gamma0 independent of the material, also as lambda/mu grows (with eps = gamma0 h
+the admissible gamma0 shrinks like 1/lambda: a gamma0 fit for a compressible material leaves J
+indefinite on elastic-transition-incompressible, lambda/mu = 49, and P1 Nitsche stalls). CHR
+2015 write gamma = gamma0 h_T with E = 1; dolfinx_contact divides by E, which is not robust near
+incompressibility.
 """
 from __future__ import annotations
 

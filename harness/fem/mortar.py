@@ -1,5 +1,5 @@
 """The mortar coupling of two bodies on non-matching meshes along a straight Gamma_C (the
-paper's Section 6; issue 34).
+paper's Section 6).
 
 Each body is a ``DiscreteProblem`` in its own frame (``problem.bodies``: the lower body is the
 mirror image of the upper one, so both see Gamma_C on y = 0 with the body above it), whose
@@ -121,8 +121,8 @@ def dual_coefficients(order: int) -> np.ndarray:
 @dataclass(frozen=True)
 class MortarCoupling:
     """The rows B z >= g of the mortar condition for z = (slave dofs, master dofs), one per
-    slave Lagrange node: its vertices in the order of ``slave.trace.vertices``, then (P2) its
-    edge midpoints in the order of ``slave.trace`` -- the order of the one-body cones'
+    slave Lagrange node: its vertices in the order of the slave trace's vertices, then (P2) its
+    edge midpoints in the order of its edges (``mesh.trace.ContactTrace``) -- the order of the one-body cones'
     constrained variables (``cones.ContactModel.constrained_dofs``).
 
     ``D``: int psi_i over Gamma_C per row (the weight of the row: for dual multipliers the

@@ -33,8 +33,9 @@ def contact_flux_load(case, problem: DiscreteProblem) -> np.ndarray:
     """int_{Gamma_C} (d_n u - g_C) v for every basis function v: the exact contact pressure as a
     load (the load vector b already holds g_C). The pressure is singular where binding contact
     meets Gamma_g (r^{-1/2} in corner-r12): a Gauss rule there errs by O(1) relative on the
-    first edge, which moves R_h u by as much as its own error (measured: corner-r12's R_h u 7%
-    worse than the Nitsche solution in |.|_1); the rule is graded on the edges at singular points."""
+    first edge, which moves R_h u by as much as its own error (on corner-r12 enough to put R_h u
+    above a method's error in |.|_1, which a best approximation cannot be); the rule is graded on
+    the edges at singular points."""
     quadrature = contact_quadrature(problem, FLUX_POINTS, graded_at=singular_vertices(case, problem.mesh))
     return quadrature.T.T @ (quadrature.weights * exact_pressure(case, problem, quadrature))
 

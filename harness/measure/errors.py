@@ -72,7 +72,7 @@ class DiscretePressure:
     @classmethod
     def of(cls, problem) -> "DiscretePressure":
         """The pressure of ``problem``, made once (the errors on Gamma_C and the estimator
-        share it: ``DiscreteProblem.cache``)."""
+        share it: ``fem.assembly.DiscreteProblem.cache``)."""
         if cls not in problem.cache:
             problem.cache[cls] = cls(problem)
         return problem.cache[cls]
@@ -87,7 +87,7 @@ class DiscretePressure:
         self._mass = splu((self.T.T @ (self.T.multiply(q.weights[:, None]))).tocsc())
 
     def coefficients(self, u_h: np.ndarray) -> np.ndarray:
-        """lambda_h's coefficients on the dofs ``problem.contact_dofs``."""
+        """lambda_h's coefficients on the problem's contact dofs (``fem.assembly.DiscreteProblem.contact_dofs``)."""
         return self._mass.solve(self._problem().contact_residual(u_h))
 
     def at_points(self, coefficients: np.ndarray) -> np.ndarray:
@@ -177,7 +177,7 @@ class ExactErrors:
         pass
 
     def state_of(self, method_name: str) -> list:
-        """What a method's chain carries to its next level (``study.ChainState``): its order's
+        """What a method's chain carries to its next level (``study.walk.ChainState``): its order's
         R_h u at the vertices of its last level, the next level's CG start."""
         mine = sorted(key for key in self.vertex_values if key[0] == self.orders.get(method_name))
         return [(key, self.vertex_values[key]) for key in mine[-1:]]

@@ -54,10 +54,9 @@ from .facets import element_bits, neumann_facets
 
 # Gauss order of the volume moments f_T and ||f - f_T||_T^2 on the elements away from singular
 # points (``ElementQuadrature``: graded on the elements touching one, where f may be singular,
-# r^{-1} |log r|^{-beta} in borderline-h2): (f - f_T)^2 exactly for f quadratic on T. Against
-# order 8 on those elements (25 points per triangle, once a third of the estimator's cost on P1's
-# finest level) eta moved by at most 5e-5 relative on borderline-h2 and smooth, levels 0-4; the
-# graded rule on the near elements moved it by up to 9% (borderline-h2, P2: Gauss was not converged).
+# r^{-1} |log r|^{-beta} in borderline-h2): (f - f_T)^2 exactly for f quadratic on T. A higher
+# order on those elements costs more points per triangle and moves eta by far less than its
+# accuracy; on the near elements Gauss is not converged, and the graded rule moves eta there.
 VOLUME_ORDER = 4
 
 
@@ -75,8 +74,8 @@ class MeshTerms:
     """What the estimator needs of one mesh and the case's data, whatever the finite element
     order: made once per mesh for the problems of both orders (the last few are kept).
 
-    The weights are NGSolve's ``specialcf.mesh_size`` (what an integral written with it in
-    NGSolve gives, and what the first version of this module integrated): h_T = |2T|^(1/2) in
+    The weights are NGSolve's ``ngsolve.specialcf.mesh_size`` (what an integral written with it
+    in NGSolve gives): h_T = |2T|^(1/2) in
     the volume, and on a side E of T the height of T over E, h_{T,E} = 2|T|/|E| (NGSolve's
     det J / |E|), so that the flux-jump term of T on E is |T|/3 (j_a^2 + j_a j_b + j_b^2) for
     the jump j, linear along E with end values j_a, j_b (P2; constant for P1).
@@ -112,8 +111,7 @@ class MeshTerms:
         self.h2 = 2.0 * self.area**2                     # h_T^2 |T|, h_T = |2T|^(1/2)
         # grad lambda_k of the barycentric coordinates (rows of the inverse Jacobian, from the
         # last vertex; lambda_2 = 1 - lambda_0 - lambda_1)
-        # (the 2 x 2 inverse written out: np.linalg.inv's batched LAPACK calls cost 0.5 s on a
-        # 1.1e6-triangle mesh)
+        # (the 2 x 2 inverse written out: faster than np.linalg.inv's batched LAPACK calls)
         e0, e1 = sides.corners[:, 0] - sides.corners[:, 2], sides.corners[:, 1] - sides.corners[:, 2]
         det = e0[:, 0] * e1[:, 1] - e1[:, 0] * e0[:, 1]
         rows = np.stack([np.stack([e1[:, 1], -e1[:, 0]], axis=1), np.stack([-e0[:, 1], e0[:, 0]], axis=1)],
@@ -160,7 +158,7 @@ class MeshTerms:
         eta2 = self.oscillation + self.h2 * ((self.mean_f + divergence) ** 2).sum(axis=1)
         # the jump of F n at both ends of every interior edge: T1's outward flux plus T2's, T2's
         # normal being -T1's (gathers from the components apart: one-dimensional gathers are
-        # twice as fast)
+        # faster)
         nx, ny = self.jump_normals
         squares = 0.0
         for i in range(components):

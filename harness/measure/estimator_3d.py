@@ -1,7 +1,7 @@
 """The residual estimator's volume, jump and Neumann terms on tetrahedra (3D), scalar and
 elastic: the 3D counterpart of ``estimator.MeshTerms``, with the same interface
 (``volume_and_jumps(gfu, order, physics)``, ``neumann``, ``along_neumann``), so that
-``estimator.ResidualEstimator`` serves both dimensions and its 2D path is untouched.
+``estimator.ResidualEstimator`` serves both dimensions.
 
 The terms are those of the 2D estimator (``estimator``'s docstring) with faces F for edges:
 
@@ -12,7 +12,7 @@ and the Gamma_C terms of ``estimator.ResidualEstimator`` on the triangles of Gam
 of the residual estimators cited there (Hild & Nicaise, Numer. Math. 101 (2005), scalar; M2AN 41
 (2007), elasticity; and others), carried from edges to faces. Whether those papers' analyses
 cover 3D was not checked here (their texts were not read), and no constant is claimed. The
-weights are NGSolve's ``specialcf.mesh_size``, as in 2D (checked numerically):
+weights are NGSolve's ``ngsolve.specialcf.mesh_size``, as in 2D (checked numerically):
 
     h_T = (6 |T|)^(1/3) = |det J|^(1/3)           in the volume,
     h_{T,F} = 3 |T| / |F|, the height of T over F  on the element boundary,

@@ -1,4 +1,4 @@
-"""Errors against a reference per level: graded and adaptive chains of a case without u (issue 53).
+"""Errors against a reference per level: graded and adaptive chains of a case without u.
 
 On uniform meshes every method is measured against one reference, the nodal P2 solution k levels
 finer than P2's finest studied level (``reference.ReferenceErrors``). A graded or adaptive chain
@@ -13,7 +13,7 @@ level measured against it.
 
 How, per level, after every method has solved it (``end_level``):
 
-1. a copy of the level's netgen mesh (``ngmesh.Copy()``: the chain's own mesh, which the next
+1. a copy of the level's netgen mesh (``netgen.meshing.Mesh.Copy``: the chain's own mesh, which the next
    graded or adaptive level bisects in place, is not touched), with the same vertex numbers
    (checked, with the coordinates);
 2. red refinement of the copy k (P1: k - 1) times (netgen's ``Refine``, as ``mesh.levels.mesh_hierarchy``):

@@ -1,4 +1,4 @@
-"""Errors against a reference solution, for cases without a closed-form u (issue 16).
+"""Errors against a reference solution, for cases without a closed-form u.
 
 Every method of such a case is measured against one reference: the solution u_R of
 ``REFERENCE_METHOD`` (nodal P2) on the mesh k levels finer than P2's finest studied level, so
@@ -33,7 +33,7 @@ Elasticity (Remark 2.3): NGSolve's VectorH1 numbers its dofs by component, one b
 scalar space's dofs after the other, so in NGSolve's Cartesian basis the prolongation is
 kron(I_d, P) and the H^1-seminorm and L^2 matrices kron(I_d, K_R), kron(I_d, M_R), each applied
 block by block (``blockwise``, ``ReferenceNorms``). The solutions are carried in that basis
-(``problem.cartesian``: the rotated frame on Gamma_C is a level's own, and does not nest); the
+(``fem.assembly.DiscreteProblem.cartesian``: the rotated frame on Gamma_C is a level's own, and does not nest); the
 energy a(e, e) (the elastic stiffness) and the trace of the contact variable c = -u . n are read in
 the reference problem's own variables, e_ours = Q_R^T e (Q_R orthogonal). The discrete pressure is a
 scalar on Gamma_C, on the contact dofs of the last component's block: the same kron(I_d, P) carries it.
@@ -220,7 +220,7 @@ def norm_matrices(mesh: ngs.Mesh, order: int, stiffness: sp.csr_matrix | None = 
 def reference_method(case=None, methods=()):
     """The method whose solution k levels finer is every method's reference on ``case``: the
     first of ``methods``, then of the registered methods, that declares the role REFERENCE
-    (``Method.roles``), is P2 and discretises ``case`` (without a case: one body). The
+    (``methods.base.Method.roles``), is P2 and discretises ``case`` (without a case: one body). The
     registered one is P2 with the paper's nodal cone (Theorem 4.1 / 5.1), converged to a KKT
     residual <= 1e-10 like every solve, and discretising every physics and dimension of the
     harness."""
@@ -401,7 +401,7 @@ class ReferenceErrors:
         self.solution, self.norms = None, None
 
     def state_of(self, method_name: str) -> list:
-        """What a method's chain must keep to be resumed (``study.ChainState``): its studied
+        """What a method's chain must keep to be resumed (``study.walk.ChainState``): its studied
         (u_h, lambda_h) that wait for the reference."""
         return list(self.kept.get(method_name, []))
 

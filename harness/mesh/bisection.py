@@ -44,7 +44,7 @@ def element_sizes(mesh: ngs.Mesh) -> tuple[np.ndarray, np.ndarray]:
 
 def refine_marked(mesh: ngs.Mesh, marked: np.ndarray) -> None:
     """Bisect the marked elements (and what conformity asks besides), in place: NGSolve's
-    ``Mesh.Refine`` with refinement flags, which records every new vertex's parents."""
+    ``ngsolve.Mesh.Refine`` with refinement flags, which records every new vertex's parents."""
     if len(marked) != mesh.ne:
         raise ValueError(f"{len(marked)} refinement flags for a mesh of {mesh.ne} elements")
     mesh.SetRefinementFlags([bool(m) for m in marked])
@@ -263,8 +263,8 @@ class AdaptiveRefinement:
                 marked = dorfler(self._indicators, self.theta)
                 self._indicators = None
                 # each marked element is bisected at least once: past the budget already, the
-                # level would be made only to be dropped (in 3D the P1 level past the budget had
-                # 4 times its elements: 2.3 GB more than the whole chain before it)
+                # level would be made only to be dropped (in 3D it can need more memory than the
+                # whole chain before it)
                 if refiner.ne + marked.sum() > self.element_limit:
                     return
                 refiner.refine(marked)

@@ -1,6 +1,6 @@
 """Level sequences: the meshes a study walks, coarse to fine, each with its h.
 
-``UniformRefinement`` is today's sequence (red refinement, h halves per level); a mesh strategy
+``UniformRefinement`` is red refinement's sequence (h halves per level); a mesh strategy
 (graded, adaptive) is another implementation of ``LevelSequence``: the study (``study.chain``)
 only iterates over ``levels(count)`` and asks ``nested`` whether a level's mesh refines the
 previous one (in place, NGSolve keeping the parents of new vertices, or as a new mesh with its

@@ -1,7 +1,7 @@
 """Newest vertex bisection of triangles on arrays: local refinement at the cost of the marked
 elements, each level a new NGSolve mesh built from the arrays.
 
-NGSolve's ``Mesh.Refine`` with refinement flags refines one mesh in place at a cost that grows
+``ngsolve.Mesh.Refine`` with refinement flags refines one mesh in place at a cost that grows
 with the whole mesh, however few elements are marked, and a graded level is a dozen such sweeps.
 Here a sweep touches arrays: the marked elements, their closure and the vertices they create; an
 NGSolve mesh is built once per level (netgen's ``AddPoints``/``AddElements``), and the level's

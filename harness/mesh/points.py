@@ -28,7 +28,7 @@ def geometry_vertices(mesh: ngs.Mesh) -> np.ndarray:
     """Mesh vertices at the points of the geometry: where two boundary segments of different
     geometry lines meet (a corner, a label change, or a break such as a transition point on a
     straight Gamma_C), read from netgen's segment table, whose ``index`` is the geometry line.
-    (2D only: in 3D a solution is singular along curves, ``quadrature.singular_vertices``.)"""
+    (2D only: in 3D a solution is singular along curves, ``fem.element_quadrature.singular_vertices``.)"""
     segments = mesh.ngmesh.Elements1D().NumPy()
     ends = (segments["nodes"][:, :2].astype(np.int64) - 1).ravel()
     lines = np.repeat(segments["index"], 2)
@@ -64,10 +64,10 @@ def evaluate(cf: ngs.CoefficientFunction, mesh: ngs.Mesh, points: np.ndarray) ->
     return values.reshape(points.shape[:-1] + (cf.dim,))
 
 
-# Locating points in a mesh is netgen's search-tree walk, about 5 us per point in 3D (0.7 s for
-# the 1.4e5 Gamma_C Gauss points of a 9e4-tetrahedron mesh), while evaluating a coefficient
-# function there costs 1% of it. A level evaluates u, grad u, the gap and the load at the same
-# Gamma_C points for every order and method: they are located once (the last few point sets).
+# Locating points in a mesh is netgen's search-tree walk, point by point, which costs far more
+# than evaluating a coefficient function there. A level evaluates u, grad u, the gap and the
+# load at the same Gamma_C points for every order and method: they are located once (the last
+# few point sets).
 _LOCATED: "OrderedDict[tuple, tuple]" = OrderedDict()
 
 
@@ -120,8 +120,8 @@ def mesh_points(mesh: ngs.Mesh, count: int) -> np.ndarray:
     to fill with element numbers (``nr``) and local coordinates: points made directly, which a
     coefficient function evaluates without a search. The record layout and the mesh pointer
     come from one point search per mesh object, made the first time: a volume search builds
-    netgen's element search tree, again after every refinement (0.2 s on 9e5 triangles, 0.9 s
-    on 3.7e6), while a mesh refined in place keeps its pointer."""
+    netgen's element search tree (a cost that grows with the mesh), again after every refinement,
+    while a mesh refined in place keeps its pointer."""
     hit = _TEMPLATES.get(id(mesh))
     if hit is None or hit[0]() is not mesh:
         hit = (weakref.ref(mesh), mesh(*coordinates(mesh)[:1].T))

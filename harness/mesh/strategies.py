@@ -12,7 +12,7 @@ methods of one order on graded ones (the grading exponent depends on k), none on
 A strategy from outside the package is any object with the ``Strategy`` protocol: a file
 (``--mesh path/to/grading.py[:name]``, its ``strategy``, its ``strategies`` or every strategy it
 defines), a dotted name (``--mesh mypkg.meshes:fine_grading``), an installed package's entry
-point (group ``signorini_harness.meshes``, selected by its label) or an object
+point (group "signorini_harness.meshes", selected by its label) or an object
 (``harness.run(..., meshes=[my_strategy, "uniform"])``), checked by ``check_strategy``.
 """
 from __future__ import annotations

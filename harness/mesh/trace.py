@@ -129,8 +129,7 @@ def contact_trace_3d(mesh: ngs.Mesh) -> ContactTrace:
     """The triangles of Gamma_C and their edges, each edge once (in the order the triangles
     first name them), normals outward (away from the fourth vertex of the tetrahedron on each
     triangle). One pass of Python over the triangles reads their corners and edges; normals,
-    tetrahedra and edge numbering are array work (the loop that did it all per triangle was
-    3 s of a 3D study)."""
+    tetrahedra and edge numbering are array work, not a Python loop per triangle."""
     faces = [(el.vertices, el.edges) for el in mesh.Boundaries(CONTACT).Elements()]
     if not faces:
         raise ValueError("the mesh has no boundary face labelled 'contact'")

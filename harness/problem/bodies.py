@@ -1,4 +1,4 @@
-"""Two bodies in contact along Gamma_C (the paper's Section 6; issue 34): the second body, the
+"""Two bodies in contact along Gamma_C (the paper's Section 6): the second body, the
 mirror image of the first across Gamma_C, meshed on its own.
 
 A case declares ``second_body = MirrorBody(geometry=..., maxh=...)`` beside the one-body

@@ -29,7 +29,7 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     grad_u                 optional grad u in closed form (a dim-vector; in elasticity the
                            Jacobian, row i = grad u_i): the error norms evaluate it at every
                            quadrature point, where the derived one of a deep u (logs, powers,
-                           oscillations) costs twice as much; checked against the derived one
+                           oscillations) costs more; checked against the derived one
     singular_points        optional list of points (x, y) where u is singular, each a polygon
                            corner; the error and load quadratures are graded there, graded
                            meshes toward them. Default: every point of the geometry. [] for a
@@ -45,8 +45,8 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            list of polylines, each a list of points (x, y) of the plane of
                            Gamma_C, which the report draws on its pictures of Gamma_C
     asymptotic_levels      optional int >= 3: the number of P2 levels by which the case's fits are
-                           asymptotic (measured: one level more moved no fitted rate by more
-                           than 0.01); the default report stops there instead of at its
+                           asymptotic (one level more moves no fitted rate by more than
+                           0.01: ``--levels`` one higher shows it); the default report stops there instead of at its
                            profile's levels (``study.cache.case_settings``), ``--levels`` and
                            the fine profile do not
     asymptotic_levels_p1   optional int >= 3: the same for the P1 methods (order 1), which a
@@ -72,7 +72,7 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            and the lower body its mirror image across Gamma_C, meshed on its
                            own (``problem.bodies``); 2D, exact u, solved by the mortar methods
 
-An *elastic case* (``physics = "elasticity"``, ``harness.physics.Elasticity``) declares besides
+An *elastic case* (``physics = "elasticity"``, ``harness.problem.physics.Elasticity``) declares besides
 
     poisson                Poisson's ratio, 0 <= poisson < 1/2 (plane strain on a 2D geometry,
                            the 3D body on a 3D one)
@@ -361,8 +361,8 @@ def installed_case_files() -> list[Path]:
 
 
 # the cases of the files read so far, by (path, name in messages, sha1 of the text): a file is run
-# again only when its text changed (running the 22 registered files took 0.13 s, and every
-# command and many tests ask for the registry)
+# again only when its text changed (every command and many tests ask for the registry, and
+# each would otherwise run every registered file again)
 _READ: dict[tuple[str, str, str], Case] = {}
 
 

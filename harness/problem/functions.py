@@ -157,7 +157,7 @@ class PolarSeries:
         d/dy c r^m e^{i q theta} = i c A r^{m-1} e^{i (q-1) theta} - i c B r^{m-1} e^{i (q+1) theta}.
 
     The derivatives of a Kolosov-Muskhelishvili displacement in closed form: NGSolve's Diff of
-    r^l sin(l theta) through sqrt and atan2 builds trees that cost 3-10 times more per point."""
+    r^l sin(l theta) through sqrt and atan2 builds deeper trees, which cost more per point."""
 
     terms: tuple            # (c, m, q): complex coefficient, power of r, frequency in theta
 
@@ -195,7 +195,7 @@ class PolarSeries:
 def bracketed_root(f, a: float, b: float, xtol: float = 1e-15) -> float:
     """The root of f in [a, b], where f changes sign, by bisection to ``xtol``: the cases'
     singular exponents (Williams' wedge equations) are roots of a scalar function, found at
-    import time; SciPy's brentq would cost every case listing 0.3 s of imports."""
+    import time; SciPy's brentq would add SciPy's import to every case listing."""
     fa = f(a)
     if fa * f(b) > 0:
         raise ValueError(f"f does not change sign on [{a}, {b}]")

@@ -164,11 +164,9 @@ class Elasticity:
         """Whether the solves use the truncated vector V-cycle (``solvers.multigrid``: vector P1
         coarse spaces in the rotated frame, Gauss-Seidel smoothing) rather than sparse Cholesky.
         Pointwise smoothers are not robust as lambda/mu grows (the near-kernel of div; Schoeberl,
-        Numer. Math. 84 (1999), builds the robust ones): measured on elastic-transition-r32's
-        level 6 (2.3e5 dofs, one linear solve to 1e-10, 2026-11-26), CG took 26, 25, 42 and 128
-        iterations at lambda/mu = 1.5, 4, 9 and 49, and multigrid / Cholesky seconds were
-        1.07 / 2.64, 1.10 / 3.20, 1.71 / 2.61 and 4.49 / 2.63. Past MULTIGRID_MAX_LAMBDA_OVER_MU
-        (Poisson ratio 0.476) the factorisation stays the faster path at the report's sizes."""
+        Numer. Math. 84 (1999), builds the robust ones): CG's iterations grow with lambda/mu,
+        and past MULTIGRID_MAX_LAMBDA_OVER_MU (Poisson ratio 0.476) the factorisation is the
+        faster path at the report's sizes."""
         return self.lam / self.mu <= MULTIGRID_MAX_LAMBDA_OVER_MU
 
     @property

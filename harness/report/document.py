@@ -3,8 +3,9 @@
 colours its rows; ``matrix`` colours each cell), figures, and collapsible parts (``details``).
 
 The HTML page embeds every figure, so that it opens offline; to keep it light the PNGs are
-embedded as 256-colour lossless WebP (the figures are line plots and colour maps: measured
-5x smaller than the PNGs, which stay in report/figures at full colour for the Markdown)."""
+embedded as 256-colour lossless WebP (the figures are line plots and colour maps, which 256
+colours draw well, in files much smaller than the PNGs: tests/test_report.py asks for less than
+half; the PNGs stay in report/figures at full colour for the Markdown)."""
 from __future__ import annotations
 
 import base64
@@ -89,8 +90,8 @@ def _webp(source) -> bytes:
     """A PNG (a path, or its bytes) as 256-colour lossless WebP."""
     with Image.open(io.BytesIO(source) if isinstance(source, bytes) else source) as image:
         buffer = io.BytesIO()
-        # the fast octree palette: half the time of median cut and smaller files (64 figures:
-        # 3.2 s and 1.3 MB against 5.7 s and 1.9 MB); the colour maps show a few bands
+        # the fast octree palette: faster than median cut, and smaller files; the colour maps
+        # show a few bands
         image.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE, dither=Image.Dither.NONE).convert(
             "RGB").save(buffer, "WEBP", lossless=True, method=2)
     return buffer.getvalue()
@@ -98,7 +99,7 @@ def _webp(source) -> bytes:
 
 def save_compact(path: Path, page_png: bytes | None = None) -> None:
     """The page version of the PNG ``path``, made where the figure is drawn (the figure
-    processes: the page then only reads it, 3 s less of the report's wall time): from
+    processes, side by side: the page then only reads it): from
     ``page_png``, the figure drawn at the page's resolution (``figures.PAGE_DPI``), else from
     the PNG file."""
     target = embedded_path(path)

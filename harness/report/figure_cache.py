@@ -2,8 +2,8 @@
 
 A figure is a function of its inputs (a case's stored rows and snapshots, a frame of rows, the
 methods' styles) and of the drawing code; when a report is written again over a stored study
-(``study.cache``: every case reused), drawing its hundred-odd figures again took most of the
-time. Each job of ``figure_jobs.FigurePool`` therefore leaves a key beside its figures: the
+(``study.cache``: every case reused), drawing its figures again would be most of its time.
+Each job of ``figure_jobs.FigurePool`` therefore leaves a key beside its figures: the
 SHA-256 of the drawing function's name, its arguments (files by their bytes, frames by their
 values), the styles and the source of the report's drawing modules with the harness's and
 matplotlib's versions. A job whose key is stored, with every figure it names on disk, is not

@@ -1,15 +1,16 @@
 """The report's figures, drawn in worker processes on the cores the study leaves free.
 
-matplotlib draws on one core, and the report has about sixty figures (each in PNG and PDF:
-about 90 s of work, measured 2026-11-25); each needs only its case's stored rows and snapshots,
-so two processes draw them side by side. A case's figures are queued as soon as the case is
-stored (``study.cache.compute``'s listener), but drawn only on cores the study leaves idle
-(``cores_free``: the study's tail, when fewer jobs are left than worker processes; on one
-process, once the study is done). Drawing them beside the running study, on cores it used,
-slowed the study more than it saved, at normal and at the lowest priority alike (375-384 s
-against about 360 s). Workers are spawned, not forked: the parent runs NGSolve's threads. Every
-figure is drawn with the same colour per method in every process: the parent assigns them
-(``plots.method_styles``, from the methods' declared roles) and sends them to every figure.
+matplotlib draws on one core, and the report has dozens of figures (each in PNG and PDF);
+each needs only its case's stored rows and snapshots, so two processes draw them side by side.
+A case's figures are queued as soon as the case is stored (``study.cache.compute``'s
+listener), but drawn only on cores the study leaves idle (``cores_free``: the study's tail,
+when fewer jobs are left than worker processes; on one process, once the study is done).
+Drawing them beside the running study, on cores it uses, slows the study more than it saves,
+at normal and at the lowest priority alike (``python -m harness bench --only report`` times
+the report and where its time goes). Workers are spawned, not forked: the parent runs
+NGSolve's threads. Every figure is drawn with the same colour per method in every process: the
+parent assigns them (``plots.method_styles``, from the methods' declared roles) and sends them
+to every figure.
 """
 from __future__ import annotations
 

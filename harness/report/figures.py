@@ -18,15 +18,15 @@ from .plots import OTHER_COLORS, register_methods, style  # noqa: F401  (registe
 
 FORMATS = ("png", "pdf")
 # The figure files' resolution, and the page's: the HTML page shows a figure at most 1060 px wide
-# (520 px two to a row), and its 98 figures embedded at 130 dpi made 2.95 of its 3.48 MB
-# (issue 61: at most 3 MB); 100 dpi draws them 8.9 to 6.4 inches wide in 890 to 640 pixels.
+# (520 px two to a row), and the page, every figure embedded, is to stay under 3 MB, which
+# 130 dpi figures exceed; 100 dpi draws them 8.9 to 6.4 inches wide in 890 to 640 pixels.
 FILE_DPI, PAGE_DPI = 130, 100
 
 
 def save(fig, folder: Path, stem: str) -> dict[str, Path]:
     """``fig`` as ``stem``.png and .pdf, cropped to its drawn content. The crop (matplotlib's
     "tight" box, padded 0.1 in) is computed once for both formats: "tight" per format lays the
-    figure out once more each time, a third of the report's figure time (measured 2026-11-26).
+    figure out once more each time, a large share of drawing it.
     Log-axis labels are written in Unicode (``plots.unicode_log_labels``)."""
     plots.unicode_log_labels(fig)
     fig.draw_without_rendering()
@@ -120,7 +120,7 @@ def contact_faces(case, snapshots: dict, folder: Path) -> dict[str, Path]:
     for k, (method, snap) in enumerate(snapshots.items()):
         tri = mtri.Triangulation(snap["points"][:, 0], snap["points"][:, 1], snap["triangles"])
         top, bottom = axes[0, k], axes[1, k]
-        # rasterized: as vector graphics a PDF of Gamma_C's gouraud triangles took 7.6 s to write
+        # rasterized: as vector graphics a PDF of Gamma_C's gouraud triangles is slow to write
         shown = top.tripcolor(tri, gaps[k], shading="gouraud", cmap="RdBu", norm=matplotlib.colors.TwoSlopeNorm(0.0, -scale, scale),
                               rasterized=True)
         fig.colorbar(shown, ax=top, shrink=0.8)
@@ -179,13 +179,13 @@ def domain(case, snapshot: dict, folder: Path) -> dict[str, Path] | None:
 
 
 def _whose(snapshot: dict) -> str:
-    """" (nodal)": the method whose solution a domain picture shows (``snapshots.SnapshotHook``)."""
+    """" (nodal)": the method whose solution a domain picture shows (``study.snapshots.SnapshotHook``)."""
     method = snapshot.get("method")
     return "" if method is None else f" ({method})"
 
 
 def interface(case, snapshot: dict | None, folder: Path) -> dict[str, Path] | None:
-    """Two bodies: both meshes near the interface on a coarse level (``snapshots.INTERFACE_LEVEL``),
+    """Two bodies: both meshes near the interface on a coarse level (``study.snapshots.INTERFACE_LEVEL``),
     upper and lower in their own colours, and the vertices of each on Gamma_C: they do not match."""
     if not snapshot:
         return None

@@ -1,6 +1,6 @@
 """Rate tables for a paper: booktabs LaTeX, as deal.II's ``ConvergenceTable`` writes them.
 
-Three tables from the tidy rows and the fitted rates (issue 32):
+Three tables from the tidy rows and the fitted rates:
 
 * ``convergence_table``: one case, each method's levels (level, h, ndof, the H^1 error and
   the rate between consecutive levels against h and against the number of dofs N, e ~ N^-r,

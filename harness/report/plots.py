@@ -94,8 +94,8 @@ _SCIENTIFIC = re.compile(r"^\$\\mathdefault\{(?:([0-9.]+)\\times)?10\^\{(-?[0-9]
 
 class UnicodeLogFormatter(LogFormatterSciNotation):
     """matplotlib's log-axis labels (10^-3, 2 x 10^-3) as Unicode text, 10⁻³ and 2×10⁻³, not
-    mathtext: parsing them was a fifth of the report's figure time (pyparsing, 14 ms a label and
-    again per resolution; measured 2026-11-26). A label of another form stays mathtext."""
+    mathtext: parsing mathtext (pyparsing, per label and again per resolution) is a large share
+    of the report's figure time. A label of another form stays mathtext."""
 
     def __call__(self, x, pos=None):
         label = super().__call__(x, pos)

@@ -44,7 +44,7 @@ def level_view(case, rows: pd.DataFrame) -> pd.DataFrame:
 
 def dofs_view(case, rows: pd.DataFrame) -> pd.DataFrame:
     """Per method and predicted quantity, the dofs from which its deviation stays within
-    ``WITHIN`` (interpolated between levels, ``efficiency.at_target``; empty: not on these levels)."""
+    ``WITHIN`` (interpolated between levels, ``measure.efficiency.at_target``; empty: not on these levels)."""
     table = deviations(case, rows)
     out = []
     for method, group in table.groupby("method", sort=False):

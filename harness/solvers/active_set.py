@@ -79,7 +79,7 @@ class Cholesky:
 
 
 def ngsolve_matrix(K: sp.spmatrix):
-    """An NGSolve copy of a scipy matrix (slow: prefer ``models.transformed_matrix``)."""
+    """An NGSolve copy of a scipy matrix (slow: prefer ``fem.cones.transformed_matrix``)."""
     coo = sp.coo_matrix(K)
     return ngs.la.SparseMatrixd.CreateFromCOO(
         coo.row.astype(np.int64), coo.col.astype(np.int64), coo.data.astype(float), K.shape[0], K.shape[1])
@@ -287,9 +287,9 @@ class ActiveSetSolver:
         With an iterative system a new set is solved only to ``options.forcing`` times the
         current KKT residual, when that is much shallower, and the set that solve leaves
         unchanged again, from there and with the same V-cycle, to the full depth. Same KKT
-        point; the nested iteration's prediction is usually a few rows off, and its full-depth
-        solve was half the CG work (measured: 30% fewer CG iterations on the report's
-        seven-level cases, the same rows to 1e-8 relative, every KKT residual <= 1e-10)."""
+        point; the nested iteration's prediction is usually a few rows off, and a full-depth solve
+        of a set that then changes is CG work thrown away (``python -m harness bench`` counts each
+        contact solve's CG iterations)."""
         clock = time.perf_counter()
         m = len(self.C)
         active = np.zeros(m, dtype=bool) if initial_active is None else np.asarray(initial_active, bool).copy()
@@ -304,9 +304,9 @@ class ActiveSetSolver:
 
 def row_norm(K: sp.csr_matrix, rows: np.ndarray, chunk: int = 1 << 22) -> float:
     """max over ``rows`` of sum_j |K_ij| (||K||_inf restricted to them), from K's CSR arrays a
-    block of about ``chunk`` entries at a time: no copy of K (0.25 s at 5.7e5 P2 dofs by row
-    slices, which the study paid once per method and level; row sums by ``np.add.reduceat``
-    over each block's non-empty rows, a third of the time of differences of a cumulative sum)."""
+    block of about ``chunk`` entries at a time: no copy of K (which row slices make, once per
+    method and level); row sums by ``np.add.reduceat`` over each block's non-empty rows, faster
+    than differences of a cumulative sum."""
     n, indptr = K.shape[0], K.indptr
     step = max(1, chunk // max(1, K.nnz // max(1, n)))
     sums = np.zeros(n)
@@ -327,7 +327,7 @@ def _columns(n: int, columns: list) -> np.ndarray:
 
 def solve_contact_qp(qp, initial_active=None, textbook: bool = False, multilevel=None, start=None,
                      options: SolverOptions = _DEFAULT) -> QPSolution:
-    """The harness's solver on a ``models.ContactQP``: multigrid-preconditioned CG when the
+    """The harness's solver on a ``fem.cones.ContactQP``: multigrid-preconditioned CG when the
     mesh hierarchy's ``multilevel`` is given, else sparse Cholesky; ``textbook=True`` gives the
     reference PDAS (cold start, refactorisation at every iteration) used by the benchmark and
     the tests."""

@@ -2,10 +2,10 @@
 
     minimise 1/2 z^T K z - b^T z   subject to   z = lift on the pinned dofs,   B z >= g,
 
-the form the 3D counterpart of K_h takes (issue 33: per contact triangle the mean of u_h - alpha,
+the form the 3D counterpart of K_h takes (per contact triangle the mean of u_h - alpha,
 for P2 the average of the triangle's three edge-midpoint values, docs/mathematics.md, couples
 midpoints shared by two triangles, so no local change of variables turns it into bounds as in
-2D) and the one a mortar condition takes with standard multipliers (issue 34).
+2D) and the one a mortar condition takes with standard multipliers.
 
 Method: the primal-dual active set method of Hintermueller, Ito & Kunisch (SIAM J. Optim. 13
 (2002)) for B z >= g. With lambda >= 0 the multipliers (K z - b = B^T lambda on the free dofs),

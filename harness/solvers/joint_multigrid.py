@@ -14,7 +14,7 @@ abstract read: the basis, not their algorithm, is what is used here). With pins 
 trace variables (the active bounds) a master hat touches no pin: the coarse spaces keep the
 motion of both bodies together, which a smoother alone cannot resolve. (The coarse functions
 S^{-1} I of each body's P1 functions give block-diagonal Galerkin matrices, but truncate every
-master hat under the contact zone; they took more CG iterations.) Not optimal either: the slave's
+master hat under the contact zone, and CG needs more iterations with them.) Not optimal either: the slave's
 trace follows a master hat on the finest trace nodes only, a layer one fine element thick, and
 the iterations grow with the level (``bench --only mortar``).
 

@@ -20,16 +20,16 @@ class SolverOptions:
     # (``pdas.KKT.converged``; Newton's backward error alike)
     roundoff_backward_error: float = 1e-13
     # the forcing term: a set that is new is solved to this fraction of the current residual,
-    # when that is at least ``loose_gain`` times shallower than the full depth (about 7 CG
-    # iterations saved, more than an extra step costs; ``pdas.loose_depth``)
+    # when that is at least ``loose_gain`` times shallower than the full depth (the CG iterations
+    # it saves outweigh the extra step it may cost; ``pdas.loose_depth``)
     forcing: float = 1e-3
     loose_gain: float = 1e3
     # the general-constraint solver's gain: its iterative system's new set is solved to
     # ``forcing`` times the current residual whenever that is shallower than the full depth (the
     # bound solver asks 3 decades, ``loose_gain``): there a set costs an exact factorisation of
     # Gamma_C's block (``projected``), and a full-depth solve of a set that then changes is
-    # wasted. Measured on transition-line-3d's `mean` at 1.0e6 dofs: 5 sets and 47 CG iterations
-    # (9.4 s) against 6 and 60 (12.0 s); the same KKT point
+    # wasted; both reach the same KKT point (``python -m harness bench --only 3d`` counts the sets
+    # and CG iterations of `mean` on transition-line-3d)
     loose_gain_general: float = 1.0
     # a pin set needing more new bordered columns is refactorised (``active_set.FactorisedSystem``):
     # ~ the cost of a factorisation in solves, at 1e5-1e6 dofs

@@ -2,7 +2,7 @@
 
     minimise 1/2 z^T K z - b^T z   subject to   z = lift on the pins,   B_A z = g_A,
 
-for the 3D counterpart of K_h (issue 33), whose rows are bounds at the vertices of Gamma_C and
+for the 3D counterpart of K_h, whose rows are bounds at the vertices of Gamma_C and
 the means of its triangles. An active row with a single entry is a bound on one variable: it
 becomes a pin, as in the bound solver (``active_set``). The others -- the face means, each
 coupling the three vertices and three edge bubbles of a triangle -- are kept by CG on the affine
@@ -11,9 +11,9 @@ of B_A (``ConstrainedVCycle``).
 
 Why not P M P with M the V-cycle of the bounds: where the vertices of Gamma_C are pinned, the
 face-mean rows restricted to the bubbles are nearly dependent (alternating multipliers on the
-triangles around a vertex of even degree cancel: B B^T had eigenvalues 1e-4 against 1.6 on
-transition-line-3d's level 1), so the Euclidean projector P is far from local and P M P a poor
-preconditioner (measured: 223 CG iterations for one set against 32 with its vertex pins alone).
+triangles around a vertex of even degree cancel: B B^T has eigenvalues near 0 beside ones
+of order 1), so the Euclidean projector P is far from local and P M P a poor preconditioner:
+CG needs many times the iterations of the same set with its vertex pins alone.
 The kernel of B_A is not spanned by local functions there, so no pointwise smoother can
 respect it; a block that holds all of Gamma_C's dofs can: ``ConstrainedVCycle``.
 
@@ -71,9 +71,8 @@ class ConstrainedVCycle(TruncatedVCycle):
         d = regularisation * float(np.abs(block.diagonal()).max(initial=1.0))
         saddle = sp.bmat([[block, B_S.T], [B_S, -d * sp.identity(B_S.shape[0])]], format="csc")
         # threshold pivoting (a pivot within a tenth of its column's largest): the same
-        # residuals as partial pivoting on this quasi-definite matrix, with less fill (at 1e6
-        # dofs of transition-line-3d: factorisation 0.14-0.21 s against 0.25-0.27 s, a solve
-        # about 5 ms against 6-12 ms)
+        # residuals as partial pivoting on this quasi-definite matrix, with less fill, so a faster
+        # factorisation and faster solves
         self._block = splu(saddle, diag_pivot_thresh=0.1)
         self._rhs = np.zeros(saddle.shape[0])
         self._n = len(self.surface)

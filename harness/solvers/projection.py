@@ -4,7 +4,7 @@ affine space (``multigrid.pcg``) and for their least-squares multipliers.
 With B the active rows restricted to the free dofs (m x n, m << n: the rows of Gamma_C's
 triangles), P = I - B^T (B B^T)^{-1} B. B touches only the dofs of Gamma_C, so P is applied
 on those (``columns``) with one sparse factorisation of the small matrix B B^T (a 2D surface
-operator: at most 8,704 rows, one per triangle of Gamma_C, at 1e6 dofs on transition-line-3d).
+operator: one row per triangle of Gamma_C, far fewer than the volume's dofs).
 
 B B^T may be singular: on a patch of triangles whose vertices are all pinned and whose outer
 edges are Dirichlet, a triangle's row sees only its three edge bubbles, each shared with one
@@ -42,9 +42,8 @@ class RowProjection:
         self.refinements = refinements
         d = shift * float(np.abs(gram.diagonal()).max(initial=1.0))
         # B B^T + d I is symmetric positive definite: a symmetric fill-reducing order and no
-        # pivoting (stable for SPD matrices, as Cholesky is); at 1e6 dofs on transition-line-3d
-        # its factorisation 0.01 s against 0.05-0.25 s by SuperLU's default (COLAMD, partial
-        # pivoting), a solve 0.24 ms against 0.4-0.5 ms
+        # pivoting (stable for SPD matrices, as Cholesky is): a faster factorisation and faster
+        # solves than SuperLU's default (COLAMD, partial pivoting)
         self._factor = splu((gram + d * sp.identity(gram.shape[0], format="csc")).tocsc(),
                             permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                             options={"SymmetricMode": True}) if gram.shape[0] else None

@@ -1,7 +1,7 @@
 """What a study will cost, known before it starts: the size of every level from the coarse mesh
 alone, and from it each job's peak memory and time, with per-triangle and per-dof figures
-measured on this harness (``PEAK_*``, ``SECONDS_*``). A study whose largest job would not fit in the memory of the machine (or
-of a Dask worker) is refused before anything is allocated.
+fitted to runs of this harness (``PEAK_*``, ``SECONDS_*``). A study whose largest job would not
+fit in the memory of the machine (or of a Dask worker) is refused before anything is allocated.
 """
 from __future__ import annotations
 
@@ -19,41 +19,33 @@ MB = 2.0**20
 #             + PEAK_PER_DOF * dofs of each order's finest problem (a job of P1 and P2 methods holds both)
 #             + PEAK_PER_REFERENCE_DOF * the same again when errors are measured against a
 #               reference (its norm matrices, the prolongations, the kept solutions).
-# A least-squares fit of peak RSS (2026-11, NGSolve 6.2, 2 cores) over transition-r32 with 6
-# and 7 levels (nodal alone, p1 alone, all methods in one process) and smooth-obstacle with 6
-# (nodal, p1, all) gave 284 MB + 541 B/triangle + 147 B/dof + 416 B/reference dof, within 12%
-# of all nine; these figures round it up so that every one of them is at or above the measured
-# peak (at most 14% above). The finest mesh dominates: a P1 job holds a mesh 4 times as fine as
-# a P2 job with as many dofs.
+# A least-squares fit of peak RSS (2 cores) over transition-r32 with 6 and 7 levels (nodal
+# alone, p1 alone, all methods in one process) and smooth-obstacle with 6 (nodal, p1, all),
+# rounded up so that every one of those estimates is at or above its peak; the reference term
+# also covers smooth-obstacle with 6 and 7 levels, every method measured against nodal's one
+# reference. The finest mesh dominates: a P1 job holds a mesh 4 times as fine as a P2 job with
+# as many dofs. (``python -m harness bench --only report`` reports the peaks of a report.)
 PEAK_BASE = 280 * MB
 PEAK_PER_TRIANGLE = 550.0
 PEAK_PER_DOF = 250.0
 PEAK_PER_REFERENCE_DOF = 620.0
 # 3D vector P2 couples each dof with about 100 others (scalar 2D P2: 12): its matrices and the
 # vector multigrid's levels hold more per dof. Fitted to elastic-transition-3d on 4 levels (every
-# cone and p1 in one process, 2 cores, 2026-11-26): peak 2.11 GB with 6.0e5 P2 and 6.0e5 P1
-# dofs and 1.13e6 tetrahedra: 1,070 B per dof beside the terms above, rounded up (the
-# estimate 2.15 GB).
-# 2D vector P2 (plane strain), measured on the elastic reference case hertz-line (nodal, p1 and
-# both; 3, 4 and 5 levels with its reference level; one thread, 2026-11-27): peaks 287 MB to
-# 1.28 GB, which the scalar figure underestimated by up to 9% at 7.8e5 dofs; they need 245-372 B
-# per dof beside the reference's 620 (more at the larger sizes), rounded up.
+# cone and p1 in one process, 2 cores): the bytes per dof beside the terms above, rounded up.
+# 2D vector P2 (plane strain), fitted to the elastic reference case hertz-line (nodal, p1 and
+# both; 3, 4 and 5 levels with its reference level; one thread), whose peaks the scalar figure
+# underestimates: the bytes per dof beside the reference's, rounded up.
 PEAK_PER_DOF_BY_KIND = {(3, "elasticity"): 1150.0, (2, "elasticity"): 400.0}
-# (raised from 450 when every method of a reference case came to be measured against nodal's
-# one reference, harness 0.3.1: smooth-obstacle with 6 and 7 levels, every method, p1 and the
-# paper's, measured peaks of 766-2355 MB, 1-12% below these estimates)
 # Seconds of a job, for the ETA's weights, the order in which jobs are submitted and the estimate
 # a refusal prints. Each level costs its shared work (mesh refinement, the multigrid's P1
 # hierarchy, assembly, best approximation, errors: SHARED_SECONDS_PER_ELEMENT x its elements,
 # spread over the methods solving it) and each method's solve (SOLVE_SECONDS_PER_DOF x its
 # dofs). Fitted (least squares, one figure per group) to the profile of one default report in
-# one process on 2 cores (2026-11-25, `bench --only report`): per element 6.2e-6 s (2D scalar),
-# 1.8e-5 s (2D elastic), 1.2e-5 s (3D); per dof 1.4e-6 s (cones), 2.2e-6 s (penalty, Nitsche),
-# 5.7e-6 s (elastic cones, factorised), 8.6e-6 s (3D cones); the report's parameter sweeps,
-# whose Nitsche runs past theta = 1's coercivity bound take 60 Newton steps with an LU
-# factorisation each, 2.5e-5 s per dof (``SWEEP_SECONDS_PER_DOF``).
-# 3D elasticity (by the vector multigrid, 2026-11-26): three times the figures first guessed,
-# to match elastic-transition-3d's studies, 35 s on 3 levels (one thread) and 5.5 min on 4.
+# one process on 2 cores (`bench --only report` writes it); the report's parameter sweeps,
+# whose Nitsche runs past theta = 1's coercivity bound take many Newton steps with an LU
+# factorisation each, have their own figure (``SWEEP_SECONDS_PER_DOF``).
+# 3D elasticity (by the vector multigrid): fitted to elastic-transition-3d's studies on 3 levels
+# (one thread) and on 4.
 SHARED_SECONDS_PER_ELEMENT = {(2, "scalar"): 6.2e-6, (2, "elasticity"): 1.8e-5, (3, "scalar"): 1.2e-5,
                               (3, "elasticity"): 1.1e-4}
 # Keyed by the cost model a method declares (``Method.cost_model``: "active-set", the cones' and
@@ -67,7 +59,7 @@ SWEEP_SECONDS_PER_DOF = 2.5e-5
 # solve and the measurement against it (numbering, prolongations, norm matrices, the norms of
 # every kept solution), per dof of those levels, on top of the shared work and the cone's solve.
 # Fitted to smooth-obstacle (every method, p1, the paper's; 6 and 7 levels, one process,
-# 2 cores, 2026-11-25): 1.3e-5 to 1.6e-5 s per dof.
+# 2 cores).
 REFERENCE_SECONDS_PER_DOF = 1.4e-5
 
 
@@ -170,7 +162,7 @@ def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, p
 
 
 def solve_seconds_per_dof(method, physics: str, dimension: int) -> float:
-    """A solve's seconds per dof by the cost model ``method`` declares (``Method.cost_model``):
+    """A solve's seconds per dof by the cost model ``method`` declares (``methods.base.Method.cost_model``):
     its own number, or the figure of its model, physics and dimension (``SOLVE_SECONDS_PER_DOF``;
     the largest for a combination not measured)."""
     model = getattr(method, "cost_model", None)

@@ -70,7 +70,7 @@ def environment() -> dict:
 
 def provenance(settings: dict, methods=()) -> dict:
     """What a stored result was computed with: the harness, NGSolve, the machine (``environment``),
-    the study's settings and the solver settings (``solvers.SolverOptions``: the defaults, and any
+    the study's settings and the solver settings (``solvers.options.SolverOptions``: the defaults, and any
     of ``methods`` that solves with others, by name)."""
     solver = {"default": SolverOptions().as_dict()} | {m.name: m.solver.as_dict() for m in methods if m.solver != SolverOptions()}
     return environment() | {"settings": settings, "solver_options": solver}

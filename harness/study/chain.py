@@ -17,30 +17,31 @@ from ..methods import Method, methods_for
 from ..problem.case import Case
 from . import threads
 from .one_body import OneBody
-from .rows import COLUMNS, PHASES, ChainOutput, Phases, study_levels  # noqa: F401 (COLUMNS, PHASES: their home was here)
+from .rows import COLUMNS, PHASES, ChainOutput, Phases, study_levels  # noqa: F401 (COLUMNS, PHASES: importable from here too)
 from .two_body import run_two_body_chain
 from .walk import ChainPlan, ChainWalk
 
 ngs.ngsglobals.msg_level = 0
 
 PROFILES = {
-    # finest levels: about 5.8e5 dofs (transition geometry), well inside 10 minutes on 2 cores;
+    # finest levels: about 5.8e5 dofs (transition geometry), so that the default report meets its
+    # time goal on 2 cores (``python -m harness bench --only report``);
     # the 3D cases (8 times the dofs per level): 1.3e5 P2 dofs
     # the mesh study (graded and adaptive meshes, ``mesh_study``): the budget of uniform level
     # mesh_levels - 1, 9.2e3 P2 dofs on corner-r12
     # a case that declares ``asymptotic_levels`` stops there (``cache.case_settings``): six for
-    # the cases whose seventh level moved no fitted rate by more than 0.01
+    # the cases whose seventh level moves no fitted rate by more than 0.01
     # two bodies (about twice a one-body level's dofs, ``two_body``): at most 6 levels (5.1e5 dofs; see "fine")
     # the 3D mesh study, in the fine profile only (``mesh_study.PLAN``): the budget of uniform level
     # mesh_levels_3d - 1, 1.0e6 P2 dofs on transition-line-3d at 4 (3 here: the same rule)
     # the weak methods (contact laws) on 3D cases in the fine profile only: at the default's three
-    # 3D levels they would add about 40 s per case, mostly the 3D error integration of four more
-    # methods (``weak_3d``)
+    # 3D levels they would add the 3D error integration of four more methods to every 3D case
+    # (``weak_3d``)
     "default": {"levels": 7, "levels_3d": 3, "levels_two_body": 6, "mesh_levels": 4, "mesh_levels_3d": 3,
                 "stop_when_asymptotic": True, "weak_3d": False},
     # finest levels: about 2.3e6 dofs; 3D: 1.3e6; two bodies 5.1e5 (mortar-standard's saddle
-    # systems are factorised by SuperLU, whose fill at 2e6 dofs grew past 19 GB); the mesh study
-    # to 5.8e5 dofs
+    # systems are factorised by SuperLU, whose fill a level finer outgrows the memory of the
+    # machines this runs on); the mesh study to 5.8e5 dofs
     "fine": {"levels": 8, "levels_3d": 4, "levels_two_body": 6, "mesh_levels": 7, "mesh_levels_3d": 4,
              "stop_when_asymptotic": False, "weak_3d": True},
 }
@@ -78,8 +79,8 @@ def chain_levels(case: Case, method: Method, levels: int, methods: list[Method])
 
 def level_hook(on_level):
     """``on_level`` as the study calls it, ``(case, method, level, problem, solve)``; a hook with
-    the seven positional parameters of harness 0.1 (adapted with a DeprecationWarning until 0.4)
-    is refused in one line before the study starts."""
+    seven positional parameters, ``(case, model, level, problem, u, solution, trace_u)``, is
+    refused in one line before the study starts."""
     if on_level is None:
         return None
     try:
@@ -136,7 +137,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
 
     Per level: one mesh, one discrete problem per finite element order shared by the methods
     of that order (the last of them takes its stiffness matrix), one error measurement for all:
-    ``errors.ExactErrors`` against u, or ``reference.ReferenceErrors`` against one reference
+    ``measure.errors.ExactErrors`` against u, or ``measure.reference.ReferenceErrors`` against one reference
     solution, k levels finer (``chain_methods``: the rows get their errors when it is solved).
     ``total_seconds`` of a row: what the level costs a user of that method alone -- the
     refinement, its order's assembly, its own set-up and solve; not the error measurement.
@@ -199,8 +200,8 @@ def chain_plan(case: Case, methods: list[Method], requested: set[str], levels: i
 
 
 def error_measure(case: Case, methods: list[Method], plan: ChainPlan, phases: Phases):
-    """What the rows' errors are measured against: u (``errors.ExactErrors``), or one reference
-    solution k levels finer (``reference.ReferenceErrors``)."""
+    """What the rows' errors are measured against: u (``measure.errors.ExactErrors``), or one
+    reference solution k levels finer (``measure.reference.ReferenceErrors``)."""
     orders = {m.name: m.order for m in methods}
     if case.exact:
         return ExactErrors(case, phases, orders)

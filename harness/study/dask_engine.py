@@ -1,7 +1,7 @@
 """The study on Dask workers (``DaskEngine``): a LocalCluster of N worker processes, or an
 existing cluster by its scheduler's address -- the engine for more than one machine. On one
-machine ``processes.LocalProcesses`` runs the same jobs with less overhead (measured here: the
-same two-case study 41 s on two local processes, 54 s on a two-worker LocalCluster).
+machine ``processes.LocalProcesses`` runs the same jobs with less overhead (no nanny, scheduler
+or worker event loops sharing the cores with them).
 """
 from __future__ import annotations
 

@@ -1,14 +1,15 @@
 """Where a study's jobs run: in this process (``InProcess``, the default), on local worker
 processes (``processes.LocalProcesses``: one NGSolve thread each, all cores busy), or on Dask
 workers (``dask_engine.DaskEngine``: a LocalCluster, or an existing cluster by its scheduler's
-address). A job (``Job``) is a level chain (``study.run_chain``) of one case and some methods,
+address). A job (``Job``) is a level chain (``chain.run_chain``) of one case and some methods,
 sharing each level's mesh, assembly, multigrid hierarchy and best approximation: one job per
 case, except that on several workers a case whose estimated time is a large share of what each
 worker gets is split by finite element order (``split_large``: its P2 and P1 chains share only
 the mesh refinement, so the split repeats little), so that no single job outlasts the rest.
 Jobs of different studies (the report's 2D and 3D studies, its sweeps and its mesh study) go to
-the engine together (``Engine.run``), the largest first, so that no worker waits for a study to
-end. Every engine writes the same per-(case, method) checkpoints, so a study killed under one
+the engine together (one call of its ``run``: ``InProcess.run``, ``processes.LocalProcesses.run``,
+``dask_engine.DaskEngine.run``), the largest first, so that no worker waits for a study to end.
+Every engine writes the same per-(case, method) checkpoints, so a study killed under one
 engine resumes under any.
 
 Every error column is computed level by level from the same data whichever job it runs in, so
@@ -101,9 +102,10 @@ def by_order(job: Job) -> list[Job]:
 class InProcess:
     """The study in this process: one job per case, its methods sharing each level. NGSolve's
     task manager runs assembly, integration and sparse factorisations on every core; the
-    multigrid's Gauss-Seidel smoothing and the Python of the solvers and the errors run on one
-    (measured: a 2D case's chain is 1.27x faster on 2 threads than on 1; the default report on
-    two 1-thread local processes, ``processes.LocalProcesses``, 1.25x faster than here)."""
+    multigrid's Gauss-Seidel smoothing and the Python of the solvers and the errors run on one,
+    so a chain gains little from a second thread, and 1-thread local processes
+    (``processes.LocalProcesses``) run the default report faster
+    (``python -m harness bench --only report`` compares them)."""
 
     def __init__(self, threads: int | None = None):
         self.threads = threads
@@ -123,7 +125,7 @@ class InProcess:
         return usable_cpus() if remaining else 0
 
     def run(self, jobs: list[Job], progress=None):
-        """(job, ``study.ChainOutput``) for each job, as they finish."""
+        """(job, ``rows.ChainOutput``) for each job, as they finish."""
         for job in jobs:
             view = Scoped(progress, job.scope) if progress is not None and job.scope else progress
             with thread_policy.using(self.threads):
@@ -214,8 +216,8 @@ def tidy(outputs, cases, methods, meshes=(UNIFORM,)) -> pd.DataFrame:
 
 def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=None, progress=None,
               engine=None, checkpoints: Path | None = None, check_memory: bool = True, meshes=(UNIFORM,)) -> pd.DataFrame:
-    """Every case x method x level; one tidy row each (columns ``study.COLUMNS``). ``levels``
-    counts the P2 levels (P1 runs one more: ``study.study_levels``). ``engine``: where the jobs
+    """Every case x method x level; one tidy row each (columns ``rows.COLUMNS``). ``levels``
+    counts the P2 levels (P1 runs one more: ``rows.study_levels``). ``engine``: where the jobs
     run (default ``InProcess()``). ``checkpoints``: a folder that makes every finished level
     durable; a study started again with the same folder continues where it stopped.
     ``progress``: a bar shared with a larger run (else one is made). The frame's attrs: wall
@@ -250,14 +252,14 @@ def check_methods(case, methods) -> None:
 
 def skipped_meshes(cases, meshes) -> list[str]:
     """One line per (case, mesh strategy) a study skips because the strategy cannot mesh the
-    case, and why (``strategies.refusal``)."""
+    case, and why (``mesh.strategies.refusal``)."""
     return [f"{case.name}: {mesh.label} meshes skipped: {reason}" for case in cases for mesh in meshes
             if (reason := refusal(mesh, case)) is not None]
 
 
 def skipped_methods(cases, methods) -> list[str]:
     """One line per method of ``methods`` that discretises none of ``cases`` (their physics,
-    dimension or number of bodies: ``Method.supports``), which a study would leave without a
+    dimension or number of bodies: ``methods.base.Method.supports``), which a study would leave without a
     row; a method that serves some of them is the run's mix, not a mistake."""
     lines = []
     for method in methods:
@@ -294,7 +296,7 @@ def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: 
 
 def run_jobs(cases, methods, levels: int, engine=None, progress=None, on_level=None, checkpoints: Path | None = None,
              check_memory: bool = True, meshes=(UNIFORM,)):
-    """(job, ``study.ChainOutput``) of every job of a study, as they finish: validated and
+    """(job, ``rows.ChainOutput``) of every job of a study, as they finish: validated and
     checked against the memory first (``study_jobs``), then run on ``engine`` (default: this process)."""
     engine = engine or InProcess()
     yield from engine.run(study_jobs(cases, methods, levels, engine, on_level, checkpoints, check_memory, meshes), progress)

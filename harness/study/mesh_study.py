@@ -4,7 +4,7 @@ adaptive meshes (``mesh.strategies``), beside the uniform rows of the main study
 (case, mesh) under ``results/meshes`` and reused while code, case file and settings are unchanged.
 
 The methods are those that declare the role MESH_STUDY (the fine profile adds the PAPER, BASELINE
-and SWEPT ones: ``Method.roles``). The finest adaptive mesh of ``PICTURE_METHOD`` (the reference
+and SWEPT ones: ``methods.base.Method.roles``). The finest adaptive mesh of ``PICTURE_METHOD`` (the reference
 method, ``measure.reference``) is kept (``FinestMesh``) for the report's picture.
 """
 from __future__ import annotations
@@ -25,15 +25,14 @@ from .files import write_atomic
 PLAN = {
     # a junction (r^1/2), a transition point (r^3/2), the elastic junction at 3 pi / 4 (r^0.5445:
     # Remark 2.3's body, the elastic estimator), and two bodies at a junction (r^1/2 on each side:
-    # the two-body estimator, one marking over both bodies, the mortar coupling per level; it took
-    # the place of wedge-r23, a scalar junction at 3 pi / 4, within the report's budget); a case
+    # the two-body estimator, one marking over both bodies, the mortar coupling per level;
+    # wedge-r23, a scalar junction at 3 pi / 4, stays out to keep the report's budget); a case
     # without u, its free boundary's ends found by the estimator (each level measured against
     # its own reference: ``measure.level_reference``)
     "cases": ("corner-r12", "transition-r32", "elastic-wedge", "two-body-junction", "smooth-obstacle"),
     # the fine profile's too: in 3D the r^3/2 transition line (graded toward the line, the 3D
-    # estimator on tetrahedra). At the default budget (1.3e5 dofs) its adaptive P2 was still
-    # pre-asymptotic (0.54 against 0.62 at the fine budget) for 30 s of work the default report
-    # has not to spare (316 s on a slow hour of this machine)
+    # estimator on tetrahedra). At the default budget (1.3e5 dofs) its adaptive P2 is still
+    # pre-asymptotic, for work the default report has not to spare
     "fine_cases": ("transition-line-3d",),
     # the methods that declare these roles (``Method.roles``): a cone of each order and Nitsche
     "roles": (MESH_STUDY,),
@@ -66,8 +65,8 @@ def mesh_levels(case, config: dict) -> int:
 def mesh_jobs_plan(cases, config: dict):
     """(case, mesh strategy, methods) of every chain group the mesh study runs. In 3D P1 stops
     at P2's budget of elements, not one uniform level past it as in 2D: that level (8 times
-    the elements) made transition-line-3d's P1 chains 82 s of work against 7 s (graded meshes
-    of P1 are made by bisection there, μ = 1), beyond the default report's budget."""
+    the elements) would make transition-line-3d's P1 chains many times their work at P2's budget
+    (graded meshes of P1 are made by bisection there, μ = 1), beyond the report's budget."""
     methods = methods_named(config["methods"]) if config["methods"] else []
     for case in cases:
         if case.name not in config["cases"] or not methods:

@@ -21,8 +21,7 @@ def has_estimator(case, sequence: LevelSequence) -> bool:
     """Whether the rows get the residual estimator (``measure.estimator``,
     ``measure.estimator_3d``): in 2D on every mesh; in 3D where it drives or is set against the
     meshes, graded and adaptive ones. On uniform 3D meshes its set-up on the finest P1 level
-    cost more than the solves of the whole study (default report, scalar 3D cases: 10-12 s
-    against 7-10 s, 2026-11-27), and uniform rows there carry none."""
+    costs more than the solves of the whole study, and uniform rows there carry none."""
     return case.dimension == 2 or (case.dimension == 3 and getattr(sequence, "budgeted", True))
 
 

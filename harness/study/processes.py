@@ -3,13 +3,12 @@ thread each (cores / N), the jobs at ``engines.split_large``'s grain, the larges
 
 Why processes and not threads: a chain spends much of its time where one thread works (the
 multigrid's Gauss-Seidel smoothing, the Python of the active-set and Newton loops, numpy), so
-NGSolve's threads in one process make a 2D chain only 1.27x faster on 2 cores; two 1-thread
-processes keep both cores busy (the default report: 885 s of job work in 447 s of wall time),
-1.25x faster than one process on these 2 virtual cores, where each job then costs 1.57x its
-in-process time (the two share what one process's two threads use). Why not Dask here: the
-same two-case study took 41 s on two local processes and 54 s on a two-worker Dask LocalCluster
-(its nanny, scheduler and worker event loops share the same two cores); ``DaskEngine`` stays for
-clusters. Results are those of ``InProcess(threads=1)``, bit for bit.
+NGSolve's threads in one process speed a 2D chain up little; two 1-thread processes keep both
+cores busy and finish sooner than one process, though each job then costs more than in one
+process (the two share what one process's two threads use;
+``python -m harness bench --only report`` compares them). Why not Dask here: a Dask LocalCluster's nanny, scheduler and worker
+event loops share the cores with the jobs, so the same study is slower on it than on local
+processes; ``DaskEngine`` stays for clusters. Results are those of ``InProcess(threads=1)``, bit for bit.
 """
 from __future__ import annotations
 
@@ -73,7 +72,7 @@ class LocalProcesses:
         return min(remaining, self.workers) * self.threads
 
     def run(self, jobs: list[Job], progress=None):
-        """(job, ``study.ChainOutput``) for each job, as they finish."""
+        """(job, ``rows.ChainOutput``) for each job, as they finish."""
         context = multiprocessing.get_context("spawn")
         messages = context.Queue()
         pool = ProcessPoolExecutor(min(self.workers, max(1, len(jobs))), mp_context=context,

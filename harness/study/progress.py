@@ -17,7 +17,7 @@ DESCRIPTION_WIDTH = 52
 
 
 class StudyProgress:
-    """The bar: ``solving``/``solved``/``restored`` come from the study (``study.run_chain``),
+    """The bar: ``solving``/``solved``/``restored`` come from the study (``chain.run_chain``),
     in this process or relayed from workers; a level counts once, even if a job is rerun.
 
     One bar may cover several studies (the report's 2D and 3D studies and its sweeps):
@@ -140,7 +140,7 @@ class EventProgress(RelayedProgress):
 
 
 def relay(progress: StudyProgress):
-    """A ``Client.subscribe_topic`` handler replaying ``EventProgress`` events on ``progress``."""
+    """A ``distributed.Client.subscribe_topic`` handler replaying ``EventProgress`` events on ``progress``."""
     def handler(event) -> None:
         _timestamp, message = event
         replay(progress, message)

@@ -55,7 +55,7 @@ def contact_face_snapshot(case, problem, trace_u, pressure) -> dict:
     """3D: Gamma_C seen as its triangles, each split into four at its edge midpoints: the
     points (x, y), those sub-triangles, u_h - alpha and u - alpha at the points (u_h at the
     midpoints from its quadratic trace, so that a dip of u_h between the vertices shows) and
-    the discrete pressure per triangle (``models.contact_pressure``)."""
+    the discrete pressure per triangle (``fem.cones.contact_pressure``)."""
     trace = problem.trace
     corners = trace.faces.corners(trace)                         # (f, 3, 3)
     sides = trace.faces.edges                                    # (f, 3): side k from corner k to k+1
@@ -73,7 +73,7 @@ def contact_face_snapshot(case, problem, trace_u, pressure) -> dict:
 
 
 def problem_vertex_values(problem, trace_u) -> np.ndarray:
-    """u_h at the vertices of Gamma_C (``trace.vertices`` order), from the edge end values."""
+    """u_h at the vertices of Gamma_C (``problem.trace.vertices`` order), from the edge end values."""
     values = np.empty(len(problem.trace.vertices))
     index = np.searchsorted(problem.trace.vertices, problem.trace.edge_vertices)
     values[index[:, 0]], values[index[:, 1]] = trace_u.va, trace_u.vb

@@ -4,9 +4,10 @@ nobody else is using, and one where threads do not pay.
 Why per level, and why it matters: NGSolve's task manager splits each parallel region (assembly,
 Integrate, a sparse factorisation) among its threads and waits for the last of them. When
 another process holds a core, one of the threads is descheduled in every region and every region
-waits for it: a two-level study that takes 1 s on an idle 2-core machine took 18 s beside one
-busy process (harness 0.3.10). One thread loses nothing to that. So the study's default
-(``Threads()``, "auto") decides before every level, from
+waits for it, so a study with a thread per core runs many times slower beside one busy process
+than on an idle machine (``python -m harness bench --only load`` times it). One thread loses
+nothing to that. So the study's default (``Threads()``, "auto") decides before every level,
+from
 
 - the cores this process may use (``usable_cpus``: its CPU affinity and its cgroup's CPU quota,
   which ``os.cpu_count`` ignores: a container limited to 2 CPUs on a 64-core host has 2);
@@ -14,11 +15,11 @@ busy process (harness 0.3.10). One thread loses nothing to that. So the study's 
   time of those CPUs in ``/proc/stat`` less this process's own CPU time): a browser, a second
   study, the report's figure processes;
 - the size of the level: below ``SERIAL_BELOW`` P2 dofs (vertices and edges of the mesh) a
-  level costs less than the threads' start and synchronisation (measured: levels of 600 to 4e4
-  dofs were as fast or faster on one thread; 1.2x faster on two from 1.4e5 dofs on).
+  level costs less than the threads' start and synchronisation: it is as fast or faster on one
+  thread.
 
 ``Threads(n)`` (``--threads n``, or the environment variable ``HARNESS_THREADS=n``) fixes n
-threads for every level, as before.
+threads for every level.
 """
 from __future__ import annotations
 
@@ -44,7 +45,7 @@ ENVIRONMENT = "HARNESS_THREADS"
 
 
 def cgroup_quota(root: Path = Path("/sys/fs/cgroup")) -> float | None:
-    """The CPU quota of this process's cgroup in cores (v2 ``cpu.max``, v1 ``cpu.cfs_quota_us``),
+    """The CPU quota of this process's cgroup in cores (v2 ``root/cpu.max``, v1 ``root/cpu/cpu.cfs_quota_us``),
     or None if it has none (or this is not Linux)."""
     try:
         quota, period = (root / "cpu.max").read_text().split()[:2]

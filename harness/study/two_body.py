@@ -19,11 +19,11 @@ two-body residual estimator (``measure.two_body_estimator``); a graded or adapti
 at the uniform chain's budget of elements summed over the two bodies. Whatever the meshes, the
 mortar coupling of a level is assembled on that level's two meshes (the method's solve).
 
-Every row gets the two-body estimator and its effectivity, on uniform meshes too (it costs about
-3 % of a uniform chain: 6.2 s of 178 s on two-body-junction's six levels, every mortar method).
+Every row gets the two-body estimator and its effectivity, on uniform meshes too (it costs a
+small share of a uniform chain).
 
-Not yet: checkpoints (a killed two-body chain starts again from its first level). The mortar QP
-is solved on both bodies' multigrid on uniform pairs from ``SolverOptions.mortar_multigrid_from``
+No checkpoints: a killed two-body chain starts again from its first level. The mortar QP
+is solved on both bodies' multigrid on uniform pairs from ``solvers.options.SolverOptions.mortar_multigrid_from``
 dofs (``solvers.joint_multigrid``), else by sparse Cholesky; each body's R_h u by Cholesky.
 """
 from __future__ import annotations
@@ -195,7 +195,7 @@ MAX_ADAPTIVE_LEVELS = 60
 
 
 def pair_sequence(mesh, bodies: tuple, order: int, budget: float):
-    """The two bodies' level sequence for the ``mesh`` strategy (``strategies.MeshStrategy``):
+    """The two bodies' level sequence for the ``mesh`` strategy (``mesh.strategies.MeshStrategy``):
     uniform, graded toward each body's singular points for P_order, or adaptive."""
     name = getattr(mesh, "name", None)
     if name == "uniform":

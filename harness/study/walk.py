@@ -131,9 +131,9 @@ class ChainWalk:
         """Every chain from its saved state (or its first level) to its last level."""
         self.resume()
         last_level = self.plan.last_level(self.start)
-        # The meshes are made outside NGSolve's task manager, each level's work under it: a study
-        # whose bisections (Mesh.Refine with flags) ran under it crashed once here (munmap_chunk,
-        # not reproduced in 30 runs since; NGSolve's own adaptive tutorials refine outside it).
+        # The meshes are made outside NGSolve's task manager, each level's work under it: bisection
+        # (Mesh.Refine with flags) under the task manager can crash, rarely (munmap_chunk), and
+        # NGSolve's own adaptive tutorials refine outside it.
         meshes = self.discretisation.levels(last_level)
         for level in range(last_level):
             clock = time.perf_counter()
@@ -164,8 +164,8 @@ class ChainWalk:
         """One level of the chains that have it to solve: its discrete problems, each method's
         solve, errors and row, then the chains' checkpoints."""
         with self.phases("mesh"):
-            # under the level's threads: the P1 levels' assembly (outside the task manager it
-            # was 5 s of the paper methods' default study)
+            # under the level's threads: the P1 levels' assembly, which outside the task manager
+            # runs on one thread
             multilevel = self.discretisation.multilevel(step)
         active = [m for m in self.methods if self.start[m.name] <= level < self.plan.chain[m.name]]
         if not active:          # a level every method has finished: rebuilt, not solved
