@@ -278,14 +278,6 @@ def unresolved(path: Path, package: Path) -> list[tuple[int, str]]:
 # fails while the set names one that is gone.
 KNOWN_NAMES_ELSEWHERE = {
     "harness/measure/efficiency.py: Method.roles",                  # methods.base.Method.roles
-    "harness/methods/_mortar.py: two_body.dual_bound_qp",           # fem.two_body.dual_bound_qp
-    "harness/methods/_mortar.py: general_constraints.SaddleSystem",  # solvers.general_constraints.SaddleSystem
-    "harness/methods/base.py: problem.trace",                       # fem.assembly.DiscreteProblem.trace
-    "harness/methods/base.py: study.Phases",                        # study.rows.Phases
-    "harness/methods/base.py: solvers.SolverOptions",               # solvers.options.SolverOptions
-    "harness/methods/plugins.py: signorini_harness.methods",        # an entry-point group: "quoted", no backticks
-    "harness/methods/plugins.py: package.module",                   # a placeholder: ``package.module[:name]``
-    "harness/methods/protocol.py: contact.x",                       # ``LevelProblem.contact`` (``ContactPoints.x``)
     "harness/report/build.py: Method.source",                       # methods.base.Method.source
     "harness/solvers/multigrid.py: Level.prolongation",             # mesh.levels.Level.prolongation
 }

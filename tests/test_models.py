@@ -142,8 +142,7 @@ def test_last_model_takes_the_stiffness_matrix_memory(small_problem):
         problem.A
 
 
-def test_the_03_name_of_the_edge_mean_rule_still_works_with_a_deprecation_warning():
+def test_the_03_name_of_the_edge_mean_rule_is_gone_as_its_deprecation_said():
     from harness.fem.cones import ContactModel
-    with pytest.warns(DeprecationWarning, match="edge-mean"):
-        model = ContactModel("mean")
-    assert model == ContactModel("edge-mean")
+    with pytest.raises(ValueError, match="edge functional must be one of midpoint, edge-mean or None, got 'mean'"):
+        ContactModel("mean")

@@ -29,9 +29,7 @@ class Grading:
         return method.order         # the grading does not depend on k here, but its budget does
 
     def sequence(self, case, order: int):
-        sequence = GradedRefinement(case, case.nu - 1.0, order, singular_points(case), singular_lines(case))
-        sequence.mu = self.mu
-        return sequence
+        return GradedRefinement(case, case.nu - 1.0, order, singular_points(case), singular_lines(case), mu=self.mu)
 
 
 strategy = Grading(mu=0.1)

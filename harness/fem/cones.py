@@ -18,7 +18,6 @@ gap alpha the bounds are alpha(x_i), alpha(x_{i+1/2}) and the edge means of alph
 """
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -37,8 +36,6 @@ _GL_T, _GL_W = 0.5 * (_GL_T + 1.0), 0.5 * _GL_W
 # Each edge functional as a rule sum_k w_k v(t_k) on [0, 1], exact for quadratics: the midpoint
 # value, or Simpson's rule for the edge mean.
 EDGE_RULES = {"midpoint": ((0.5, 1.0),), "edge-mean": ((0.0, 1 / 6), (0.5, 4 / 6), (1.0, 1 / 6))}
-# other names of the rules, accepted with a DeprecationWarning and read as the rule's own
-DEPRECATED_RULES = {"mean": "edge-mean"}
 
 
 @dataclass(frozen=True)
@@ -49,11 +46,6 @@ class ContactModel:
     edge_functional: str | None = None
 
     def __post_init__(self):
-        if self.edge_functional in DEPRECATED_RULES:
-            # "mean", the name of the method that uses the edge mean
-            new = DEPRECATED_RULES[self.edge_functional]
-            warnings.warn(f"ContactModel({self.edge_functional!r}) is now ContactModel({new!r})", DeprecationWarning, stacklevel=3)
-            object.__setattr__(self, "edge_functional", new)
         if self.edge_functional not in (None, *EDGE_RULES):
             raise ValueError(f"edge functional must be one of {', '.join(EDGE_RULES)} or None, got {self.edge_functional!r}")
 

@@ -165,7 +165,8 @@ class GradedRefinement:
     h^lam = N^(-lam/3)); the same ``grading_exponent`` as in 2D.
 
     ``lam``: the exponent of the case's leading singularity (nu - 1); ``order``: the method's k;
-    ``points`` (p, d) and ``lines`` (m, 2, d, segments): the singular sets.
+    ``points`` (p, d) and ``lines`` (m, 2, d, segments): the singular sets; ``mu``: the grading
+    exponent, if not ``grading_exponent(lam, order)``.
     """
 
     name = "graded"
@@ -176,9 +177,9 @@ class GradedRefinement:
     def observe(self, indicators) -> None:
         pass
 
-    def __init__(self, case, lam: float, order: int, points: np.ndarray, lines: np.ndarray = ()):
+    def __init__(self, case, lam: float, order: int, points: np.ndarray, lines: np.ndarray = (), mu: float | None = None):
         self.case, self.order = case, order
-        self.mu = grading_exponent(lam, order)
+        self.mu = grading_exponent(lam, order) if mu is None else float(mu)
         dim = case.dimension
         points = np.asarray(points, dtype=float).reshape(-1, dim)
         lines = np.asarray(lines, dtype=float).reshape(-1, 2, dim)

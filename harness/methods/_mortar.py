@@ -62,12 +62,12 @@ class Mortar(Method):
     bodies: tuple = (2,)
 
     def contact_weight(self, order: int) -> float | None:
-        """The weight w of the P2 edge variables (``two_body.dual_bound_qp``): the one-body cones'."""
+        """The weight w of the P2 edge variables (``fem.two_body.dual_bound_qp``): the one-body cones'."""
         return ContactModel(self.edge_functional).weight if order == 2 else None
 
     def solve(self, case, problem: TwoBodyProblem, carry, multilevel, take_stiffness: bool = False, phases=None,
               general: bool = False) -> LevelSolve:
-        """Dual multipliers: the bounds of ``two_body.dual_bound_qp`` by the active set method
+        """Dual multipliers: the bounds of ``fem.two_body.dual_bound_qp`` by the active set method
         (``solvers.active_set``), on the two bodies' multigrid where ``multilevel`` is given
         (``solvers.joint_multigrid``: uniform pairs), else on sparse Cholesky; standard ones, or
         ``general=True`` (the cross-check), the rows themselves by the general-constraint active
@@ -129,7 +129,7 @@ def _general(problem: TwoBodyProblem, coupling, predicted, options):
     same feasible set; row i in units of the opening). Row equilibration: undivided, a row's
     entries scale with its slave edges' length h_i, and on graded or adaptive meshes (h_i down
     to 1e-6) its part of the saddle system's Schur complement fell far below the regularisation
-    d of ``general_constraints.SaddleSystem`` (relative to K's diagonal): the iterative
+    d of ``solvers.general_constraints.SaddleSystem`` (relative to K's diagonal): the iterative
     refinement stalled at KKT residuals of 1e-7 (two-body-junction, mortar-standard, 1.4e4 dofs;
     divided: 1e-15)."""
     qp = joint_qp(problem)

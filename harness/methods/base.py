@@ -112,7 +112,7 @@ class Carry:
 class LevelSolve:
     """One method on one level: the row's solver fields, u_h (NGSolve numbering of its space),
     its trace on Gamma_C, its discrete contact pressure (mean over each contact edge, in the
-    order of ``problem.trace``), and what the next level starts from."""
+    order of ``fem.assembly.DiscreteProblem.trace``), and what the next level starts from."""
 
     fields: SolveFields
     u: np.ndarray
@@ -122,7 +122,7 @@ class LevelSolve:
 
 
 def timer(phases):
-    """``phases`` (``study.Phases``: ``with phases("setup"): ...`` times a phase of the level),
+    """``phases`` (``study.rows.Phases``: ``with phases("setup"): ...`` times a phase of the level),
     or, when the solve is not timed, a timer that times nothing."""
     return phases or (lambda phase: nullcontext())
 
@@ -134,7 +134,7 @@ class Method:
     from (``reference``), the rate its theory predicts for a case (``expected``: case ->
     ``Expectation``, or None: no theory), the physics, dimensions and bodies it discretises, its
     roles (``PAPER``, ``BASELINE``, ``REFERENCE``, ``SWEPT``, ``MESH_STUDY``), its cost model and
-    its solver settings (``solvers.SolverOptions``). Subclasses solve a level (``solve``): a
+    its solver settings (``solvers.options.SolverOptions``). Subclasses solve a level (``solve``): a
     cone (``BoundConstrained``, ``FunctionalCone``), a weak method given by its contact law
     (``protocol.ContactLawMethod``) or a solve of its own (``protocol.OwnSolve``)."""
 
@@ -211,7 +211,7 @@ class Method:
         """Solve on ``problem`` (a ``fem.assembly.DiscreteProblem`` of this method's order) from
         ``carry`` (what the coarser level's solve left, or None), on ``multilevel``'s hierarchy.
         ``take_stiffness``: this is the level's last method of its order and may take the
-        stiffness matrix's memory. ``phases`` (``study.Phases``) times set-up and solve."""
+        stiffness matrix's memory. ``phases`` (``study.rows.Phases``) times set-up and solve."""
         raise NotImplementedError
 
 
@@ -309,7 +309,7 @@ class FunctionalCone(Method):
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         # two or more functionals per edge: with both ends active, an edge's rows outnumber its
         # three trace variables, the active rows are linearly dependent, and the projected CG
-        # (``solvers.projection``) stalls (measured: oscillating-r34, quarter points, KKT 2e-3);
+        # (``solvers.projection``) stalls (oscillating-r34 with the quarter points);
         # SuperLU's saddle solve takes dependent rows (KKT 1e-16 on the same levels)
         hierarchy = multilevel if len(self.functionals) == 1 else None
         return solve_general_rows(case, problem, carry, hierarchy, phases,

@@ -2,7 +2,7 @@
 Gamma_C and int_e v_h >= 0 on every *edge* of its triangles (bounds after the 2D change of
 variables, ``cones``). Edge means do not control the trace inside the triangles: a function
 whose edge means and vertex values vanish may still dip below the obstacle in every triangle,
-and the H^1 rate stalls near 1/2 on transition-line-3d (measured; issue 33). It is kept, with
+and the H^1 rate stalls near 1/2 on transition-line-3d (the 3D report shows it). It is kept, with
 the paper's 2D rate as its expectation, to show that the 3D `mean` has to constrain the
 triangles (``base.CellMean``)."""
 from ..fem.cones import ContactModel

@@ -14,8 +14,8 @@ factor 2.5 below the bound, also at lambda/mu = 49). The report's sweep shows th
 Expected H^1 rate (``expected_for``): CHR 2015 Theorem 3.8 (stated for d = 2 and 3, k = 1 and 2,
 every theta under Theorem 3.4's conditions; read through a detailed review of the paper, not its
 text), u in H^{3/2 + m}, 0 < m <= k - 1/2, gives h^{1/2 + m}: h^{nu - 1} for 3/2 < nu <= k + 1,
-capped at h^k beyond. Nothing is proven for nu <= 3/2 (corner-r12): no expected rate, the rate is
-measured.
+capped at h^k beyond. Nothing is proven for nu <= 3/2 (corner-r12): no expected rate, the study
+measures one.
 """
 import math
 

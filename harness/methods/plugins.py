@@ -4,7 +4,7 @@
   ``Method`` it defines) or ``path/to/my_methods.py:quarter_points`` (one name in it);
 - a dotted name: ``--method mypkg.contact:quarter_points`` (an attribute of an importable
   module) or ``--method mypkg.contact`` (the module, read as a file is);
-- an entry point of an installed package, in the group ``signorini_harness.methods`` (the
+- an entry point of an installed package, in the group "signorini_harness.methods" (the
   pattern of pytest's plug-ins), selected by its method's name like a registered method::
 
       [project.entry-points."signorini_harness.methods"]
@@ -76,7 +76,7 @@ def _with_source(methods: list[Method], source: Path | None) -> list[Method]:
 
 
 def load_external(spec: str) -> list[Method]:
-    """The methods of a Python file (``FILE`` or ``FILE:name``) or of a module (``package.module``
+    """The methods of a Python file (``FILE`` or ``FILE:name``) or of a module (``package.module[:name]``
     or ``package.module:name``): its ``method``, its ``methods``, or every ``Method`` it defines."""
     objects, source = load_spec(spec, ("method", "methods"), Method, "method")
     return _with_source(_checked(objects, spec), source)

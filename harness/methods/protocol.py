@@ -156,7 +156,7 @@ class LevelProblem:
 class OwnSolution:
     """What a method's own solve gives back. ``residual``: its own measure of how well u solves
     its discrete problem, relative (the row's ``kkt_residual``); ``pressure``: its contact
-    pressure at ``contact.x`` if it has one (else the harness takes the discrete contact force
+    pressure at ``LevelProblem.contact`` (``ContactPoints.x``) if it has one (else the harness takes the discrete contact force
     a(u_h, phi_i) - L(phi_i) of Gamma_C's vertex hats)."""
 
     u: np.ndarray

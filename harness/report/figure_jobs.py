@@ -15,10 +15,11 @@ to every figure.
 from __future__ import annotations
 
 import multiprocessing
+import sys
 import threading
 import time
 from collections import deque
-from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures import Future, ProcessPoolExecutor, ThreadPoolExecutor
 from pathlib import Path
 
 import pandas as pd
@@ -75,6 +76,18 @@ def _sweep(source: str, frame: pd.DataFrame, folder: str) -> dict:
     return figures.sweep(load_case(source), frame, Path(folder))
 
 
+def figure_executor(workers: int):
+    """Where the figures are drawn: ``workers`` spawned processes; or one thread of this process
+    when its main module is a script run by its path (``python my_study.py`` calling
+    ``harness.report``), whose top level every spawned process would run again (Python's
+    multiprocessing, "safe importing of main module"), the study included. A module run with
+    ``-m`` (``python -m harness report``), a notebook or an interpreter spawns safely."""
+    main = sys.modules.get("__main__")
+    if getattr(main, "__file__", None) and getattr(main, "__spec__", None) is None:
+        return ThreadPoolExecutor(1, thread_name_prefix="figures")
+    return ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+
+
 class FigurePool:
     """Figures drawn in ``workers`` processes, at most ``cores_free(n)`` at once (none until told:
     the study may still use every core); ``collect`` lets all workers draw, waits, and gives them
@@ -87,7 +100,7 @@ class FigurePool:
         from .plots import method_styles
         self.styles = dict(methods) if isinstance(methods, dict) else method_styles(methods)
         self.folder, self.workers, self.store = str(folder), workers, store
-        self.pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("spawn"))
+        self.pool = figure_executor(workers)
         self.futures: dict[str, Future] = {}
         self.sweeps: dict[str, Future] = {}
         self.meshes: dict[str, Future] = {}

@@ -4,8 +4,6 @@ methods, how many levels each solves, its meshes and problems: ``one_body``, or 
 for two bodies; what its errors are measured against); ``walk.ChainWalk`` walks it."""
 from __future__ import annotations
 
-import inspect
-
 import ngsolve as ngs
 
 from ..measure.errors import ExactErrors
@@ -75,23 +73,6 @@ def chain_levels(case: Case, method: Method, levels: int, methods: list[Method])
     case's reference, k more (nested iteration all the way; the last is the reference, with
     4^k times the dofs of every method's finest studied level)."""
     return study_levels(method, levels) + (case.reference_levels if is_reference(case, method, methods) else 0)
-
-
-def level_hook(on_level):
-    """``on_level`` as the study calls it, ``(case, method, level, problem, solve)``; a hook with
-    seven positional parameters, ``(case, model, level, problem, u, solution, trace_u)``, is
-    refused in one line before the study starts."""
-    if on_level is None:
-        return None
-    try:
-        parameters = inspect.signature(on_level).parameters.values()
-    except (TypeError, ValueError):         # a callable without a signature: taken as it is
-        return on_level
-    positional = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD) and p.default is p.empty]
-    if len(positional) == 7 and not any(p.kind == p.VAR_POSITIONAL for p in parameters):
-        raise ValueError("on_level(case, model, level, problem, u, solution, trace_u) is the hook of harness 0.1, removed in "
-                         "0.4.0: write on_level(case, method, level, problem, solve) (solve.u, solve.trace_u, solve.fields)")
-    return on_level
 
 
 class BothHooks:

@@ -33,7 +33,7 @@ from ..problem.validate import validate_case
 from . import budget
 from . import threads as thread_policy
 from .budget import check_fits, estimate, solve_weights
-from .chain import level_hook, run_chain
+from .chain import run_chain
 from .checkpoint import CheckpointStore
 from .progress import Scoped, StudyProgress, scoped
 from .rows import COLUMNS, Phases
@@ -226,7 +226,6 @@ def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=
     solves (no row holds them). ``meshes``: the mesh strategies
     (``mesh.strategies``), each case on each that applies to it."""
     start = time.perf_counter()
-    on_level = level_hook(on_level)
     own = progress is None
     progress = study_progress(cases, methods, levels, show_progress, meshes) if own else progress
     try:
