@@ -15,8 +15,7 @@ theorems is not expected to be sharp; the study shows which factor the errors fo
 """
 from ngsolve import log, x, y
 
-from harness.problem.functions import polar, transition, transition_gradient
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip, polar, transition, transition_gradient
 
 name = "borderline-h2"
 description = "(r - x)/2 |log(r/2)|^{-0.6} (exactly H^2) plus an r^{3/2} transition at 0"

@@ -14,8 +14,7 @@ the theorems give ||u - u_h||_1 <= C h^{1/2}; g = du/dn is smooth on Gamma_g.
 """
 from ngsolve import IfPos, sin, x
 
-from harness.problem.functions import polar, transition
-from harness.problem.geometry import polygon
+from harness.problem import polar, polygon, transition
 
 name = "corner-r12"
 description = "binding contact meets Gamma_g at a straight junction (r^{1/2}), transition at x = 1/2"

@@ -29,9 +29,7 @@ from math import pi
 
 from ngsolve import CF, IfPos, x
 
-from harness.problem.functions import roller_free_mode
-from harness.problem.geometry import contact_box
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, contact_box, roller_free_mode
 
 name = "elastic-junction-3d"
 description = "3D elastic: binding contact meets Gamma_g along the line x = 0 (r^{1/2}), transition along x = 1/2 (Poisson 0.3)"

@@ -16,7 +16,7 @@ P2 cannot do better than h^2 (Remark 4.9 with finitely many transitions), the ex
 """
 from ngsolve import CF, IfPos, cos, sin, x, y
 
-from harness.problem.geometry import split_strip
+from harness.problem import split_strip
 
 name = "elastic-smooth"
 description = "smooth elastic displacement (H^{7/2-eps}) with one transition at 0 (plane strain, Poisson 0.3)"

@@ -19,9 +19,7 @@ The box is two boxes glued along x = 0, so every mesh has edges along the transi
 """
 from math import pi
 
-from harness.problem.functions import roller_free_mode
-from harness.problem.geometry import contact_box
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, contact_box, roller_free_mode
 
 name = "elastic-transition-3d"
 description = "3D elastic r^{3/2} contact/separation transition along the line x = 0 of Gamma_C (Poisson 0.3)"

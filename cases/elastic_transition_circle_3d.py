@@ -38,9 +38,7 @@ from math import cos, pi, sin
 
 from ngsolve import CF, IfPos, sqrt, x, y, z
 
-from harness.problem.functions import polar, roller_free_series
-from harness.problem.geometry import disc_box
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, disc_box, polar, roller_free_series
 
 name = "elastic-transition-circle-3d"
 description = "3D elastic: circular contact zone, r^{3/2} transition along the circle x^2 + y^2 = 1/4 of Gamma_C (Poisson 0.3)"

@@ -8,9 +8,7 @@ how much at this Poisson ratio.
 """
 from math import pi
 
-from harness.problem.functions import roller_free_mode
-from harness.problem.geometry import contact_strip
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, contact_strip, roller_free_mode
 
 name = "elastic-transition-incompressible"
 description = "elastic r^{3/2} transition, nearly incompressible (plane strain, Poisson 0.49)"

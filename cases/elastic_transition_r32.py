@@ -27,9 +27,7 @@ Regularity: D^2 u ~ r^{-1/2}, u in H^{5/2 - eps}: nu = 5/2, rate h^{3/2} for bot
 """
 from math import pi
 
-from harness.problem.functions import roller_free_mode
-from harness.problem.geometry import contact_strip
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, contact_strip, roller_free_mode
 
 name = "elastic-transition-r32"
 description = "elastic r^{3/2} contact/separation transition at the middle of Gamma_C (plane strain, Poisson 0.3)"

@@ -26,9 +26,7 @@ wedge-r23, same geometry, has r^{2/3}: elasticity is more singular here.)
 """
 from math import pi, sin
 
-from harness.problem.functions import bracketed_root, roller_free_mode
-from harness.problem.geometry import polygon
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, bracketed_root, polygon, roller_free_mode
 
 OMEGA = 3 * pi / 4
 EXPONENT = bracketed_root(lambda s: sin(2 * s * OMEGA) + s * sin(2 * OMEGA), 0.3, 0.9, xtol=1e-15)

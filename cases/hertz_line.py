@@ -58,7 +58,7 @@ import numpy as np
 from netgen.geom2d import SplineGeometry
 from ngsolve import CF, x
 
-from harness.problem.functions import bracketed_root
+from harness.problem import bracketed_root
 
 YOUNG, POISSON, RADIUS = 1.0, 0.3, 1.0
 E_STAR = YOUNG / (1 - POISSON**2)

@@ -43,7 +43,7 @@ from math import pi
 import numpy as np
 from ngsolve import CF, x, y
 
-from harness.problem.geometry import zone_box
+from harness.problem import zone_box
 
 YOUNG, POISSON, RADIUS = 1.0, 0.3, 1.0
 E_STAR = YOUNG / (1 - POISSON**2)

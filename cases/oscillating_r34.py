@@ -46,8 +46,7 @@ abstract gives the same h^{3/4}, the second verdict.) Whatever the study measure
 """
 from ngsolve import CF, IfPos, cos, exp, log, pi, sin, sqrt, x, y
 
-from harness.problem.functions import polar
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip, polar
 
 name = "oscillating-r34"
 description = "infinitely many transitions accumulating at 0 (r^{3/4} cos(3 log r) on Gamma_C), Remark 4.3"

@@ -10,7 +10,7 @@ P2 cannot do better than h^2, the expected rate.
 """
 from ngsolve import IfPos, cos, sin, x, y
 
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip
 
 name = "smooth"
 description = "max(0,-x)^3 - y max(0,x)^3 + y^2 cos(x+y): H^{7/2-eps}, transition at 0"

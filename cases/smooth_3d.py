@@ -11,7 +11,7 @@ u is in H^{7/2 - eps}, nu = 7/2; P2 cannot do better than h^2.
 """
 from ngsolve import IfPos, cos, sin, x, y, z
 
-from harness.problem.geometry import contact_box
+from harness.problem import contact_box
 
 name = "smooth-3d"
 description = "3D: (1 + y^2/2) (max(0,-x)^3 - z max(0,x)^3 + z^2 cos(x+z)), transition along x = 0"

@@ -22,7 +22,7 @@ Errors: against the nodal P2 solution two levels finer (``reference_levels``).
 """
 from ngsolve import cos, pi, sin, x
 
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip
 
 name = "smooth-obstacle"
 description = "smooth obstacle cos(pi x) + 0.3 sin(pi x/2) - 0.2 under a membrane, no closed form"

@@ -33,8 +33,7 @@ from math import cos, pi, sin
 import ngsolve
 from ngsolve import x, y, z
 
-from harness.problem.functions import polar, transition, transition_gradient
-from harness.problem.geometry import disc_box
+from harness.problem import disc_box, polar, transition, transition_gradient
 
 name = "transition-circle-3d"
 description = "3D: circular contact zone, r^{3/2} transition along the circle x^2 + y^2 = 1/4 of Gamma_C"

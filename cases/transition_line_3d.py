@@ -18,8 +18,7 @@ The box is two boxes glued along x = 0, so every mesh has edges along the transi
 """
 from ngsolve import y
 
-from harness.problem.functions import transition, transition_gradient
-from harness.problem.geometry import contact_box
+from harness.problem import contact_box, transition, transition_gradient
 
 name = "transition-line-3d"
 description = "3D: (1 + y^2/2) r^{3/2} sin(3 theta/2), transition along the straight line x = 0 of Gamma_C"

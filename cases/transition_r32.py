@@ -8,8 +8,7 @@ u is harmonic (f = 0). On Gamma_C:
 Regularity: D^2 u ~ r^{-1/2} is in H^s for s < 1/2 only, so u is in H^{5/2 - eps} and in no
 H^{5/2}: nu = 5/2 (from below). Theorems 4.1 ii and 5.1 ii give ||u - u_h||_1 <= C h^{3/2}.
 """
-from harness.problem.functions import transition, transition_gradient
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip, transition, transition_gradient
 
 name = "transition-r32"
 description = "r^{3/2} sin(3 theta/2) contact/separation transition at the middle of Gamma_C"

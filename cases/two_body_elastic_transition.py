@@ -13,10 +13,7 @@ break at x = -0.9: element sizes 2:3 on Gamma_C. The transition point 0 is a cor
 """
 from math import pi
 
-from harness.problem.bodies import MirrorBody
-from harness.problem.functions import roller_free_mode
-from harness.problem.geometry import contact_strip
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, MirrorBody, contact_strip, roller_free_mode
 
 name = "two-body-elastic-transition"
 description = "two elastic bodies on non-matching meshes (2:3): r^{3/2} transition at the middle of the interface"

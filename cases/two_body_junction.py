@@ -14,9 +14,7 @@ extra break at x = 0.8: element sizes 2:3 on Gamma_C. The junction 0 and the tra
 """
 from ngsolve import IfPos, sin, x
 
-from harness.problem.bodies import MirrorBody
-from harness.problem.functions import polar, transition
-from harness.problem.geometry import polygon
+from harness.problem import MirrorBody, polar, polygon, transition
 
 name = "two-body-junction"
 description = "two bodies on non-matching meshes (2:3): the binding interface meets a crack (r^{1/2}), transition at x = 1/2"

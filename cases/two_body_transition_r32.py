@@ -13,9 +13,7 @@ the lower with maxh 1/6 and an extra break at x = -0.9 (its vertices at sixths o
 (-0.9, 0) and (0, 1), elsewhere near them): element sizes in ratio 2:3 on Gamma_C that
 uniform refinement keeps apart. The transition point 0 is a corner of both.
 """
-from harness.problem.bodies import MirrorBody
-from harness.problem.functions import transition, transition_gradient
-from harness.problem.geometry import contact_strip
+from harness.problem import MirrorBody, contact_strip, transition, transition_gradient
 
 name = "two-body-transition-r32"
 description = "two bodies on non-matching meshes (2:3 on Gamma_C): r^{3/2} transition at the middle of the interface"

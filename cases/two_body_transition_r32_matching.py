@@ -8,9 +8,7 @@ one-body cone on the jump (`mortar-nodal` is `nodal`, `mortar-mean` `mean`, `mor
 tests/test_two_body.py checks every error to 1e-8), and the non-matching case's rows are measured
 against these.
 """
-from harness.problem.bodies import MirrorBody
-from harness.problem.functions import transition, transition_gradient
-from harness.problem.geometry import contact_strip
+from harness.problem import MirrorBody, contact_strip, transition, transition_gradient
 
 name = "two-body-transition-r32-matching"
 description = "two bodies on matching meshes (the control): r^{3/2} transition at the middle of the interface"

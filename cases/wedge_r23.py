@@ -12,8 +12,7 @@ the flux of u_s, as in corner-r12. D u_s ~ r^{-1/3}: u in H^{1 + 2/3 - eps}, nu 
 """
 from ngsolve import IfPos, sin, x
 
-from harness.problem.functions import polar, transition
-from harness.problem.geometry import polygon
+from harness.problem import polar, polygon, transition
 
 name = "wedge-r23"
 description = "binding contact meets Gamma_g at angle 3pi/4 (r^{2/3}), transition at x = 1/2"

@@ -1,7 +1,7 @@
 """What a user is shown imports only the public surface: `harness` and the protocol modules of
 what a user brings (`harness.methods`, `harness.mesh`, `harness.problem`). Every example,
-tutorial, docs page and README line that imports anything else fails here, so the internals
-stay free to move."""
+tutorial, docs page, README line and registered case file (the templates of a case of your own)
+that imports anything else fails here, so the internals stay free to move."""
 import re
 from pathlib import Path
 
@@ -15,7 +15,7 @@ IMPORT = re.compile(r"(?:^|[\s`>(])(?:from\s+(harness(?:\.\w+)*)\s+import\b|impo
 
 
 def shown_files() -> list[Path]:
-    files = [ROOT / "README.md", *sorted((ROOT / "examples").rglob("*.py"))]
+    files = [ROOT / "README.md", *sorted((ROOT / "examples").rglob("*.py")), *sorted((ROOT / "cases").glob("*.py"))]
     for path in sorted((ROOT / "docs").rglob("*")):
         if path.suffix in (".py", ".md", ".rst") and "_build" not in path.parts and "tutorials_generated" not in path.parts \
                 and not any(path == skip or skip in path.parents for skip in NOT_SHOWN):

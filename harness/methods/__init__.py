@@ -16,6 +16,7 @@ from contextlib import contextmanager
 from ..fem.contact_law import ContactLaw, GammaPoints, LawError
 from ..fem.laws import Nitsche, Penalty
 from ..mesh.plugins import is_external
+from ..solvers.options import SolverOptions
 from .base import (
     BASELINE,
     MESH_STUDY,
@@ -184,5 +185,5 @@ def parse_method(spec: str) -> Method:
 
 __all__ = ["METHODS", "GROUPS", "BASELINE", "MESH_STUDY", "PAPER", "REFERENCE", "ROLES", "SWEPT", "known", "names_with_role",
            "role_names", "with_role", "BoundConstrained", "ContactLaw", "ContactLawMethod", "ContactPoints", "GammaPoints", "LawError",
-           "LevelProblem", "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Carry", "Expectation", "SolveFields", "timer", "FunctionalCone", "LevelSolve", "Method", "MethodError",
+           "LevelProblem", "SolverOptions", "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Carry", "Expectation", "SolveFields", "timer", "FunctionalCone", "LevelSolve", "Method", "MethodError",
            "check_method", "get_method", "method_choices", "methods_for", "methods_named", "parse_method"]

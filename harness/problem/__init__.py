@@ -10,7 +10,8 @@ _PUBLIC = {
     "polygon": "geometry", "contact_strip": "geometry", "split_strip": "geometry", "contact_box": "geometry",
     "disc_box": "geometry", "zone_box": "geometry",
     "polar": "functions", "transition": "functions", "transition_gradient": "functions",
-    "roller_free_mode": "functions", "roller_free_series": "functions",
+    "roller_free_mode": "functions", "roller_free_series": "functions", "bracketed_root": "functions",
+    "Elasticity": "physics", "Scalar": "physics", "MirrorBody": "bodies",
 }
 __all__ = list(_PUBLIC)
 __getattr__, __dir__ = lazy(__name__, _PUBLIC)

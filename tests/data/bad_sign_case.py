@@ -1,7 +1,7 @@
 """Refused: u = +r^{3/2} sin(3 theta/2) is -|x|^{3/2} < 0 on the free side x < 0 of Gamma_C."""
 from ngsolve import atan2, sin, sqrt, x, y
 
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip
 
 name = "bad-sign"
 description = "wrong sign of the transition singularity"

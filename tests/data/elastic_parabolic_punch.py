@@ -22,7 +22,7 @@ from math import pi, sin
 from ngsolve import CF, x
 from scipy.optimize import brentq
 
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip
 
 DELTA = 0.05
 POISSON = 0.3

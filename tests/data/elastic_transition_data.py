@@ -6,9 +6,7 @@ from math import pi
 
 from ngsolve import CF, IfPos, x
 
-from harness.problem.functions import roller_free_mode
-from harness.problem.geometry import contact_strip
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, contact_strip, roller_free_mode
 
 name = "elastic-transition-r32-data"
 description = "elastic-transition-r32 declared by its data (no u)"

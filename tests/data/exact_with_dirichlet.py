@@ -1,7 +1,7 @@
 """A case with u that also declares Dirichlet data: ambiguous, must be refused at load time."""
 from ngsolve import x
 
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip
 
 name = "exact-with-dirichlet"
 description = "u and dirichlet"

@@ -4,7 +4,7 @@ alpha = 0.1 (1 + x^2 + y) has d(alpha)/dn = -0.1 on Gamma_C (n = -e_y), so with 
 load g_C = -0.1 the Signorini conditions of u - alpha are those of transition-r32."""
 from ngsolve import atan2, sin, sqrt, x, y
 
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip
 
 name = "gap-transition"
 description = "transition-r32 with a gap and a contact-boundary load"

@@ -1,7 +1,7 @@
 """Lacks the 'dirichlet' label."""
 from ngsolve import x
 
-from harness.problem.geometry import polygon
+from harness.problem import polygon
 
 name = "no-dirichlet"
 description = "geometry without Gamma_u"

@@ -3,7 +3,7 @@ bottom, u = 0) with pressure du/dn - g_C = 1: every P2 method reproduces it, and
 estimator must vanish there (tests/test_meshes.py)."""
 from ngsolve import x, y
 
-from harness.problem.geometry import polygon
+from harness.problem import polygon
 
 name = "quadratic-binding"
 description = "u = x y + y^2, binding on all of Gamma_C with pressure 1"

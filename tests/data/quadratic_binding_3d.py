@@ -3,7 +3,7 @@ Gamma_C (the bottom z = 0, n = -e_z: u = 0) with pressure du/dn - g_C = 1: every
 reproduces it, and the 3D residual estimator must vanish there (tests/test_adaptive_3d.py)."""
 from ngsolve import x, z
 
-from harness.problem.geometry import contact_box
+from harness.problem import contact_box
 
 name = "quadratic-binding-3d"
 description = "3D: u = x z + z^2, binding on all of Gamma_C with pressure 1"

@@ -5,8 +5,7 @@ by the contact traction g_C: every P2 method reproduces it, and the residual est
 tangential term, must vanish there (tests/test_meshes.py)."""
 from ngsolve import CF, x, y
 
-from harness.problem.geometry import polygon
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, polygon
 
 name = "quadratic-binding-elastic"
 description = "u = (x y + y^2, x y + y^2), binding on all of Gamma_C with pressure 1"

@@ -6,8 +6,7 @@ method reproduces it, and the 3D residual estimator, with its tangential term, m
 (tests/test_adaptive_3d.py)."""
 from ngsolve import CF, x, y, z
 
-from harness.problem.geometry import contact_box
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, contact_box
 
 name = "quadratic-binding-elastic-3d"
 description = "3D elastic: u = (x z + z^2, y z + x y, x z + z^2), binding on all of Gamma_C with pressure 1"

@@ -1,5 +1,5 @@
 """A reference case (no u) that forgets its Neumann data: must be refused at load time."""
-from harness.problem.geometry import contact_strip
+from harness.problem import contact_strip
 
 name = "reference-without-neumann"
 description = "no u, no neumann"

@@ -2,7 +2,7 @@
 f = -2 pi sin(2 pi x), contact on the bottom, u = 0 on the top, natural conditions on the sides."""
 from ngsolve import pi, sin, x
 
-from harness.problem.geometry import polygon
+from harness.problem import polygon
 
 name = "square-sine"
 description = "unit square, f = -2 pi sin(2 pi x), contact at the bottom"

@@ -2,9 +2,7 @@
 the rotated frame at its nodes (``fem.rotated_frame.RotatedFrame``) is not the identity."""
 from math import cos, pi, sin
 
-from harness.problem.functions import roller_free_mode
-from harness.problem.geometry import polygon
-from harness.problem.physics import Elasticity
+from harness.problem import Elasticity, polygon, roller_free_mode
 
 ANGLE = 0.3
 name = "tilted-elastic"
