@@ -12,7 +12,7 @@ from ..measure.reference import ReferenceErrors, reference_method
 from ..mesh.levels import LevelSequence, UniformRefinement
 from ..mesh.strategies import UNIFORM, MeshStrategy
 from ..methods import Method, methods_for
-from ..problem.case import Case
+from ..problem.case import REPORT_PROFILES, Case
 from . import threads
 from .one_body import OneBody
 from .rows import COLUMNS, PHASES, ChainOutput, Phases, study_levels  # noqa: F401 (COLUMNS, PHASES: importable from here too)
@@ -43,6 +43,9 @@ PROFILES = {
     "fine": {"levels": 8, "levels_3d": 4, "levels_two_body": 6, "mesh_levels": 7, "mesh_levels_3d": 4,
              "stop_when_asymptotic": False, "weak_3d": True},
 }
+# the profiles' names and order (cheapest first) are the cases' (``Case.report_profile``,
+# ``Case.report_levels``): declared once, in ``problem.contract.REPORT_PROFILES``
+assert tuple(PROFILES) == REPORT_PROFILES, "each report profile needs its settings here"
 
 def reference_of(case: Case, methods: list[Method]) -> Method | None:
     """The method whose solution k levels finer is the reference of a case without u
