@@ -74,6 +74,8 @@ def cmd_run(args) -> int:
         engine.close()
     if not args.quiet:
         _print_run(frame, Path(args.out))
+    if args.vtk:
+        _print_vtk(Path(args.out) / "vtk")
     print(frame.attrs["stored"])
     return _report_failures(frame)
 
@@ -93,10 +95,13 @@ def _print_run(frame, out: Path) -> None:
     with pd.option_context("display.width", 200, "display.max_columns", 30):
         print(frame[columns].to_string(index=False))
     print(*reference_lines(frame), sep="\n")
-    if (out / "vtk").is_dir():
-        files = list((out / "vtk").rglob("*.vtu"))
-        print(f"wrote {len(files)} VTK files ({sum(f.stat().st_size for f in files) / 1e6:.3g} MB) under {out / 'vtk'}: "
-              "open CASE/METHOD/omega.pvd and gamma_c.pvd in ParaView (the time slider steps through the levels)")
+
+
+def _print_vtk(folder: Path) -> None:
+    """Where the ParaView files are, and how much they weigh."""
+    files = list(folder.rglob("*.vtu"))
+    print(f"wrote {len(files)} VTK files ({sum(f.stat().st_size for f in files) / 1e6:.3g} MB) under {folder}: "
+          "open CASE/METHOD/omega.pvd and gamma_c.pvd in ParaView (the time slider steps through the levels)")
 
 
 def _report_failures(frame) -> int:
@@ -171,6 +176,8 @@ def cmd_report(args) -> int:
                       show_progress=not args.quiet, vtk=args.vtk, check_memory=not args.skip_memory_check)
     finally:
         engine.close()
+    if args.vtk:
+        _print_vtk(Path(args.results) / "vtk")
     print(f"wrote {path}")
     return _report_failures(pd.read_csv(Path(args.results) / "results.csv"))
 

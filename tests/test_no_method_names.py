@@ -90,8 +90,10 @@ def test_the_registered_methods_declare_the_roles_the_report_gave_them_by_name()
 
 
 def test_a_method_of_your_own_may_take_a_role():
-    mine = dataclasses.replace(METHODS["p1"], name="my-p1")              # keeps BASELINE
+    mine = dataclasses.replace(METHODS["p1"], name="my-p1", roles=frozenset({BASELINE}))
     assert with_role(BASELINE, [METHODS["nodal"], mine]) == [mine]
+    assert not dataclasses.replace(METHODS["p1"], name="a-p1").roles      # a copy renamed takes none unasked
+    assert METHODS["p1"].with_extra_levels(2).roles == METHODS["p1"].roles   # the same method, run longer
     assert names_with_role(BASELINE, ["nodal", "my-p1"]) == []             # unknown by name here
     with known([mine]):
         assert names_with_role(BASELINE, ["nodal", "my-p1"]) == ["my-p1"]
@@ -110,7 +112,7 @@ def _levels(method: str, order: int, errors, ndofs) -> list[dict]:
 def test_the_efficiency_baseline_is_the_method_that_declares_the_role():
     frame = pd.DataFrame(_levels("nodal", 2, [1e-2, 3e-3, 1e-3], [100, 400, 1600])
                          + _levels("my-p1", 1, [2e-2, 1e-2, 5e-3, 2.5e-3], [100, 400, 1600, 6400]))
-    mine = dataclasses.replace(METHODS["p1"], name="my-p1")
+    mine = dataclasses.replace(METHODS["p1"], name="my-p1").with_roles(BASELINE)
     assert baseline_name(frame.method) is None
     assert efficiency_table(frame).p1_over_ndof.isna().all()             # no baseline: no ratios
     table = efficiency_table(frame, methods=[mine]).set_index("method")

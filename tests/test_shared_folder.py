@@ -145,7 +145,7 @@ def test_merged_rows_are_keyed_by_case_method_parameters_mesh_and_level():
 
 
 def test_an_old_results_file_without_mesh_and_parameters_columns_merges(tmp_path):
-    (tmp_path / "results.csv").write_text("case,model,level,err_h1\nx,nodal,0,1.0\n")
+    (tmp_path / "results.csv").write_text("case,method,level,err_h1\nx,nodal,0,1.0\n")
     earlier = read_rows(tmp_path / "results.csv")
     rows = pd.DataFrame({"case": ["x"], "method": ["nodal"], "parameters": [""], "mesh": ["uniform"], "level": [0], "err_h1": [2.0]})
     assert merge_rows(earlier, rows).frame.err_h1.tolist() == [2.0]

@@ -47,9 +47,8 @@ def face_mean_problem(level: int, case_name: str = THREE_D_CASE, model_name: str
         if lev == level - 1:
             carry = method.solve(case, discretise(case, mesh, 2), None, multilevel).carry
     qp = face_mean_qp(case, discretise(case, mesh, 2), take_stiffness=True)
-    previous, coarse_values = carry or (None, None)
-    start = None if carry is None else nested_start(multilevel, coarse_values, qp.problem, ContactEdges.of(qp.problem, model=False))
-    return qp, qp.predicted_active(previous), multilevel, start
+    start = None if carry is None else nested_start(multilevel, carry.p1, qp.problem, ContactEdges.of(qp.problem, model=False))
+    return qp, qp.predicted_active(None if carry is None else carry.trace), multilevel, start
 
 
 @dataclass

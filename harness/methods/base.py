@@ -152,10 +152,10 @@ class Method:
     study_extra_levels: int | None = None
     # what it is to the report (``ROLES``: PAPER, BASELINE, REFERENCE, SWEPT, MESH_STUDY)
     roles: frozenset = frozenset()
-    # the name the roles were declared under: a variant renamed by ``dataclasses.replace`` or
-    # ``with_parameters`` keeps none of them (``__post_init__``), so that no variant joins the
-    # report's sweeps and studies unasked; ``with_roles`` gives a variant roles of its own
-    roles_of: str | None = field(default=None, repr=False, compare=False)
+    # (name, roles) as declared: a variant that ``dataclasses.replace`` or ``with_parameters``
+    # renames keeps none of the roles it copied (``__post_init__``), so that no variant joins the
+    # report's sweeps and studies unasked; roles given with it, or by ``with_roles``, it keeps
+    roles_of: tuple | None = field(default=None, repr=False, compare=False)
     # how its solve's time is estimated (``study.budget``): "active-set" (an exact QP solve by an
     # active set method), "newton" (semismooth Newton), or a number, its seconds per dof
     cost_model: str | float = "active-set"
@@ -166,16 +166,18 @@ class Method:
     solver: SolverOptions = field(default=SolverOptions(), compare=True)
 
     def __post_init__(self):
-        roles = frozenset(self.roles) if self.roles_of in (None, self.name) else frozenset()
+        roles = frozenset(self.roles)
+        if self.roles_of is not None and self.roles_of[0] != self.name and roles == self.roles_of[1]:
+            roles = frozenset()             # copied under another name
         object.__setattr__(self, "roles", roles)
-        object.__setattr__(self, "roles_of", self.name)
+        object.__setattr__(self, "roles_of", (self.name, roles))
 
     def with_roles(self, *roles: str) -> "Method":
         """The same method declaring ``roles`` (``ROLES``), and only those."""
         unknown = set(roles) - set(ROLES)
         if unknown:
             raise ValueError(f"unknown role(s) {', '.join(sorted(unknown))}; the roles are {', '.join(ROLES)}")
-        return replace(self, roles=frozenset(roles), roles_of=self.name)
+        return replace(self, roles=frozenset(roles), roles_of=(self.name, frozenset(roles)))
 
     def supports(self, case) -> bool:
         return case.physics.name in self.physics and case.dimension in self.dimensions and case.bodies in self.bodies
