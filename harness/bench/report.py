@@ -70,12 +70,12 @@ def profile_tables(profile_rows: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFra
 
 def report_goals(frame: pd.DataFrame, make_workers: int | None = None) -> list[tuple[str, bool, str]]:
     """The goals: ``make report`` (the variant with ``make_workers`` workers, the
-    Makefile's one per core; else the first) within 5 minutes and 3 GB per process on 2 cores;
+    Makefile's one per core; else the first) within 3 minutes and 3 GB per process on 2 cores;
     2 local processes at least 1.2x faster than this process."""
     out = []
     chosen = frame[frame.workers == make_workers] if make_workers is not None else frame.iloc[:0]
     made = (chosen if len(chosen) else frame).iloc[0]
-    out.append(("make report <= 5 min", made.wall_seconds <= 300, f"{made.wall_seconds:.0f} s ({made.engine})"))
+    out.append(("make report <= 3 min", made.wall_seconds <= 180, f"{made.wall_seconds:.0f} s ({made.engine})"))
     out.append(("make report peak RSS <= 3 GB (largest process)", made.peak_rss_mb <= 3 * 1024, f"{made.peak_rss_mb:.0f} MB"))
     for row in frame.iloc[1:].itertuples():
         goal = f"report on {row.workers} local processes against the first variant"
