@@ -15,7 +15,7 @@ from ..methods import Method, methods_for
 from ..problem.case import REPORT_PROFILES, Case
 from . import threads
 from .one_body import OneBody
-from .rows import COLUMNS, PHASES, ChainOutput, Phases, study_levels  # noqa: F401 (COLUMNS, PHASES: importable from here too)
+from .rows import ChainOutput, Phases, study_levels
 from .two_body import run_two_body_chain
 from .walk import ChainPlan, ChainWalk
 
