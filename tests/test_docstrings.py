@@ -66,20 +66,9 @@ def line_of(start: int, text: str, offset: int) -> int:
     return start + text.count("\n", 0, offset)
 
 
-def known_in(known: set[str], path: Path) -> set[str]:
-    """What ``known`` ("path: text" entries) excuses in ``path``."""
-    prefix = f"{relative(path)}: "
-    return {entry[len(prefix):] for entry in known if entry.startswith(prefix)}
-
-
-def check(path: Path, found: list[tuple[int, str]], known: set[str], what: str) -> None:
-    """``found`` (line, text) in ``path`` holds nothing but what ``known`` excuses there, and
-    everything ``known`` excuses there is still found (else its entry is to go)."""
-    excused = known_in(known, path)
-    unexpected = [f"{relative(path)}:{line} {text}" for line, text in found if text not in excused]
-    assert not unexpected, f"{what}:\n" + "\n".join(unexpected)
-    gone = sorted(excused - {text for _, text in found})
-    assert not gone, f"fixed in {relative(path)}, so remove from the known set: {gone}"
+def check(path: Path, found: list[tuple[int, str]], what: str) -> None:
+    """Nothing ``found`` (line, text) in ``path``, or each named."""
+    assert not found, f"{what}:\n" + "\n".join(f"{relative(path)}:{line} {text}" for line, text in found)
 
 
 # --- no dates ----------------------------------------------------------------------------------
@@ -91,13 +80,6 @@ DATE = re.compile(r"\b20\d\d-\d\d(?:-\d\d)?\b"                                  
                   rf"|(?<![\w-]){MONTH} \d{{1,2}}(?:st|nd|rd|th)?\b"                 # November 26
                   rf"|(?<![\w-]){MONTH},? 20\d\d\b")                                 # November 2026
 
-# Dates in files that were being edited elsewhere when this test was written, as "path: date".
-# An entry goes when its date does: the test fails while the set names one that is gone.
-KNOWN_DATES_ELSEWHERE = {
-    "harness/solvers/newton.py: 2026-11-26",    # module docstring, "(measured 2026-11-26)": say what it supported
-}
-
-
 def dates(path: Path) -> list[tuple[int, str]]:
     source = path.read_text()
     return [(line_of(start, text, match.start()), match.group()) for start, text in prose(source)
@@ -106,7 +88,7 @@ def dates(path: Path) -> list[tuple[int, str]]:
 
 @pytest.mark.parametrize("path", sources(), ids=relative)
 def test_no_docstring_or_comment_of_the_package_or_the_cases_carries_a_date(path):
-    check(path, dates(path), KNOWN_DATES_ELSEWHERE, "a date in a comment or docstring")
+    check(path, dates(path), "a date in a comment or docstring")
 
 
 def test_the_date_check_reads_comments_and_docstrings_and_not_code(tmp_path):
@@ -273,33 +255,9 @@ def unresolved(path: Path, package: Path) -> list[tuple[int, str]]:
     return found
 
 
-# Names cited in files that were being edited elsewhere when this test was written, as
-# "path: name", each with what it should cite. An entry goes when its citation is fixed: the test
-# fails while the set names one that is gone.
-KNOWN_NAMES_ELSEWHERE = {
-    "harness/measure/efficiency.py: Method.roles",                  # methods.base.Method.roles
-    "harness/report/build.py: Method.source",                       # methods.base.Method.source
-    "harness/solvers/multigrid.py: Level.prolongation",             # mesh.levels.Level.prolongation
-}
-
-
 @pytest.mark.parametrize("path", [p for p in package_modules() if p.name != "__main__.py"], ids=relative)
 def test_every_dotted_name_a_docstring_cites_resolves(path):
-    check(path, unresolved(path, PACKAGE), KNOWN_NAMES_ELSEWHERE, "a cited name that names nothing")
-
-
-def test_a_known_entry_excuses_its_text_in_its_file_only_and_fails_once_the_text_is_gone():
-    path, known = PACKAGE / "cli.py", {"harness/cli.py: 2026-01-01"}
-    check(path, [(3, "2026-01-01")], known, "dated")
-    with pytest.raises(AssertionError, match="harness/api.py:3 2026-01-01"):
-        check(PACKAGE / "api.py", [(3, "2026-01-01")], known, "dated")
-    with pytest.raises(AssertionError, match="remove from the known set"):
-        check(path, [], known, "dated")
-
-
-@pytest.mark.parametrize("entry", sorted(KNOWN_DATES_ELSEWHERE | KNOWN_NAMES_ELSEWHERE))
-def test_every_known_exception_names_a_checked_file(entry):
-    assert (REPOSITORY / entry.split(": ", 1)[0]).resolve() in {p.resolve() for p in sources()}, entry
+    check(path, unresolved(path, PACKAGE), "a cited name that names nothing")
 
 
 @pytest.mark.parametrize("text, names", [

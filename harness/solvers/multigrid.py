@@ -27,8 +27,8 @@ and that of a vertex of Gamma_C prolongates, at the fine vertices of the same st
 to (t, c) in the same frame: its c reaches the fine c only, its t the fine t only. So only the
 normal variable is truncated at the contact zone, and the tangential one keeps its coarse
 corrections, as the contact condition leaves it free. (In Cartesian coarse spaces a tilted
-Gamma_C forces both components' truncation there: measured, CG iterations then grew 97, 135,
-199 over three refinements of the tilted test case.)
+Gamma_C forces both components' truncation there, and the CG iterations grow under refinement:
+tests/test_elasticity.py's tilted case counts them.)
 """
 from __future__ import annotations
 
@@ -55,7 +55,7 @@ class Multilevel:
     is many bisection sweeps, ``mesh.bisection``), and a level's prolongation is then the
     product of the sweeps' ones, each parent-averaging only the vertices its sweep created. A
     level that is a new mesh (2D bisection, ``mesh.newest_vertex``) brings its prolongation as
-    a sparse matrix (``Level.prolongation``), the product of its sweeps already. Either way the
+    a sparse matrix (``mesh.levels.Level.prolongation``), the product of its sweeps already. Either way the
     spaces are nested and every coarse matrix is the Galerkin product R A P.
     """
 

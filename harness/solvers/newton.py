@@ -17,10 +17,9 @@ No silent failure: a status "converged" or why not. A repeated set without conve
 switches to damped steps (halving on max |F|), which ends cycling of the full steps; a run
 whose max |F| has not fallen below its best for ``SolverOptions.stall_steps`` steps stops as
 "stalled" (past Nitsche's coercivity bound, theta = 1, J is indefinite and the discrete problem
-may have no solution: such runs wandered for all their 60 steps, half of the report's sweep
-time). With 12, every run of the report's sweeps that converges in 60 steps still converges, in
-the same steps, and the 16 others stop after 13-25 steps: 32 s of their solves became 9 s
-(measured 2026-11-26).
+may have no solution: such runs would wander for all their steps). The stall count is chosen so
+that every run of the report's sweeps that converges at all converges in the same steps with it
+(the sweep's rows and their ``solver_iterations`` show it), while the others stop early.
 
 Linear solves: J is A with the rows of the elements along Gamma_C changed. Symmetric J
 (penalty; Nitsche with theta = 1) goes to the cones' multigrid CG (``active_set.MultigridSystem``:
@@ -64,8 +63,8 @@ class NewtonSolution:
 class _DirectSystem:
     """J^{-1} by a sparse factorisation, updated for every Newton step (J changes in place, on
     one pattern): NGSolve's sparse Cholesky (LDL^T) for a symmetric J, whose numeric update on
-    the kept ordering costs a fifth of a new UMFPACK factorisation (measured at 3.6e4 and
-    1.4e5 dofs); UMFPACK for a nonsymmetric J, or when the LDL^T (without pivoting, J maybe
+    the kept ordering is much cheaper than a new UMFPACK factorisation (``bench --only solver``
+    times both); UMFPACK for a nonsymmetric J, or when the LDL^T (without pivoting, J maybe
     indefinite) misses the tolerance."""
 
     def __init__(self, J_ngs, rhs, symmetric: bool):
