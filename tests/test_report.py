@@ -201,7 +201,7 @@ def test_bench_report_profiles_the_report_and_compares_engines():
     assert ("study", "transition-r32") in phases.index and phases.loc[("study", "transition-r32"), "solve"] > 0
     assert (frame.job_seconds > 0).all() and (frame.jobs_wall > 0).all() and (frame.figures_wall > 0).all()
     goals = report_goals(frame, make_workers=2)
-    assert [goal for goal, _, _ in goals][:2] == ["make report <= 5 min", "make report peak RSS <= 3 GB (largest process)"]
+    assert [goal for goal, _, _ in goals][:2] == ["make report <= 3 min", "make report peak RSS <= 3 GB (largest process)"]
     assert "2 local processes" in goals[0][2]          # the goal is judged on the engine make report uses
 
 
