@@ -179,7 +179,18 @@ def cmd_report(args) -> int:
     if args.vtk:
         _print_vtk(Path(args.results) / "vtk")
     print(f"wrote {path}")
-    return _report_failures(pd.read_csv(Path(args.results) / "results.csv"))
+    return _report_failures(_report_rows(args, pd.read_csv(Path(args.results) / "results.csv")))
+
+
+def _report_rows(args, rows):
+    """The rows of results.csv that the report's study stands for: its cases and methods (rows
+    of other runs kept in the folder are theirs to answer for)."""
+    from .methods import methods_named
+    from .problem.case import registered_cases
+    from .report.build import in_profile
+    cases = args.case or [case.name for case in in_profile(registered_cases().values(), args.profile)]
+    methods = [method.name for method in methods_named(args.method or ["all"])]
+    return rows[rows.case.isin(cases) & rows.method.isin(methods)]
 
 
 def cmd_bench(args) -> int:

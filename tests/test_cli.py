@@ -267,3 +267,21 @@ def test_listing_the_cases_imports_neither_pandas_nor_scipy_nor_matplotlib():
     """`python -m harness cases` needs the case files (which use NGSolve), nothing else heavy."""
     loaded = _modules_after("from harness.cli import main\nmain(['cases'])")
     assert not loaded & {"pandas", "scipy", "matplotlib"}, loaded & {"pandas", "scipy", "matplotlib"}
+
+
+def test_report_answers_for_its_own_rows_not_for_other_runs_kept_in_the_folder(tmp_path):
+    """A row that did not converge, of another case, kept in results.csv by an earlier run: the
+    report of transition-r32 still exits 0; a failed row of its own makes it exit 1."""
+    from harness.cli import main
+    args = ["report", "--case", "transition-r32", "--method", "nodal", "--levels", "2", "--quiet",
+            "--results", str(tmp_path / "results"), "--report", str(tmp_path / "report")]
+    assert main(args) == 0
+    rows = pd.read_csv(tmp_path / "results" / "results.csv")
+    other = rows.iloc[:1].assign(case="smooth", status="stalled: KKT residual 1e-3 with a consistent active set")
+    pd.concat([rows, other]).to_csv(tmp_path / "results" / "results.csv", index=False)
+    assert main(args) == 0
+    own = rows.assign(status="stalled: forced")
+    own.to_csv(tmp_path / "results" / "results.csv", index=False)
+    from harness.cli import _report_failures, _report_rows, build_parser
+    parsed = build_parser(args).parse_args(args)
+    assert _report_failures(_report_rows(parsed, own)) == 1
