@@ -41,7 +41,7 @@ print(quantities[["method", "quantity", "value", "observed_order", "extrapolated
 
 # %%
 # The errors against h, with each theory's slope.
-harness.plot(rows, case="transition-r32")
+figure = harness.plot(rows, case="transition-r32")
 
 # %%
 # The report of this case and these methods, as ``python -m harness report`` writes it: an

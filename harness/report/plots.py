@@ -1,12 +1,11 @@
-"""The report's main figures as functions of DataFrames, for a notebook as for the report:
+"""The report's main figures as functions of DataFrames, for a notebook (``harness.plot``) as
+for the report:
 
     import harness
-    from harness.report import plots
-    from harness.measure.rates import rate_table
     df = harness.run(["transition-r32", "corner-r12"], methods="cones", levels=5)
-    plots.convergence(df, "transition-r32")     # H1 error against h, each theory's bound dashed
-    plots.verdict_matrix(rate_table(df))        # cases x methods: fitted / expected rate, by verdict
-    plots.rate_summary(rate_table(df))          # fitted against expected rates
+    harness.plot(df, "transition-r32")          # H1 error against h, each theory's bound dashed
+    harness.plot(df, kind="verdicts")           # cases x methods: fitted / expected rate, by verdict
+    harness.plot(df, kind="rates")              # fitted against expected rates
 
 Each returns a matplotlib Figure (or draws into ``ax``) and needs nothing but the results'
 columns (``harness.run``'s rows, ``rate_table``'s rows): the theories' rates are in them.
@@ -23,7 +22,7 @@ import re
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-from matplotlib.ticker import LogFormatterSciNotation
+from matplotlib.ticker import LogFormatterSciNotation, LogLocator
 
 from ..methods import BASELINE, METHODS, PAPER, Method, MethodError, get_method, with_role
 from ..problem.case import fraction
@@ -190,8 +189,11 @@ def convergence(results: pd.DataFrame, case: str | None = None, ax=None, title: 
     ax.set_xlabel("h (largest element diameter)")
     ax.set_ylabel(r"$\|u-u_h\|_{H^1(\Omega)}$")
     ax.set_title(title or case, fontsize=10)
+    # h spans a decade or two: label the minor ticks at 2 and 5 only, not every one (they overlap)
+    ax.xaxis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
+    ax.xaxis.set_minor_formatter(LogFormatterSciNotation(labelOnlyBase=False, minor_thresholds=(np.inf, np.inf)))
     ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper left")       # errors fall with h: the upper left is free
     return fig
 
 
