@@ -193,7 +193,7 @@ def convergence(results: pd.DataFrame, case: str | None = None, ax=None, title: 
     ax.xaxis.set_minor_locator(LogLocator(subs=(2.0, 5.0)))
     ax.xaxis.set_minor_formatter(LogFormatterSciNotation(labelOnlyBase=False, minor_thresholds=(np.inf, np.inf)))
     ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=8, loc="upper left")       # errors fall with h: the upper left is free
+    ax.legend(fontsize=8)
     return fig
 
 
