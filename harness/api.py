@@ -89,7 +89,7 @@ def _study_inputs(cases, methods, meshes, reference_levels):
     loaded = [c if isinstance(c, Case) else load_case(str(c)) for c in cases]
     if reference_levels:
         loaded = [case.with_reference(reference_levels) for case in loaded]
-    chosen = methods_named([methods] if isinstance(methods, str) else list(methods))
+    chosen = methods_named(methods)             # a name, a group, a Method, or a list of them
     strategies = parse_meshes(list(meshes) if isinstance(meshes, (list, tuple)) else [meshes])
     return loaded, chosen, strategies
 
@@ -97,9 +97,9 @@ def _study_inputs(cases, methods, meshes, reference_levels):
 def _warn_left_out(cases, methods, meshes, asked) -> None:
     """A ``StudyWarning`` per mesh strategy a case cannot have, and per method named one by one
     (not through a group) that discretises none of the cases."""
-    from .methods import GROUPS
+    from .methods import GROUPS, Method
     from .study.engines import skipped_meshes, skipped_methods
-    asked = [asked] if isinstance(asked, str) else list(asked)
+    asked = [asked] if isinstance(asked, (str, Method)) else list(asked)
     named = {a if isinstance(a, str) else a.name for a in asked if not (isinstance(a, str) and (a == "all" or a in GROUPS))}
     lines = skipped_meshes(cases, meshes) + skipped_methods(cases, [m for m in methods if m.name in named])
     for line in lines:

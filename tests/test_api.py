@@ -88,3 +88,15 @@ def test_run_into_a_folder_writes_what_the_command_line_writes(tmp_path):
     assert list(api.columns) == list(cli.columns)
     pd.testing.assert_frame_equal(api.drop(columns=timing), cli.drop(columns=timing))
     assert sorted(p.name for p in (tmp_path / "api").iterdir()) == sorted(p.name for p in (tmp_path / "cli").iterdir())
+
+
+def test_run_takes_one_method_object_and_warns_of_a_method_no_case_needs():
+    """``methods`` as the command line takes them, or one ``Method``; a method named one by one
+    that discretises none of the cases is a ``StudyWarning`` (the command line's `harness:` line)."""
+    import pytest
+
+    nodal = harness.METHODS["nodal"]
+    assert harness.run("transition-r32", methods=nodal, levels=1, show_progress=False).method.tolist() == ["nodal"]
+    with pytest.warns(harness.StudyWarning, match="mortar-nodal skipped: it discretises"):
+        rows = harness.run("transition-r32", methods=["nodal", "mortar-nodal"], levels=1, show_progress=False)
+    assert rows.method.tolist() == ["nodal"]
