@@ -27,8 +27,9 @@ from ..study.cache import case_settings, compute, provenance
 from ..study.chain import PROFILES
 from ..study.files import ensure_writable, write_atomic, write_csv
 from ..study.folder import all_owned
-from ..study.merge import merge_rows, read_rows
+from ..study.merge import read_rows
 from ..study.mesh_study import PICTURE_METHOD
+from ..study.store import merge_into
 from ..study.timing import Timings
 from .document import Document, anchor
 from .figure_jobs import FIGURE_WORKERS, FigurePool
@@ -405,10 +406,9 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
             quantities = quantity_table(pd.concat([results, meshes], ignore_index=True) if not meshes.empty else results)
             quantity_costs = quantity_efficiency_table(results, QUANTITY_COLUMNS, methods=methods)
         with timings("writing", "results"):
-            merged = merge_rows(read_rows(results_dir / "results.csv"), results)
-            write_csv(merged.frame, results_dir / "results.csv")
-            if merged.kept:
-                print(merged.summary(results_dir / "results.csv"), file=sys.stderr)
+            stored = merge_into(results_dir, results)
+            if stored.merged.kept:
+                print(stored.summary(), file=sys.stderr)
             if not meshes.empty:
                 write_csv(meshes, results_dir / "meshes.csv")
             write_csv(rates, results_dir / "rates.csv")

@@ -53,10 +53,11 @@ def store_rows(rows: pd.DataFrame, folder) -> Stored:
     """``rows`` merged into ``folder``/results.csv (made if needed) while this process owns the
     folder; ``folder.FolderBusy`` if another command owns it, before anything is written."""
     with owned(Path(folder)) as out:
-        return _merge_into(out, rows)
+        return merge_into(out, rows)
 
 
-def _merge_into(out: Path, rows: pd.DataFrame) -> Stored:
+def merge_into(out: Path, rows: pd.DataFrame) -> Stored:
+    """``rows`` merged into ``out``/results.csv; the caller owns ``out``."""
     path = out / RESULTS_FILE
     merged = merge_rows(read_rows(path), rows)
     write_csv(merged.frame, path)
@@ -75,7 +76,7 @@ def run_into(folder, cases, methods, levels: int, *, engine=None, meshes, show_p
         with study_phase():
             frame = run_study(cases, methods, levels, show_progress=show_progress, engine=engine,
                               checkpoints=checkpoints, check_memory=False, meshes=meshes, on_level=on_level)
-        stored = _merge_into(out, frame)
+        stored = merge_into(out, frame)
         store = CheckpointStore(checkpoints, levels)
         for case in cases:
             store.forget(case, every_mesh=True)
