@@ -5,16 +5,15 @@ contact variable and of its flux, which the bound-constrained cones never need).
 Two kinds of rows, in every physics and dimension (``problem.physics``: the contact variable
 c(v) and its flux, u and d_n u for the scalar problem, -v . n and -sigma_n(v) in elasticity):
 
-* ``T``, the trace of c(v): built here from the hierarchical basis of the contact dofs. Each
-  contact edge [a, b] lies in one triangle; on it, with the edge parameter t, the hats are
-  1 - t, t and the P2 bubble -t (1 - t) / 2 (NGSolve's hierarchical P2 basis, docs/mathematics.md
-  §3). In 3D, at a point of a triangle of Gamma_C with barycentric coordinates lambda, the hats
-  are lambda_i and the bubble of side ij is -lambda_i lambda_j / 2. In elasticity the contact
-  dofs are those of c in the rotated frame at Gamma_C's nodes (``rotated_frame``), and Gamma_C
-  is flat through each of its vertices, so these rows are -v_h . n exactly.
-* ``N``, the flux of c(v) at the points: the gradients of the volume element holding each point,
-  of any order, evaluated by NGSolve (``scalar_basis_gradients``), combined by the physics
-  (``flux_rows`` of ``problem.physics.Scalar`` and ``problem.physics.Elasticity``) and written in the problem's variables (the rotated frame).
+Both are NGSolve's basis of the volume element holding each point, of any order, evaluated
+there (``scalar_basis_at``) and combined by the physics (``trace_rows`` and ``flux_rows`` of
+``problem.physics.Scalar`` and ``problem.physics.Elasticity``), written in the problem's
+variables (the rotated frame, ``rotated_frame``):
+
+* ``T``, the trace of c(v). For P2 it is the closed form of docs/mathematics.md §3 (hats
+  1 - t, t and the bubble -t (1 - t) / 2 along an edge), to round-off; for P_k, k >= 3, each
+  edge carries k - 1 edge functions too.
+* ``N``, the flux of c(v) at the points, made on first use.
 
 tests/test_weak_contact.py checks both against NGSolve's own evaluation of a random u_h.
 """
@@ -34,6 +33,8 @@ from ..mesh.points import evaluate, in_elements
 # contact/separation transition, are integrated approximately, as by any code that assembles
 # the nonlinear form with a fixed rule.
 GAUSS_POINTS = 4
+# |entry| of a trace row at or below which it is round-off of a basis function vanishing there
+ROUNDOFF = 1e-13
 
 
 @dataclass(frozen=True)
@@ -100,24 +101,16 @@ def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: 
     edge = np.concatenate([np.full(len(rules[r][0]), k) for k, r in enumerate(rule_of)]).astype(np.int64)
     T_t = np.concatenate([rules[r][0] for r in rule_of])
     unit_w = np.concatenate([rules[r][1] for r in rule_of])
-    la, lb = 1.0 - T_t, T_t
-    # the contact variable's dofs (``discrete``): u_h itself, or c = -u_h . n in elasticity
-    cols_T = [problem.end_dofs[edge, 0], problem.end_dofs[edge, 1]]
-    vals_T = [la, lb]
-    if problem.order == 2:
-        cols_T.append(problem.edge_dofs[edge])
-        vals_T.append(-0.5 * la * lb)
-    shape = (len(edge), problem.ndof)
     points = trace.a[edge] + T_t[:, None] * (trace.b - trace.a)[edge]
-    in_elements(problem.mesh, points, trace.volumes[edge])
+    volumes, normals = trace.volumes[edge], trace.normals[edge]
     return ContactQuadrature(
         points=points,
         weights=trace.lengths[edge] * unit_w,
         h=trace.lengths[edge],
         edge=edge,
-        T=_rows(cols_T, vals_T, shape),
-        normals=trace.normals[edge],
-        _flux=(problem.fes, problem.physics, problem.basis, trace.volumes[edge]),
+        T=trace_rows(problem.fes, problem.physics, problem.basis, volumes, points, normals),
+        normals=normals,
+        _flux=(problem.fes, problem.physics, problem.basis, volumes),
     )
 
 
@@ -135,23 +128,16 @@ def _face_quadrature(problem, degree: int) -> ContactQuadrature:
     diameter = np.linalg.norm(corners - np.roll(corners, -1, axis=1), axis=2).max(axis=1)
     f, k = len(area), len(unit_w)
     face = np.repeat(np.arange(f), k)
-    vertex_dof = problem.vertex_dofs[np.searchsorted(trace.vertices, faces.vertices)]    # (f, 3)
-    cols_T = [vertex_dof[face, c] for c in range(3)]
-    vals_T = [np.tile(lam[:, c], f) for c in range(3)]
-    if problem.order == 2:
-        for side in range(3):           # side k joins corners k and k+1
-            cols_T.append(problem.edge_dofs[faces.edges[face, side]])
-            vals_T.append(np.tile(-0.5 * lam[:, side] * lam[:, (side + 1) % 3], f))
     points = np.einsum("kc,fcd->fkd", lam, corners).reshape(-1, 3)
-    in_elements(problem.mesh, points, np.repeat(faces.volumes, len(lam)))
+    volumes, normals = faces.volumes[face], faces.normals[face]
     return ContactQuadrature(
         points=points,
         weights=np.repeat(area, k) * np.tile(unit_w, f),
         h=np.repeat(diameter, k),
         edge=face,
-        T=_rows(cols_T, vals_T, (f * k, problem.ndof)),
-        normals=faces.normals[face],
-        _flux=(problem.fes, problem.physics, problem.basis, faces.volumes[face]),
+        T=trace_rows(problem.fes, problem.physics, problem.basis, volumes, points, normals),
+        normals=normals,
+        _flux=(problem.fes, problem.physics, problem.basis, volumes),
     )
 
 
@@ -159,24 +145,53 @@ def flux_rows(fes, physics, basis, volumes: np.ndarray, points: np.ndarray, norm
     """(q, ndof) the flux of the contact variable of every basis function of ``fes`` at
     ``points`` (each in the volume element ``volumes``, outward unit ``normals``), in the
     problem's variables (``basis``: NGSolve's coefficients = basis @ ours, or None)."""
-    # the scalar space of the same order numbers its dofs as each component block of VectorH1
-    scalar = ngs.H1(fes.mesh, order=fes.globalorder)
-    dofs, grads = scalar_basis_gradients(scalar, volumes, points)
-    block = scalar.ndof              # component k's copy of scalar dof d is k * block + d
+    scalar = _scalar_space(fes)
+    dofs, _, grads = scalar_basis_at(scalar, volumes, points, values=False)
+    return _component_rows(fes, scalar.ndof, basis, dofs, physics.flux_rows(grads, normals))
+
+
+def trace_rows(fes, physics, basis, volumes: np.ndarray, points: np.ndarray, normals: np.ndarray) -> sp.csr_matrix:
+    """(q, ndof) the contact variable c(v) of every basis function of ``fes`` at ``points`` on
+    Gamma_C (each in the volume element ``volumes``, outward unit ``normals``), in the problem's
+    variables: NGSolve's own basis of any order, evaluated (for k >= 3 each edge carries k - 1
+    edge functions, NGSolve's scaled integrated Legendre polynomials, oriented by the edge's
+    vertex numbers). Entries at round-off are dropped: the functions of the element's other
+    edges and of its interior vanish on Gamma_C, and in the rotated frame so does the
+    tangential variables' part of c."""
+    scalar = _scalar_space(fes)
+    dofs, values, _ = scalar_basis_at(scalar, volumes, points, gradients=False)
+    rows = _component_rows(fes, scalar.ndof, basis, dofs, physics.trace_rows(values, normals))
+    rows.data[np.abs(rows.data) <= ROUNDOFF] = 0.0
+    rows.eliminate_zeros()
+    return rows
+
+
+def _scalar_space(fes):
+    """The scalar H1 space of ``fes``'s order and mesh: it numbers its dofs as each component
+    block of a VectorH1 space does."""
+    return ngs.H1(fes.mesh, order=fes.globalorder)
+
+
+def _component_rows(fes, block: int, basis, dofs: np.ndarray, pieces: list) -> sp.csr_matrix:
+    """The rows of ``pieces`` [(component k, (q, l) values on the scalar ``dofs`` (q, l))] on the
+    dofs of ``fes`` (component k's copy of scalar dof d is k * block + d), in the problem's
+    variables (``basis``)."""
     q, local = dofs.shape
     rows = np.repeat(np.arange(q), local)
-    pieces = [sp.csr_matrix((values.ravel(), (rows, (k * block + dofs).ravel())), shape=(q, fes.ndof))
-              for k, values in physics.flux_rows(grads, normals)]
-    N = sum(pieces[1:], pieces[0]).tocsr()
-    return N if basis is None else (N @ basis).tocsr()
+    parts = [sp.csr_matrix((values.ravel(), (rows, (k * block + dofs).ravel())), shape=(q, fes.ndof))
+             for k, values in pieces]
+    M = sum(parts[1:], parts[0]).tocsr()
+    return M if basis is None else (M @ basis).tocsr()
 
 
-def scalar_basis_gradients(fes, volumes: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(dofs (q, l), gradients (q, l, dim)): the dofs of the volume element of each point (a
-    scalar H1 space of any order) and the gradients of their basis functions there. NGSolve
-    evaluates them: the element's j-th local basis function is the j-th dof of the element in
-    the discontinuous copy of the space (the same element, its dofs numbered element by element),
-    so one GridFunction per local index, evaluated at every point at once, gives them all."""
+def scalar_basis_at(fes, volumes: np.ndarray, points: np.ndarray, values: bool = True,
+                    gradients: bool = True) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """(dofs (q, l), values (q, l), gradients (q, l, dim)): the dofs of the volume element of each
+    point (a scalar H1 space of any order) and the values and gradients of their basis functions
+    there (None where not asked for). NGSolve evaluates them: the element's j-th local basis
+    function is the j-th dof of the element in the discontinuous copy of the space (the same
+    element, its dofs numbered element by element), so one GridFunction per local index,
+    evaluated at every point at once, gives them all."""
     mesh = fes.mesh
     unique, which = np.unique(volumes, return_inverse=True)
     element_dofs = np.array([fes.GetDofNrs(ngs.ElementId(ngs.VOL, int(e))) for e in unique], dtype=np.int64)
@@ -184,19 +199,18 @@ def scalar_basis_gradients(fes, volumes: np.ndarray, points: np.ndarray) -> tupl
     first = np.array([broken.GetDofNrs(ngs.ElementId(ngs.VOL, int(e)))[0] for e in unique], dtype=np.int64)
     in_elements(mesh, points, volumes)
     indicator = ngs.GridFunction(broken)
-    values = indicator.vec.FV().NumPy()
-    gradient = ngs.grad(indicator)
-    grads = np.empty((len(points), element_dofs.shape[1], mesh.dim))
-    for j in range(element_dofs.shape[1]):
-        values[:] = 0.0
-        values[first + j] = 1.0
-        grads[:, j] = evaluate(gradient, mesh, points)
-    return element_dofs[which], grads
-
-
-def _rows(columns: list, values: list, shape) -> sp.csr_matrix:
-    rows = np.tile(np.arange(shape[0]), len(columns))
-    return sp.csr_matrix((np.concatenate(values), (rows, np.concatenate(columns))), shape=shape)
+    coefficients = indicator.vec.FV().NumPy()
+    local = element_dofs.shape[1]
+    value_of = np.empty((len(points), local)) if values else None
+    gradient_of = np.empty((len(points), local, mesh.dim)) if gradients else None
+    for j in range(local):
+        coefficients[:] = 0.0
+        coefficients[first + j] = 1.0
+        if values:
+            value_of[:, j] = evaluate(indicator, mesh, points)
+        if gradients:
+            gradient_of[:, j] = evaluate(ngs.grad(indicator), mesh, points)
+    return element_dofs[which], value_of, gradient_of
 
 
 def at_points(cf, mesh, quadrature: ContactQuadrature) -> np.ndarray:

@@ -107,6 +107,11 @@ class Scalar:
         (q, l, dim) at points with outward ``normals`` (q, dim): [(component 0, (q, l))]."""
         return [(0, np.einsum("qld,qd->ql", grads, normals))]
 
+    def trace_rows(self, values: np.ndarray, normals: np.ndarray) -> list:
+        """The contact variable v of basis functions with ``values`` (q, l) at points of Gamma_C:
+        [(component 0, (q, l))]."""
+        return [(0, values)]
+
     def contact_forces(self, flux: np.ndarray, normals: np.ndarray, load: np.ndarray) -> tuple:
         """(pressure, tangential force) on Gamma_C from the flux (..., 1, dim) at points with
         outward ``normals`` (..., dim) and the contact load g_C (...): lambda = d_n u - g_C, and
@@ -240,6 +245,12 @@ class Elasticity:
         [(i, (q, l)) for each component i]."""
         dn = np.einsum("qld,qd->ql", grads, normals)
         return [(i, -(2 * self.mu * normals[:, i, None] * dn + self.lam * grads[:, :, i])) for i in range(self.dim)]
+
+    def trace_rows(self, values: np.ndarray, normals: np.ndarray) -> list:
+        """The contact variable -v . n of the vector basis functions e_i phi (phi a scalar basis
+        function with ``values`` (q, l)) at points with outward ``normals`` (q, dim):
+        [(i, (q, l)) for each component i]."""
+        return [(i, -normals[:, i, None] * values) for i in range(self.dim)]
 
     def contact_forces(self, flux: np.ndarray, normals: np.ndarray, load: np.ndarray) -> tuple:
         """(pressure, tangential force) on Gamma_C from sigma (..., dim, dim) at points with
