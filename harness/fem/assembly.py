@@ -24,9 +24,12 @@ from .element_quadrature import ElementQuadrature, singular_vertices
 from .rotated_frame import RotatedFrame, rotate_in_place
 from .sparse import csr_view, free_dofs
 
-# Gauss order of the volume load f v away from singular points (the graded rule near them):
-# see LOAD_ORDER_NOTE in tests/test_errors.py for the measurement that chose it.
-LOAD_ORDER = 4
+# the orders of X_h: P1, the paper's P2, and P3, P4 (the degree axis)
+ORDERS = (1, 2, 3, 4)
+# Gauss order of the volume load f v away from singular points (the graded rule near them), by
+# the order k of X_h: 2k, exact for f v with f of degree k, at least 4 (P1 too);
+# tests/test_errors.py (test_load_quadrature_changes_no_error_by_more_than_1e_4) measures it
+LOAD_ORDER = {1: 4, 2: 4, 3: 6, 4: 8}
 # Extra order for the Neumann load g on Gamma_g: O(h^-1) edges, cheap, and g may be singular at
 # a junction.
 BOUNDARY_LOAD_BONUS_ORDER = 6
@@ -44,7 +47,7 @@ class DiscreteProblem:
     lift: np.ndarray            # Dirichlet data on Gamma_u dofs, zero elsewhere
     free: np.ndarray            # bool: dofs not on Gamma_u
     trace: ContactTrace
-    edge_dofs: np.ndarray       # (m,) bubble dof of each contact edge; empty for order 1
+    edge_dofs: np.ndarray       # (m (k - 1),) the k - 1 edge dofs of each contact edge, edge by edge; empty for order 1
     end_dofs: np.ndarray        # (m, 2) vertex dofs of the end points of each contact edge
     vertex_dofs: np.ndarray     # dofs of trace.vertices, same order
     quadrature: ElementQuadrature
@@ -105,10 +108,12 @@ class DiscreteProblem:
         return gf
 
 
-def _contact_dof(fes, node) -> int:
-    """The dof of ``node`` that carries the contact variable: its only one (scalar), or the
-    second component's, where ``RotatedFrame`` puts c = -u . n (elasticity)."""
-    return fes.GetDofNrs(node)[-1]
+def _contact_dofs(fes, node, count: int = 1) -> list[int]:
+    """The ``count`` dofs of ``node`` that carry the contact variable (one at a vertex, k - 1 on an
+    edge of P_k): all of them (scalar), or the last component's, where ``RotatedFrame`` puts
+    c = -u . n (elasticity; NGSolve numbers a node's dofs in component blocks)."""
+    dofs = fes.GetDofNrs(node)
+    return list(dofs[len(dofs) - count:]) if count else []
 
 
 def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
@@ -119,7 +124,7 @@ def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
     load = ngs.LinearForm(fes)
     if not case.f_vanishes:
         f = case.f.Compile()
-        for dx in quadrature.measures(LOAD_ORDER):
+        for dx in quadrature.measures(LOAD_ORDER[fes.globalorder]):
             load += f * v * dx
     n = ngs.specialcf.normal(fes.mesh.dim)
     # compiled (common subexpressions once per point): the derived traction sigma(u) n of an elastic u
@@ -134,8 +139,8 @@ def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
 def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadrature | None = None) -> DiscreteProblem:
     """X_h of ``order`` on ``mesh`` for the case's physics; ``quadrature`` (made here if not
     given) is shared by the problems of one level."""
-    if order not in (1, 2):
-        raise ValueError(f"order must be 1 or 2, got {order}")
+    if order not in ORDERS:
+        raise ValueError(f"order must be one of {', '.join(map(str, ORDERS))}, got {order}")
     physics = case.physics
     fes = physics.space(mesh, order)
     u, v = fes.TnT()
@@ -157,16 +162,16 @@ def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadratu
             basis = frame.matrix(fes.ndof)
             rotate_in_place(A, basis)
             b, lift = basis.T @ b, basis.T @ lift
-    edge_dofs = np.array([_contact_dof(fes, ngs.NodeId(ngs.EDGE, int(e))) for e in trace.edges] if order == 2 else [],
-                         dtype=np.int64)
-    end_dofs = np.array([[_contact_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in pair]
+    edge_dofs = np.array([_contact_dofs(fes, ngs.NodeId(ngs.EDGE, int(e)), order - 1) for e in trace.edges],
+                         dtype=np.int64).reshape(-1)
+    end_dofs = np.array([[_contact_dofs(fes, ngs.NodeId(ngs.VERTEX, int(v)))[0] for v in pair]
                          for pair in trace.edge_vertices])
     if not free[edge_dofs].all() or not free[end_dofs].all():
         raise ValueError("Gamma_C touches Gamma_u; the paper (Section 2) assumes they do not")
     problem = DiscreteProblem(
         mesh=mesh, fes=fes, _A=A, _A_ngs=a.mat, b=b, lift=lift, free=free, trace=trace, edge_dofs=edge_dofs,
         end_dofs=end_dofs, quadrature=quadrature, physics=physics, basis=basis,
-        vertex_dofs=np.array([_contact_dof(fes, ngs.NodeId(ngs.VERTEX, int(v))) for v in trace.vertices]),
+        vertex_dofs=np.array([_contact_dofs(fes, ngs.NodeId(ngs.VERTEX, int(v)))[0] for v in trace.vertices]),
     )
     problem.contact_rows = problem.A[problem.contact_dofs].copy()
     if case.contact_load is not None and not physics.traction_load:
@@ -208,6 +213,7 @@ class ContactTraceFunction:
     face_bubbles: np.ndarray | None = None  # 3D: (f, 3) bubble coefficients of the sides
     volumes: np.ndarray | None = None       # 2D: (m,) the triangles on the edges (``mesh.in_elements``)
     face_active: np.ndarray | None = None   # 3D, face-mean cone: (f,) the triangle's mean constraint was active
+    lobatto: np.ndarray | None = None       # 2D, P_k with k >= 3: (m, k + 1) values at ``lobatto_points(k)`` of each edge
 
     @classmethod
     def of(cls, problem: DiscreteProblem, u: np.ndarray, end_active=None, edge_active=None,
@@ -223,11 +229,19 @@ class ContactTraceFunction:
             corners = np.searchsorted(trace.vertices, trace.faces.vertices)
             faces = {"face_points": trace.faces.corners(trace), "face_values": u[problem.vertex_dofs][corners],
                      "face_bubbles": bubbles[trace.faces.edges]}
+        if problem.order > 2:
+            if trace.faces is not None:
+                raise ValueError(f"the trace of a P{problem.order} function on a 3D Gamma_C is not implemented (P1, P2)")
+            return cls(trace.a, trace.b, ends[:, 0], ends[:, 1], np.zeros(m), end_active, edge_active,
+                       volumes=trace.volumes, lobatto=_lobatto_values(problem, u))
         return cls(trace.a, trace.b, ends[:, 0], ends[:, 1], bubbles, end_active, edge_active, **faces,
                    volumes=trace.volumes, face_active=face_active)
 
     def value(self, edge: np.ndarray, t: np.ndarray) -> np.ndarray:
         """Value on edge[k] at parameter t[k] (broadcasting)."""
+        if self.lobatto is not None:
+            k = self.lobatto.shape[1] - 1
+            return (self.lobatto[edge] * lagrange(lobatto_points(k), t)).sum(axis=-1)
         return (1 - t) * self.va[edge] + t * self.vb[edge] - 0.5 * self.bubble[edge] * t * (1 - t)
 
     def at(self, t: np.ndarray) -> np.ndarray:
@@ -242,7 +256,10 @@ class ContactTraceFunction:
         return np.einsum("kc,fcd->fkd", lam, self.face_points), values
 
     def minimum_parameters(self) -> np.ndarray:
-        """Parameter of the stationary point of each edge's quadratic, clipped to [0, 1]."""
+        """Parameter of the stationary point of each edge's quadratic, clipped to [0, 1]; for P_k,
+        k >= 3, the parameter of each edge's least value (``_polynomial_minimum``)."""
+        if self.lobatto is not None:
+            return _polynomial_minimum(self.lobatto)
         with np.errstate(divide="ignore", invalid="ignore"):
             t = 0.5 - (self.vb - self.va) / np.where(self.bubble != 0, self.bubble, np.nan)
         return np.clip(np.nan_to_num(t, nan=0.0), 0.0, 1.0)
@@ -300,3 +317,60 @@ class ContactTraceFunction:
         index, near = self._nearest(anchors, 0.5 * (a + b), 0.125 * np.tile(length, 3))
         inherited = np.tile(self.edge_active, 3)[index]
         return np.where(near, inherited, self.vertex_status(a) & self.vertex_status(b))
+
+
+def lobatto_points(k: int) -> np.ndarray:
+    """The k + 1 Gauss-Lobatto points of [0, 1]: the ends and the roots of P_k' (Legendre)."""
+    interior = np.polynomial.legendre.Legendre.basis(k).deriv().roots() if k > 1 else np.zeros(0)
+    return np.concatenate([[0.0], 0.5 * (np.sort(interior.real) + 1.0), [1.0]])
+
+
+def lagrange(nodes: np.ndarray, t) -> np.ndarray:
+    """The Lagrange basis of ``nodes`` at ``t``: shape t.shape + (len(nodes),)."""
+    t = np.asarray(t, float)[..., None]
+    out = np.ones(t.shape[:-1] + (len(nodes),))
+    for j, xj in enumerate(nodes):
+        others = np.delete(nodes, j)
+        out[..., j] = np.prod((t - others) / (xj - others), axis=-1)
+    return out
+
+
+def _lobatto_values(problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
+    """(m, k + 1) the contact variable of u at the Gauss-Lobatto points of each contact edge: k + 1
+    values that fix its degree-k trace there."""
+    from .contact_quadrature import trace_rows
+    trace, k = problem.trace, problem.order
+    t = lobatto_points(k)
+    points = trace.a[:, None, :] + t[None, :, None] * (trace.b - trace.a)[:, None, :]
+    volumes = np.repeat(trace.volumes, k + 1)
+    normals = np.repeat(trace.normals, k + 1, axis=0)
+    T = trace_rows(problem.fes, problem.physics, problem.basis, volumes, points.reshape(-1, points.shape[-1]), normals)
+    return (T @ u).reshape(-1, k + 1)
+
+
+def _polynomial_minimum(values: np.ndarray, samples: int = 33, steps: int = 8) -> np.ndarray:
+    """The parameter in [0, 1] of the least value of each row's polynomial (given at the
+    Gauss-Lobatto points): the best of ``samples`` equispaced values, then Newton's method on
+    the derivative (monomial coefficients, degree <= 4), kept where it lowers the value."""
+    k = values.shape[1] - 1
+    coefficients = np.linalg.solve(np.vander(lobatto_points(k), increasing=True), values.T).T     # (m, k + 1)
+    powers = np.arange(k + 1)
+
+    def derivative(t, order):
+        falling = np.ones(k + 1)
+        for i in range(order):
+            falling = falling * np.maximum(powers - i, 0)
+        exponents = np.maximum(powers - order, 0)
+        return (coefficients * falling * t[:, None] ** exponents).sum(axis=1)
+
+    grid = np.linspace(0.0, 1.0, samples)
+    t = grid[np.argmin(values @ lagrange(lobatto_points(k), grid).T, axis=1)]
+    best = derivative(t, 0)
+    for _ in range(steps):
+        curvature = derivative(t, 2)
+        step = np.where(curvature > 0, derivative(t, 1) / np.where(curvature > 0, curvature, 1.0), 0.0)
+        trial = np.clip(t - step, 0.0, 1.0)
+        value = derivative(trial, 0)
+        better = value < best
+        t, best = np.where(better, trial, t), np.where(better, value, best)
+    return t

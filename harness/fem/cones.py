@@ -54,7 +54,7 @@ class ContactModel:
         return EDGE_RULES.get(self.edge_functional, ())
 
     def _check(self, problem: DiscreteProblem) -> None:
-        if (self.edge_functional is not None) != bool(len(problem.edge_dofs)):
+        if problem.order > 2 or (self.edge_functional is not None) != bool(len(problem.edge_dofs)):
             raise ValueError(f"a cone with edge functional {self.edge_functional!r} does not fit an order-{problem.order} space")
 
     @property

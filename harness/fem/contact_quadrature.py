@@ -86,11 +86,14 @@ def graded(points: int, depth: int = 30) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate([left_t, 1.0 - left_t[::-1]]), np.concatenate([left_w, left_w[::-1]])
 
 
-def contact_quadrature(problem, points_per_edge: int = GAUSS_POINTS, graded_at: np.ndarray | None = None) -> ContactQuadrature:
+def contact_quadrature(problem, points_per_edge: int | None = None, graded_at: np.ndarray | None = None) -> ContactQuadrature:
     """Gauss points of ``problem``'s contact edges and its basis (order 1 or 2) there; on the
     edges with an end at one of the vertices ``graded_at`` (singular points), the ``graded``
     rule instead. In 3D: a Gauss rule on every triangle of Gamma_C, of the degree
-    ``points_per_edge`` Gauss points integrate exactly (``graded_at`` is empty in 3D)."""
+    ``points_per_edge`` Gauss points integrate exactly (``graded_at`` is empty in 3D). By
+    default, ``GAUSS_POINTS`` or k + 1 for P_k, whichever is more: exact for the degree-2k
+    products of the contact terms."""
+    points_per_edge = points_per_edge or max(GAUSS_POINTS, problem.order + 1)
     if problem.trace.faces is not None:
         return _face_quadrature(problem, 2 * points_per_edge - 1)
     trace = problem.trace

@@ -11,9 +11,11 @@ edge's three trace variables in more rows than it has bubbles: general rows B u 
 the general-constraint active set method (``solvers.general_constraints``) as the 3D ``mean``'s
 triangle means are (``face_means``).
 
-On an edge, NGSolve's hierarchical P2 trace is v(t) = (1 - t) v_a + t v_b - c_e t (1 - t) / 2
-(docs/mathematics.md §3), so each functional is a row with (sum w (1 - t), sum w t,
--sum w t (1 - t) / 2) on (v_a, v_b, c_e): exact for every P2 function, whatever the rule.
+Each functional is a row on the trace variables of its edge: for P2, (sum w (1 - t), sum w t,
+-sum w t (1 - t) / 2) on (v_a, v_b, c_e) (docs/mathematics.md §3); for P_k the k - 1 edge
+dofs of NGSolve's basis too. On P_k with k - 1 functionals per edge (the values at the edge's
+interior Gauss-Lobatto points, say) the rows of an edge with its two vertex rows fix its k + 1
+trace variables: independent rows.
 """
 from __future__ import annotations
 
@@ -26,6 +28,7 @@ import scipy.sparse as sp
 from ..mesh.points import evaluate
 from .assembly import ContactTraceFunction, DiscreteProblem
 from .cones import GeneralRowsQP, contact_pressure, end_status, vertex_rows
+from .contact_quadrature import trace_rows
 
 
 def check_rules(rules) -> tuple:
@@ -45,27 +48,22 @@ def check_rules(rules) -> tuple:
     return checked
 
 
-def _coefficients(rule) -> tuple[float, float, float]:
-    """The functional's coefficients on (v_a, v_b, c_e)."""
-    return (sum(w * (1 - t) for t, w in rule), sum(w * t for t, w in rule), sum(-0.5 * w * t * (1 - t) for t, w in rule))
-
-
 def edge_functional_rows(problem: DiscreteProblem, rules) -> sp.csr_matrix:
-    """One row per (contact edge, functional), edge by edge, in the problem's variables."""
-    ne, m = len(problem.end_dofs), len(rules)
-    ends = problem.end_dofs
-    rows, cols, vals = [], [], []
-    for j, rule in enumerate(rules):
-        ca, cb, cc = _coefficients(rule)
-        row = np.arange(ne) * m + j
-        rows += [row, row]
-        cols += [ends[:, 0], ends[:, 1]]
-        vals += [np.full(ne, ca), np.full(ne, cb)]
-        if len(problem.edge_dofs):
-            rows.append(row)
-            cols.append(problem.edge_dofs)
-            vals.append(np.full(ne, cc))
-    return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(ne * m, problem.ndof))
+    """One row per (contact edge, functional), edge by edge, in the problem's variables: each
+    functional's weighted sum of the trace rows of the contact variable at its points (NGSolve's
+    basis of any order evaluated there, ``contact_quadrature.trace_rows``), exact for every
+    function of X_h, whatever the rule."""
+    trace = problem.trace
+    ne, m = len(trace.edges), len(rules)
+    t = np.array([point for rule in rules for point, _ in rule])
+    weights = np.array([w for rule in rules for _, w in rule])
+    functional = np.repeat(np.arange(m), [len(rule) for rule in rules])
+    points = trace.a[:, None, :] + t[None, :, None] * (trace.b - trace.a)[:, None, :]         # (ne, p, dim)
+    T = trace_rows(problem.fes, problem.physics, problem.basis, np.repeat(trace.volumes, len(t)),
+                   points.reshape(-1, points.shape[-1]), np.repeat(trace.normals, len(t), axis=0))
+    row_of_point = (np.arange(ne)[:, None] * m + functional[None, :]).ravel()
+    combine = sp.csr_matrix((np.tile(weights, ne), (row_of_point, np.arange(ne * len(t)))), shape=(ne * m, ne * len(t)))
+    return (combine @ T).tocsr()
 
 
 def edge_functional_values(case, problem: DiscreteProblem, rules) -> np.ndarray:

@@ -19,7 +19,7 @@ class RotatedFrame:
     (t1, t2, c) = (u . tau1, u . tau2, -u . n) in 3D, in place of the Cartesian components, so
     that u = sum t_i tau_i - c n (an orthogonal change of basis Q: NGSolve's coefficients =
     Q @ ours; Q = I where n = -e_y, resp. -e_z). The contact variable c then sits in the last
-    component's dof, where ``_contact_dof`` finds it. Tangents (``tangents``): tau = (-n_y, n_x)
+    component's dofs, where ``fem.assembly._contact_dofs`` finds it. Tangents (``tangents``): tau = (-n_y, n_x)
     in 2D; in 3D tau1 the unit projection of e_x (or e_y when n is near e_x) on the tangent
     plane and tau2 = -n x tau1, so that (tau1, tau2, -n) is a right-handed orthonormal basis.
 
@@ -35,15 +35,18 @@ class RotatedFrame:
         dim = fes.mesh.dim
         nodes = [(ngs.EDGE, int(e)) for e in trace.edges] + [(ngs.VERTEX, int(v)) for v in trace.edge_vertices.ravel()]
         normals = np.concatenate([trace.normals, np.repeat(trace.normals, 2, axis=0)])
-        dofs = [fes.GetDofNrs(ngs.NodeId(kind, number)) for kind, number in nodes]
-        has = np.array([len(d) == dim for d in dofs])          # an edge of P1 has no dofs
-        pairs = np.array([d for d, keep in zip(dofs, has) if keep], dtype=np.int64).reshape(-1, dim)
-        normals = normals[has]
+        # a node's dofs come in component blocks: (dim, functions) -> one tuple per basis function
+        # (an edge of P1 has none, of P_k k - 1: the rotation applies to each, the normal being
+        # constant along a flat edge)
+        dofs = [np.reshape(fes.GetDofNrs(ngs.NodeId(kind, number)), (dim, -1)).T for kind, number in nodes]
+        owner = np.repeat(np.arange(len(nodes)), [len(d) for d in dofs])
+        pairs = np.concatenate(dofs).astype(np.int64)
+        normals = normals[owner]
         unique, first, which = np.unique(pairs[:, 0], return_index=True, return_inverse=True)
         # every cell at a node must give it the same normal
         kinked = np.abs(normals - normals[first][which]).max(axis=1) > 1e-12
         if kinked.any():
-            kind, number = [node for node, keep in zip(nodes, has) if keep][int(np.argmax(kinked))]
+            kind, number = nodes[owner[int(np.argmax(kinked))]]
             point = ", ".join(f"{c:.4g}" for c in fes.mesh[ngs.NodeId(kind, number)].point)
             raise ValueError(f"Gamma_C has a kink at ({point}): elastic contact needs it "
                              f"flat through each of its vertices")

@@ -42,6 +42,9 @@ GROUPS = {
     "cones": ("mean", "nodal", "p1"),                                   # exact discrete inequalities
     "weak": ("nitsche", "penalty", "nitsche-p1", "penalty-p1"),         # contact by a Gamma_C term
     "mortar": ("mortar-mean", "mortar-nodal", "mortar-standard", "mortar-p1"),             # two bodies, non-matching meshes
+    # the degree axis, k = 1 ... 4: Nitsche (optimal at every degree) and the nodal cone
+    "degrees": ("nitsche-p1", "nitsche", "nitsche-p3", "nitsche-p4", "p1", "nodal", "nodal-p3", "nodal-p4"),
+    "high-order": ("nitsche-p3", "nitsche-p4", "penalty-p3", "penalty-p4", "nodal-p3", "nodal-p4"),      # k >= 3
 }
 
 
@@ -52,8 +55,11 @@ def _discover() -> dict[str, Method]:
             continue
         module = importlib.import_module(f"{__name__}.{info.name}")
         found.append(check_method(getattr(module, "method", None), f"harness/methods/{info.name}.py (its `method`)"))
-    # the cones (the paper's P2 models first), then the weak methods, each by order
-    return {m.name: m for m in sorted(found, key=lambda m: (not isinstance(m, BoundConstrained), -m.order, m.name))}
+    # the cones (the paper's P2 models first), then the weak methods, each by order; then the
+    # methods of degree k >= 3, by degree
+    def place(m):
+        return (m.order > 2, m.order if m.order > 2 else 0, not isinstance(m, BoundConstrained), -m.order, m.name)
+    return {m.name: m for m in sorted(found, key=place)}
 
 
 METHODS = _discover()

@@ -18,6 +18,7 @@ capped at h^k beyond. Nothing is proven for nu <= 3/2 (corner-r12): no expected 
 measures one.
 """
 import math
+from dataclasses import replace
 
 from ..fem.laws import Nitsche
 from .base import MESH_STUDY, SWEPT, Expectation
@@ -33,6 +34,24 @@ def expected_for(order: int):
             return Expectation(math.nan, 0.0, f"{REFERENCE}: no result for nu <= 3/2")
         return Expectation(min(case.nu - 1.0, order), 0.0, REFERENCE)
     return expected
+
+
+def gamma0_for(order: int) -> float:
+    """gamma0 of P_k, k >= 2: ``GAMMA0`` times (2/k)^2. The discrete trace-inverse constant C_h
+    grows like k^2: on a simplex ||w||^2_{dT} <= (n + 1)(n + d)/d |dT|/|T| ||w||^2_T for w of
+    degree n (Warburton & Hesthaven, CMAME 192 (2003) 2765-2773), here w = grad v of degree
+    k - 1. So gamma0 C_h < 1 keeps P2's margin at every degree; tests/test_weak_contact.py
+    measures C_h per order and checks the margin."""
+    return GAMMA0 * (2.0 / order) ** 2
+
+
+def at_order(order: int) -> ContactLawMethod:
+    """`nitsche` on P_k (k >= 3): gamma0 scaled with the degree (``gamma0_for``), the rate
+    min(nu - 1, k) (``expected_for``); 2D (the trace of a P_k function on a triangulated 3D
+    Gamma_C is not implemented)."""
+    return replace(method, name=f"nitsche-p{order}", order=order, contact=f"Nitsche, as `nitsche`, on P{order} (γ₀ = {gamma0_for(order):.4g})",
+                   expected=expected_for(order), law=Nitsche(gamma0=gamma0_for(order), theta=1.0), roles=frozenset(),
+                   dimensions=(2,))
 
 
 method = ContactLawMethod(

@@ -13,6 +13,7 @@ whatever the order of the elements (Gustafsson & Stenberg, J. Struct. Mech. 58 (
 "an optimal convergence rate cannot be achieved"). Nothing is proven for nu <= 3/2.
 """
 import math
+from dataclasses import replace
 
 from ..fem.laws import Penalty
 from .base import SWEPT, Expectation
@@ -26,6 +27,13 @@ def expected(case) -> Expectation:
     if case.nu <= 1.5:
         return Expectation(math.nan, 0.0, f"{REFERENCE}: no result for nu <= 3/2")
     return Expectation(min(case.nu - 1.0, 1.0), 0.0, REFERENCE)
+
+
+def at_order(order: int) -> ContactLawMethod:
+    """`penalty` on P_k (k >= 3): the same eps0 and expected rate (the cap at h is the
+    consistency error's, not the degree's)."""
+    return replace(method, name=f"penalty-p{order}", order=order, contact=f"penalty, as `penalty`, on P{order}",
+                   roles=frozenset(), dimensions=(2,))
 
 
 method = ContactLawMethod(

@@ -23,6 +23,7 @@ import re
 from dataclasses import replace
 from pathlib import Path
 
+from ..fem.assembly import ORDERS
 from ..fem.contact_law import ContactLaw
 from ..mesh.plugins import PluginError, entry_point_objects, load_spec
 from .base import Method
@@ -38,15 +39,15 @@ class MethodError(PluginError):
 
 def check_method(obj, where: str) -> Method:
     """``obj`` if it is a usable method: a ``Method`` with a name that fits a CSV cell and the
-    command line, an order of 1 or 2, a theory (``expected``) to call, the physics, dimensions
+    command line, an order of ``fem.assembly.ORDERS``, a theory (``expected``) to call, the physics, dimensions
     and bodies it discretises, and a ``solve`` of its own; MethodError naming ``where`` else."""
     if not isinstance(obj, Method):
         raise MethodError(f"{where}: {obj!r} is not a method (an instance of harness.methods.Method or a subclass)")
     problems = []
     if not isinstance(obj.name, str) or not NAME.match(obj.name):
         problems.append(f"name {obj.name!r} is not letters, digits and _.+- (no spaces, ':' or ',')")
-    if obj.order not in (1, 2):
-        problems.append(f"order {obj.order!r} is not 1 or 2")
+    if obj.order not in ORDERS:
+        problems.append(f"order {obj.order!r} is not one of {', '.join(map(str, ORDERS))}")
     if obj.expected is None:
         obj = replace(obj, expected=no_theory)
     if not callable(obj.expected):

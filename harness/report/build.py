@@ -360,7 +360,10 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     known = registered_cases()
     cases = (in_profile(known.values(), profile) if not case_names
              else [known[n] if n in known else _unknown(n, known) for n in case_names])
+    everything = methods == "all" or tuple(methods) == ("all",)
     methods = methods_named(methods)                # names, groups, files, modules, Method objects
+    if everything:                                  # "all": the methods of the profile's orders
+        methods = [m for m in methods if m.order in PROFILES[profile]["orders"]]
     settings = {"profile": profile, "methods": [m.name for m in methods], **PROFILES[profile]}
     files = method_files(methods)
     if files:
