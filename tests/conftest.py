@@ -27,6 +27,8 @@ CONE_NAMES_3D = [name for name, m in METHODS.items() if isinstance(m, BoundConst
 MODELS = {name: METHODS[name].cone for name in CONE_NAMES if METHODS[name].order == 2}
 MODEL_NAMES = list(MODELS)
 WEAK_NAMES = [name for name, m in METHODS.items() if isinstance(m, ContactLawMethod) and m.source is None]
+# the degree axis: methods of order k >= 3 (measured against exact solutions only)
+HIGH_ORDER_NAMES = [name for name, m in METHODS.items() if m.order > 2]
 METHOD_NAMES = list(METHODS)
 
 

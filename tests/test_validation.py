@@ -175,7 +175,8 @@ def test_a_fine_only_case_is_left_out_of_the_default_report_and_named_there():
     assert known["elastic-transition-circle-3d"].report_profile == "fine"
     default, fine = in_profile(known.values(), "default"), in_profile(known.values(), "fine")
     assert [c.name for c in fine] == list(known)
-    assert {c.name for c in fine} - {c.name for c in default} == {"elastic-transition-circle-3d", "hertz-sphere"}
+    assert {c.name for c in fine} - {c.name for c in default} == {"elastic-transition-circle-3d", "hertz-sphere",
+                                                                         "smooth-quintic"}
     text = left_out_text(default, {"profile": "default"})
     assert "elastic-transition-circle-3d" in text and "report-fine" in text
     assert left_out_text(fine, {"profile": "fine"}) == ""
