@@ -1,0 +1,151 @@
+"""The degree axis: X_h of order 3 and 4, the methods of degree k >= 3 (Nitsche, penalty, the
+nodal cone at Gauss-Lobatto points), each solved exactly and checked against an independent
+solver, and their rates on the cases that show them."""
+import numpy as np
+import pandas as pd
+import pytest
+import scipy.sparse as sp
+from conftest import HIGH_ORDER_NAMES, problem_at, problem_with_hierarchy
+from qpsolvers import solve_qp
+
+from harness.fem.assembly import ContactTraceFunction, lobatto_points
+from harness.fem.contact_law import law_system
+from harness.fem.contact_quadrature import contact_quadrature
+from harness.fem.edge_functionals import edge_functional_qp
+from harness.mesh.points import evaluate, in_elements
+from harness.methods import METHODS
+from harness.problem.case import load_case
+from harness.solvers.general_constraints import GeneralConstraintSolver
+from harness.solvers.newton import solve_semismooth_newton
+from harness.study.chain import run_chain
+
+slow = pytest.mark.slow
+
+
+def fitted(rows: pd.DataFrame, last: int = 3) -> float:
+    """The least-squares slope of log err_h1 against log h over the ``last`` levels."""
+    tail = rows.sort_values("level").tail(last)
+    return float(-np.polyfit(np.log(tail.h), np.log(tail.err_h1), 1)[0])
+
+
+@pytest.mark.parametrize("order", [3, 4])
+@pytest.mark.parametrize("case_name", ["transition-r32", "elastic-transition-r32"])
+def test_the_pk_trace_function_is_u_h_on_gamma_c_and_finds_its_least_value(case_name, order, rng):
+    """``ContactTraceFunction`` of P_k: its values at any parameter of an edge are NGSolve's
+    evaluation of the contact variable of u_h there, and ``minimum_parameters`` finds each edge's
+    least value (no sample of 201 per edge lies below it)."""
+    case, problem = load_case(case_name), problem_at(case_name, 1, order)
+    u = rng.standard_normal(problem.ndof)
+    trace_u = ContactTraceFunction.of(problem, u)
+    t = np.array([0.1, 0.37, 0.5, 0.83])
+    points = trace_u.a[:, None, :] + t[None, :, None] * (trace_u.b - trace_u.a)[:, None, :]
+    in_elements(problem.mesh, points, np.broadcast_to(problem.trace.volumes[:, None], points.shape[:-1]))
+    gfu = problem.gridfunction(u)
+    value = evaluate(gfu, problem.mesh, points)
+    if case.physics.elastic:
+        value = -(value * problem.trace.normals[:, None, :]).sum(axis=-1)
+    np.testing.assert_allclose(trace_u.at(t), value, atol=1e-11 * np.abs(value).max())
+    edges = np.arange(len(trace_u.va))
+    least = trace_u.value(edges, trace_u.minimum_parameters())
+    dense = trace_u.at(np.linspace(0.0, 1.0, 201))
+    assert (least <= dense.min(axis=1) + 1e-12 * np.abs(dense).max()).all()
+
+
+@pytest.mark.parametrize("order", [3, 4])
+@pytest.mark.parametrize("case_name, level", [("transition-r32", 2), ("elastic-transition-r32", 2),
+                                              ("transition-line-3d", 0), ("elastic-transition-3d", 0)])
+def test_gamma_c_rows_of_pk_give_ngsolve_contact_variable_and_flux(case_name, level, order, rng):
+    """T and N of P3 and P4, in every physics and dimension, against NGSolve's own evaluation of
+    a random u_h (as tests/test_weak_contact.py for P1 and P2)."""
+    from test_weak_contact import contact_variable_and_flux
+    case, problem = load_case(case_name), problem_at(case_name, level, order)
+    quadrature = contact_quadrature(problem)
+    u = rng.standard_normal(problem.ndof)
+    value, flux = contact_variable_and_flux(case, problem, u, quadrature.points, quadrature.normals)
+    np.testing.assert_allclose(quadrature.T @ u, value, atol=1e-11 * np.abs(value).max())
+    np.testing.assert_allclose(quadrature.N @ u, flux, atol=1e-11 * np.abs(flux).max())
+
+
+@pytest.mark.parametrize("order", [3, 4])
+def test_multigrid_newton_at_pk_equals_direct_newton(order):
+    case = load_case("transition-r32")
+    method = METHODS[f"nitsche-p{order}"]
+    problem, multilevel = problem_with_hierarchy("transition-r32", 2, order)
+    fast = solve_semismooth_newton(law_system(case, problem, method.law), multilevel=multilevel)
+    direct = solve_semismooth_newton(law_system(case, problem_at("transition-r32", 2, order), method.law))
+    assert fast.status == direct.status == "converged"
+    assert np.abs(fast.u - direct.u).max() <= 1e-9 * np.abs(direct.u).max()
+
+
+@pytest.mark.parametrize("order", [3, 4])
+def test_the_gauss_lobatto_cone_is_solved_exactly_against_clarabel(order):
+    """nodal-p_k's QP (vertex rows and k - 1 Gauss-Lobatto rows per edge) by the harness's
+    general-constraint active set method and by Clarabel, an interior-point solver."""
+    case = load_case("corner-r12")
+    problem = problem_at("corner-r12", 1, order)
+    qp = edge_functional_qp(case, problem, METHODS[f"nodal-p{order}"].functionals)
+    solution = GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift).solve()
+    free, A = problem.free, problem.A
+    K_free, b_free = A[free][:, free], (problem.b - A @ problem.lift)[free]
+    reference = solve_qp(sp.csc_matrix(K_free), -b_free, G=sp.csc_matrix(-qp.B[:, free]), h=-(qp.g - qp.B @ problem.lift),
+                         solver="clarabel", tol_gap_abs=1e-11, tol_gap_rel=1e-11, tol_feas=1e-11)
+    assert solution.status == "converged" and solution.residual <= 1e-10
+    assert solution.active[qp.n_vertices:].any()                 # some Gauss-Lobatto row binds
+    np.testing.assert_allclose(solution.z[free], reference, atol=1e-6 * np.abs(reference).max())
+
+
+def test_the_gauss_lobatto_points_are_the_midpoint_at_p2_and_symmetric():
+    assert np.allclose(lobatto_points(2), [0.0, 0.5, 1.0])
+    for k in (3, 4):
+        t = lobatto_points(k)
+        assert len(t) == k + 1 and np.allclose(t, 1.0 - t[::-1])
+
+
+@pytest.mark.parametrize("order", [2, 3, 4])
+def test_nitsche_gamma0_keeps_p2s_coercivity_margin_at_every_degree(order):
+    """theta = 1 is coercive while gamma0 C_h < 1 (tests/test_weak_contact.py): C_h grows like
+    k^2, and gamma0 = 0.05 (2/k)^2 keeps the factor 2.5 at P3 and P4 too."""
+    import scipy.linalg
+    name = "nitsche" if order == 2 else f"nitsche-p{order}"
+    largest = 0.0
+    for level in (0, 1):
+        problem = problem_at("transition-r32", level, order)
+        q = contact_quadrature(problem)
+        B = (q.N.T @ sp.diags(q.weights * q.h / problem.physics.modulus) @ q.N).tocsr()
+        free = problem.free
+        A, Bf = problem.A[free][:, free].toarray(), B[free][:, free].toarray()
+        largest = max(largest, scipy.linalg.eigh(Bf, A, eigvals_only=True, subset_by_index=[len(A) - 1, len(A) - 1])[0])
+    assert 2.5 * METHODS[name].law.gamma0 * largest < 1, largest
+
+
+@pytest.mark.parametrize("method_name", HIGH_ORDER_NAMES)
+def test_every_high_order_method_solves_exactly_on_every_level(method_name):
+    rows = pd.DataFrame(run_chain(load_case("transition-r32"), [METHODS[method_name]], 3).rows)
+    assert (rows.status == "converged").all(), rows[["level", "status"]]
+    residual = rows.kkt_residual
+    assert (residual <= 1e-10).all(), residual
+
+
+@slow
+@pytest.mark.parametrize("method_name, order", [("nitsche-p3", 3), ("nodal-p3", 3), ("nitsche-p4", 4), ("nodal-p4", 4)])
+def test_smooth_quintic_shows_the_optimal_rate_of_each_degree(method_name, order):
+    """nu = 11/2: Nitsche's min(nu - 1, k) = k, and the nodal cone at the best approximation's
+    rate (its declared conjecture)."""
+    rows = pd.DataFrame(run_chain(load_case("smooth-quintic"), [METHODS[method_name]], 5).rows)
+    assert fitted(rows) >= order - 0.1, rows[["level", "err_h1"]]
+
+
+@slow
+@pytest.mark.parametrize("method_name", ["nitsche-p3", "nodal-p3", "nitsche-p4"])
+def test_p3_and_p4_saturate_at_one_and_a_half_on_transition_r32(method_name):
+    """The transition singularity r^{3/2} caps every degree at h^{3/2} on uniform meshes."""
+    rows = pd.DataFrame(run_chain(load_case("transition-r32"), [METHODS[method_name]], 6).rows)
+    assert abs(fitted(rows) - 1.5) <= 0.1, rows[["level", "err_h1"]]
+
+
+@slow
+def test_penalty_stays_at_rate_one_whatever_the_degree():
+    """Its consistency error eps lambda = eps0 h lambda caps the rate at h (Gustafsson & Stenberg
+    2025, abstract: "an optimal convergence rate cannot be achieved")."""
+    rows = pd.DataFrame(run_chain(load_case("smooth-quintic"), [METHODS["penalty-p3"]], 5).rows)
+    assert abs(fitted(rows) - 1.0) <= 0.1, rows[["level", "err_h1"]]
