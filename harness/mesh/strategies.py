@@ -103,6 +103,9 @@ class MeshStrategy:
             return UniformRefinement(case)
         if self.name == "graded":
             return GradedRefinement(case, case.nu - 1.0, order, singular_points(case), singular_lines(case))
+        if order > 2:
+            # the residual estimator's element residual is written for P1 and P2 (``measure.estimator``)
+            raise ValueError(f"adaptive meshes drive methods of order 1 or 2; order {order} has no residual estimator yet")
         return AdaptiveRefinement(case, self.theta)
 
 

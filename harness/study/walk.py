@@ -193,8 +193,9 @@ class ChainWalk:
             with self.phases("assembly"):
                 level.problems[order] = self.discretisation.discretise(order, mesh, quadrature)
             level.assembly_seconds[order] = time.perf_counter() - clock
-            if self.discretisation.estimating and any(level.index < self.plan.studied[m.name]
-                                                      for m in active if m.order == order):
+            # the residual estimator is written for P1 and P2 (``measure.estimator``): P_k rows, k >= 3, carry none
+            if self.discretisation.estimating and order <= 2 and any(level.index < self.plan.studied[m.name]
+                                                                     for m in active if m.order == order):
                 clock = time.perf_counter()
                 with self.phases("estimate"):
                     level.estimators[order] = self.discretisation.estimator(level.problems[order])
@@ -212,7 +213,7 @@ class ChainWalk:
         self.carry[name] = solve.carry
         # the studied rows' estimator (a reference chain's finer solves need none)
         indicators, clock = None, time.perf_counter()
-        if studied and self.discretisation.estimating:
+        if studied and method.order in level.estimators:
             with self.phases("estimate"):
                 indicators = level.estimators[method.order].indicators(solve.u)
         estimate_seconds = time.perf_counter() - clock + level.estimator_seconds.get(method.order, 0.0)
