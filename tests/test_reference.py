@@ -7,11 +7,6 @@ import numpy as np
 import pytest
 from conftest import CONE_NAMES, HIGH_ORDER_NAMES, WEAK_NAMES
 
-# a reference solution is nodal P2, into whose space P_k (k >= 3) does not embed: those methods
-# refuse a case measured against one (``methods.base.Method.supports``;
-# test_a_high_order_method_refuses_a_case_without_an_exact_solution)
-REFERENCE_METHODS = [name for name in CONE_NAMES + WEAK_NAMES if name not in HIGH_ORDER_NAMES]
-
 from harness import run
 from harness.measure.rates import rate_table
 from harness.measure.reference import LevelNumbering, edge_dofs_of_sides, norm_matrices, prolongation, red_parents
@@ -22,6 +17,11 @@ from harness.problem.case import CaseError, load_case, registered_cases
 from harness.problem.validate import validate_case
 
 DATA = Path(__file__).parent / "data"
+
+# a reference solution is nodal P2, into whose space P_k (k >= 3) does not embed: those methods
+# refuse a case measured against one (``methods.base.Method.supports``;
+# test_a_high_order_method_refuses_a_case_without_an_exact_solution)
+REFERENCE_METHODS = [name for name in CONE_NAMES + WEAK_NAMES if name not in HIGH_ORDER_NAMES]
 # hertz-line (elastic, its reference 2e5 dofs at four levels) in `make test-full`: the elastic
 # reference path is test_elastic_reference's and test_hertz's
 # (3D: hertz-sphere's levels cost 8 times the dofs each; its own tests are test_hertz's)
