@@ -21,7 +21,7 @@ DATA = Path(__file__).parent / "data"
 # a reference solution is nodal P2, into whose space P_k (k >= 3) does not embed: those methods
 # refuse a case measured against one (``methods.base.Method.supports``;
 # test_a_high_order_method_refuses_a_case_without_an_exact_solution)
-REFERENCE_METHODS = [name for name in CONE_NAMES + WEAK_NAMES if name not in HIGH_ORDER_NAMES]
+REFERENCE_METHODS = CONE_NAMES + WEAK_NAMES
 # hertz-line (elastic, its reference 2e5 dofs at four levels) in `make test-full`: the elastic
 # reference path is test_elastic_reference's and test_hertz's
 # (3D: hertz-sphere's levels cost 8 times the dofs each; its own tests are test_hertz's)
