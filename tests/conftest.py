@@ -62,18 +62,8 @@ def rng():
 
 
 def divergence_by_ngsolve(case, gfu, order: int):
-    """div F(u_h) from NGSolve's Hessian of u_h: Laplace(u_h), or div sigma(u_h) =
-    mu Laplace(u_i) + (mu + lambda) d_i div u_h (hesse's row i holds u_i's second derivatives,
-    d_j d_k at column d j + k)."""
-    import ngsolve as ngs
-    if order == 1:
-        return 0
-    hesse = gfu.Operator("hesse")
-    if not case.physics.elastic:
-        return ngs.Trace(hesse)
-    d, mu, lam = gfu.space.mesh.dim, case.physics.mu, case.physics.lam
-    return ngs.CF(tuple(mu * sum(hesse[i, d * j + j] for j in range(d)) + (mu + lam) * sum(hesse[j, d * i + j] for j in range(d))
-                        for i in range(d)))
+    """div F(u_h) from NGSolve's Hessian (``physics.divergence``); zero for P1."""
+    return 0 if order == 1 else case.physics.divergence(gfu)
 
 
 def trace_values(problem, function):

@@ -104,6 +104,8 @@ class MeshTerms:
 
     def __init__(self, case, quadrature: ElementQuadrature):
         mesh = quadrature.mesh
+        self.quadrature, self.f = quadrature, None if case.f_vanishes else case.f
+        self._interior = None           # ``interior_sides``, made when a P_k solution first asks
         sides = MeshSides.of(mesh)
         self.neumann, self.along_neumann = neumann_sides(mesh, sides)
         self.vertex_points = sides.vertex_points(mesh)
@@ -146,6 +148,8 @@ class MeshTerms:
     def volume_and_jumps(self, gfu: ngs.GridFunction, order: int, physics) -> np.ndarray:
         """h_T^2 ||f + div F(u_h)||_T^2 + the jumps of F(u_h) n on T's interior sides, per element,
         F the flux of the physics (grad u_h; sigma(u_h) in elasticity, ``physics.flux_array``)."""
+        if order > 2:
+            return self.integrated_volume_and_jumps(gfu, order, physics)
         ne, components = len(self.area), physics.components
         if order == 1:          # grad u_h is constant on each triangle: evaluated once there
             gradients = np.asarray(ngs.grad(gfu)(self.vertex_points[::3])).reshape(ne, 1, components, 2)
@@ -167,6 +171,37 @@ class MeshTerms:
                               for in_first, in_second in self.ends)
             squares = squares + jump_a**2 + jump_a * jump_b + jump_b**2
         return eta2 + np.bincount(self.jump_elements, weights=self.jump_weights * np.tile(squares, 2), minlength=ne)
+
+
+    def integrated_volume_and_jumps(self, gfu: ngs.GridFunction, order: int, physics) -> np.ndarray:
+        """``volume_and_jumps`` of P_k, k >= 3, where F(u_h) is no longer linear on a triangle:
+        NGSolve integrates h_T^2 ||f + div F(u_h)||^2 (div F from its Hessian, the element rules
+        of ``ElementQuadrature`` with Gauss order 2k) and, on each element's boundary, half of
+        h ||[F(u_h) n]||^2 on its interior sides (``Other()``: the neighbour's trace), with the
+        same weights as the P1/P2 path (``ngsolve.specialcf.mesh_size``)."""
+        mesh = self.quadrature.mesh
+        h, n = ngs.specialcf.mesh_size, ngs.specialcf.normal(mesh.dim)
+        residual = physics.divergence(gfu) if self.f is None else self.f + physics.divergence(gfu)
+        volume = sum(ngs.Integrate(h * h * ngs.InnerProduct(residual, residual) * dx, mesh, element_wise=True).NumPy()
+                     for dx in self.quadrature.measures(2 * order))
+        jump = physics.flux(ngs.Grad(gfu), n) - physics.flux(ngs.Grad(gfu).Other(), n)
+        jumps = ngs.Integrate(0.5 * h * self.interior_sides() * ngs.InnerProduct(jump, jump)
+                              * ngs.dx(element_boundary=True, bonus_intorder=2), mesh, element_wise=True)
+        return volume + jumps.NumPy()
+
+    def interior_sides(self) -> ngs.GridFunction:
+        """A piecewise constant on the sides: 1 on those inside Omega (the boundary elements
+        labelled 'interior' glue two parts of it, ``problem.geometry.split_strip``), 0 on its
+        boundary."""
+        if self._interior is None:
+            mesh = self.quadrature.mesh
+            self._interior = ngs.GridFunction(ngs.FacetFESpace(mesh, order=0))
+            self._interior.vec[:] = 1.0
+            space = self._interior.space
+            for element in mesh.Elements(ngs.BND):
+                if element.mat != "interior":
+                    self._interior.vec[space.GetDofNrs(element)[0]] = 0.0
+        return self._interior
 
 
 def mesh_terms(case, quadrature: ElementQuadrature):

@@ -103,9 +103,9 @@ class MeshStrategy:
             return UniformRefinement(case)
         if self.name == "graded":
             return GradedRefinement(case, case.nu - 1.0, order, singular_points(case), singular_lines(case))
-        if order > 2:
-            # the residual estimator's element residual is written for P1 and P2 (``measure.estimator``)
-            raise ValueError(f"adaptive meshes drive methods of order 1 or 2; order {order} has no residual estimator yet")
+        if order > 2 and case.dimension == 3:
+            # the 3D residual estimator's terms are written for P1 and P2 (``measure.estimator_3d``)
+            raise ValueError(f"adaptive 3D meshes drive methods of order 1 or 2, not {order}")
         return AdaptiveRefinement(case, self.theta)
 
 

@@ -98,6 +98,10 @@ class Scalar:
         return self.contact_forces(self.flux_array(_gradient_at(case.grad_u, mesh, points, 1)), normals,
                                    _contact_load(case, mesh, points))[0]
 
+    def divergence(self, gfu) -> ngs.CoefficientFunction:
+        """div F(u_h) = Laplace(u_h) of a GridFunction of order >= 2, from NGSolve's Hessian."""
+        return ngs.Trace(gfu.Operator("hesse"))
+
     def flux_array(self, grad: np.ndarray) -> np.ndarray:
         """The flux of (2.1) from gradients given as arrays (..., 1, dim): grad u itself."""
         return grad
@@ -231,6 +235,14 @@ class Elasticity:
     def flux(self, grad_u, normal):
         """sigma(u) n: the traction on Gamma_g."""
         return self.stress(grad_u) * normal
+
+    def divergence(self, gfu) -> ngs.CoefficientFunction:
+        """div sigma(u_h) = mu Laplace(u_i) + (mu + lambda) d_i div u_h of a GridFunction of order
+        >= 2, from NGSolve's Hessian (its row i holds u_i's second derivatives, d_j d_k at column
+        d j + k)."""
+        hesse, d = gfu.Operator("hesse"), self.dim
+        return ngs.CF(tuple(self.mu * sum(hesse[i, d * j + j] for j in range(d))
+                            + (self.mu + self.lam) * sum(hesse[j, d * i + j] for j in range(d)) for i in range(d)))
 
     def flux_array(self, grad: np.ndarray) -> np.ndarray:
         """sigma from displacement gradients given as arrays (..., dim, dim), row i = grad u_i."""

@@ -193,9 +193,9 @@ class ChainWalk:
             with self.phases("assembly"):
                 level.problems[order] = self.discretisation.discretise(order, mesh, quadrature)
             level.assembly_seconds[order] = time.perf_counter() - clock
-            # the residual estimator is written for P1 and P2 (``measure.estimator``): P_k rows, k >= 3, carry none
-            if self.discretisation.estimating and order <= 2 and any(level.index < self.plan.studied[m.name]
-                                                                     for m in active if m.order == order):
+            # in 3D the residual estimator is P1/P2's (``measure.estimator_3d``): 3D P_k rows carry none
+            if self.discretisation.estimating and (order <= 2 or mesh.dim == 2) and any(
+                    level.index < self.plan.studied[m.name] for m in active if m.order == order):
                 clock = time.perf_counter()
                 with self.phases("estimate"):
                     level.estimators[order] = self.discretisation.estimator(level.problems[order])
