@@ -15,6 +15,7 @@ def _tables() -> list[tuple]:
     """(how to run it, the CSV's suffix, the title, its goals) of each table `bench` runs by
     default besides the solver table; `--only` names each by its suffix without the underscore."""
     from .adaptive import adaptive_goals, run_adaptive_bench
+    from .degree import degree_goals, run_degree_bench
     from .elastic import elastic_goals, run_elastic_bench
     from .load import load_goals, run_load_bench
     from .mortar import mortar_goals, run_mortar_bench
@@ -32,6 +33,9 @@ def _tables() -> list[tuple]:
             (run_mortar_bench, "_mortar",
              "two bodies, non-matching meshes (Section 6): mortar contact solve against one linear solve of both bodies:",
              mortar_goals),
+            (run_degree_bench, "_degree",
+             "degree k = 3, 4 (transition-r32): contact solve against one linear solve of the same stiffness:",
+             degree_goals),
             (run_load_bench, "_load",
              "a study beside one busy process (`run`, wall seconds; threads: auto = the default policy):", load_goals)]
 
