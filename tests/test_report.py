@@ -6,7 +6,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from harness.methods import METHODS
+from harness.methods import GROUPS, METHODS
 from harness.report.build import make_report
 from harness.study.chain import PROFILES
 from harness.study.sweep import REPORT_SWEEP
@@ -65,6 +65,20 @@ def test_every_figure_exists_as_png_and_pdf(report):
     for stem in stems:
         for ext in ("png", "pdf"):
             assert (figures / f"{stem}.{ext}").stat().st_size > 1000, stem
+
+
+def test_report_answers_whether_p2_is_the_sweet_spot_across_the_degree(report):
+    """The degree study (``study.degree_study``) of the named cases it plans: Nitsche and the
+    nodal cone of every degree k = 1 ... 4 on uniform and adaptive meshes, each solve exact, its
+    rows in degrees.csv, and the section with its figure and cost tables."""
+    root, html = report
+    degrees = pd.read_csv(root / "results" / "degrees.csv")
+    assert set(degrees.case) == {"transition-r32"} and set(degrees["mesh"]) == {"uniform", "adaptive"}
+    assert set(degrees.order) == {1, 2, 3, 4} and set(degrees.method) == set(GROUPS["degrees"])
+    assert (degrees.kkt_residual <= 1e-10).all() and (degrees.status == "converged").all()
+    text = html.read_text()
+    assert "Is P2 the sweet spot? The degree k = 1 … 4" in text and "transition-r32, adaptive meshes: cost at equal accuracy" in text
+    assert (root / "report" / "figures" / "transition-r32-degrees.png").stat().st_size > 1000
 
 
 def test_report_sets_measured_rates_against_theorems(report):

@@ -76,17 +76,20 @@ def baseline_name(names, methods=()) -> str | None:
     return next(iter(names_with_role(BASELINE, names, methods)), None)
 
 
-def efficiency_table(results: pd.DataFrame, baseline: str | None = None, methods=()) -> pd.DataFrame:
+def efficiency_table(results: pd.DataFrame, baseline: str | None = None, methods=(), target_method: str | None = None) -> pd.DataFrame:
     """One row per (case, method): the cost of reaching the case's target error; for the other
     methods, ``baseline``'s cost over theirs (> 1: they are cheaper) and ``baseline``'s error
     over theirs at equal ndof (``equal_ndof_ratio``). ``baseline``: a method name, by default
     the method that declares the role BASELINE (``baseline_name``; ``methods``: Method objects
-    to look roles up in besides the registered ones)."""
+    to look roles up in besides the registered ones). The target is the largest of the methods'
+    finest errors, or ``target_method``'s finest error where it ran (a method that does not
+    reach it has no cost there)."""
     baseline = baseline or baseline_name(results.method, methods)
     tables = []
     for case, frame in results.groupby("case", sort=False):
         groups = {m: g.sort_values("level") for m, g in frame.groupby("method", sort=False)}
-        target = max(g.err_h1.iloc[-1] for g in groups.values())
+        target = (groups[target_method].err_h1.iloc[-1] if target_method in groups
+                  else max(g.err_h1.iloc[-1] for g in groups.values()))
         coarsest = max(g.err_h1.iloc[0] for g in groups.values())
         table = pd.DataFrame([{
             "case": case, "method": method, "order": int(g.order.iloc[0]), "target_err_h1": target,

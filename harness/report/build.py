@@ -19,7 +19,7 @@ from ..measure.efficiency import efficiency_table, quantity_efficiency_table, ve
 from ..measure.quantities import QUANTITY_COLUMNS
 from ..measure.rates import rate_table
 from ..measure.richardson import quantity_table
-from ..methods import METHODS, SWEPT, methods_named, with_role
+from ..methods import GROUPS, METHODS, SWEPT, get_method, methods_named, with_role
 from ..methods import known as known_methods
 from ..problem.case import REPORT_PROFILES, Case, fraction, registered_cases
 from ..study import InProcess
@@ -31,6 +31,7 @@ from ..study.merge import read_rows
 from ..study.mesh_study import PICTURE_METHOD
 from ..study.store import merge_into
 from ..study.timing import Timings
+from .degree_section import add_degree_section
 from .document import Document, anchor
 from .figure_jobs import FIGURE_WORKERS, FigurePool
 from .latex import write_tables
@@ -70,11 +71,12 @@ from .vtk import VtkWriter
 
 def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame, efficiency: pd.DataFrame,
                    figs: dict, meta: dict, sweeps: dict | None = None, meshes: pd.DataFrame | None = None,
-                   quantities: pd.DataFrame | None = None, quantity_costs: pd.DataFrame | None = None) -> Document:
+                   quantities: pd.DataFrame | None = None, quantity_costs: pd.DataFrame | None = None,
+                   degrees: pd.DataFrame | None = None) -> Document:
     """The report of a study: what was run, the verdicts at a glance, the problem and methods,
     the rates against the theorems, then the sections a study's cases call for (the cost at
-    equal accuracy, quantities, parameter sweeps, meshes, elasticity, two bodies, 3D), and each
-    case in full."""
+    equal accuracy, quantities, parameter sweeps, meshes, the degree, elasticity, two bodies,
+    3D), and each case in full."""
     doc = Document("The Signorini problem in P2 and P1: measured against the theorems")
     settings = meta["settings"]
     _provenance_paragraph(doc, cases, meta)
@@ -91,6 +93,8 @@ def build_document(cases: list[Case], results: pd.DataFrame, rates: pd.DataFrame
         _sweep_section(doc, sweeps, figs)
     if meshes is not None and not meshes.empty:
         add_mesh_section(doc, results, meshes, figs)
+    if degrees is not None:
+        add_degree_section(doc, degrees, figs)
     if any(case.physics.elastic for case in cases):
         _elasticity_section(doc, cases, rates)
     if any(case.bodies == 2 for case in cases):
@@ -362,9 +366,15 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
              else [known[n] if n in known else _unknown(n, known) for n in case_names])
     everything = methods == "all" or tuple(methods) == ("all",)
     methods = methods_named(methods)                # names, groups, files, modules, Method objects
+    # the degree study: the degree group for "all", else the named methods of the group or of order > 2
+    degree = [m.name for m in methods if everything and m.name in GROUPS["degrees"]
+              or not everything and (m.order > 2 or m.name in GROUPS["degrees"])]
     if everything:                                  # "all": the methods of the profile's orders
         methods = [m for m in methods if m.order in PROFILES[profile]["orders"]]
-    settings = {"profile": profile, "methods": [m.name for m in methods], **PROFILES[profile]}
+    settings = {"profile": profile, "methods": [m.name for m in methods], **PROFILES[profile],
+                "degree_methods": degree if any(get_method(name).order > 2 for name in degree) else []}
+    if case_names:
+        settings["cases_given"] = True          # the degree study too runs the named cases only
     files = method_files(methods)
     if files:
         settings["method_files"] = files         # a method of your own: its results change with its file
@@ -372,6 +382,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
         settings["levels"], settings["stop_when_asymptotic"], settings["levels_given"] = levels, False, True
         settings["mesh_levels"] = min(settings["mesh_levels"], levels)
         settings["mesh_levels_3d"] = min(settings["mesh_levels_3d"], levels)
+        settings["degree_levels"] = min(settings["degree_levels"], levels)
     results_dir, report_dir = Path(results_dir), Path(report_dir)
     with all_owned([results_dir, report_dir]):
         read_rows(results_dir / "results.csv")      # refused before the study if it is not a results CSV
@@ -400,9 +411,10 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
     sweep_cases = cases if with_role(SWEPT, methods) else []
     writer = VtkWriter(results_dir / "vtk") if vtk else None
     # the figures are drawn as the cases are stored, on the cores the study leaves free
-    with FigurePool(method_styles(methods), Path(report_dir) / "figures", store=results_dir / "cases") as pool:
-        results, sweeps, meshes = compute(cases, settings, results_dir, sweep_cases, show_progress, engine, check_memory,
-                                          timings, writer, listener=pool)
+    drawn = methods + [m for m in methods_named(settings.get("degree_methods") or []) if m not in methods]
+    with FigurePool(method_styles(drawn), Path(report_dir) / "figures", store=results_dir / "cases") as pool:
+        results, sweeps, meshes, degrees = compute(cases, settings, results_dir, sweep_cases, show_progress, engine,
+                                                   check_memory, timings, writer, listener=pool)
         with timings("rates"):
             rates = rate_table(results)
             efficiency = efficiency_table(results, methods=methods)
@@ -414,6 +426,8 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
                 print(stored.summary(), file=sys.stderr)
             if not meshes.empty:
                 write_csv(meshes, results_dir / "meshes.csv")
+            if not degrees.empty:
+                write_csv(degrees, results_dir / "degrees.csv")
             write_csv(rates, results_dir / "rates.csv")
             write_csv(efficiency, results_dir / "efficiency.csv")
             write_csv(quantities, results_dir / "quantities.csv")
@@ -430,11 +444,14 @@ def _build(cases, known, settings, results_dir: Path, report_dir: Path, show_pro
             for name in dict.fromkeys(meshes.case) if not meshes.empty else []:
                 adaptive = next((p for p in sorted((results_dir / "meshes").glob(f"{name}-adaptive*.npz"))), None)
                 pool.meshes_of(known[name], both[both.case == name], adaptive or Path("-"), PICTURE_METHOD)
+            for name in dict.fromkeys(degrees.case) if not degrees.empty else []:
+                pool.degrees_of(known[name], degrees[degrees.case == name])
             figs, seconds = pool.collect()
     for name, spent in seconds.items():
         timings.add("figures (in workers)", name, "", spent)
     with timings("document"):
-        doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps, meshes, quantities, quantity_costs)
+        doc = build_document(cases, results, rates, efficiency, figs, meta, sweeps, meshes, quantities, quantity_costs,
+                             degrees)
     with timings("writing", "report"):
         write_tables(results, rates, efficiency, Path(report_dir) / "tables")
         write_atomic(Path(report_dir) / "report.md", doc.markdown(Path(report_dir)))

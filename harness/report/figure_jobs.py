@@ -65,6 +65,13 @@ def _mesh_figures(source: str, frame: pd.DataFrame, mesh_file: str, method: str,
             "mesh": mesh_figures.adaptive_mesh(case, *finest, folder, method) if finest is not None else None}
 
 
+def _degree_figures(source: str, frame: pd.DataFrame, folder: str) -> dict:
+    """The degree study's figure of one case (``report.mesh_figures.degree_errors``)."""
+    from ..problem.case import load_case
+    from . import mesh_figures
+    return {"errors": mesh_figures.degree_errors(load_case(source), frame, Path(folder))}
+
+
 def _summary(rates: pd.DataFrame, folder: str) -> dict:
     from . import figures
     return figures.summary(rates, Path(folder))
@@ -104,6 +111,7 @@ class FigurePool:
         self.futures: dict[str, Future] = {}
         self.sweeps: dict[str, Future] = {}
         self.meshes: dict[str, Future] = {}
+        self.degrees: dict[str, Future] = {}
         # the queue of figures not yet handed to the pool; a dispatcher thread hands them over
         # while fewer than ``slots`` are drawing (a done-callback must not submit: it runs in the
         # pool's own management thread)
@@ -185,6 +193,9 @@ class FigurePool:
     def meshes_of(self, case, frame: pd.DataFrame, mesh_file: Path, method: str) -> None:
         self.meshes[case.name] = self._submit(f"meshes-{case.name}", _mesh_figures, str(case.source), frame, str(mesh_file), method)
 
+    def degrees_of(self, case, frame: pd.DataFrame) -> None:
+        self.degrees[case.name] = self._submit(f"degrees-{case.name}", _degree_figures, str(case.source), frame)
+
     def collect(self) -> tuple[dict, dict]:
         """(figures by name, the sweeps' under "sweeps"; worker seconds by name), every worker
         drawing from now on."""
@@ -198,4 +209,7 @@ class FigurePool:
         drawn = {name: future.result() for name, future in self.meshes.items()}
         figs["meshes"] = {name: paths for name, (paths, _) in drawn.items()}
         seconds["meshes"] = sum(s for _, s in drawn.values())
+        by_degree = {name: future.result() for name, future in self.degrees.items()}
+        figs["degrees"] = {name: paths for name, (paths, _) in by_degree.items()}
+        seconds["degrees"] = sum(s for _, s in by_degree.values())
         return figs, seconds

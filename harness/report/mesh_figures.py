@@ -75,3 +75,25 @@ def adaptive_mesh(case, points: np.ndarray, triangles: np.ndarray, folder: Path,
         ax.set_aspect("equal")
         ax.tick_params(labelsize=6)
     return save(fig, folder, f"{case.name}-adaptive-mesh")
+
+
+def degree_errors(case, frame: pd.DataFrame, folder: Path) -> dict[str, Path]:
+    """The degree study's figure of one case: the H^1 error against N and against the seconds
+    spent up to each level (the rows' total_seconds, summed along each chain), every method on
+    every mesh strategy."""
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
+    for (mesh, method), g in frame.groupby(["mesh", "method"], sort=False):
+        g = g.sort_values("level")
+        kind = str(mesh).split(":")[0]
+        s = style(method)
+        line = dict(color=s["color"], linestyle=LINESTYLE.get(kind, "-."), lw=1.2, marker=s["marker"], ms=3)
+        label = f"{method} (k = {int(g.order.iloc[0])}), {mesh}"
+        left.loglog(g.ndof, g.err_h1, **line, label=label)
+        right.loglog(g.total_seconds.cumsum(), g.err_h1, **line)
+    left.set_xlabel("ndof N")
+    left.set_ylabel("H¹ error")
+    left.set_title(f"{case.name}: error against N")
+    left.legend(fontsize=6.5, ncol=2, loc="lower left")
+    right.set_xlabel("seconds up to the level")
+    right.set_title("error against time")
+    return save(fig, folder, f"{case.name}-degrees")

@@ -28,6 +28,7 @@ from ..methods.base import EXTRA_LEVELS
 from ..problem.case import Case
 from ..problem.validate import validate_case
 from ..solvers.options import SolverOptions
+from . import degree_study
 from .budget import SWEEP_SECONDS_PER_DOF, solve_weights
 from .chain import BothHooks
 from .checkpoint import CheckpointStore, code_digest
@@ -44,6 +45,7 @@ from .timing import Timings
 PACKAGE = Path(__file__).resolve().parents[1]
 REPOSITORY = PACKAGE.parent
 SWEEP_SCOPE = "sweep "      # the sweeps' solves on the progress bar, apart from the study's
+DEGREE_SCOPE = "degree "    # the degree study's
 
 
 def git_commit() -> str:
@@ -160,9 +162,9 @@ def study_groups(cases: list[Case], settings: dict) -> list[tuple[list[Case], di
 
 def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: list[Case], show_progress: bool = True,
             engine=None, check_memory: bool = True, timings: Timings | None = None,
-            writer=None, listener=None) -> tuple[pd.DataFrame, dict, pd.DataFrame]:
+            writer=None, listener=None) -> tuple[pd.DataFrame, dict, pd.DataFrame, pd.DataFrame]:
     """(the rows of every case, the sweep of every case in ``sweep_cases`` the report sweeps,
-    the rows of the mesh study, ``mesh_study``):
+    the rows of the mesh study, ``mesh_study``, the rows of the degree study, ``degree_study``):
     reused where stored and unchanged, the rest run as one set of jobs on ``engine`` (default
     this process) under one progress bar, its ETA for all of it. Every finished level is
     checkpointed under ``cases/.checkpoints``: a report killed at any moment continues there.
@@ -176,16 +178,17 @@ def compute(cases: list[Case], settings: dict, results_dir: Path, sweep_cases: l
     cores the study leaves idle changes (``engine.busy_cores``; the report draws its figures
     there, ``report.figure_jobs``)."""
     stores = Stores.under(Path(results_dir))
-    config, mconfig = sweep_config(settings["levels"]), mesh_config(settings)
+    config, mconfig, dconfig = sweep_config(settings["levels"]), mesh_config(settings), degree_study.degree_config(settings)
     work, sweeps = Work(), {}
     plan_studies(work, cases, settings, stores, writer, listener)
     plan_sweeps(work, sweeps, sweep_cases, config, stores)
     plan_mesh_studies(work, cases, mconfig, stores)
+    plan_degree_studies(work, cases, dconfig, stores)
     run_work(work, engine or InProcess(), check_memory, show_progress, timings, listener, stores.checkpoints)
     results = pd.concat([pd.read_csv(stores.cases / f"{case.name}.csv") for case in sorted(cases, key=lambda c: c.dimension)],
                         ignore_index=True)
     return (results, {name: sweeps[name] for name in config["cases"] if name in sweeps},
-            read_mesh_results(stores.meshes, cases, mconfig))
+            read_mesh_results(stores.meshes, cases, mconfig), degree_study.read_degree_results(stores.degrees, cases, dconfig))
 
 
 @dataclass(frozen=True)
@@ -197,10 +200,11 @@ class Stores:
     cases: Path
     sweeps: Path
     meshes: Path
+    degrees: Path
 
     @classmethod
     def under(cls, root: Path) -> "Stores":
-        return cls(root, *(ensure_writable(root / kind) for kind in ("cases", "sweeps", "meshes")))
+        return cls(root, *(ensure_writable(root / kind) for kind in ("cases", "sweeps", "meshes", "degrees")))
 
     @property
     def checkpoints(self) -> Path:
@@ -279,6 +283,34 @@ def plan_mesh_studies(work: Work, cases: list[Case], config: dict, stores: Store
         work.weights |= study_weights([case], methods, levels, [mesh])
         work.pending[mesh_scope("", mesh) + case.name] = Pending("meshes", partial(_store_meshes, stores.meshes, case, mesh,
                                                                                    methods=methods, config=config))
+
+
+def plan_degree_studies(work: Work, cases: list[Case], config: dict, stores: Stores) -> None:
+    """The jobs of the degree study's (case, mesh strategy) chains not stored."""
+    for case, mesh, methods in degree_study.degree_jobs_plan(cases, config):
+        name = degree_study.store_name(case, mesh)
+        key = cache_key(case, {"degrees": config, "mesh": mesh.label})
+        if _stored(stores.degrees / f"{name}.json", [stores.degrees / f"{name}.csv"], key):
+            print(f"{case.name}: reusing the degree study on {mesh.label} meshes computed with the same code and settings")
+            continue
+        validate_case(case)
+        # checkpoints of their own: the main study's uniform chain of the same case and method
+        # has other levels
+        work.jobs += chains([case], methods, config["levels"], None, stores.degrees / ".checkpoints", tag="degree",
+                            meshes=[mesh], scope=DEGREE_SCOPE)
+        work.weights |= scoped(study_weights([case], methods, config["levels"], [mesh]), DEGREE_SCOPE)
+        work.pending[mesh_scope(DEGREE_SCOPE, mesh) + case.name] = Pending(
+            "degrees", partial(_store_degrees, stores.degrees, case, mesh, methods=methods, config=config))
+
+
+def _store_degrees(store: Path, case: Case, mesh, outputs: list, methods, config: dict) -> None:
+    """One (case, mesh strategy)'s rows of the degree study in the report's cache."""
+    name = degree_study.store_name(case, mesh)
+    write_csv(tidy(outputs, [case], methods, [mesh]), store / f"{name}.csv")
+    CheckpointStore(store / ".checkpoints", config["levels"], None, mesh.label).forget(case)
+    write_atomic(store / f"{name}.json", json.dumps(provenance({"degrees": config}) | {
+        "cache_key": cache_key(case, {"degrees": config, "mesh": mesh.label}), "case": case.name, "mesh": mesh.label},
+        indent=2))
 
 
 def run_work(work: Work, engine, check_memory: bool, show_progress: bool, timings: Timings | None, listener,

@@ -36,14 +36,16 @@ PROFILES = {
     # 3D levels they would add the 3D error integration of four more methods to every 3D case
     # (``weak_3d``)
     # the orders of the methods a report of all methods runs ("orders"): P1 and P2, the paper's
-    # question; the degree axis (P3, P4) joins a report named (``--method high-order``)
+    # question; the degree axis (P3, P4) is the degree study's (``degree_study``), on the budget
+    # of uniform level degree_levels - 1 (3.6e4 P2 dofs on transition-r32 by default), and joins
+    # the main study when named (``--method high-order``)
     "default": {"levels": 7, "levels_3d": 3, "levels_two_body": 6, "mesh_levels": 4, "mesh_levels_3d": 3,
-                "stop_when_asymptotic": True, "weak_3d": False, "orders": (1, 2)},
+                "stop_when_asymptotic": True, "weak_3d": False, "orders": (1, 2), "degree_levels": 5},
     # finest levels: about 2.3e6 dofs; 3D: 1.3e6; two bodies 5.1e5 (mortar-standard's saddle
     # systems are factorised by SuperLU, whose fill a level finer outgrows the memory of the
     # machines this runs on); the mesh study to 5.8e5 dofs
     "fine": {"levels": 8, "levels_3d": 4, "levels_two_body": 6, "mesh_levels": 7, "mesh_levels_3d": 4,
-             "stop_when_asymptotic": False, "weak_3d": True, "orders": (1, 2)},
+             "stop_when_asymptotic": False, "weak_3d": True, "orders": (1, 2), "degree_levels": 7},
 }
 # the profiles' names and order (cheapest first) are the cases' (``Case.report_profile``,
 # ``Case.report_levels``): declared once, in ``problem.contract.REPORT_PROFILES``

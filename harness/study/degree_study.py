@@ -1,0 +1,66 @@
+"""The report's degree study, "Is P2 the sweet spot?": Nitsche's method (optimal at every degree)
+and the nodal cone (the paper's K~_h, at the Gauss-Lobatto points for k >= 3) of degree
+k = 1 ... 4, on a case limited by its transition point (transition-r32: uniform meshes saturate
+every degree at h^{3/2}, adaptive ones recover N^{-k/2}), a smooth one (smooth-quintic: h^k up
+to k = 4) and an elastic one; stored per (case, mesh) under ``results/degrees`` and reused while
+code, case file and settings are unchanged, as the mesh study is (``mesh_study``).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+from ..mesh.strategies import parse_meshes, refusal
+from ..methods import GROUPS, methods_named
+
+PLAN = {
+    # (case, the mesh strategies it runs on): adaptive meshes where a singular point limits the
+    # uniform rate, uniform ones everywhere
+    "cases": {"transition-r32": ("uniform", "adaptive"), "smooth-quintic": ("uniform",),
+              "elastic-transition-r32": ("uniform",)},
+    # the fine profile's too: the junction r^{1/2}, where uniform meshes give every degree h^{1/2}
+    "fine_cases": {"corner-r12": ("uniform", "adaptive")},
+    "methods": GROUPS["degrees"],
+}
+
+
+def degree_config(settings: dict) -> dict:
+    """What the report runs across the degree: ``settings["degree_methods"]`` (the report's
+    choice, ``report.build.make_report``) on ``PLAN``'s cases with the profile's
+    ``degree_levels`` (the budget of dofs: the uniform level's)."""
+    fine = settings.get("profile") == "fine"
+    cases = dict(PLAN["cases"]) | (dict(PLAN["fine_cases"]) if fine else {})
+    return {"cases": {name: list(meshes) for name, meshes in cases.items()},
+            "methods": list(settings.get("degree_methods", ())), "levels": settings.get("degree_levels", 5),
+            "registry": not settings.get("cases_given", False)}
+
+
+def degree_jobs_plan(cases, config: dict):
+    """(case, mesh strategy, methods) of every chain group the degree study runs: the cases of
+    ``config`` among ``cases``, and where the report runs its profile's list, those it lacks
+    from the registry (smooth-quintic is the fine profile's case, the degree study's at every
+    profile)."""
+    from ..problem.case import registered_cases
+    methods = methods_named(config["methods"]) if config["methods"] else []
+    given = {case.name: case for case in cases}
+    known = registered_cases() if config.get("registry", True) else {}
+    for name, meshes in config["cases"].items():
+        case = given.get(name) or known.get(name)
+        own = [m for m in methods if case is not None and m.supports(case)]
+        if case is None or not own:
+            continue
+        for mesh in parse_meshes(meshes):
+            if refusal(mesh, case) is None:
+                yield case, mesh, own
+
+
+def store_name(case, mesh) -> str:
+    return f"{case.name}-{mesh.label.replace(':', '_').replace('=', '')}"
+
+
+def read_degree_results(store: Path, cases, config: dict) -> pd.DataFrame:
+    """Every stored (case, mesh) frame the degree study of ``config`` has (empty if none)."""
+    paths = [Path(store) / f"{store_name(case, mesh)}.csv" for case, mesh, _ in degree_jobs_plan(cases, config)]
+    frames = [pd.read_csv(path) for path in paths if path.is_file()]
+    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
