@@ -12,8 +12,8 @@ import pandas as pd
 from .common import fastest, in_fresh_process, timed
 
 DEGREE_CASE = "transition-r32"
-# (method, level): P3 past 1e6 dofs, where the goal is judged; P4 at about half of that
-DEGREE_SIZES = (("nitsche-p3", 6), ("nodal-p3", 6), ("nitsche-p4", 5), ("nodal-p4", 5))
+# the level of each degree: P3 past 1e6 dofs, where the goal is judged; P4 at about half of that
+DEGREE_LEVELS = {3: 6, 4: 5}
 DEGREE_GOAL = 2.0               # a k = 3 contact solve / one linear solve, at >= 1e6 dofs
 DEGREE_COLUMNS = ["method", "order", "ndof", "t_contact", "t_linear_multigrid", "t_linear_cholesky", "ratio_linear",
                   "iterations", "cg_iterations", "linear_cg_iterations", "kkt_residual"]
@@ -82,9 +82,16 @@ def _row(method_name: str, level: int) -> dict:
             "kkt_residual": contact["kkt_residual"]}
 
 
-def run_degree_bench(sizes=DEGREE_SIZES, progress=print) -> pd.DataFrame:
+def degree_sizes() -> list[tuple[str, int]]:
+    """(method, level) of the methods of the report's degree study (the role DEGREES) of degree
+    3 and 4."""
+    from ..methods import DEGREES, with_role
+    return [(m.name, DEGREE_LEVELS[m.order]) for m in with_role(DEGREES) if m.order in DEGREE_LEVELS]
+
+
+def run_degree_bench(sizes=None, progress=print) -> pd.DataFrame:
     rows = []
-    for method_name, level in sizes:
+    for method_name, level in sizes or degree_sizes():
         rows.append(_row(method_name, level))
         r = rows[-1]
         progress(f"{method_name:11s} ndof {r['ndof']:>9d}  contact {r['t_contact']:6.2f} s  linear: multigrid "

@@ -19,6 +19,7 @@ from ..mesh.plugins import is_external
 from ..solvers.options import SolverOptions
 from .base import (
     BASELINE,
+    DEGREES,
     MESH_STUDY,
     PAPER,
     REFERENCE,
@@ -42,8 +43,7 @@ GROUPS = {
     "cones": ("mean", "nodal", "p1"),                                   # exact discrete inequalities
     "weak": ("nitsche", "penalty", "nitsche-p1", "penalty-p1"),         # contact by a Gamma_C term
     "mortar": ("mortar-mean", "mortar-nodal", "mortar-standard", "mortar-p1"),             # two bodies, non-matching meshes
-    # the degree axis, k = 1 ... 4: Nitsche (optimal at every degree) and the nodal cone
-    "degrees": ("nitsche-p1", "nitsche", "nitsche-p3", "nitsche-p4", "p1", "nodal", "nodal-p3", "nodal-p4"),
+    DEGREES: (),            # the methods that declare the role DEGREES: Nitsche and the nodal cone of each degree
     "high-order": ("nitsche-p3", "nitsche-p4", "penalty-p3", "penalty-p4", "nodal-p3", "nodal-p4"),      # k >= 3
 }
 
@@ -83,6 +83,7 @@ def role_names(role: str, methods=None) -> list[str]:
 
 
 GROUPS[PAPER] = tuple(role_names(PAPER))
+GROUPS[DEGREES] = tuple(role_names(DEGREES))
 
 
 def names_with_role(role: str, names, methods=()) -> list[str]:
@@ -189,7 +190,7 @@ def parse_method(spec: str) -> Method:
     return method.with_parameters(**values)
 
 
-__all__ = ["METHODS", "GROUPS", "BASELINE", "MESH_STUDY", "PAPER", "REFERENCE", "ROLES", "SWEPT", "known", "names_with_role",
+__all__ = ["METHODS", "GROUPS", "BASELINE", "DEGREES", "MESH_STUDY", "PAPER", "REFERENCE", "ROLES", "SWEPT", "known", "names_with_role",
            "role_names", "with_role", "BoundConstrained", "ContactLaw", "ContactLawMethod", "ContactPoints", "GammaPoints", "LawError",
            "LevelProblem", "SolverOptions", "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Carry", "Expectation", "SolveFields", "timer", "FunctionalCone", "LevelSolve", "Method", "MethodError",
            "check_method", "get_method", "method_choices", "methods_for", "methods_named", "parse_method"]

@@ -16,7 +16,7 @@ approximation; the report's verdict against it is a measurement, labelled so.
 import math
 
 from ..fem.assembly import lobatto_points
-from .base import Expectation, FunctionalCone
+from .base import DEGREES, Expectation, FunctionalCone
 
 CONJECTURE = "conjecture (no theorem for k >= 3): the best approximation's min(nu - 1, k)"
 
@@ -39,4 +39,5 @@ def at_order(order: int) -> FunctionalCone:
         expected=expected_for(order),
         functionals=tuple(((float(t), 1.0),) for t in interior),
         physics=("scalar", "elasticity"),
+        roles=frozenset({DEGREES}),
     )

@@ -43,7 +43,8 @@ REFERENCE = "reference"    # computes the reference solution of a case without a
 SWEPT = "swept"            # the report sweeps its first parameter (each theta, if it has one)
 MESH_STUDY = "mesh-study"  # the report also runs it on graded and adaptive meshes (the fine profile
                            # adds the PAPER, BASELINE and SWEPT methods)
-ROLES = (PAPER, BASELINE, REFERENCE, SWEPT, MESH_STUDY)
+DEGREES = "degrees"        # the report's degree study: one of a family (Nitsche, the nodal cone) at each degree k
+ROLES = (PAPER, BASELINE, REFERENCE, SWEPT, MESH_STUDY, DEGREES)
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ import math
 from dataclasses import replace
 
 from ..fem.laws import Nitsche
-from .base import MESH_STUDY, SWEPT, Expectation
+from .base import DEGREES, MESH_STUDY, SWEPT, Expectation
 from .protocol import ContactLawMethod
 
 REFERENCE = "Chouly & Hild 2013 (SINUM 51); Chouly, Hild & Renard 2015 (Math. Comp. 84), Thm 3.8"
@@ -50,7 +50,7 @@ def at_order(order: int) -> ContactLawMethod:
     min(nu - 1, k) (``expected_for``); 2D (the trace of a P_k function on a triangulated 3D
     Gamma_C is not implemented)."""
     return replace(method, name=f"nitsche-p{order}", order=order, contact=f"Nitsche, as `nitsche`, on P{order} (γ₀ = {gamma0_for(order):.4g})",
-                   expected=expected_for(order), law=Nitsche(gamma0=gamma0_for(order), theta=1.0), roles=frozenset(),
+                   expected=expected_for(order), law=Nitsche(gamma0=gamma0_for(order), theta=1.0), roles=frozenset({DEGREES}),
                    dimensions=(2,))
 
 
@@ -61,5 +61,5 @@ method = ContactLawMethod(
     reference="Chouly & Hild 2013; Chouly, Hild & Renard 2015",
     expected=expected_for(2),
     law=Nitsche(gamma0=GAMMA0, theta=1.0),
-    roles=frozenset({SWEPT, MESH_STUDY}),
+    roles=frozenset({SWEPT, MESH_STUDY, DEGREES}),
 )

@@ -3,6 +3,7 @@ nu > 3/2, CHR 2015 Theorem 3.8 with k = 1)."""
 from dataclasses import replace
 
 from . import nitsche
+from .base import DEGREES
 
 method = replace(nitsche.method, name="nitsche-p1", order=1, contact="Nitsche, as `nitsche`, on P1",
-                 expected=nitsche.expected_for(1), roles=frozenset())
+                 expected=nitsche.expected_for(1), roles=frozenset({DEGREES}))

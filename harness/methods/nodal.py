@@ -3,7 +3,7 @@ the edge midpoints of Gamma_C (before (5.1)), the degrees of freedom of the Lagr
 interpolant I_h. K~_h lies in K_h (Simpson's rule). Rates: Theorems 5.1 and 5.2, the same as
 for `mean`, declared by each case."""
 from ..fem.cones import ContactModel
-from .base import MESH_STUDY, PAPER, REFERENCE, BoundConstrained, drouet_hild_for, paper_theorem
+from .base import DEGREES, MESH_STUDY, PAPER, REFERENCE, BoundConstrained, drouet_hild_for, paper_theorem
 
 method = BoundConstrained(
     name="nodal",
@@ -13,5 +13,5 @@ method = BoundConstrained(
     expected=paper_theorem,
     sharper_theory=drouet_hild_for(2),
     cone=ContactModel(edge_functional="midpoint"),
-    roles=frozenset({PAPER, REFERENCE, MESH_STUDY}),
+    roles=frozenset({PAPER, REFERENCE, MESH_STUDY, DEGREES}),
 )

@@ -15,7 +15,7 @@ Expected H^1 rate h^{min(nu - 1, 1)}, no log factor:
   numbers are not given here.)
 """
 from ..fem.cones import ContactModel
-from .base import BASELINE, MESH_STUDY, BoundConstrained, Expectation, drouet_hild_for
+from .base import BASELINE, DEGREES, MESH_STUDY, BoundConstrained, Expectation, drouet_hild_for
 
 
 def expected(case) -> Expectation:
@@ -32,5 +32,5 @@ method = BoundConstrained(
     expected=expected,
     sharper_theory=drouet_hild_for(1),
     cone=ContactModel(edge_functional=None),
-    roles=frozenset({BASELINE, MESH_STUDY}),
+    roles=frozenset({BASELINE, MESH_STUDY, DEGREES}),
 )

@@ -19,7 +19,7 @@ from ..measure.efficiency import efficiency_table, quantity_efficiency_table, ve
 from ..measure.quantities import QUANTITY_COLUMNS
 from ..measure.rates import rate_table
 from ..measure.richardson import quantity_table
-from ..methods import GROUPS, METHODS, SWEPT, get_method, methods_named, with_role
+from ..methods import DEGREES, METHODS, SWEPT, get_method, methods_named, with_role
 from ..methods import known as known_methods
 from ..problem.case import REPORT_PROFILES, Case, fraction, registered_cases
 from ..study import InProcess
@@ -367,8 +367,8 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
     everything = methods == "all" or tuple(methods) == ("all",)
     methods = methods_named(methods)                # names, groups, files, modules, Method objects
     # the degree study: the degree group for "all", else the named methods of the group or of order > 2
-    degree = [m.name for m in methods if everything and m.name in GROUPS["degrees"]
-              or not everything and (m.order > 2 or m.name in GROUPS["degrees"])]
+    studied = {m.name for m in with_role(DEGREES, methods)}
+    degree = [m.name for m in methods if m.name in studied or not everything and m.order > 2]
     if everything:                                  # "all": the methods of the profile's orders
         methods = [m for m in methods if m.order in PROFILES[profile]["orders"]]
     settings = {"profile": profile, "methods": [m.name for m in methods], **PROFILES[profile],

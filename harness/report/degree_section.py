@@ -46,7 +46,7 @@ def add_degree_section(doc, degrees: pd.DataFrame, figs: dict) -> None:
     doc.paragraph(DEGREE_NOTE)
     doc.table(degree_rates_view(rate_table(degrees)))
     for case in dict.fromkeys(degrees.case):
-        pictures = figs.get("degrees", {}).get(case, {})
+        pictures = figs.get("degree_study", {}).get(case, {})
         if "errors" in pictures:
             doc.figures([(pictures["errors"]["png"], f"{case}: H¹ error against the dofs N (left) and against the "
                           "seconds spent up to each level (right), each degree in its colour; dotted uniform, solid "

@@ -210,6 +210,6 @@ class FigurePool:
         figs["meshes"] = {name: paths for name, (paths, _) in drawn.items()}
         seconds["meshes"] = sum(s for _, s in drawn.values())
         by_degree = {name: future.result() for name, future in self.degrees.items()}
-        figs["degrees"] = {name: paths for name, (paths, _) in by_degree.items()}
-        seconds["degrees"] = sum(s for _, s in by_degree.values())
+        figs["degree_study"] = {name: paths for name, (paths, _) in by_degree.items()}
+        seconds["degree_study"] = sum(s for _, s in by_degree.values())
         return figs, seconds

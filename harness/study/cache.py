@@ -204,7 +204,7 @@ class Stores:
 
     @classmethod
     def under(cls, root: Path) -> "Stores":
-        return cls(root, *(ensure_writable(root / kind) for kind in ("cases", "sweeps", "meshes", "degrees")))
+        return cls(root, *(ensure_writable(root / kind) for kind in ("cases", "sweeps", "meshes", "degree_study")))
 
     @property
     def checkpoints(self) -> Path:
@@ -289,7 +289,7 @@ def plan_degree_studies(work: Work, cases: list[Case], config: dict, stores: Sto
     """The jobs of the degree study's (case, mesh strategy) chains not stored."""
     for case, mesh, methods in degree_study.degree_jobs_plan(cases, config):
         name = degree_study.store_name(case, mesh)
-        key = cache_key(case, {"degrees": config, "mesh": mesh.label})
+        key = cache_key(case, {"degree_study": config, "mesh": mesh.label})
         if _stored(stores.degrees / f"{name}.json", [stores.degrees / f"{name}.csv"], key):
             print(f"{case.name}: reusing the degree study on {mesh.label} meshes computed with the same code and settings")
             continue
@@ -300,7 +300,7 @@ def plan_degree_studies(work: Work, cases: list[Case], config: dict, stores: Sto
                             meshes=[mesh], scope=DEGREE_SCOPE)
         work.weights |= scoped(study_weights([case], methods, config["levels"], [mesh]), DEGREE_SCOPE)
         work.pending[mesh_scope(DEGREE_SCOPE, mesh) + case.name] = Pending(
-            "degrees", partial(_store_degrees, stores.degrees, case, mesh, methods=methods, config=config))
+            "degree study", partial(_store_degrees, stores.degrees, case, mesh, methods=methods, config=config))
 
 
 def _store_degrees(store: Path, case: Case, mesh, outputs: list, methods, config: dict) -> None:
@@ -308,8 +308,8 @@ def _store_degrees(store: Path, case: Case, mesh, outputs: list, methods, config
     name = degree_study.store_name(case, mesh)
     write_csv(tidy(outputs, [case], methods, [mesh]), store / f"{name}.csv")
     CheckpointStore(store / ".checkpoints", config["levels"], None, mesh.label).forget(case)
-    write_atomic(store / f"{name}.json", json.dumps(provenance({"degrees": config}) | {
-        "cache_key": cache_key(case, {"degrees": config, "mesh": mesh.label}), "case": case.name, "mesh": mesh.label},
+    write_atomic(store / f"{name}.json", json.dumps(provenance({"degree_study": config}) | {
+        "cache_key": cache_key(case, {"degree_study": config, "mesh": mesh.label}), "case": case.name, "mesh": mesh.label},
         indent=2))
 
 

@@ -2,7 +2,7 @@
 and the nodal cone (the paper's K~_h, at the Gauss-Lobatto points for k >= 3) of degree
 k = 1 ... 4, on a case limited by its transition point (transition-r32: uniform meshes saturate
 every degree at h^{3/2}, adaptive ones recover N^{-k/2}), a smooth one (smooth-quintic: h^k up
-to k = 4) and an elastic one; stored per (case, mesh) under ``results/degrees`` and reused while
+to k = 4) and an elastic one; stored per (case, mesh) under ``results/degree_study`` and reused while
 code, case file and settings are unchanged, as the mesh study is (``mesh_study``).
 """
 from __future__ import annotations
@@ -12,7 +12,7 @@ from pathlib import Path
 import pandas as pd
 
 from ..mesh.strategies import parse_meshes, refusal
-from ..methods import GROUPS, methods_named
+from ..methods import methods_named
 
 PLAN = {
     # (case, the mesh strategies it runs on): adaptive meshes where a singular point limits the
@@ -21,7 +21,6 @@ PLAN = {
               "elastic-transition-r32": ("uniform",)},
     # the fine profile's too: the junction r^{1/2}, where uniform meshes give every degree h^{1/2}
     "fine_cases": {"corner-r12": ("uniform", "adaptive")},
-    "methods": GROUPS["degrees"],
 }
 
 
