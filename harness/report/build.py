@@ -366,7 +366,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
              else [known[n] if n in known else _unknown(n, known) for n in case_names])
     everything = methods == "all" or tuple(methods) == ("all",)
     methods = methods_named(methods)                # names, groups, files, modules, Method objects
-    # the degree study: the degree group for "all", else the named methods of the group or of order > 2
+    # the degree study: the methods of the role DEGREES, and (named) any of order > 2
     studied = {m.name for m in with_role(DEGREES, methods)}
     degree = [m.name for m in methods if m.name in studied or not everything and m.order > 2]
     if everything:                                  # "all": the methods of the profile's orders
