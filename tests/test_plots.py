@@ -102,7 +102,7 @@ def test_figures_wait_for_the_cores_the_study_leaves_free_and_all_are_drawn_at_c
         assert len(executor.drawn) == 2
         figs, seconds = pool.collect()                    # the study is done: every worker draws
     assert executor.drawn[-1] == "_summary"
-    assert set(figs) == {"corner-r12", "transition-r32", "summary", "sweeps", "meshes"} and set(seconds) == set(figs)
+    assert set(figs) == {"corner-r12", "transition-r32", "summary", "sweeps", "meshes", "degree_study"} and set(seconds) == set(figs)
 
 
 @pytest.mark.parametrize("low, high, kept", [(1e3, 4e3, {"2×10³"}), (1.5e3, 6e3, {"2×10³", "5×10³"})])
