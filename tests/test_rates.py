@@ -137,36 +137,45 @@ def test_no_case_falls_below_the_drouet_hild_bound(rates, method):
 def test_no_method_beats_the_best_approximation_in_the_energy_norm(any_study):
     """R_h u minimises a(u - v_h, u - v_h) over X_h with the Dirichlet lift (|u - v_h|_1 for the
     Laplacian; the elastic energy in elasticity, where the H^1 error of u_h may be smaller): no
-    method's u_h does better (up to the error integration's accuracy)."""
+    method's u_h does better (up to the error integration's accuracy). Every row, smooth's P3/P4
+    ones too, whose D^3 u jumps across x = 0 inside elements (its ``derivative_jumps``:
+    test_the_error_integral_of_smooth_is_converged_across_its_derivative_jump)."""
     exact = any_study[any_study.errors_against == "exact"]
-    # Not smooth's P3/P4 rows: its D^3 u jumps across x = 0 inside elements, where neither the
-    # load nor the error is integrated to 1e-6 by a Gauss rule (``measure.errors.error_order``;
-    # test_p3_p4_errors_of_smooth_carry_the_quadrature_error_of_its_kink), and the P4 u_h of
-    # level 0 reads a few per cent below R_h u. A known limit of the measurement: the elements
-    # crossed by such a line need a rule of their own.
-    kinked = (exact.case == "smooth") & (exact.order > 2)
-    assert (exact.err_energy >= exact.err_best_energy * (1 - 1e-6))[~kinked].all()
+    assert (exact.err_energy >= exact.err_best_energy * (1 - 1e-6)).all()
 
 
-def test_p3_p4_errors_of_smooth_carry_the_quadrature_error_of_its_kink():
-    """Why smooth's P3/P4 rows are held to a per cent above: the Ritz projection's P4 error on
-    level 0, integrated with the study's Gauss order and with orders 20 and 40, differs by
-    0.1-3%, while smooth-quintic's (D^5 u jumps there) agrees to 1e-5."""
+# smooth's P4 errors on the levels whose elements are largest against the line x = 0
+JUMP_LEVELS = 2
+# the much finer integration: one more level of subdivision (4 times the pieces, each crossed one
+# half as large), Gauss order 16 on each piece
+FINE_ORDER = 16
+
+
+def test_the_error_integral_of_smooth_is_converged_across_its_derivative_jump():
+    """smooth's D^3 u jumps across x = 0, inside elements, where |grad(u - R_h u)|^2 of P4 is
+    piecewise smooth with a kink: the study's error integral (``fem.element_quadrature``: the
+    crossed elements split) agrees with a much finer one (one more level of splitting, Gauss
+    order 16) to 1e-7 on levels 0 and 1, where the plain Gauss rule of the same order (what the
+    study would use without the case's ``derivative_jumps``) misses by more than 1e-3."""
     import ngsolve as ngs
 
     from harness.fem.assembly import discretise
+    from harness.fem.element_quadrature import SPLIT_DEPTH, ElementQuadrature
     from harness.measure.best_approximation import ritz_projection
     from harness.measure.errors import error_order
-    from harness.mesh.levels import coarse_mesh
-    spread = {}
-    for name in ("smooth", "smooth-quintic"):
-        case = CASES[name]
-        mesh = coarse_mesh(case)
-        problem = discretise(case, mesh, 4)
+    from harness.mesh.levels import mesh_hierarchy
+    case = CASES["smooth"]
+    for level, mesh in mesh_hierarchy(case, JUMP_LEVELS):
+        quadrature = ElementQuadrature.of(case, mesh)
+        assert len(quadrature.crossed_elements) > 0
+        problem = discretise(case, mesh, 4, quadrature)
         e = ngs.grad(problem.gridfunction(ritz_projection(case, problem))) - case.grad_u
-        values = [ngs.Integrate(e * e, mesh, order=order) ** 0.5 for order in (error_order(4), 20, 40)]
-        spread[name] = (max(values) - min(values)) / min(values)
-    assert spread["smooth"] > 1e-3 and spread["smooth-quintic"] < 1e-5, spread
+        square = ngs.CF((ngs.InnerProduct(e, e),))
+        study = quadrature.integrate(square, error_order(4))[0] ** 0.5
+        fine = ElementQuadrature.of(case, mesh, split_depth=SPLIT_DEPTH + 1).integrate(square, FINE_ORDER)[0] ** 0.5
+        plain = ngs.Integrate(square[0], mesh, order=error_order(4)) ** 0.5
+        assert abs(study - fine) <= 1e-7 * fine, (level, study, fine)
+        assert abs(plain - fine) > 1e-3 * fine, (level, plain, fine)
 
 
 @slow

@@ -4,6 +4,7 @@ import math
 from pathlib import Path
 
 import ngsolve as ngs
+import numpy as np
 import pytest
 
 from harness.methods import methods_named
@@ -190,3 +191,39 @@ def test_an_unknown_report_profile_is_refused(tmp_path):
     path.write_text(source + "\nreport_profile = 'weekly'\n")
     with pytest.raises(CaseError, match="report_profile must be one of default, fine, got 'weekly'"):
         load_case(str(path))
+
+
+@pytest.mark.parametrize("jumps", ["[((0.0, 0.0), (0.0, 0.0))]", "[((0.0, 0.0), (0.0, float('nan')))]",
+                                   "[((0.0, 0.0, 0.0), (0.0, 1.0, 0.0))]", "[((0.0, 0.0),)]", "[(0.0, 1.0)]",
+                                   "0.5", "'x = 0'"])
+def test_a_malformed_derivative_jump_is_refused_in_one_line(tmp_path, jumps):
+    """``derivative_jumps``: segments ((x0, y0), (x1, y1)) of finite numbers with distinct ends;
+    anything else (a point, a 3D segment, NaN, a number, a string) is refused when the case is
+    loaded, in one line."""
+    source = Path(registered_cases()["smooth"].source).read_text()
+    path = tmp_path / "case.py"
+    path.write_text(source + f"\nderivative_jumps = {jumps}\n")
+    with pytest.raises(CaseError, match=r"derivative_jumps must be a list of segments \(\(x0, y0\), \(x1, y1\)\)") as error:
+        load_case(str(path))
+    assert "\n" not in str(error.value)
+
+
+def test_derivative_jumps_are_2d_only_and_select_the_elements_they_cross(tmp_path):
+    """A 3D case's derivative_jumps are refused in one line. smooth's x = 0 crosses the elements
+    whose vertices lie on both sides of it, and no other: not those that only touch it at (0, 0)."""
+    from harness.fem.element_quadrature import crossed_elements
+    from harness.mesh.levels import coarse_mesh
+    from harness.mesh.points import cells, coordinates
+    source = Path(registered_cases()["smooth-3d"].source).read_text()
+    path = tmp_path / "case.py"
+    path.write_text(source + "\nderivative_jumps = [((0.0, 0.0), (0.0, 1.0))]\n")
+    with pytest.raises(CaseError, match="derivative_jumps are 2D only") as error:
+        load_case(str(path))
+    assert "\n" not in str(error.value)
+    case = registered_cases()["smooth"]
+    assert case.derivative_jumps == (((0.0, 0.0), (0.0, 1.0)),)
+    mesh = coarse_mesh(case)
+    x = coordinates(mesh)[cells(mesh)][..., 0]
+    straddling = np.flatnonzero((x.min(axis=1) < -1e-12) & (x.max(axis=1) > 1e-12))
+    np.testing.assert_array_equal(crossed_elements(case, mesh), straddling)
+    assert len(crossed_elements(dataclasses.replace(case, derivative_jumps=()), mesh)) == 0

@@ -40,6 +40,11 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            ((x, y, z), (x, y, z)): graded meshes refine toward them. A 3D case
                            on graded meshes declares these or singular_points ([]: singular
                            nowhere)
+    derivative_jumps       optional (2D), the straight segments ((x0, y0), (x1, y1)) across which a
+                           derivative of u (or of f) jumps inside the domain, along no mesh line
+                           (smooth's D^3 u across x = 0): the error and load quadratures
+                           subdivide the elements they cross (``fem.element_quadrature``).
+                           Default: none
     physics                optional, "scalar" (default) or "elasticity" (Remark 2.3; see below)
     transition_curve       optional (3D), the exact contact/separation curves on Gamma_C: a
                            list of polylines, each a list of points (x, y) of the plane of
@@ -167,6 +172,7 @@ class Case:
     declared_grad_u: ngs.CoefficientFunction | None = None     # the module's grad_u
     singular_points: tuple | None = None
     singular_lines: tuple | None = None                # 3D: segments ((x, y, z), (x, y, z))
+    derivative_jumps: tuple = ()                       # 2D: segments ((x, y), (x, y)) a derivative jumps across
     source: str = ""
     dirichlet: ngs.CoefficientFunction | None = None   # reference cases: u_D on Gamma_u
     neumann: ngs.CoefficientFunction | None = None     # reference cases: g on Gamma_g

@@ -58,6 +58,7 @@ def check_declared(module, source: str) -> None:
                         f"got {type(module.geometry).__name__}")
     _check_coefficients(module, source)
     check_singular_sets(module, source)
+    check_derivative_jumps(module, source)
 
 
 def _check_strings(module, source: str) -> None:
@@ -158,6 +159,26 @@ def check_singular_sets(module, source: str) -> None:
                         f"numbers with distinct ends, got {lines!r}")
 
 
+def check_derivative_jumps(module, source: str) -> None:
+    """derivative_jumps (2D only): segments, each two distinct (x, y) points of finite numbers."""
+    jumps = getattr(module, "derivative_jumps", None)
+    if jumps is None:
+        return
+    dimension = geometry_dimension(module.geometry) if hasattr(module, "geometry") else 2
+    if dimension != 2:
+        raise CaseError(f"case {source}: derivative_jumps are 2D only (the error and load quadratures of a 3D case "
+                        f"have no rule for them), got {jumps!r}")
+    try:
+        ok = not isinstance(jumps, str) and all(
+            not isinstance(segment, str) and len(segment) == 2 and _points_of(segment, 2)
+            and tuple(map(float, segment[0])) != tuple(map(float, segment[1])) for segment in jumps)
+    except TypeError:
+        ok = False
+    if not ok:
+        raise CaseError(f"case {source}: derivative_jumps must be a list of segments ((x0, y0), (x1, y1)) of finite "
+                        f"numbers with distinct ends, got {jumps!r}")
+
+
 def check_second_body(case, source: str) -> None:
     """A two-body case: a ``bodies.MirrorBody`` on a 2D geometry."""
     from .bodies import MirrorBody
@@ -194,7 +215,8 @@ def optional_fields(module) -> dict:
     fields = {}
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
                 "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile", "second_body",
-                "singular_lines", "report_levels", "prediction", "predicted_quantities", "predicted_pressure"):
+                "singular_lines", "report_levels", "prediction", "predicted_quantities", "predicted_pressure",
+                "derivative_jumps"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):
@@ -207,6 +229,9 @@ def optional_fields(module) -> dict:
         fields["report_levels"] = tuple(sorted(fields["report_levels"].items()))     # hashable, like the rest
     if fields.get("singular_lines") is not None:
         fields["singular_lines"] = tuple(tuple(tuple(map(float, point)) for point in line) for line in fields["singular_lines"])
+    if "derivative_jumps" in fields:
+        fields["derivative_jumps"] = tuple(tuple(tuple(map(float, point)) for point in segment)
+                                           for segment in fields["derivative_jumps"] or ())
     for key in ("gap", "contact_load"):
         if fields.get(key) is not None:
             fields[key] = ngs.CF(fields[key])
