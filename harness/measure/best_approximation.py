@@ -41,14 +41,16 @@ def contact_flux_load(case, problem: DiscreteProblem) -> np.ndarray:
 
 
 def ritz_projection(case, problem: DiscreteProblem, multilevel=None, start: np.ndarray | None = None) -> np.ndarray:
-    """R_h u (all dofs), by the multigrid CG of the contact solver when the hierarchy is given,
-    else by sparse Cholesky. Call it before a method takes the stiffness matrix. ``start``: the
-    CG's first iterate (nested iteration: the coarser level's R_h u interpolated,
-    ``nested_ritz_start``); it changes the result only below the tolerance."""
+    """R_h u (all dofs), by the multigrid CG of the contact solver when the hierarchy is given and
+    the order is 1 or 2, else by sparse Cholesky. (P3 and P4 reach errors whose size the CG's
+    tolerance leaves in R_h u, which then reads above the methods' errors: there the best
+    approximation is factorised, tests/test_rates.py.) Call it before a method takes the
+    stiffness matrix. ``start``: the CG's first iterate (nested iteration: the coarser level's
+    R_h u interpolated, ``nested_ritz_start``); it changes the result only below the tolerance."""
     b = problem.b + contact_flux_load(case, problem)
     pinned = ~problem.free
     scale = max(np.abs((b - problem.A @ problem.lift)[problem.free]).max(initial=0.0), np.finfo(float).tiny)
-    if multilevel is not None:
+    if multilevel is not None and problem.order <= 2:
         system = MultigridSystem(problem.A_ngs, b, multilevel, ContactEdges.of(problem, model=False))
         return system.solve(pinned, problem.lift, start=start, tol=TOLERANCE * scale)
     rhs = np.where(problem.free, b - problem.A @ problem.lift, 0.0)

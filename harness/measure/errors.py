@@ -28,9 +28,9 @@ def error_order(fe_order: int) -> int:
     case), 4 for P1. tests/test_errors.py holds both to 1e-3 against a much finer integration.
     For k >= 3 two more: the error is then small enough that what a degree 2k + 2 rule misses of
     a case's data shows (smooth-quintic's D^5 u jumps across x = 0, inside elements). Where a
-    lower derivative jumps inside elements (``smooth``: D^3 u), no Gauss order integrates the
-    P3/P4 error to the last per cent (tests/test_rates.py measures it): those rows' errors carry
-    that quadrature error."""
+    lower derivative jumps inside elements (``smooth``: D^3 u), no Gauss order is enough: such a
+    case declares the line (``derivative_jumps``), and the elements it crosses get a split rule
+    (``fem.element_quadrature.split_rule``)."""
     return 2 * fe_order + (2 if fe_order <= 2 else 4)
 NORMS = ("err_h1", "err_h1_semi", "err_l2", "err_energy")
 
