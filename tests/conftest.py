@@ -115,3 +115,14 @@ def assert_volume_and_jumps_are_ngsolves(case, mesh, order: int) -> None:
     ours = ResidualEstimator(case, problem).terms.volume_and_jumps(problem.gridfunction(u), order, case.physics)
     theirs = volume_and_jumps_by_ngsolve(case, problem, u)
     assert np.abs(ours - theirs).max() <= 1e-10 * np.abs(theirs).max()
+
+
+def clarabel_solution(problem, qp):
+    """The free dofs of the solution of a general-rows cone's QP (``qp.B z >= qp.g``) by Clarabel,
+    an interior-point solver independent of the harness's active set methods."""
+    import scipy.sparse as sp
+    from qpsolvers import solve_qp
+    free, A = problem.free, problem.A
+    K_free, b_free = A[free][:, free], (problem.b - A @ problem.lift)[free]
+    return solve_qp(sp.csc_matrix(K_free), -b_free, G=sp.csc_matrix(-qp.B[:, free]), h=-(qp.g - qp.B @ problem.lift),
+                    solver="clarabel", tol_gap_abs=1e-11, tol_gap_rel=1e-11, tol_feas=1e-11)

@@ -5,8 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import scipy.sparse as sp
-from conftest import HIGH_ORDER_NAMES, problem_at, problem_with_hierarchy
-from qpsolvers import solve_qp
+from conftest import HIGH_ORDER_NAMES, clarabel_solution, problem_at, problem_with_hierarchy
 
 from harness.fem.assembly import ContactTraceFunction, discretise, lobatto_points
 from harness.fem.contact_law import law_system
@@ -52,21 +51,6 @@ def test_the_pk_trace_function_is_u_h_on_gamma_c_and_finds_its_least_value(case_
 
 
 @pytest.mark.parametrize("order", [3, 4])
-@pytest.mark.parametrize("case_name, level", [("transition-r32", 2), ("elastic-transition-r32", 2),
-                                              ("transition-line-3d", 0), ("elastic-transition-3d", 0)])
-def test_gamma_c_rows_of_pk_give_ngsolve_contact_variable_and_flux(case_name, level, order, rng):
-    """T and N of P3 and P4, in every physics and dimension, against NGSolve's own evaluation of
-    a random u_h (as tests/test_weak_contact.py for P1 and P2)."""
-    from test_weak_contact import contact_variable_and_flux
-    case, problem = load_case(case_name), problem_at(case_name, level, order)
-    quadrature = contact_quadrature(problem)
-    u = rng.standard_normal(problem.ndof)
-    value, flux = contact_variable_and_flux(case, problem, u, quadrature.points, quadrature.normals)
-    np.testing.assert_allclose(quadrature.T @ u, value, atol=1e-11 * np.abs(value).max())
-    np.testing.assert_allclose(quadrature.N @ u, flux, atol=1e-11 * np.abs(flux).max())
-
-
-@pytest.mark.parametrize("order", [3, 4])
 def test_multigrid_newton_at_pk_equals_direct_newton(order):
     case = load_case("transition-r32")
     method = METHODS[f"nitsche-p{order}"]
@@ -85,13 +69,10 @@ def test_the_gauss_lobatto_cone_is_solved_exactly_against_clarabel(order):
     problem = problem_at("corner-r12", 1, order)
     qp = edge_functional_qp(case, problem, METHODS[f"nodal-p{order}"].functionals)
     solution = GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift).solve()
-    free, A = problem.free, problem.A
-    K_free, b_free = A[free][:, free], (problem.b - A @ problem.lift)[free]
-    reference = solve_qp(sp.csc_matrix(K_free), -b_free, G=sp.csc_matrix(-qp.B[:, free]), h=-(qp.g - qp.B @ problem.lift),
-                         solver="clarabel", tol_gap_abs=1e-11, tol_gap_rel=1e-11, tol_feas=1e-11)
+    reference = clarabel_solution(problem, qp)
     assert solution.status == "converged" and solution.residual <= 1e-10
     assert solution.active[qp.n_vertices:].any()                 # some Gauss-Lobatto row binds
-    np.testing.assert_allclose(solution.z[free], reference, atol=1e-6 * np.abs(reference).max())
+    np.testing.assert_allclose(solution.z[problem.free], reference, atol=1e-6 * np.abs(reference).max())
 
 
 def test_the_gauss_lobatto_points_are_the_midpoint_at_p2_and_symmetric():

@@ -8,9 +8,7 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 import pytest
-import scipy.sparse as sp
-from conftest import problem_at
-from qpsolvers import solve_qp
+from conftest import clarabel_solution, problem_at
 
 from harness.fem.edge_functionals import edge_functional_qp
 from harness.methods import METHODS, Expectation, FunctionalCone, get_method
@@ -44,13 +42,10 @@ def test_the_quarter_point_cone_is_solved_exactly_against_clarabel():
     problem = problem_at("corner-r12", 1, 2)
     qp = edge_functional_qp(case, problem, QUARTER_POINTS)
     solution = GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift).solve()
-    free, A = problem.free, problem.A
-    K_free, b_free = A[free][:, free], (problem.b - A @ problem.lift)[free]
-    reference = solve_qp(sp.csc_matrix(K_free), -b_free, G=sp.csc_matrix(-qp.B[:, free]), h=-(qp.g - qp.B @ problem.lift),
-                         solver="clarabel", tol_gap_abs=1e-11, tol_gap_rel=1e-11, tol_feas=1e-11)
+    reference = clarabel_solution(problem, qp)
     assert solution.status == "converged" and solution.residual <= 1e-10
     assert solution.active[qp.n_vertices:].any()                 # some quarter-point row binds
-    np.testing.assert_allclose(solution.z[free], reference, atol=1e-6 * np.abs(reference).max())
+    np.testing.assert_allclose(solution.z[problem.free], reference, atol=1e-6 * np.abs(reference).max())
     # on the quarter points themselves the trace is not below the obstacle
     assert (qp.B @ solution.z - qp.g).min() >= -1e-10
 

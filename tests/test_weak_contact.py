@@ -48,7 +48,7 @@ def contact_variable_and_flux(case, problem, u, points, normals):
     return -(evaluate(gfu, mesh, points) * normals).sum(axis=1), -np.einsum("qi,qij,qj->q", normals, sigma, normals)
 
 
-@pytest.mark.parametrize("order", [1, 2])
+@pytest.mark.parametrize("order", [1, 2, 3, 4])
 @pytest.mark.parametrize("case_name, level", [(name, 2) for name in CASES] + PHYSICS_CASES)
 def test_gamma_c_rows_give_ngsolve_contact_variable_and_flux(case_name, level, order, rng):
     case, problem = load_case(case_name), problem_at(case_name, level, order)
