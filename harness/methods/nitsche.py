@@ -28,11 +28,18 @@ REFERENCE = "Chouly & Hild 2013 (SINUM 51); Chouly, Hild & Renard 2015 (Math. Co
 GAMMA0 = 0.05
 
 
+# k >= 3: the theorem above is stated for k <= 2; Gustafsson & Stenberg's abstract calls the method
+# optimally convergent (their theorem was not read)
+REFERENCE_HIGH_ORDER = "Gustafsson & Stenberg 2025 (J. Struct. Mech. 58; abstract); CHR 2015 Thm 3.8 for k <= 2"
+
+
 def expected_for(order: int):
+    reference = REFERENCE if order <= 2 else REFERENCE_HIGH_ORDER
+
     def expected(case) -> Expectation:
         if case.nu <= 1.5:
-            return Expectation(math.nan, 0.0, f"{REFERENCE}: no result for nu <= 3/2")
-        return Expectation(min(case.nu - 1.0, order), 0.0, REFERENCE)
+            return Expectation(math.nan, 0.0, f"{reference}: no result for nu <= 3/2")
+        return Expectation(min(case.nu - 1.0, order), 0.0, reference)
     return expected
 
 
