@@ -40,7 +40,8 @@ def run(cases, methods="all", levels: int = 5, meshes="uniform", *, out=None, re
     ``cases``: names, case files, modules or ``Case`` objects (or one of them). ``methods``:
     names, groups ('paper', 'weak', ...), 'all', parameters (``nitsche:gamma0=0.1``), files or
     modules of your own, or ``Method`` objects. ``meshes``: "uniform", "graded", "adaptive"
-    ("adaptive:theta=0.3"), "all", a strategy of your own or a list of them; each case runs on
+    ("adaptive:theta=0.3"), "hp" ("hp:sigma=0.15,mu=1"), "all" (the first three), a strategy of
+    your own or a list of them; each case runs on
     each strategy that meshes it. ``out``: a results folder, owned by this run while it lasts
     (another command's folder is refused before anything is computed); every finished level is
     made durable there (run again to resume), and the rows are merged by key into its

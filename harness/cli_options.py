@@ -105,7 +105,8 @@ def add_run(p):
                    help="measure every method's errors against one reference, the nodal P2 solution K levels finer "
                         "than P2's finest studied level (a case without u: default 2 or its own; a case with u: instead of u)")
     p.add_argument("--mesh", action="append", type=_checked(_mesh_list, "not a mesh strategy"), metavar="STRATEGY",
-                   help="uniform (the default), graded (Remark 4.4), adaptive (Dörfler, adaptive:theta=0.3), all, or a "
+                   help="uniform (the default), graded (Remark 4.4), adaptive (Dörfler, adaptive:theta=0.3), hp (geometric layers "
+                        "and degrees, hp:sigma=0.15,mu=1), all (uniform, graded, adaptive), or a "
                         "strategy of your own (path/to/file.py[:name], package.module[:name], an installed one's label); "
                         "repeat for several")
     p.add_argument("--out", default="results", metavar="DIR")

@@ -19,6 +19,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial import cKDTree
 
+from ..mesh.hp import MAX_DEGREE
 from ..mesh.trace import ContactTrace, contact_trace
 from .element_quadrature import ElementQuadrature, singular_vertices
 from .rotated_frame import RotatedFrame, rotate_in_place
@@ -30,11 +31,25 @@ ORDERS = (1, 2, 3, 4)
 # the order k of X_h: 2k, exact for f v with f of degree k, at least 4 (P1 too);
 # tests/test_errors.py (test_load_quadrature_changes_no_error_by_more_than_1e_4) measures it
 LOAD_ORDER = {1: 4, 2: 4, 3: 6, 4: 8}
+
+
+def load_order(k: int) -> int:
+    """``LOAD_ORDER`` of P_k, and 2k for the degrees of an hp space beyond it."""
+    return LOAD_ORDER.get(k, 2 * k)
 # Extra order for the Neumann load g on Gamma_g: O(h^-1) edges, cheap, and g may be singular at
 # a junction.
 BOUNDARY_LOAD_BONUS_ORDER = 6
 # Gauss points per contact edge for the contact load g_C (graded at singular points)
 CONTACT_LOAD_POINTS = 8
+
+
+def boundary_load_points(order: int, points: int = CONTACT_LOAD_POINTS) -> int:
+    """Gauss points per contact edge for a load on Gamma_C that is no polynomial (g_C, the exact
+    flux of the best approximation): ``points``, or 2k + 4 for P_k beyond k = 2 (exact for the
+    load's Taylor polynomial of degree 3k + 7 times a basis function). Eight points leave the
+    degree-16 functions of an hp mesh a quadrature error above the discretisation error, which
+    grew level by level on corner-r12."""
+    return max(points, 2 * order + 4)
 
 
 @dataclass
@@ -47,7 +62,7 @@ class DiscreteProblem:
     lift: np.ndarray            # Dirichlet data on Gamma_u dofs, zero elsewhere
     free: np.ndarray            # bool: dofs not on Gamma_u
     trace: ContactTrace
-    edge_dofs: np.ndarray       # (m (k - 1),) the k - 1 edge dofs of each contact edge, edge by edge; empty for order 1
+    edge_dofs: np.ndarray       # the k - 1 edge dofs of each contact edge (k: its degree), edge by edge; empty for order 1
     end_dofs: np.ndarray        # (m, 2) vertex dofs of the end points of each contact edge
     vertex_dofs: np.ndarray     # dofs of trace.vertices, same order
     quadrature: ElementQuadrature
@@ -56,6 +71,8 @@ class DiscreteProblem:
     basis: sp.csr_matrix | None = None          # Q: NGSolve's (Cartesian) coefficients = Q @ ours; None: Q = I
     # what later stages make once per problem and share (the errors' discrete pressure), by kind
     cache: dict = field(default_factory=dict, repr=False, compare=False)
+    # an hp space (``mesh.hp``): the degree of each element (None: every element has ``order``)
+    degrees: np.ndarray | None = None
 
     def cartesian(self, vector: np.ndarray) -> np.ndarray:
         """The coefficients in NGSolve's own basis of a vector of this problem's variables."""
@@ -76,7 +93,17 @@ class DiscreteProblem:
 
     @property
     def order(self) -> int:
+        """k of P_k; of an hp space, its largest element degree (what every rule sized by the
+        degree, on Gamma_C, for the load and the errors, must integrate)."""
         return self.fes.globalorder
+
+    @property
+    def edge_degrees(self) -> np.ndarray:
+        """(m,) the degree of each contact edge: its one element's (``set_degrees``' minimum rule
+        gives a boundary edge its element's degree)."""
+        if self.degrees is None:
+            return np.full(len(self.trace.edges), self.order)
+        return self.degrees[self.trace.volumes]
 
     def bubbles(self, u: np.ndarray) -> np.ndarray:
         """The bubble coefficient of u on each contact edge (zero for order 1)."""
@@ -108,12 +135,24 @@ class DiscreteProblem:
         return gf
 
 
-def _contact_dofs(fes, node, count: int = 1) -> list[int]:
-    """The ``count`` dofs of ``node`` that carry the contact variable (one at a vertex, k - 1 on an
-    edge of P_k): all of them (scalar), or the last component's, where ``RotatedFrame`` puts
+def _contact_dofs(fes, node, components: int) -> list[int]:
+    """The dofs of ``node`` that carry the contact variable (one at a vertex, k - 1 on an edge of
+    degree k): all of them (scalar), or the last component's block, where ``RotatedFrame`` puts
     c = -u . n (elasticity; NGSolve numbers a node's dofs in component blocks)."""
     dofs = fes.GetDofNrs(node)
-    return list(dofs[len(dofs) - count:]) if count else []
+    return list(dofs[len(dofs) - len(dofs) // components:])
+
+
+def set_degrees(fes, mesh: ngs.Mesh, degrees: np.ndarray) -> None:
+    """Give ``fes`` (a scalar H1 space made with the largest of ``degrees``) the degree of each
+    element, and each edge the least degree of its elements (the minimum rule: conforming, and a
+    boundary edge has its element's degree). NGSolve's own variable order: the interior of a 2D
+    element is its CELL node (``ngsolve.comp.NodeId``)."""
+    for element, degree in enumerate(degrees):
+        fes.SetOrder(ngs.NodeId(ngs.CELL, element), int(degree))
+    for edge in mesh.edges:
+        fes.SetOrder(edge, int(min(degrees[e.nr] for e in edge.elements)))
+    fes.Update()
 
 
 def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
@@ -124,7 +163,7 @@ def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
     load = ngs.LinearForm(fes)
     if not case.f_vanishes:
         f = case.f.Compile()
-        for dx in quadrature.measures(LOAD_ORDER[fes.globalorder]):
+        for dx in quadrature.measures(load_order(fes.globalorder)):
             load += f * v * dx
     n = ngs.specialcf.normal(fes.mesh.dim)
     # compiled (common subexpressions once per point): the derived traction sigma(u) n of an elastic u
@@ -136,13 +175,18 @@ def load_vector(case, fes, quadrature: ElementQuadrature) -> np.ndarray:
     return load.vec.FV().NumPy().copy()
 
 
-def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadrature | None = None) -> DiscreteProblem:
+def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadrature | None = None,
+               degrees: np.ndarray | None = None) -> DiscreteProblem:
     """X_h of ``order`` on ``mesh`` for the case's physics; ``quadrature`` (made here if not
-    given) is shared by the problems of one level."""
+    given) is shared by the problems of one level. ``degrees`` (one per element, at least
+    ``order``): an hp space (``mesh.hp``; scalar physics, 2D)."""
     if order not in ORDERS:
         raise ValueError(f"order must be one of {', '.join(map(str, ORDERS))}, got {order}")
     physics = case.physics
-    fes = physics.space(mesh, order)
+    degrees = _checked_degrees(case, mesh, order, degrees)
+    fes = physics.space(mesh, order if degrees is None else int(degrees.max()))
+    if degrees is not None:
+        set_degrees(fes, mesh, degrees)
     u, v = fes.TnT()
     a = ngs.BilinearForm(physics.form(u, v) * ngs.dx).Assemble()
     quadrature = quadrature or ElementQuadrature.of(case, mesh)
@@ -162,21 +206,35 @@ def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadratu
             basis = frame.matrix(fes.ndof)
             rotate_in_place(A, basis)
             b, lift = basis.T @ b, basis.T @ lift
-    edge_dofs = np.array([_contact_dofs(fes, ngs.NodeId(ngs.EDGE, int(e)), order - 1) for e in trace.edges],
-                         dtype=np.int64).reshape(-1)
-    end_dofs = np.array([[_contact_dofs(fes, ngs.NodeId(ngs.VERTEX, int(v)))[0] for v in pair]
+    components = mesh.dim if physics.rotated_frame else 1
+    edge_dofs = np.array([d for e in trace.edges for d in _contact_dofs(fes, ngs.NodeId(ngs.EDGE, int(e)), components)],
+                         dtype=np.int64)
+    end_dofs = np.array([[_contact_dofs(fes, ngs.NodeId(ngs.VERTEX, int(v)), components)[0] for v in pair]
                          for pair in trace.edge_vertices])
     if not free[edge_dofs].all() or not free[end_dofs].all():
         raise ValueError("Gamma_C touches Gamma_u; the paper (Section 2) assumes they do not")
     problem = DiscreteProblem(
         mesh=mesh, fes=fes, _A=A, _A_ngs=a.mat, b=b, lift=lift, free=free, trace=trace, edge_dofs=edge_dofs,
-        end_dofs=end_dofs, quadrature=quadrature, physics=physics, basis=basis,
-        vertex_dofs=np.array([_contact_dofs(fes, ngs.NodeId(ngs.VERTEX, int(v)))[0] for v in trace.vertices]),
+        end_dofs=end_dofs, quadrature=quadrature, physics=physics, basis=basis, degrees=degrees,
+        vertex_dofs=np.array([_contact_dofs(fes, ngs.NodeId(ngs.VERTEX, int(v)), components)[0] for v in trace.vertices]),
     )
     problem.contact_rows = problem.A[problem.contact_dofs].copy()
     if case.contact_load is not None and not physics.traction_load:
         problem.b += contact_load_vector(case, problem)
     return problem
+
+
+def _checked_degrees(case, mesh: ngs.Mesh, order: int, degrees) -> np.ndarray | None:
+    """``degrees`` as an int array, or a one-line ValueError: one per element, within ``order`` ..
+    ``MAX_DEGREE``, on a scalar 2D case (a vector space's per-element degrees are not set)."""
+    if degrees is None:
+        return None
+    degrees = np.asarray(degrees, dtype=np.int64)
+    if case.physics.rotated_frame or mesh.dim != 2:
+        raise ValueError("per-element degrees (hp) are implemented for the scalar problem in 2D")
+    if degrees.shape != (mesh.ne,) or degrees.min() < order or degrees.max() > MAX_DEGREE:
+        raise ValueError(f"degrees must be one per element ({mesh.ne}), between {order} and {MAX_DEGREE}")
+    return degrees
 
 
 def contact_load_vector(case, problem: DiscreteProblem) -> np.ndarray:
@@ -185,7 +243,7 @@ def contact_load_vector(case, problem: DiscreteProblem) -> np.ndarray:
     many oscillations in oscillating-r34, where a Gauss rule on the first edge errs by O(1)):
     the rule is graded on the edges at singular points, as for the best approximation's flux."""
     from .contact_quadrature import at_points, contact_quadrature
-    quadrature = contact_quadrature(problem, CONTACT_LOAD_POINTS, graded_at=singular_vertices(case, problem.mesh))
+    quadrature = contact_quadrature(problem, boundary_load_points(problem.order), graded_at=singular_vertices(case, problem.mesh))
     return quadrature.T.T @ (quadrature.weights * at_points(case.contact_load, problem.mesh, quadrature))
 
 

@@ -71,6 +71,9 @@ class GammaPoints:
     # (``physics.modulus``); a weak method's eps ~ h / modulus keeps its parameter's range
     # independent of the material (``laws``)
     modulus: float = 1.0
+    # (q,) the polynomial degree of each point's cell: k of P_k, or its element's on an hp mesh
+    # (``mesh.hp``), where a law's eps scales like h / k^2 (``laws.Nitsche``); None: not known
+    degree: np.ndarray | None = None
 
     @property
     def normal_displacement(self) -> np.ndarray:
@@ -157,7 +160,8 @@ class LawSystem(BoundaryTerms):
     def at(self, u: np.ndarray) -> GammaPoints:
         q = self.quadrature
         physics = self.problem.physics
-        return GammaPoints(q.T @ u, q.N @ u, self.gap, self.load, q.h, q.points, physics.name, physics.modulus)
+        return GammaPoints(q.T @ u, q.N @ u, self.gap, self.load, q.h, q.points, physics.name, physics.modulus,
+                           q.degree)
 
     def zero(self) -> GammaPoints:
         """The state u_h = 0: where an affine term takes its constant part."""

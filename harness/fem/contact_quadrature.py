@@ -52,6 +52,7 @@ class ContactQuadrature:
     # of basis and each point's volume element (not the problem: the problem's caches hold
     # quadratures, and a cycle would keep its matrices alive until a full garbage collection)
     _flux: tuple | None = field(default=None, repr=False, compare=False)
+    degree: np.ndarray | None = None     # (q,) the degree of each point's cell (``DiscreteProblem.edge_degrees``)
 
     @cached_property
     def N(self) -> sp.csr_matrix:
@@ -86,6 +87,21 @@ def graded(points: int, depth: int = 30) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate([left_t, 1.0 - left_t[::-1]]), np.concatenate([left_w, left_w[::-1]])
 
 
+# the smallest distance (absolute) from an edge end at which the graded rule puts a point: below
+# it the point's coordinates round to the end (the edges at the singular points of an hp mesh
+# are 1e-6 long and shorter), where a singular u's derivatives are 0/0
+GRADED_FLOOR = 1e-14
+
+
+def graded_depth(lengths: np.ndarray, points: int, depth: int = 30) -> int:
+    """``depth`` of the ``graded`` rule of ``points`` points, or less where its point nearest an
+    end, on the shortest of ``lengths``, would be nearer than ``GRADED_FLOOR``."""
+    if not len(lengths):
+        return depth
+    nearest = lengths.min() * gauss(points)[0][0]
+    return int(min(depth, max(1, np.floor(np.log2(nearest / GRADED_FLOOR)))))
+
+
 def contact_quadrature(problem, points_per_edge: int | None = None, graded_at: np.ndarray | None = None) -> ContactQuadrature:
     """Gauss points of ``problem``'s contact edges and its basis (order 1 or 2) there; on the
     edges with an end at one of the vertices ``graded_at`` (singular points), the ``graded``
@@ -98,8 +114,8 @@ def contact_quadrature(problem, points_per_edge: int | None = None, graded_at: n
         return _face_quadrature(problem, 2 * points_per_edge - 1)
     trace = problem.trace
     m = len(trace.edges)
-    rules = [gauss(points_per_edge), graded(points_per_edge)]
     singular = np.zeros(m, bool) if graded_at is None else np.isin(trace.edge_vertices, graded_at).any(axis=1)
+    rules = [gauss(points_per_edge), graded(points_per_edge, graded_depth(trace.lengths[singular], points_per_edge))]
     rule_of = singular.astype(int)
     edge = np.concatenate([np.full(len(rules[r][0]), k) for k, r in enumerate(rule_of)]).astype(np.int64)
     T_t = np.concatenate([rules[r][0] for r in rule_of])
@@ -114,6 +130,7 @@ def contact_quadrature(problem, points_per_edge: int | None = None, graded_at: n
         T=trace_rows(problem.fes, problem.physics, problem.basis, volumes, points, normals),
         normals=normals,
         _flux=(problem.fes, problem.physics, problem.basis, volumes),
+        degree=problem.edge_degrees[edge],
     )
 
 
@@ -141,6 +158,7 @@ def _face_quadrature(problem, degree: int) -> ContactQuadrature:
         T=trace_rows(problem.fes, problem.physics, problem.basis, volumes, points, normals),
         normals=normals,
         _flux=(problem.fes, problem.physics, problem.basis, volumes),
+        degree=np.full(len(face), problem.order),
     )
 
 
@@ -170,8 +188,10 @@ def trace_rows(fes, physics, basis, volumes: np.ndarray, points: np.ndarray, nor
 
 
 def _scalar_space(fes):
-    """The scalar H1 space of ``fes``'s order and mesh: it numbers its dofs as each component
-    block of a VectorH1 space does."""
+    """``fes`` itself if scalar, else the scalar H1 space of its order and mesh: it numbers its
+    dofs as each component block of a VectorH1 space does."""
+    if isinstance(fes, ngs.H1):
+        return fes
     return ngs.H1(fes.mesh, order=fes.globalorder)
 
 
@@ -194,21 +214,24 @@ def scalar_basis_at(fes, volumes: np.ndarray, points: np.ndarray, values: bool =
     there (None where not asked for). NGSolve evaluates them: the element's j-th local basis
     function is the j-th dof of the element in the discontinuous copy of the space (the same
     element, its dofs numbered element by element), so one GridFunction per local index,
-    evaluated at every point at once, gives them all."""
+    evaluated at every point at once, gives them all. An element of an hp space with fewer dofs
+    than the largest pads its rows with its first dof, at value zero."""
     mesh = fes.mesh
     unique, which = np.unique(volumes, return_inverse=True)
-    element_dofs = np.array([fes.GetDofNrs(ngs.ElementId(ngs.VOL, int(e))) for e in unique], dtype=np.int64)
+    own = [fes.GetDofNrs(ngs.ElementId(ngs.VOL, int(e))) for e in unique]
+    count = np.array([len(dofs) for dofs in own])
+    local = int(count.max())
+    element_dofs = np.array([list(dofs) + [dofs[0]] * (local - len(dofs)) for dofs in own], dtype=np.int64)
     broken = ngs.Discontinuous(fes)
     first = np.array([broken.GetDofNrs(ngs.ElementId(ngs.VOL, int(e)))[0] for e in unique], dtype=np.int64)
     in_elements(mesh, points, volumes)
     indicator = ngs.GridFunction(broken)
     coefficients = indicator.vec.FV().NumPy()
-    local = element_dofs.shape[1]
     value_of = np.empty((len(points), local)) if values else None
     gradient_of = np.empty((len(points), local, mesh.dim)) if gradients else None
     for j in range(local):
         coefficients[:] = 0.0
-        coefficients[first + j] = 1.0
+        coefficients[(first + j)[j < count]] = 1.0
         if values:
             value_of[:, j] = evaluate(indicator, mesh, points)
         if gradients:

@@ -65,13 +65,25 @@ def _positive(name: str, value) -> None:
         raise ValueError(f"{name} must be a finite positive number, got {value}")
 
 
+def degree_scale(degree: int | None, at) -> np.ndarray | float:
+    """(k / p)^2 at each point of degree p (``contact_law.GammaPoints``) for a law calibrated on P_k:
+    the discrete trace-inverse constant grows like p^2 (``methods.nitsche.gamma0_for``), so on an
+    hp mesh eps ~ h / p^2 keeps the margin of P_k's parameter in every element. Exactly 1 where
+    p = k, or where either is not known."""
+    if degree is None or at.degree is None:
+        return 1.0
+    return (degree / np.asarray(at.degree, float)) ** 2
+
+
 @dataclass(frozen=True)
 class Nitsche:
     """Nitsche's law (N), eps = gamma0 h / M at each Gauss point (h its cell's size, M the
-    physics' modulus), variant theta."""
+    physics' modulus), variant theta; ``degree``: the k of P_k that gamma0 is chosen for, so that
+    on an hp mesh eps = gamma0 (k / p)^2 h / M at a point of degree p (``degree_scale``)."""
 
     gamma0: float = 0.05
     theta: float = 1.0
+    degree: int | None = None
 
     def __post_init__(self):
         _positive("gamma0", self.gamma0)
@@ -80,7 +92,7 @@ class Nitsche:
 
     def bracket(self, at) -> tuple[np.ndarray, np.ndarray]:
         """(P(u), eps) at the points: P = eps (flux - g_C) + alpha - c."""
-        eps = self.gamma0 * at.h / at.modulus
+        eps = self.gamma0 * at.h / at.modulus * degree_scale(self.degree, at)
         return eps * (at.dn - at.load) + at.gap - at.u, eps
 
     def branch(self, at) -> np.ndarray:
@@ -101,15 +113,17 @@ class Nitsche:
 
 @dataclass(frozen=True)
 class Penalty:
-    """The penalty law (P), eps = epsilon0 h / M at each Gauss point (M the physics' modulus)."""
+    """The penalty law (P), eps = epsilon0 h / M at each Gauss point (M the physics' modulus);
+    ``degree`` as for ``Nitsche``."""
 
     epsilon0: float = 0.05
+    degree: int | None = None
 
     def __post_init__(self):
         _positive("epsilon0", self.epsilon0)
 
     def eps(self, at) -> np.ndarray:
-        return self.epsilon0 * at.h / at.modulus
+        return self.epsilon0 * at.h / at.modulus * degree_scale(self.degree, at)
 
     def branch(self, at) -> np.ndarray:
         return at.gap - at.u > 0

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..fem.assembly import DiscreteProblem
+from ..fem.assembly import DiscreteProblem, boundary_load_points
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
 from ..fem.element_quadrature import singular_vertices
 from ..solvers.active_set import Cholesky, MultigridSystem
@@ -36,7 +36,7 @@ def contact_flux_load(case, problem: DiscreteProblem) -> np.ndarray:
     first edge, which moves R_h u by as much as its own error (on corner-r12 enough to put R_h u
     above a method's error in |.|_1, which a best approximation cannot be); the rule is graded on
     the edges at singular points."""
-    quadrature = contact_quadrature(problem, FLUX_POINTS, graded_at=singular_vertices(case, problem.mesh))
+    quadrature = contact_quadrature(problem, boundary_load_points(problem.order, FLUX_POINTS), graded_at=singular_vertices(case, problem.mesh))
     return quadrature.T.T @ (quadrature.weights * exact_pressure(case, problem, quadrature))
 
 

@@ -48,7 +48,7 @@ from ..fem.contact_quadrature import at_points, contact_quadrature
 from ..fem.element_quadrature import ElementQuadrature, singular_vertices
 from ..mesh.points import evaluate, mesh_key
 from ..mesh.sides import SIDE_ENDS, MeshSides
-from .errors import CONTACT_ERROR_POINTS, DiscretePressure
+from .errors import DiscretePressure, contact_error_points
 from .estimator_3d import TetrahedronTerms
 from .facets import element_bits, neumann_facets
 
@@ -223,7 +223,7 @@ class ResidualEstimator:
         self.case, self.problem, mesh = case, problem, problem.mesh
         self.terms = mesh_terms(case, problem.quadrature)
         self.pressure = DiscretePressure.of(problem)
-        q = contact_quadrature(problem, CONTACT_ERROR_POINTS, graded_at=singular_vertices(case, mesh))
+        q = contact_quadrature(problem, contact_error_points(problem.order), graded_at=singular_vertices(case, mesh))
         self.q = q
         self.T_contact = q.T[:, problem.contact_dofs].tocsr()
         self.obstacle = case.physics.obstacle(at_points(case.gap, mesh, q))

@@ -19,6 +19,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from .exponential import exponential_fit
+
 DEFAULT_FIT_LEVELS = 3
 TOLERANCE = 0.1
 # A "below" that the discrete space itself explains (``space_explains``): the method's error within
@@ -38,7 +40,9 @@ RATE_COLUMNS = ["case", "mesh", "method", "order", "reference", "expected_rate",
                 # against the number of dofs: fitted, the theory's on this mesh (p/d uniform), the
                 # optimal k/d and its verdict; the estimator's rate and its effectivity on the finest level
                 "fitted_rate_ndof", "uniform_rate_ndof", "optimal_rate_ndof", "ndof_verdict", "pairwise_rates_ndof",
-                "fitted_rate_estimator", "effectivity_finest"]
+                "fitted_rate_estimator", "effectivity_finest",
+                # hp meshes: err ~ C exp(-b N^{1/(d+1)}) (``exponential``)
+                "exponential_b", "exponential_r2", "algebraic_r2", "exponential_verdict", "finest_relative_error"]
 # What each column of rates.csv means (the docs' table is generated from this)
 COLUMN_MEANINGS = {
     "case": "the case", "mesh": "the mesh strategy", "method": "the method", "order": "its order k",
@@ -62,6 +66,11 @@ COLUMN_MEANINGS = {
     "optimal_rate_ndof": "the optimal rate in N, k/d", "ndof_verdict": "`optimal` (within 0.1) or `below optimal`",
     "pairwise_rates_ndof": "the rates in N between successive levels",
     "fitted_rate_estimator": "the estimator's fitted rate in N", "effectivity_finest": "η / err_energy on the finest level",
+    "exponential_b": "hp meshes: b of the fit ln(err) = ln C − b N^{1/(d+1)} over all levels",
+    "exponential_r2": "its R²", "algebraic_r2": "the R² of the algebraic fit ln(err) = ln C − r ln N on the same levels",
+    "exponential_verdict": "`exponential` (R² ≥ 0.98 over ≥ 5 levels, and above the algebraic fit's), `algebraic`, "
+                           "`not exponential` or `too few levels`",
+    "finest_relative_error": "hp meshes: err_h1 / ‖u‖₁ on the finest level",
 }
 # error column -> its rate column (plain fit, q = 0)
 OTHER_RATES = {"err_l2": "fitted_rate_l2", "err_best_h1": "fitted_rate_best", "err_trace_l2": "fitted_rate_trace",
@@ -140,11 +149,12 @@ def rate_table(results: pd.DataFrame, error: str = "err_h1", levels: int = DEFAU
         first = group.iloc[0]
         if mesh != "uniform":
             # h (the largest element) says nothing of a graded or adaptive mesh: rates in N only,
-            # judged against the optimal k/d
+            # judged against the optimal k/d; on hp meshes, the exponential law
             ndof = ndof_rates(group, error, levels, tolerance)
             rows.append({"case": case_name, "mesh": mesh, "method": method, "order": int(first.order),
                          "reference": first.reference, "expected_rate": first.expected_rate,
-                         "expected_log_exponent": first.expected_log_exponent, "verdict": ndof["ndof_verdict"], **ndof})
+                         "expected_log_exponent": first.expected_log_exponent, "verdict": ndof["ndof_verdict"], **ndof,
+                         **(hp_columns(group, error) if is_hp(mesh) else {})})
             continue
         p, se = fit_rate(group.h, group[error], _q(first.expected_log_exponent), levels)
         row = {
@@ -178,6 +188,19 @@ def rate_table(results: pd.DataFrame, error: str = "err_h1", levels: int = DEFAU
                 row[kind] = "pre-asymptotic"
         rows.append(row)
     return pd.DataFrame(rows, columns=RATE_COLUMNS)
+
+
+def is_hp(mesh: str) -> bool:
+    """Whether a ``mesh`` label is the hp strategy's (``hp``, ``hp:mu=0.5``)."""
+    return mesh.split(":")[0] == "hp"
+
+
+def hp_columns(group: pd.DataFrame, error: str) -> dict:
+    """The exponential fit of one (case, hp mesh, method)'s levels (``exponential``), its verdict
+    as the row's, and the finest relative H^1 error."""
+    fit = exponential_fit(group.ndof, group[error], space_dimension(group))
+    relative = float(group[error].iloc[-1] / group.norm_h1_exact.iloc[-1]) if "norm_h1_exact" in group else float("nan")
+    return fit | {"verdict": fit["exponential_verdict"], "finest_relative_error": relative}
 
 
 def space_explains(row: dict, group: pd.DataFrame, expected: float, fitted: float, tolerance: float = TOLERANCE) -> bool:

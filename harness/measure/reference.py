@@ -60,7 +60,7 @@ from ..fem.contact_quadrature import contact_quadrature
 from ..fem.sparse import csr_view
 from ..mesh.points import TRIANGLE_EDGES, cells, mesh_points
 from ..methods import METHODS, REFERENCE, with_role
-from .errors import CONTACT_ERROR_POINTS, DiscretePressure
+from .errors import DiscretePressure, contact_error_points
 
 
 @dataclass(frozen=True)
@@ -289,7 +289,7 @@ class ReferenceNorms:
     @classmethod
     def of(cls, problem, mesh: ngs.Mesh) -> "ReferenceNorms":
         """From the reference level's problem, before its solve takes the stiffness matrix."""
-        quadrature = contact_quadrature(problem, CONTACT_ERROR_POINTS)
+        quadrature = contact_quadrature(problem, contact_error_points(problem.order))
         weighted = quadrature.T.multiply(quadrature.weights[:, None])
         on = problem.contact_dofs
         elastic = problem.physics.elastic

@@ -26,12 +26,14 @@ class Level:
     its new vertices) or makes each level a new mesh that refines the previous one, with
     ``prolongation``: the P1 prolongation from the previous level's vertices, a sparse
     (nv, nv_previous) matrix (SciPy), whose first nv_previous rows are the identity (the
-    previous vertices keep their numbers)."""
+    previous vertices keep their numbers). ``degrees``: on an hp mesh (``mesh.hp``), the
+    polynomial degree of each element (None: every element has the methods' order)."""
 
     index: int
     mesh: ngs.Mesh
     h: float
     prolongation: object = None
+    degrees: np.ndarray | None = None
 
 
 class LevelSequence(Protocol):

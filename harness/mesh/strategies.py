@@ -4,6 +4,11 @@
     graded      a priori grading toward the singular points (and lines, 3D), Remark 4.4 (``bisection.GradedRefinement``)
     adaptive    SOLVE -> ESTIMATE -> MARK -> REFINE (``bisection.AdaptiveRefinement``); a
                 parameter, ``adaptive:theta=0.3`` (Dörfler's bulk fraction, default 0.5)
+    hp          geometric layers toward the singular points, the degree growing away from them
+                (``hp.HpRefinement``; parameters ``hp:sigma=0.15,mu=1``); for the methods of a
+                contact law, on scalar 2D cases with u and declared singular points
+
+``all`` is the three h strategies (uniform, graded, adaptive); hp is asked for by name.
 
 A strategy also says which methods can share a sequence: every method on uniform meshes, the
 methods of one order on graded ones (the grading exponent depends on k), none on adaptive ones
@@ -26,12 +31,17 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from .bisection import AdaptiveRefinement, GradedRefinement
+from .hp import DEFAULT_MU, DEFAULT_SIGMA, HpRefinement
 from .levels import LevelSequence, UniformRefinement, coarse_mesh
 from .plugins import PluginError, entry_point_objects, is_external, load_spec
 from .points import coordinates, geometry_vertices
 
-STRATEGIES = ("uniform", "graded", "adaptive")
+STRATEGIES = ("uniform", "graded", "adaptive", "hp")
+# what ``all`` names: the h strategies (every method, every kind of case)
+H_STRATEGIES = STRATEGIES[:3]
 DEFAULT_THETA = 0.5
+# each strategy's parameters and their defaults
+PARAMETERS = {"adaptive": {"theta": DEFAULT_THETA}, "hp": {"sigma": DEFAULT_SIGMA, "mu": DEFAULT_MU}}
 ENTRY_POINTS = "signorini_harness.meshes"
 LABEL = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.=+-]*$")
 
@@ -67,18 +77,29 @@ def check_strategy(obj, where: str) -> Strategy:
 class MeshStrategy:
     name: str
     theta: float = DEFAULT_THETA        # adaptive only
+    sigma: float = DEFAULT_SIGMA        # hp only: the ratio of the geometric layers
+    mu: float = DEFAULT_MU              # hp only: the degree's increase per layer
 
     @property
     def label(self) -> str:
-        """The name in results files: ``adaptive`` with the default theta, else ``adaptive:theta=0.3``."""
-        if self.name == "adaptive" and self.theta != DEFAULT_THETA:
-            return f"adaptive:theta={self.theta:g}"
-        return self.name
+        """The name in results files: the name, with the parameters that differ from their
+        defaults (``adaptive:theta=0.3``, ``hp:mu=0.5``)."""
+        changed = [f"{key}={getattr(self, key):g}" for key, default in PARAMETERS.get(self.name, {}).items()
+                   if getattr(self, key) != default]
+        return f"{self.name}:{','.join(changed)}" if changed else self.name
+
+    def serves(self, method) -> bool:
+        """Whether the strategy's meshes can carry ``method``: on hp meshes, a method of a contact
+        law (its terms are integrals on Gamma_C, which take any degree per element; the cones'
+        constraints are written for one degree)."""
+        return self.name != "hp" or getattr(method, "law", None) is not None
 
     def applies_to(self, case) -> str | None:
         """None if the strategy can mesh ``case``, else why not (one clause)."""
         if self.name == "uniform":
             return None
+        if self.name == "hp":
+            return hp_refusal(case)
         if case.bodies != 1 and (case.dimension != 2 or not case.exact):
             # the mortar coupling is on a line (``fem.mortar``); two-body errors are against u
             return "graded and adaptive meshes of two bodies need a 2D case with u (the mortar coupling on a line)"
@@ -95,7 +116,7 @@ class MeshStrategy:
 
     def group_key(self, method) -> object:
         """Methods with equal keys share one level sequence."""
-        return {"uniform": None, "graded": method.order, "adaptive": method.name}[self.name]
+        return {"uniform": None, "graded": method.order, "adaptive": method.name, "hp": method.order}[self.name]
 
     def sequence(self, case, order: int):
         """The level sequence for methods of ``order`` on ``case``."""
@@ -103,10 +124,30 @@ class MeshStrategy:
             return UniformRefinement(case)
         if self.name == "graded":
             return GradedRefinement(case, case.nu - 1.0, order, singular_points(case), singular_lines(case))
+        if self.name == "hp":
+            return HpRefinement(case, order, singular_points(case), self.sigma, self.mu)
         if order > 2 and case.dimension == 3:
             # the 3D residual estimator's terms are written for P1 and P2 (``measure.estimator_3d``)
             raise ValueError(f"adaptive 3D meshes drive methods of order 1 or 2, not {order}")
         return AdaptiveRefinement(case, self.theta)
+
+
+def hp_refusal(case) -> str | None:
+    """Why hp meshes cannot mesh ``case`` (None if they can): per-element degrees are set for the
+    scalar problem in 2D (``fem.assembly.set_degrees``), its errors are measured against u (a
+    reference solution is P2 on one mesh), and its layers need the singular points."""
+    if case.dimension != 2 or case.bodies != 1 or case.physics.rotated_frame:
+        return "hp meshes serve one scalar body in 2D (per-element degrees of the scalar space)"
+    if not case.exact:
+        return "hp meshes measure errors against u, which the case does not give"
+    if not case.singular_points:
+        return "hp meshes refine toward the case's singular_points, which it does not declare"
+    return None
+
+
+def serves(strategy, method) -> bool:
+    """Whether ``strategy``'s meshes can carry ``method`` (a strategy without ``serves``: all)."""
+    return getattr(strategy, "serves", lambda _: True)(method)
 
 
 def refusal(strategy, case) -> str | None:
@@ -151,7 +192,7 @@ def parse_mesh(spec) -> list:
         return [check_strategy(spec, "a mesh strategy object")]
     name, _, parameters = spec.strip().partition(":")
     if name == "all" and not parameters:
-        return [MeshStrategy(s) for s in STRATEGIES]
+        return [MeshStrategy(s) for s in H_STRATEGIES]
     if name not in STRATEGIES and spec in installed_strategies():
         return [installed_strategies()[spec]]
     if is_external(spec):
@@ -162,18 +203,39 @@ def parse_mesh(spec) -> list:
                          f"or all, a file (path/to/strategy.py[:name]) or a module (package.module[:name])")
     if not parameters:
         return [MeshStrategy(name)]
-    if name != "adaptive":
+    return [MeshStrategy(name, **_parameters(name, spec, parameters))]
+
+
+def _parameters(name: str, spec: str, text: str) -> dict:
+    """The parameters ``key=value,...`` of strategy ``name`` (``PARAMETERS``), each checked."""
+    known = PARAMETERS.get(name)
+    if not known:
         raise ValueError(f"mesh strategy {name!r} has no parameters (got {spec!r})")
-    key, _, value = parameters.partition("=")
-    if key.strip() != "theta":
-        raise ValueError(f"mesh strategy 'adaptive' has the parameter theta, not {key.strip()!r}")
+    values = {}
+    for item in text.split(","):
+        key, _, value = item.partition("=")
+        key = key.strip()
+        if key not in known:
+            raise ValueError(f"mesh strategy {name!r} has the parameter{'s' if len(known) > 1 else ''} "
+                             f"{', '.join(known)}, not {key!r}")
+        values[key] = _parameter(name, key, value)
+    return values
+
+
+# the admissible range of each parameter: (low, high, whether high is allowed, what it is)
+_RANGES = {"theta": (0.0, 1.0, True, "a number in (0, 1]"), "sigma": (0.0, 1.0, False, "a number in (0, 1)"),
+           "mu": (0.0, 8.0, True, "a number in (0, 8]")}
+
+
+def _parameter(name: str, key: str, value: str) -> float:
+    low, high, closed, what = _RANGES[key]
     try:
-        theta = float(value)
+        number = float(value)
     except ValueError:
-        raise ValueError(f"adaptive: theta must be a number in (0, 1], got {value!r}") from None
-    if not (math.isfinite(theta) and 0 < theta <= 1):
-        raise ValueError(f"adaptive: theta must be a number in (0, 1], got {value!r}")
-    return [MeshStrategy("adaptive", theta)]
+        number = math.nan
+    if not (math.isfinite(number) and low < number and (number <= high if closed else number < high)):
+        raise ValueError(f"{name}: {key} must be {what}, got {value!r}")
+    return number
 
 
 @functools.lru_cache(maxsize=1)

@@ -50,18 +50,30 @@ class ContactLawMethod(Method):
     dimension, solved by semismooth Newton (nested iteration, multigrid CG when the law's
     Jacobian is symmetric and the case has a hierarchy, a factorisation else) to a relative
     residual <= 1e-10. The law's parameters, if it is a dataclass, are the method's
-    (``nitsche:gamma0=0.1,theta=-1`` on the command line), checked by the law itself."""
+    (``nitsche:gamma0=0.1,theta=-1`` on the command line), checked by the law itself. A law with
+    a field ``degree`` left None (``fem.laws``) is told the method's order: the k its parameter
+    is chosen for, which an hp mesh scales by (k / p)^2 in an element of degree p."""
 
     law: object = None
     physics: tuple = ("scalar", "elasticity")
     dimensions: tuple = (2, 3)
     cost_model: str | float = "newton"
+
     def system(self, case, problem, take_stiffness: bool = False):
-        return law_system(case, problem, self.law, take_stiffness)
+        return law_system(case, problem, self.calibrated_law, take_stiffness)
+
+    @property
+    def calibrated_law(self):
+        """The law, told the method's order if it has a ``degree`` of its own to be told."""
+        if is_dataclass(self.law) and "degree" in {f.name for f in fields(self.law)} and self.law.degree is None:
+            return replace(self.law, degree=self.order)
+        return self.law
 
     @property
     def parameters(self) -> dict:
-        return {f.name: getattr(self.law, f.name) for f in fields(self.law)} if is_dataclass(self.law) else {}
+        # the law's ``degree`` is the method's order, not a parameter (``calibrated_law``)
+        return {f.name: getattr(self.law, f.name) for f in fields(self.law) if f.name != "degree"} \
+            if is_dataclass(self.law) else {}
 
     def with_parameters(self, **values) -> "ContactLawMethod":
         """The same method with other parameter values, named by them (nitsche:gamma0=0.1,

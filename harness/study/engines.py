@@ -26,7 +26,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..mesh.strategies import UNIFORM, MeshStrategy, refusal
+from ..mesh.strategies import UNIFORM, MeshStrategy, refusal, serves
 from ..methods import methods_for
 from ..problem.case import load_case
 from ..problem.validate import validate_case
@@ -61,7 +61,7 @@ class Job:
     @property
     def seconds(self) -> float:
         """Estimated time (``budget.estimate``): the order in which jobs are submitted."""
-        return estimate(self.case, self.methods, self.levels, per_dof=self.per_dof).seconds
+        return estimate(self.case, self.methods, planned_levels(self), per_dof=self.per_dof).seconds
 
     def store(self) -> CheckpointStore | None:
         if self.checkpoints is None:
@@ -86,7 +86,8 @@ def chains(cases, methods, levels: int, on_level=None, checkpoints=None, scope: 
                 continue
             groups: dict = {}
             for method in methods_for(case, methods):
-                groups.setdefault(mesh.group_key(method), []).append(method)
+                if serves(mesh, method):
+                    groups.setdefault(mesh.group_key(method), []).append(method)
             jobs += [Job(case, tuple(group), levels, on_level, Path(checkpoints) if checkpoints else None,
                          mesh_scope(scope, mesh), tag, mesh=mesh) for group in groups.values()]
     return jobs
@@ -179,8 +180,19 @@ def plan(jobs: list[Job], engine, check_memory: bool = True) -> list[Job]:
     allocated) if the largest would not fit in the memory it would run in."""
     jobs = engine.split(jobs)
     if check_memory and jobs:
-        check_fits([estimate(job.case, job.methods, job.levels) for job in jobs], *engine.memory())
+        check_fits([estimate(job.case, job.methods, planned_levels(job)) for job in jobs], *engine.memory())
     return jobs
+
+
+def planned_levels(job: Job) -> int:
+    """The uniform levels a job costs about as much as (``budget`` is written for them): its own,
+    or for an hp job the uniform levels of about its finest dofs (``mesh.hp.uniform_equivalent``)."""
+    mesh = job.mesh
+    if getattr(mesh, "name", None) != "hp":
+        return job.levels
+    from ..mesh.hp import uniform_equivalent
+    from ..mesh.levels import coarse_mesh
+    return uniform_equivalent(coarse_mesh(job.case).ne, max(m.order for m in job.methods), job.levels, mesh.mu)
 
 
 def study_weights(cases, methods, levels: int, meshes=(UNIFORM,)) -> dict:

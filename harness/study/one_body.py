@@ -21,7 +21,10 @@ def has_estimator(case, sequence: LevelSequence) -> bool:
     """Whether the rows get the residual estimator (``measure.estimator``,
     ``measure.estimator_3d``): in 2D on every mesh; in 3D where it drives or is set against the
     meshes, graded and adaptive ones. On uniform 3D meshes its set-up on the finest P1 level
-    costs more than the solves of the whole study, and uniform rows there carry none."""
+    costs more than the solves of the whole study, and uniform rows there carry none. An hp mesh
+    carries none (the estimator is written for one degree: its h_T / k weights are not hp's)."""
+    if getattr(sequence, "variable_degree", False):
+        return False
     return case.dimension == 2 or (case.dimension == 3 and getattr(sequence, "budgeted", True))
 
 
@@ -40,6 +43,7 @@ class OneBody:
         self.adaptive = sequence.adaptive
         self._multilevel = None
         self._exact = (None, {})        # (the level's quadrature, its exact quantities): one per level
+        self._degrees = (None, None)    # (the level's mesh, its elements' degrees: hp meshes)
 
     def levels(self, count: int) -> Iterator[Level]:
         budget_elements = None
@@ -55,6 +59,7 @@ class OneBody:
                         self.sequence.limit_elements(budget_elements)
                 if index and step.mesh.ne > budget_elements:
                     return
+            self._degrees = (step.mesh, step.degrees)
             yield step
 
     def size(self, mesh) -> int:
@@ -70,7 +75,8 @@ class OneBody:
         return ElementQuadrature.of(self.case, mesh)
 
     def discretise(self, order: int, mesh, quadrature):
-        return discretise(self.case, mesh, order, quadrature)
+        degrees = self._degrees[1] if self._degrees[0] is mesh else None
+        return discretise(self.case, mesh, order, quadrature, degrees)
 
     def solve(self, method, problem, carry, multilevel, last_of_order: bool, phases):
         # the level's last method of its order may take the stiffness matrix

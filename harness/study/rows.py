@@ -20,6 +20,8 @@ COLUMNS = [
     # quantities of interest (``measure.quantities``) and, on the cases with u, their exact values
     "qoi_force", "qoi_contact_measure", "qoi_peak_pressure", "qoi_energy",
     "qoi_force_exact", "qoi_contact_measure_exact", "qoi_peak_pressure_exact", "qoi_energy_exact",
+    # ||u||_1 of a case with u: err_h1 / norm_h1_exact is the relative H^1 error
+    "norm_h1_exact",
     "active_constraints", "solver_iterations", "linear_iterations", "kkt_residual", "backward_error", "solve_seconds", "total_seconds", "estimate_seconds", "measure_seconds", "status",
     # what the errors are measured against: "exact" (u), or "reference" (the solution of
     # reference_method, nodal, on level reference_level, with its KKT residual and status)
@@ -56,6 +58,7 @@ COLUMN_MEANINGS = {
     "qoi_energy": "the strain energy a(u_h, u_h)/2",
     "qoi_force_exact": "the exact contact force (cases with u)", "qoi_contact_measure_exact": "the exact contact zone's "
     "measure (2D cases with u)", "qoi_peak_pressure_exact": "the exact largest pressure", "qoi_energy_exact": "the exact strain energy",
+    "norm_h1_exact": "‖u‖₁ (cases with u): err_h1 / norm_h1_exact is the relative H¹ error",
     "active_constraints": "active constraints (cones) or active Gauss points (weak methods)",
     "solver_iterations": "active set or Newton iterations", "linear_iterations": "CG iterations, or LU factorisations",
     "kkt_residual": "the KKT residual (cones), the Newton residual (weak methods) or the method's own residual, relative to the loads",

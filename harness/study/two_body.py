@@ -50,7 +50,7 @@ from .walk import ChainPlan, ChainWalk
 
 # the error columns combined over the bodies as the root of the sum of squares
 COMBINED = ("err_h1", "err_h1_semi", "err_l2", "err_energy", "err_best_h1", "err_best_h1_semi", "err_best_energy",
-            "err_trace_l2", "err_pressure_l2", "err_pressure_h12")
+            "err_trace_l2", "err_pressure_l2", "err_pressure_h12", "norm_h1_exact")
 
 
 def combine(upper: dict, lower: dict) -> dict:

@@ -1,0 +1,143 @@
+"""hp meshes: geometric layers toward the singular points, per-element degrees, the contact laws
+on them solved exactly, and the exponential fit that judges their errors."""
+import numpy as np
+import pandas as pd
+import pytest
+
+from harness.fem.assembly import discretise
+from harness.fem.contact_quadrature import contact_quadrature
+from harness.measure.exponential import exponential_fit
+from harness.measure.rates import rate_table
+from harness.mesh.hp import HpRefinement, degrees_of
+from harness.mesh.points import evaluate, in_elements
+from harness.mesh.strategies import MeshStrategy, parse_mesh, singular_points
+from harness.methods import METHODS
+from harness.problem.case import load_case
+from harness.study.chain import run_chain
+
+slow = pytest.mark.slow
+
+
+def hp_levels(case_name: str, count: int, order: int = 2):
+    case = load_case(case_name)
+    return case, list(HpRefinement(case, order, singular_points(case)).levels(count))
+
+
+def test_each_layer_shrinks_the_elements_at_the_singular_points_by_sigma():
+    """The elements at a singular point have diameter sigma^n times the coarse ones' (n layers),
+    the mesh stays conforming (NGSolve builds it: every interior edge has two elements) and the
+    degrees run from k at the singular points to k + mu (n + 1) away from them."""
+    case, levels = hp_levels("transition-r32", 3)
+    sizes = []
+    for level in levels:
+        mesh = level.mesh
+        at_point = [el.nr for el in mesh.Elements() if any(np.allclose(mesh[v].point, (0.0, 0.0)) for v in el.vertices)]
+        p = np.array([[mesh[v].point for v in el.vertices] for el in mesh.Elements()])
+        diameters = np.linalg.norm(p - np.roll(p, 1, axis=1), axis=2).max(axis=1)
+        sizes.append(diameters[at_point].max())
+        assert all(len(e.elements) in (1, 2) for e in mesh.edges)
+        assert level.degrees[at_point].max() == 2
+        assert level.degrees.max() == 2 + round(1.0 * (level.index + 2))
+    ratios = np.array(sizes[1:]) / np.array(sizes[:-1])
+    assert np.allclose(ratios, 0.15, rtol=1e-6)
+
+
+def test_degrees_grow_by_mu_per_layer_and_stay_within_bounds():
+    depth = np.array([0, 1, 2, 3, 4])
+    assert list(degrees_of(depth, 3, 2, 1.0, 24)) == [6, 5, 4, 3, 2]
+    assert list(degrees_of(depth, 3, 2, 0.5, 24)) == [4, 4, 3, 2, 2]
+    assert degrees_of(np.zeros(1, int), 40, 2, 1.0, 24)[0] == 24
+
+
+def test_a_space_of_equal_degrees_is_the_uniform_space():
+    """``discretise`` with every element's degree k gives P_k's stiffness, load and contact dofs."""
+    case, (level,) = hp_levels("corner-r12", 1)
+    plain = discretise(case, level.mesh, 3)
+    hp = discretise(case, level.mesh, 3, degrees=np.full(level.mesh.ne, 3))
+    assert plain.ndof == hp.ndof
+    assert abs(plain.A - hp.A).max() == 0.0
+    assert np.array_equal(plain.b, hp.b)
+    assert np.array_equal(plain.edge_dofs, hp.edge_dofs)
+
+
+def test_the_trace_rows_of_an_hp_space_are_ngsolves_evaluation(rng):
+    """T and N at the Gamma_C points of a space of varying degrees: NGSolve's own values and normal
+    derivatives of a random u_h."""
+    case, (_, level) = hp_levels("transition-r32", 2)
+    problem = discretise(case, level.mesh, 2, degrees=level.degrees)
+    q = contact_quadrature(problem)
+    u = rng.standard_normal(problem.ndof)
+    gf = problem.gridfunction(u)
+    in_elements(problem.mesh, q.points, problem.trace.volumes[q.edge])
+    assert np.abs(q.T @ u - evaluate(gf, problem.mesh, q.points)).max() < 1e-10 * np.abs(u).max()
+    grad = evaluate(pytest.importorskip("ngsolve").grad(gf), problem.mesh, q.points)
+    scale = np.abs(grad).max()
+    assert np.abs(q.N @ u - (grad * q.normals).sum(axis=1)).max() < 1e-10 * scale
+    assert sorted(set(q.degree)) == sorted(set(problem.edge_degrees))
+
+
+def test_per_element_degrees_are_refused_where_they_are_not_set():
+    case = load_case("elastic-transition-r32")
+    _, (level,) = hp_levels("transition-r32", 1)
+    with pytest.raises(ValueError, match="scalar problem in 2D"):
+        discretise(case, level.mesh, 2, degrees=level.degrees)
+    with pytest.raises(ValueError, match="one per element"):
+        discretise(load_case("transition-r32"), level.mesh, 2, degrees=np.full(3, 2))
+
+
+@pytest.mark.parametrize("spec, label", [("hp", "hp"), ("hp:mu=0.5", "hp:mu=0.5"), ("hp:sigma=0.2,mu=2", "hp:sigma=0.2,mu=2"),
+                                         ("hp:sigma=0.15", "hp")])
+def test_hp_parameters_name_the_strategy(spec, label):
+    assert parse_mesh(spec)[0].label == label
+
+
+@pytest.mark.parametrize("spec, message", [("hp:sigma=1", "sigma must be a number in"), ("hp:mu=-1", "mu must be"),
+                                           ("hp:theta=0.3", "has the parameters sigma, mu"),
+                                           ("uniform:mu=1", "has no parameters")])
+def test_bad_hp_parameters_are_refused_in_one_line(spec, message):
+    with pytest.raises(ValueError, match=message):
+        parse_mesh(spec)
+
+
+def test_all_names_the_h_strategies_and_hp_serves_the_contact_laws_only():
+    assert [s.label for s in parse_mesh("all")] == ["uniform", "graded", "adaptive"]
+    hp = MeshStrategy("hp")
+    assert hp.serves(METHODS["nitsche"]) and not hp.serves(METHODS["nodal"])
+    assert hp.applies_to(load_case("transition-r32")) is None
+    for name in ("elastic-transition-r32", "transition-line-3d", "two-body-transition-r32", "smooth-obstacle"):
+        assert hp.applies_to(load_case(name))
+
+
+@pytest.mark.parametrize("case_name", ["corner-r12", "transition-r32"])
+def test_nitsche_on_hp_meshes_is_solved_exactly_and_its_error_falls_every_level(case_name):
+    """Every hp level's Newton residual is <= 1e-10 and the H^1 error falls level by level."""
+    case = load_case(case_name)
+    output = run_chain(case, [METHODS["nitsche"]], 4, mesh=MeshStrategy("hp"))
+    rows = pd.DataFrame(output.rows)
+    assert (rows.kkt_residual <= 1e-10).all() and (rows.status == "converged").all()
+    assert (np.diff(rows.err_h1) < 0).all()
+    assert (rows.norm_h1_exact > 0).all()
+
+
+def test_the_exponential_fit_recovers_b_and_tells_an_algebraic_law_apart():
+    N = np.array([600, 1000, 1500, 2200, 3000, 4000, 5000])
+    exponential = exponential_fit(N, 3.0 * np.exp(-1.7 * N ** (1 / 3)))
+    assert exponential["exponential_verdict"] == "exponential"
+    assert exponential["exponential_b"] == pytest.approx(1.7)
+    assert exponential["exponential_r2"] == pytest.approx(1.0)
+    algebraic = exponential_fit(N, 2.0 * N ** -1.0)
+    assert algebraic["exponential_verdict"] == "algebraic"
+    assert exponential_fit(N[:4], N[:4] ** -1.0)["exponential_verdict"] == "too few levels"
+
+
+@slow
+@pytest.mark.parametrize("case_name, levels", [("corner-r12", 14), ("transition-r32", 9)])
+def test_hp_nitsche_converges_exponentially_to_a_relative_error_of_1e_6(case_name, levels):
+    """Issue 63: on hp meshes Nitsche's relative H^1 error reaches 1e-6 at <= 1e5 dofs, and
+    ln(err) is linear in N^{1/3} (R^2 >= 0.98) over the levels."""
+    case = load_case(case_name)
+    rows = pd.DataFrame(run_chain(case, [METHODS["nitsche"]], levels, mesh=MeshStrategy("hp")).rows)
+    rates = rate_table(rows.assign(mesh="hp")).iloc[0]
+    assert (rows.kkt_residual <= 1e-10).all()
+    assert rates.exponential_verdict == "exponential" and rates.exponential_r2 >= 0.98
+    assert rates.finest_relative_error <= 1e-6 and rows.ndof.iloc[-1] <= 1e5
