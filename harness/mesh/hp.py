@@ -13,7 +13,8 @@ measures one and fits the exponential law (``measure.exponential``).
 
 The layers are made on the arrays of the case's coarse mesh (``newest_vertex.TriangleMesh``):
 each layer cuts every triangle (P, A, B) at a singular point P into the triangle (P, A', B'),
-A' = P + sigma (A - P), and the trapezoid A' A B B' split along its shorter diagonal, so that
+A' = P + sigma (A - P), and the trapezoid A' A B B' split in two (``geometric_layer`` says along
+which diagonal), so that
 the elements at P shrink by sigma per layer and the mesh stays conforming (the edges of the
 trapezoids away from P are the old ones). Level l has LAYERS_START + l layers; each level is
 made anew from the coarse mesh. Default sigma = 0.15, near Babuska & Guo's best value for
@@ -65,8 +66,17 @@ def geometric_layer(arrays: TriangleMesh, depth: np.ndarray, vertices: np.ndarra
     a = np.array([point_of[k] for k in (P * len(points) + A).tolist()], dtype=np.int64)
     b = np.array([point_of[k] for k in (P * len(points) + B).tolist()], dtype=np.int64)
     points = np.concatenate([points, points[ends[:, 0]] + sigma * (points[ends[:, 1]] - points[ends[:, 0]])])
-    # the trapezoid A' A B B' along its shorter diagonal
-    short = np.linalg.norm(points[a] - points[B], axis=1) <= np.linalg.norm(points[A] - points[b], axis=1)
+    # the trapezoid A' A B B' along a diagonal from the new point of a boundary side (P, A) to B
+    # (or of (P, B) to A): the child on the boundary then keeps its parent's height over that
+    # side. The other diagonal leaves it sigma times as high, its discrete trace-inverse constant
+    # 1/sigma times as large, and Nitsche's theta = 1 past its coercivity bound (C_h 29 for 7).
+    # Elsewhere the shorter diagonal.
+    n = len(arrays.points)
+    boundary = set((segments.min(axis=1) * n + segments.max(axis=1)).tolist())
+    on_a = np.array([min(p, x) * n + max(p, x) in boundary for p, x in zip(P.tolist(), A.tolist())], dtype=bool)
+    on_b = np.array([min(p, x) * n + max(p, x) in boundary for p, x in zip(P.tolist(), B.tolist())], dtype=bool)
+    shorter = np.linalg.norm(points[a] - points[B], axis=1) <= np.linalg.norm(points[A] - points[b], axis=1)
+    short = on_a | (~on_b & shorter)
     first = np.where(short[:, None], np.stack([a, A, B], axis=1), np.stack([a, A, b], axis=1))
     second = np.where(short[:, None], np.stack([a, B, b], axis=1), np.stack([A, B, b], axis=1))
     inner = np.stack([P, a, b], axis=1)
