@@ -69,15 +69,20 @@ def test_every_figure_exists_as_png_and_pdf(report):
 
 def test_report_answers_whether_p2_is_the_sweet_spot_across_the_degree(report):
     """The degree study (``study.degree_study``) of the named cases it plans: Nitsche and the
-    nodal cone of every degree k = 1 ... 4 on uniform and adaptive meshes, each solve exact, its
-    rows in degrees.csv, and the section with its figure and cost tables."""
+    nodal cone of every degree k = 1 ... 4 on uniform and adaptive meshes, and on hp meshes those
+    of them whose space may vary in degree (Nitsche, the nodal cones of k >= 3), each solve exact,
+    its rows in degrees.csv, and the section with its figure, cost tables and hp fits."""
     root, html = report
     degrees = pd.read_csv(root / "results" / "degrees.csv")
-    assert set(degrees.case) == {"transition-r32"} and set(degrees["mesh"]) == {"uniform", "adaptive"}
+    assert set(degrees.case) == {"transition-r32"} and set(degrees["mesh"]) == {"uniform", "adaptive", "hp"}
     assert set(degrees.order) == {1, 2, 3, 4} and set(degrees.method) == set(GROUPS["degrees"])
+    hp = degrees[degrees["mesh"] == "hp"]
+    assert set(hp.method) == {m for m in GROUPS["degrees"] if METHODS[m].variable_degree}
+    assert hp.groupby("method")["level"].max().nunique() == 1       # as many levels at every degree
     assert (degrees.kkt_residual <= 1e-10).all() and (degrees.status == "converged").all()
     text = html.read_text()
     assert "Is P2 the sweet spot? The degree k = 1 … 4" in text and "transition-r32, adaptive meshes: cost at equal accuracy" in text
+    assert "hp meshes: exponential convergence?" in text
     assert (root / "report" / "figures" / "transition-r32-degrees.png").stat().st_size > 1000
 
 

@@ -6,7 +6,8 @@
                 parameter, ``adaptive:theta=0.3`` (Dörfler's bulk fraction, default 0.5)
     hp          geometric layers toward the singular points, the degree growing away from them
                 (``hp.HpRefinement``; parameters ``hp:sigma=0.15,mu=1``); for the methods of a
-                contact law, on scalar 2D cases with u and declared singular points
+                contact law and the nodal cones of degree k >= 3, on scalar 2D cases with u and
+                declared singular points
 
 ``all`` is the three h strategies (uniform, graded, adaptive); hp is asked for by name.
 
@@ -89,10 +90,10 @@ class MeshStrategy:
         return f"{self.name}:{','.join(changed)}" if changed else self.name
 
     def serves(self, method) -> bool:
-        """Whether the strategy's meshes can carry ``method``: on hp meshes, a method of a contact
-        law (its terms are integrals on Gamma_C, which take any degree per element; the cones'
-        constraints are written for one degree)."""
-        return self.name != "hp" or getattr(method, "law", None) is not None
+        """Whether the strategy's meshes can carry ``method``: on hp meshes, one whose space may
+        vary in degree from element to element (``methods.base.Method.variable_degree``: the
+        contact laws, the cones of functionals given per degree)."""
+        return self.name != "hp" or getattr(method, "variable_degree", False)
 
     def applies_to(self, case) -> str | None:
         """None if the strategy can mesh ``case``, else why not (one clause)."""

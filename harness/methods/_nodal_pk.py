@@ -29,15 +29,22 @@ def expected_for(order: int):
     return expected
 
 
+def lobatto_rules(degree: int) -> tuple:
+    """v_h >= alpha at each of the degree - 1 interior Gauss-Lobatto points of an edge of
+    ``degree``: on an hp mesh each edge its own degree's points (``FunctionalCone.functionals_of``),
+    the vertices and these fixing the edge's trace of that degree."""
+    return tuple(((float(t), 1.0),) for t in lobatto_points(degree)[1:-1])
+
+
 def at_order(order: int) -> FunctionalCone:
-    interior = lobatto_points(order)[1:-1]
     return FunctionalCone(
         name=f"nodal-p{order}",
         order=order,
-        contact=f"v_h >= 0 at the vertices and the {order - 1} interior Gauss–Lobatto points of each edge of Γ_C",
+        contact=f"v_h >= 0 at the vertices and the {order - 1} interior Gauss–Lobatto points of each edge of Γ_C "
+                "(on hp meshes, of each edge's own degree)",
         reference="Belhachmi & Ben Belgacem 2003, Section 5, at degree k",
         expected=expected_for(order),
-        functionals=tuple(((float(t), 1.0),) for t in interior),
+        functionals_of=lobatto_rules,
         physics=("scalar", "elasticity"),
         roles=frozenset({DEGREES}),
     )

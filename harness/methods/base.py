@@ -194,6 +194,14 @@ class Method:
         return None if self.sharper_theory is None else self.sharper_theory(case)
 
     @property
+    def variable_degree(self) -> bool:
+        """Whether it discretises a space whose degree varies from element to element (hp
+        meshes, ``mesh.hp``): a contact law (its terms are integrals of each edge's own degree),
+        a cone whose functionals are given per degree; not the paper's cones, written for P1 and
+        P2."""
+        return False
+
+    @property
     def extra_levels(self) -> int:
         """The levels it runs past a study's P2 levels: ``EXTRA_LEVELS`` of its order, unless a
         study said otherwise (``with_extra_levels``)."""
@@ -311,10 +319,20 @@ class FunctionalCone(Method):
 
     functionals: tuple = ()
     physics: tuple = ("scalar", "elasticity")
+    # the functionals of an edge of degree p, if they depend on it (a module-level function: a
+    # method travels to worker processes by pickle): each edge of an hp mesh gets its own degree's
+    # (``fem.edge_functionals.rules_per_edge``); ``functionals`` are then those of ``order``
+    functionals_of: Callable[[int], tuple] | None = None
 
     def __post_init__(self):
         super().__post_init__()
+        if self.functionals_of is not None and not self.functionals:
+            object.__setattr__(self, "functionals", self.functionals_of(self.order))
         object.__setattr__(self, "functionals", check_rules(self.functionals))
+
+    @property
+    def variable_degree(self) -> bool:
+        return self.functionals_of is not None
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         # two or more functionals per edge: with both ends active, an edge's rows outnumber its
@@ -324,7 +342,8 @@ class FunctionalCone(Method):
         # (on P_k, k - 1 functionals per edge are independent rows: the projected CG serves them)
         hierarchy = multilevel if len(self.functionals) <= max(problem.order - 1, 1) else None
         return solve_general_rows(case, problem, carry, hierarchy, phases,
-                                  lambda: edge_functional_qp(case, problem, self.functionals, take_stiffness=take_stiffness),
+                                  lambda: edge_functional_qp(case, problem, self.functionals_of or self.functionals,
+                                                             take_stiffness=take_stiffness),
                                   self.solver)
 
 

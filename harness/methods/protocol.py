@@ -63,6 +63,10 @@ class ContactLawMethod(Method):
         return law_system(case, problem, self.calibrated_law, take_stiffness)
 
     @property
+    def variable_degree(self) -> bool:
+        return True
+
+    @property
     def calibrated_law(self):
         """The law, told the method's order if it has a ``degree`` of its own to be told."""
         if is_dataclass(self.law) and "degree" in {f.name for f in fields(self.law)} and self.law.degree is None:

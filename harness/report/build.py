@@ -383,6 +383,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
         settings["mesh_levels"] = min(settings["mesh_levels"], levels)
         settings["mesh_levels_3d"] = min(settings["mesh_levels_3d"], levels)
         settings["degree_levels"] = min(settings["degree_levels"], levels)
+        settings["hp_levels"] = min(settings["hp_levels"], levels)
     results_dir, report_dir = Path(results_dir), Path(report_dir)
     with all_owned([results_dir, report_dir]):
         read_rows(results_dir / "results.csv")      # refused before the study if it is not a results CSV

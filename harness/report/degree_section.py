@@ -3,10 +3,11 @@ their rates in h and in N against each method's theory, the cost at equal accura
 degree, per case and mesh strategy, and the error against dofs and against seconds."""
 from __future__ import annotations
 
+import numpy as np
 import pandas as pd
 
 from ..measure.efficiency import efficiency_table
-from ..measure.rates import rate_table
+from ..measure.rates import is_hp, rate_table
 from ..methods import REFERENCE, role_names
 from .tables import _fmt, efficiency_view
 
@@ -23,6 +24,17 @@ DEGREE_NOTE = (
     "level up to it) each method needs to reach the finest error of the paper's nodal P2 on the "
     "same meshes (a method that does not reach it shows none), per mesh strategy, and P1's cost "
     "over each method's.")
+
+HP_NOTE = (
+    "hp meshes (`--mesh hp`): geometric layers of ratio σ = 0.15 toward the singular points, the "
+    "element degree k + μ j growing with the layers j away from them (μ = 1; k, each method's "
+    "degree, at the singular points), one layer more per level; Nitsche of every degree and the nodal "
+    "cone of degree 3 and 4 (each edge at its own degree's Gauss–Lobatto points). Babuška and Guo's theorem for "
+    "elliptic problems with point singularities gives err ≤ C exp(−b N^{1/3}); no theorem covers "
+    "Signorini's problem, so the table fits ln(err) against N^{1/3} (b, R², the algebraic fit's R² "
+    "beside) and gives the verdict of the fit. The last columns set each hp chain's finest error "
+    "against the best adaptive P2 error at the same number of dofs (log-log interpolation between "
+    "its levels; blank where the adaptive chain does not reach that many dofs).")
 
 
 def degree_rates_view(rates: pd.DataFrame) -> pd.DataFrame:
@@ -50,8 +62,46 @@ def add_degree_section(doc, degrees: pd.DataFrame, figs: dict) -> None:
         if "errors" in pictures:
             doc.figures([(pictures["errors"]["png"], f"{case}: H¹ error against the dofs N (left) and against the "
                           "seconds spent up to each level (right), each degree in its colour; dotted uniform, solid "
-                          "adaptive meshes.")], wide=True)
+                          "adaptive, dashed hp meshes (an hp level is made anew: its own seconds).")], wide=True)
+    hp = hp_view(degrees)
+    if not hp.empty:
+        doc.heading("hp meshes: exponential convergence?", level=3)
+        doc.paragraph(HP_NOTE)
+        doc.table(hp)
     for (case, mesh), frame in degrees.groupby(["case", "mesh"], sort=False):
+        if is_hp(str(mesh)):
+            continue            # no cone runs on hp meshes: the target (nodal P2's error) is not there
         doc.heading(f"{case}, {mesh} meshes: cost at equal accuracy", level=3)
         reference = next(iter(role_names(REFERENCE)), None)
         doc.table(efficiency_view(efficiency_table(frame, target_method=reference)))
+
+
+def hp_view(degrees: pd.DataFrame) -> pd.DataFrame:
+    """Per case and hp method: its levels, finest dofs and relative error, the exponential fit,
+    and the best adaptive P2 error at the same dofs (``adaptive_at``)."""
+    rows = []
+    rates = rate_table(degrees)
+    for _, fit in rates[[is_hp(str(m)) for m in rates.mesh]].iterrows():
+        chain = degrees[(degrees.case == fit.case) & (degrees.mesh == fit.mesh) & (degrees.method == fit.method)]
+        finest = chain.sort_values("level").iloc[-1]
+        adaptive = adaptive_at(degrees[degrees.case == fit.case], float(finest.ndof))
+        rows.append({"case": fit.case, "method": fit.method, "k": int(fit.order), "levels": len(chain),
+                     "finest N": f"{int(finest.ndof):,}", "relative H¹ error": _fmt(fit.finest_relative_error, ".2e"),
+                     "b": _fmt(fit.exponential_b, ".3f"), "R²": _fmt(fit.exponential_r2, ".4f"),
+                     "algebraic R²": _fmt(fit.algebraic_r2, ".4f"), "verdict": fit.exponential_verdict,
+                     "adaptive P2 at N": _fmt(adaptive, ".2e"),
+                     "adaptive P2 / hp": _fmt(adaptive / float(finest.err_h1), ".3g")})
+    return pd.DataFrame(rows)
+
+
+def adaptive_at(frame: pd.DataFrame, ndof: float) -> float:
+    """The smallest H^1 error of the case's adaptive P2 chains at ``ndof`` dofs, interpolated in
+    log-log between their levels (NaN outside every chain's range)."""
+    best = np.nan
+    adaptive = frame[np.array([str(m).split(":")[0] == "adaptive" for m in frame.mesh]) & (frame.order == 2).to_numpy()]
+    for _, chain in adaptive.groupby("method"):
+        chain = chain.sort_values("ndof")
+        if chain.ndof.min() <= ndof <= chain.ndof.max():
+            value = float(np.exp(np.interp(np.log(ndof), np.log(chain.ndof), np.log(chain.err_h1))))
+            best = value if np.isnan(best) else min(best, value)
+    return best

@@ -296,9 +296,10 @@ def plan_degree_studies(work: Work, cases: list[Case], config: dict, stores: Sto
         validate_case(case)
         # checkpoints of their own: the main study's uniform chain of the same case and method
         # has other levels
-        work.jobs += chains([case], methods, config["levels"], None, stores.degrees / ".checkpoints", tag="degree",
+        levels = degree_study.levels_of(mesh, config)
+        work.jobs += chains([case], methods, levels, None, stores.degrees / ".checkpoints", tag="degree",
                             meshes=[mesh], scope=DEGREE_SCOPE)
-        work.weights |= scoped(study_weights([case], methods, config["levels"], [mesh]), DEGREE_SCOPE)
+        work.weights |= scoped(study_weights([case], methods, levels, [mesh]), DEGREE_SCOPE)
         work.pending[mesh_scope(DEGREE_SCOPE, mesh) + case.name] = Pending(
             "degree study", partial(_store_degrees, stores.degrees, case, mesh, methods=methods, config=config))
 
@@ -307,7 +308,7 @@ def _store_degrees(store: Path, case: Case, mesh, outputs: list, methods, config
     """One (case, mesh strategy)'s rows of the degree study in the report's cache."""
     name = degree_study.store_name(case, mesh)
     write_csv(tidy(outputs, [case], methods, [mesh]), store / f"{name}.csv")
-    CheckpointStore(store / ".checkpoints", config["levels"], None, mesh.label).forget(case)
+    CheckpointStore(store / ".checkpoints", degree_study.levels_of(mesh, config), None, mesh.label).forget(case)
     write_atomic(store / f"{name}.json", json.dumps(provenance({"degree_study": config}) | {
         "cache_key": cache_key(case, {"degree_study": config, "mesh": mesh.label}), "case": case.name, "mesh": mesh.label},
         indent=2))

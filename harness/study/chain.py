@@ -38,14 +38,15 @@ PROFILES = {
     # the orders of the methods a report of all methods runs ("orders"): P1 and P2, the paper's
     # question; the degree axis (P3, P4) is the degree study's (``degree_study``), on the budget
     # of uniform level degree_levels - 1 (3.6e4 P2 dofs on transition-r32 by default), and joins
-    # the main study when named (``--method high-order``)
+    # the main study when named (``--method high-order``); its hp chains (``mesh.hp``) run
+    # hp_levels levels (a layer each; transition-r32's tenth has 9.2e3 dofs at k = 2)
     "default": {"levels": 7, "levels_3d": 3, "levels_two_body": 6, "mesh_levels": 4, "mesh_levels_3d": 3,
-                "stop_when_asymptotic": True, "weak_3d": False, "orders": (1, 2), "degree_levels": 5},
+                "stop_when_asymptotic": True, "weak_3d": False, "orders": (1, 2), "degree_levels": 5, "hp_levels": 10},
     # finest levels: about 2.3e6 dofs; 3D: 1.3e6; two bodies 5.1e5 (mortar-standard's saddle
     # systems are factorised by SuperLU, whose fill a level finer outgrows the memory of the
     # machines this runs on); the mesh study to 5.8e5 dofs
     "fine": {"levels": 8, "levels_3d": 4, "levels_two_body": 6, "mesh_levels": 7, "mesh_levels_3d": 4,
-             "stop_when_asymptotic": False, "weak_3d": True, "orders": (1, 2), "degree_levels": 7},
+             "stop_when_asymptotic": False, "weak_3d": True, "orders": (1, 2), "degree_levels": 7, "hp_levels": 14},
 }
 # the profiles' names and order (cheapest first) are the cases' (``Case.report_profile``,
 # ``Case.report_levels``): declared once, in ``problem.contract.REPORT_PROFILES``
@@ -143,6 +144,10 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     per_level = per_level_reference(case, sequence)
     reference = reference_of(case, methods)
     methods = own if per_level else chain_methods(case, methods)
+    if getattr(sequence, "variable_degree", False):
+        # an hp level is a number of layers, the same for every degree: no P1 level more, no P4
+        # level less (``methods.base.EXTRA_LEVELS`` equalises the dofs of uniform chains)
+        methods = [m.with_extra_levels(0) for m in methods]
     if sequence.adaptive:
         check_adaptive(case, methods)
         # its meshes come from its solves: a killed adaptive chain starts again (no checkpoints)

@@ -2,7 +2,7 @@
 and the nodal cone (the paper's K~_h, at the Gauss-Lobatto points for k >= 3) of degree
 k = 1 ... 4, on a case limited by its transition point (transition-r32: uniform meshes saturate
 every degree at h^{3/2}, adaptive ones recover N^{-k/2}), a smooth one (smooth-quintic: h^k up
-to k = 4) and an elastic one; stored per (case, mesh) under ``results/degree_study`` and reused while
+to k = 4) and an elastic one, and Nitsche of base degree k on hp meshes (``mesh.hp``); stored per (case, mesh) under ``results/degree_study`` and reused while
 code, case file and settings are unchanged, as the mesh study is (``mesh_study``).
 """
 from __future__ import annotations
@@ -11,16 +11,17 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..mesh.strategies import parse_meshes, refusal
+from ..mesh.strategies import parse_meshes, refusal, serves
 from ..methods import methods_named
 
 PLAN = {
-    # (case, the mesh strategies it runs on): adaptive meshes where a singular point limits the
-    # uniform rate, uniform ones everywhere
-    "cases": {"transition-r32": ("uniform", "adaptive"), "smooth-quintic": ("uniform",),
+    # (case, the mesh strategies it runs on): adaptive and hp meshes where a singular point limits
+    # the uniform rate (hp: the methods of a contact law, ``mesh.strategies.MeshStrategy.serves``),
+    # uniform ones everywhere
+    "cases": {"transition-r32": ("uniform", "adaptive", "hp"), "smooth-quintic": ("uniform",),
               "elastic-transition-r32": ("uniform",)},
     # the fine profile's too: the junction r^{1/2}, where uniform meshes give every degree h^{1/2}
-    "fine_cases": {"corner-r12": ("uniform", "adaptive")},
+    "fine_cases": {"corner-r12": ("uniform", "adaptive", "hp")},
 }
 
 
@@ -32,7 +33,13 @@ def degree_config(settings: dict) -> dict:
     cases = dict(PLAN["cases"]) | (dict(PLAN["fine_cases"]) if fine else {})
     return {"cases": {name: list(meshes) for name, meshes in cases.items()},
             "methods": list(settings.get("degree_methods", ())), "levels": settings.get("degree_levels", 5),
-            "registry": not settings.get("cases_given", False)}
+            "hp_levels": settings.get("hp_levels", 10), "registry": not settings.get("cases_given", False)}
+
+
+def levels_of(mesh, config: dict) -> int:
+    """The levels a chain of the degree study runs: ``hp_levels`` on hp meshes (a layer each: N
+    grows like l^3), else ``levels``."""
+    return config["hp_levels"] if getattr(mesh, "name", None) == "hp" else config["levels"]
 
 
 def degree_jobs_plan(cases, config: dict):
@@ -50,8 +57,9 @@ def degree_jobs_plan(cases, config: dict):
         if case is None or not own:
             continue
         for mesh in parse_meshes(meshes):
-            if refusal(mesh, case) is None:
-                yield case, mesh, own
+            served = [m for m in own if serves(mesh, m)]
+            if refusal(mesh, case) is None and served:
+                yield case, mesh, served
 
 
 def store_name(case, mesh) -> str:
