@@ -47,8 +47,8 @@ def test_run_writes_one_tidy_row_per_case_method_level(tmp_path):
     # P4 one level less (its dofs per level four times P2's); P3 on P2's levels
     assert frame.groupby("method")["level"].max().to_dict() == {"mean": 1, "nodal": 1, "p1": 2, "nitsche": 1, "penalty": 1,
                                                                  "nitsche-p1": 2, "penalty-p1": 2, "nitsche-p3": 1,
-                                                                 "nodal-p3": 1, "penalty-p3": 1, "nitsche-p4": 0,
-                                                                 "nodal-p4": 0, "penalty-p4": 0}
+                                                                 "nodal-p3": 1, "penalty-p3": 1, "mean-p3": 1, "nitsche-p4": 0,
+                                                                 "nodal-p4": 0, "penalty-p4": 0, "mean-p4": 0}
     assert (frame.kkt_residual <= 1e-10).all() and (frame.status == "converged").all()
     # `all`'s methods for other kinds of case (mean-edges, the mortar methods) are no mistake: no line
     assert "skipped" not in done.stderr, done.stderr
@@ -153,7 +153,8 @@ def test_case_file_by_path_runs_every_method_and_rates_needs_no_case_option(tmp_
     assert dict(zip(rates.method, rates.expected_rate)) == {"mean": 1.5, "nodal": 1.5, "p1": 1.0, "nitsche": 1.5,
                                                             "penalty": 1.0, "nitsche-p1": 1.0, "penalty-p1": 1.0,
                                                             "nitsche-p3": 1.5, "nodal-p3": 1.5, "penalty-p3": 1.0,
-                                                            "nitsche-p4": 1.5, "nodal-p4": 1.5, "penalty-p4": 1.0}
+                                                            "mean-p3": 1.5, "nitsche-p4": 1.5, "nodal-p4": 1.5,
+                                                            "penalty-p4": 1.0, "mean-p4": 1.5}
 
 
 def test_results_of_harness_0_1_are_refused_in_one_line(tmp_path):

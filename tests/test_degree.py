@@ -61,18 +61,47 @@ def test_multigrid_newton_at_pk_equals_direct_newton(order):
     assert np.abs(fast.u - direct.u).max() <= 1e-9 * np.abs(direct.u).max()
 
 
+@pytest.mark.parametrize("cone", ["nodal", "mean"])
 @pytest.mark.parametrize("order", [3, 4])
-def test_the_gauss_lobatto_cone_is_solved_exactly_against_clarabel(order):
-    """nodal-p_k's QP (vertex rows and k - 1 Gauss-Lobatto rows per edge) by the harness's
-    general-constraint active set method and by Clarabel, an interior-point solver."""
+def test_the_pk_cones_are_solved_exactly_against_clarabel(order, cone):
+    """nodal-p_k's and mean-p_k's QPs (vertex rows and k - 1 Gauss-Lobatto or sub-edge-mean rows
+    per edge) by the harness's general-constraint active set method and by Clarabel, an
+    interior-point solver: both feasible, the harness's energy J(z) = z K z / 2 - b z no higher
+    than Clarabel's, and the two within 1e-5 of ||z||_K of each other in the energy norm (for the
+    minimiser z over a convex set, ||z' - z||_K^2 <= 2 (J(z') - J(z)) for any feasible z'; P4's
+    hierarchical basis makes the coefficients themselves ill-conditioned: mean-p4's differ by 1e-5
+    relative, with Clarabel's J 3e-11 above the harness's)."""
     case = load_case("corner-r12")
     problem = problem_at("corner-r12", 1, order)
-    qp = edge_functional_qp(case, problem, METHODS[f"nodal-p{order}"].functionals)
+    qp = edge_functional_qp(case, problem, METHODS[f"{cone}-p{order}"].functionals)
     solution = GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift).solve()
-    reference = clarabel_solution(problem, qp)
+    reference = solution.z.copy()
+    reference[problem.free] = clarabel_solution(problem, qp)
     assert solution.status == "converged" and solution.residual <= 1e-10
-    assert solution.active[qp.n_vertices:].any()                 # some Gauss-Lobatto row binds
-    np.testing.assert_allclose(solution.z[problem.free], reference, atol=1e-6 * np.abs(reference).max())
+    assert solution.active[qp.n_vertices:].any()                 # some edge row binds
+    energy = lambda z: 0.5 * z @ (qp.K @ z) - qp.b @ z              # noqa: E731
+    scale = solution.z @ (qp.K @ solution.z)
+    assert (qp.B @ solution.z - qp.g).min() >= -1e-12 and (qp.B @ reference - qp.g).min() >= -1e-9
+    assert energy(solution.z) <= energy(reference) + 1e-13 * scale
+    difference = reference - solution.z
+    assert difference @ (qp.K @ difference) <= 1e-10 * scale
+
+
+def test_the_sub_edge_mean_cone_of_degree_2_is_the_papers_mean():
+    """``_mean_pk.sub_edge_means`` at k = 2 is the edge mean, and the cone of functionals it makes
+    (general rows, the general-constraint active set method) solves `mean`'s problem (a bound
+    cone after a change of variables, the projected active set method): the same u_h."""
+    from harness.methods import FunctionalCone
+    from harness.methods._mean_pk import sub_edge_means
+    rule, = sub_edge_means(2)
+    assert sum(w for _, w in rule) == pytest.approx(1.0) and sum(w * t for t, w in rule) == pytest.approx(0.5)
+    assert [len(r) for r in sub_edge_means(4)] == [3, 3, 3]
+    case = load_case("transition-r32")
+    cone = FunctionalCone(name="mean-as-functionals", order=2, contact="", reference="", expected=None,
+                          functionals_of=sub_edge_means)
+    ours = cone.solve(case, problem_at("transition-r32", 2, 2), None, None).u
+    paper = METHODS["mean"].solve(case, problem_at("transition-r32", 2, 2), None, None).u
+    np.testing.assert_allclose(ours, paper, atol=1e-9 * np.abs(paper).max())
 
 
 def test_the_gauss_lobatto_points_are_the_midpoint_at_p2_and_symmetric():

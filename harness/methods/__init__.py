@@ -44,7 +44,7 @@ GROUPS = {
     "weak": ("nitsche", "penalty", "nitsche-p1", "penalty-p1"),         # contact by a Gamma_C term
     "mortar": ("mortar-mean", "mortar-nodal", "mortar-standard", "mortar-p1"),             # two bodies, non-matching meshes
     DEGREES: (),            # the methods that declare the role DEGREES: Nitsche and the nodal cone of each degree
-    "high-order": ("nitsche-p3", "nitsche-p4", "penalty-p3", "penalty-p4", "nodal-p3", "nodal-p4"),      # k >= 3
+    "high-order": ("nitsche-p3", "nitsche-p4", "penalty-p3", "penalty-p4", "nodal-p3", "nodal-p4", "mean-p3", "mean-p4"),  # k >= 3
 }
 
 
