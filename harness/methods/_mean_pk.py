@@ -18,8 +18,8 @@ import math
 
 import numpy as np
 
-from .base import FunctionalCone
 from ._nodal_pk import expected_for
+from .base import FunctionalCone
 
 
 def sub_edge_means(degree: int) -> tuple:
