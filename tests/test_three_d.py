@@ -46,9 +46,11 @@ def test_the_3d_cases_are_registered_and_the_2d_cases_are_unchanged():
 @pytest.mark.parametrize("case_name", THREE_D)
 def test_the_cones_and_the_weak_methods_discretise_a_3d_case(case_name):
     """A 3D study runs mean, mean-edges, nodal, p1 and, by their laws on the triangles of Gamma_C,
-    Nitsche and penalty (the mortar methods couple two bodies)."""
+    Nitsche and penalty of every degree (the mortar methods couple two bodies; the cones of degree
+    k >= 3 are 2D)."""
     assert [m.name for m in methods_for(registered_cases()[case_name], METHODS.values())] == \
-        ["mean", "mean-edges", "nodal", "p1", "nitsche", "penalty", "nitsche-p1", "penalty-p1"]
+        ["mean", "mean-edges", "nodal", "p1", "nitsche", "penalty", "nitsche-p1", "penalty-p1", "nitsche-p3", "penalty-p3",
+         "nitsche-p4", "penalty-p4"]
 
 
 def test_an_elastic_3d_case_needs_a_3_vector_displacement(tmp_path):

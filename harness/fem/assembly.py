@@ -271,7 +271,8 @@ class ContactTraceFunction:
     face_bubbles: np.ndarray | None = None  # 3D: (f, 3) bubble coefficients of the sides
     volumes: np.ndarray | None = None       # 2D: (m,) the triangles on the edges (``mesh.in_elements``)
     face_active: np.ndarray | None = None   # 3D, face-mean cone: (f,) the triangle's mean constraint was active
-    lobatto: np.ndarray | None = None       # 2D, P_k with k >= 3: (m, k + 1) values at ``lobatto_points(k)`` of each edge
+    lobatto: np.ndarray | None = None       # P_k with k >= 3: (m, k + 1) values at ``lobatto_points(k)`` of each edge
+    face_lattice: np.ndarray | None = None  # 3D, P_k with k >= 3: (f, (k + 1)(k + 2)/2) values at ``barycentric_lattice(k)``
 
     @classmethod
     def of(cls, problem: DiscreteProblem, u: np.ndarray, end_active=None, edge_active=None,
@@ -289,9 +290,10 @@ class ContactTraceFunction:
                      "face_bubbles": bubbles[trace.faces.edges]}
         if problem.order > 2:
             if trace.faces is not None:
-                raise ValueError(f"the trace of a P{problem.order} function on a 3D Gamma_C is not implemented (P1, P2)")
-            return cls(trace.a, trace.b, ends[:, 0], ends[:, 1], np.zeros(m), end_active, edge_active,
-                       volumes=trace.volumes, lobatto=_lobatto_values(problem, u))
+                faces = {"face_points": faces["face_points"], "face_values": faces["face_values"],
+                         "face_lattice": _face_lattice_values(problem, u)}
+            return cls(trace.a, trace.b, ends[:, 0], ends[:, 1], np.zeros(m), end_active, edge_active, **faces,
+                       volumes=edge_volumes(trace), lobatto=_lobatto_values(problem, u), face_active=face_active)
         return cls(trace.a, trace.b, ends[:, 0], ends[:, 1], bubbles, end_active, edge_active, **faces,
                    volumes=trace.volumes, face_active=face_active)
 
@@ -307,10 +309,14 @@ class ContactTraceFunction:
         return self.value(np.arange(len(self.va))[:, None], np.asarray(t)[None, :])
 
     def on_faces(self, barycentric: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """3D: (points (f, k, 3), values (f, k)) at the barycentric points (k, 3) of every triangle."""
+        """3D: (points (f, k, 3), values (f, k)) at the barycentric points (k, 3) of every triangle
+        (P_k, k >= 3: the Lagrange interpolant of the lattice values, ``lattice_lagrange``)."""
         lam = np.asarray(barycentric)
-        bubble_shapes = lam * np.roll(lam, -1, axis=1)           # lambda_k lambda_{k+1}: side k
-        values = self.face_values @ lam.T - 0.5 * self.face_bubbles @ bubble_shapes.T
+        if self.face_lattice is not None:
+            values = self.face_lattice @ lattice_lagrange(lattice_degree(self.face_lattice.shape[1]), lam).T
+        else:
+            bubble_shapes = lam * np.roll(lam, -1, axis=1)           # lambda_k lambda_{k+1}: side k
+            values = self.face_values @ lam.T - 0.5 * self.face_bubbles @ bubble_shapes.T
         return np.einsum("kc,fcd->fkd", lam, self.face_points), values
 
     def minimum_parameters(self) -> np.ndarray:
@@ -400,10 +406,53 @@ def _lobatto_values(problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
     trace, k = problem.trace, problem.order
     t = lobatto_points(k)
     points = trace.a[:, None, :] + t[None, :, None] * (trace.b - trace.a)[:, None, :]
-    volumes = np.repeat(trace.volumes, k + 1)
+    volumes = np.repeat(edge_volumes(trace), k + 1)
     normals = np.repeat(trace.normals, k + 1, axis=0)
     T = trace_rows(problem.fes, problem.physics, problem.basis, volumes, points.reshape(-1, points.shape[-1]), normals)
     return (T @ u).reshape(-1, k + 1)
+
+
+def barycentric_lattice(n: int) -> np.ndarray:
+    """The (n + 1)(n + 2)/2 points (i, j, n - i - j) / n of a triangle, in barycentric coordinates."""
+    return np.array([(i, j, n - i - j) for i in range(n + 1) for j in range(n + 1 - i)], dtype=float) / n
+
+
+def lattice_degree(points: int) -> int:
+    """n of a lattice of ``points`` = (n + 1)(n + 2)/2 points."""
+    return int(round((np.sqrt(8 * points + 1) - 3) / 2))
+
+
+def lattice_lagrange(n: int, barycentric: np.ndarray) -> np.ndarray:
+    """(len(barycentric), lattice points) the Lagrange basis of degree n on ``barycentric_lattice(n)``
+    at the given points: monomials in the first two coordinates, the lattice's Vandermonde
+    inverted (n <= 4: well conditioned)."""
+    exponents = [(i, j) for i in range(n + 1) for j in range(n + 1 - i)]
+
+    def monomials(lam):
+        return np.stack([lam[:, 0] ** i * lam[:, 1] ** j for i, j in exponents], axis=1)
+    return monomials(np.asarray(barycentric, float)) @ np.linalg.inv(monomials(barycentric_lattice(n)))
+
+
+def edge_volumes(trace: ContactTrace) -> np.ndarray:
+    """The volume element holding each contact edge: the trace's own in 2D, in 3D the tetrahedron
+    of a triangle of Gamma_C with that side."""
+    if trace.faces is None:
+        return trace.volumes
+    volumes = np.empty(len(trace.edges), dtype=np.int64)
+    volumes[trace.faces.edges.ravel()] = np.repeat(trace.faces.volumes, 3)
+    return volumes
+
+
+def _face_lattice_values(problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
+    """(f, (k + 1)(k + 2)/2) the contact variable of u at ``barycentric_lattice(k)`` of each triangle
+    of a 3D Gamma_C: values that fix its degree-k trace there."""
+    from .contact_quadrature import trace_rows
+    faces, lattice = problem.trace.faces, barycentric_lattice(problem.order)
+    points = np.einsum("lc,fcd->fld", lattice, faces.corners(problem.trace))
+    count = len(lattice)
+    T = trace_rows(problem.fes, problem.physics, problem.basis, np.repeat(faces.volumes, count),
+                   points.reshape(-1, 3), np.repeat(faces.normals, count, axis=0))
+    return (T @ u).reshape(-1, count)
 
 
 def _polynomial_minimum(values: np.ndarray, samples: int = 33, steps: int = 8) -> np.ndarray:

@@ -7,17 +7,12 @@ import ngsolve as ngs
 import numpy as np
 
 from ..mesh.points import evaluate, in_elements
-from .assembly import ContactTraceFunction
+from .assembly import ContactTraceFunction, barycentric_lattice
 
 PENETRATION_SAMPLES_PER_EDGE = 33
 
-
-def _barycentric_lattice(n: int) -> np.ndarray:
-    return np.array([(i, j, n - i - j) for i in range(n + 1) for j in range(n + 1 - i)], dtype=float) / n
-
-
 # barycentric points sampled on each triangle of a 3D Gamma_C for max_penetration
-FACE_LATTICE = _barycentric_lattice(8)
+FACE_LATTICE = barycentric_lattice(8)
 
 
 def max_penetration(case, mesh: ngs.Mesh, trace_u: ContactTraceFunction) -> float:

@@ -54,11 +54,9 @@ def gamma0_for(order: int) -> float:
 
 def at_order(order: int) -> ContactLawMethod:
     """`nitsche` on P_k (k >= 3): gamma0 scaled with the degree (``gamma0_for``), the rate
-    min(nu - 1, k) (``expected_for``); 2D (the trace of a P_k function on a triangulated 3D
-    Gamma_C is not implemented)."""
+    min(nu - 1, k) (``expected_for``); in 2D and 3D, scalar and elastic."""
     return replace(method, name=f"nitsche-p{order}", order=order, contact=f"Nitsche, as `nitsche`, on P{order} (γ₀ = {gamma0_for(order):.4g})",
-                   expected=expected_for(order), law=Nitsche(gamma0=gamma0_for(order), theta=1.0), roles=frozenset({DEGREES}),
-                   dimensions=(2,))
+                   expected=expected_for(order), law=Nitsche(gamma0=gamma0_for(order), theta=1.0), roles=frozenset({DEGREES}))
 
 
 method = ContactLawMethod(

@@ -33,7 +33,7 @@ def at_order(order: int) -> ContactLawMethod:
     """`penalty` on P_k (k >= 3): the same eps0 and expected rate (the cap at h is the
     consistency error's, not the degree's)."""
     return replace(method, name=f"penalty-p{order}", order=order, contact=f"penalty, as `penalty`, on P{order}",
-                   roles=frozenset(), dimensions=(2,))
+                   roles=frozenset())
 
 
 method = ContactLawMethod(
