@@ -16,8 +16,10 @@ LINESTYLE = {"uniform": ":", "graded": "--", "adaptive": "-", "hp": "--"}
 def error_against_ndof(case, frame: pd.DataFrame, folder: Path) -> dict[str, Path]:
     """H^1 error (left) and the estimator's effectivity (right) against N, every method on every
     mesh strategy; the slopes N^-1/2 and N^-1 (P1's and P2's best) for comparison."""
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
-    for (mesh, method), g in frame.groupby(["mesh", "method"], sort=False):
+    chains = frame.groupby(["mesh", "method"], sort=False)
+    rows = -(-chains.ngroups // 4)          # the legend's rows below the panels, four chains a row
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2 + 0.16 * rows))
+    for (mesh, method), g in chains:
         g = g.sort_values("ndof")
         kind = str(mesh).split(":")[0]
         s = style(method)
@@ -81,8 +83,10 @@ def degree_errors(case, frame: pd.DataFrame, folder: Path) -> dict[str, Path]:
     """The degree study's figure of one case: the H^1 error against N and against the seconds
     spent up to each level (the rows' total_seconds, summed along each chain), every method on
     every mesh strategy."""
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
-    for (mesh, method), g in frame.groupby(["mesh", "method"], sort=False):
+    chains = frame.groupby(["mesh", "method"], sort=False)
+    rows = -(-chains.ngroups // 4)          # the legend's rows below the panels, four chains a row
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2 + 0.16 * rows))
+    for (mesh, method), g in chains:
         g = g.sort_values("level")
         kind = str(mesh).split(":")[0]
         s = style(method)
@@ -95,7 +99,9 @@ def degree_errors(case, frame: pd.DataFrame, folder: Path) -> dict[str, Path]:
     left.set_xlabel("ndof N")
     left.set_ylabel("H¹ error")
     left.set_title(f"{case.name}: error against N")
-    left.legend(fontsize=6.5, ncol=2, loc="lower left")
     right.set_xlabel("seconds up to the level")
     right.set_title("error against time")
+    # below the panels, not over the curves (hp's fall where a corner legend sits)
+    fig.legend(*left.get_legend_handles_labels(), fontsize=6.5, ncol=4, loc="lower center", frameon=False)
+    fig.subplots_adjust(bottom=0.12 + 0.16 * rows / (4.2 + 0.16 * rows), wspace=0.22)
     return save(fig, folder, f"{case.name}-degrees")
