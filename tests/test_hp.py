@@ -99,6 +99,18 @@ def test_bad_hp_parameters_are_refused_in_one_line(spec, message):
         parse_mesh(spec)
 
 
+def test_strategies_with_parameters_run_from_the_command_line(tmp_path):
+    """``--mesh hp:mu=0.5`` and ``--mesh adaptive:theta=0.3`` (whose labels, with ':' and ',', the
+    check of a strategy object refused before 0.10.0) run, each row labelled by its strategy."""
+    from harness.cli import main
+    code = main(["run", "--case", "transition-r32", "--method", "nitsche", "--mesh", "hp:sigma=0.2,mu=0.5",
+                 "--mesh", "adaptive:theta=0.3", "--levels", "2", "--out", str(tmp_path), "--quiet"])
+    assert code == 0
+    rows = pd.read_csv(tmp_path / "results.csv")
+    assert set(rows["mesh"]) == {"hp:sigma=0.2,mu=0.5", "adaptive:theta=0.3"}
+    assert (rows.kkt_residual <= 1e-10).all()
+
+
 def test_all_names_the_h_strategies_and_hp_serves_the_contact_laws_only():
     assert [s.label for s in parse_mesh("all")] == ["uniform", "graded", "adaptive"]
     hp = MeshStrategy("hp")

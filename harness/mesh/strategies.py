@@ -44,14 +44,15 @@ DEFAULT_THETA = 0.5
 # each strategy's parameters and their defaults
 PARAMETERS = {"adaptive": {"theta": DEFAULT_THETA}, "hp": {"sigma": DEFAULT_SIGMA, "mu": DEFAULT_MU}}
 ENTRY_POINTS = "signorini_harness.meshes"
-LABEL = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.=+-]*$")
+# a label: a CSV cell and a file name's part; a strategy's parameters are written name:key=value,...
+LABEL = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.=+,:-]*$")
 
 
 @runtime_checkable
 class Strategy(Protocol):
     """What a study asks of a mesh strategy (``MeshStrategy`` is the package's own)."""
 
-    label: str          # the ``mesh`` column of its rows; letters, digits and _.=+-
+    label: str          # the ``mesh`` column of its rows; letters, digits and _.=+,:-
 
     def applies_to(self, case) -> str | None:
         """None if it can mesh ``case``, else why not (one clause): the study skips the case on
@@ -70,7 +71,7 @@ def check_strategy(obj, where: str) -> Strategy:
     if not isinstance(obj, Strategy):
         raise PluginError(f"{where}: {obj!r} is not a mesh strategy (label, applies_to, group_key, sequence)")
     if not isinstance(obj.label, str) or not LABEL.match(obj.label):
-        raise PluginError(f"{where}: mesh strategy label {obj.label!r} is not letters, digits and _.=+-")
+        raise PluginError(f"{where}: mesh strategy label {obj.label!r} is not letters, digits and _.=+,:-")
     return obj
 
 
