@@ -10,6 +10,7 @@ _PUBLIC = {
     "singular_lines": "strategies", "element_budget": "strategies",
     "Level": "levels", "LevelSequence": "levels", "UniformRefinement": "levels",
     "GradedRefinement": "bisection", "AdaptiveRefinement": "bisection", "dorfler": "bisection",
+    "HpRefinement": "hp",
 }
 __all__ = list(_PUBLIC)
 __getattr__, __dir__ = lazy(__name__, _PUBLIC)
