@@ -14,7 +14,7 @@ import pandas as pd
 import pytest
 
 import harness
-from harness.methods import LawError, MethodError, OwnSolution, check_method, methods_named
+from harness.methods import METHODS, LawError, MethodError, OwnSolution, check_method, methods_named
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples" / "methods"
@@ -177,3 +177,13 @@ def test_a_law_written_for_elasticity_runs_from_outside_on_2d_and_3d_elastic_cas
     assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
     for case in ("elastic-transition-r32", "elastic-transition-3d"):
         np.testing.assert_allclose(rows.loc[(case, "nitsche-law")].err_h1, rows.loc[(case, "nitsche")].err_h1, rtol=1e-8)
+
+
+def test_a_solve_of_ones_own_runs_at_degree_3_and_agrees_with_penalty_p3(own):
+    """The method protocol's third level at any degree (issue 63): the example's own Newton
+    penalty solve, given order 3, hands back the u_h of the built-in penalty-p3 (the same
+    discrete problem), its own residual recorded."""
+    from dataclasses import replace
+    rows = study([replace(own.method, name="own-p3", order=3), METHODS["penalty-p3"]], levels=2)
+    assert (rows.loc["own-p3"].kkt_residual <= 1e-10).all() and (rows.loc["own-p3"].status == "converged").all()
+    assert_same_rows(rows, "own-p3", "penalty-p3", 1e-8)
