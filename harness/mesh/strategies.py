@@ -34,6 +34,7 @@ import numpy as np
 from .bisection import AdaptiveRefinement, GradedRefinement
 from .hp import DEFAULT_MU, DEFAULT_SIGMA, HpRefinement
 from .levels import LevelSequence, UniformRefinement, coarse_mesh
+from .newest_vertex import straight_polygon
 from .plugins import PluginError, entry_point_objects, is_external, load_spec
 from .points import coordinates, geometry_vertices
 
@@ -144,6 +145,8 @@ def hp_refusal(case) -> str | None:
         return "hp meshes measure errors against u, which the case does not give"
     if not case.singular_points:
         return "hp meshes refine toward the case's singular_points, which it does not declare"
+    if not straight_polygon(case.geometry):
+        return "hp meshes are made on the arrays of a polygon's mesh (their new boundary vertices on straight sides)"
     return None
 
 
