@@ -395,7 +395,8 @@ def test_run_grades_a_3d_case(tmp_path):
     code = main(["run", "--case", "transition-line-3d", "--mesh", "graded", "--levels", "2", "--out", str(tmp_path), "--quiet"])
     frame = pd.read_csv(tmp_path / "results.csv")
     assert code == 0 and (frame["mesh"] == "graded").all()
-    assert set(frame.method) == {"mean", "mean-edges", "nodal", "p1", "nitsche", "nitsche-p1", "penalty", "penalty-p1"}
+    assert set(frame.method) == {"mean", "mean-edges", "nodal", "p1", "nitsche", "nitsche-p1", "penalty", "penalty-p1",
+                                 "nitsche-p3", "penalty-p3", "nitsche-p4", "penalty-p4"}
     assert (frame.status == "converged").all() and (frame.kkt_residual <= TOLERANCE).all()
 
 
