@@ -1,8 +1,8 @@
 """Exponential convergence: the fit of hp meshes' errors, err ~ C exp(-b N^{1/(d+1)}).
 
 On geometric meshes with linearly increasing degrees, a solution analytic but for point
-singularities has ||u - u_hp||_1 <= C exp(-b N^{1/3}) in 2D (Babuska & Guo, SIAM J. Numer.
-Anal. 25 (1988); Schwab, p- and hp-Finite Element Methods, 1998, Thm 4.63), N^{1/5} in 3D. So
+singularities has ||u - u_hp||_1 <= C exp(-b N^{1/(d+1)}): N^{1/3} in 2D, N^{1/4} in 3D about
+points (``mesh.hp`` has the references). So
 ln(err) is affine in N^{1/(d+1)}: a least-squares line gives b (the slope, negated) and its
 coefficient of determination R^2, the measure of how straight it is. The verdict is
 "exponential" when R^2 >= ``R2_EXPONENTIAL`` over at least ``MIN_LEVELS`` levels with b > 0, and
