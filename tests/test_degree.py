@@ -229,17 +229,25 @@ def test_adaptive_nitsche_of_degree_k_converges_at_k_over_2_in_the_dofs(case_nam
     assert (rows.kkt_residual <= 1e-10).all()
 
 
+# Measured, against a conjecture (no theorem covers the cones of degree k >= 3): mean-p4, the means
+# over 3 sub-edges, fits 2.45 on smooth-quintic (pairwise 2.32 2.36 2.43 2.47 on 6 levels, its
+# error 2.2 to 186 times R_h u's), where nodal-p4 and its declared min(nu - 1, k) are 4; mean-p3
+# meets 3 (within 1.003 of R_h u)
+MEAN_P4 = pytest.mark.xfail(strict=True, reason="measured 2.45 against the conjectured 4")
+
+
 @slow
-@pytest.mark.parametrize("method_name, order", [("nitsche-p3", 3), ("nodal-p3", 3), ("nitsche-p4", 4), ("nodal-p4", 4)])
+@pytest.mark.parametrize("method_name, order", [("nitsche-p3", 3), ("nodal-p3", 3), ("mean-p3", 3), ("nitsche-p4", 4),
+                                                ("nodal-p4", 4), pytest.param("mean-p4", 4, marks=MEAN_P4)])
 def test_smooth_quintic_shows_the_optimal_rate_of_each_degree(method_name, order):
-    """nu = 11/2: Nitsche's min(nu - 1, k) = k, and the nodal cone at the best approximation's
-    rate (its declared conjecture)."""
+    """nu = 11/2: Nitsche's min(nu - 1, k) = k, and the cones at the best approximation's rate
+    (their declared conjecture)."""
     rows = pd.DataFrame(run_chain(load_case("smooth-quintic"), [METHODS[method_name]], 5).rows)
     assert fitted(rows) >= order - 0.1, rows[["level", "err_h1"]]
 
 
 @slow
-@pytest.mark.parametrize("method_name", ["nitsche-p3", "nodal-p3", "nitsche-p4"])
+@pytest.mark.parametrize("method_name", ["nitsche-p3", "nodal-p3", "nitsche-p4", "mean-p3", "mean-p4"])
 def test_p3_and_p4_saturate_at_one_and_a_half_on_transition_r32(method_name):
     """The transition singularity r^{3/2} caps every degree at h^{3/2} on uniform meshes."""
     rows = pd.DataFrame(run_chain(load_case("transition-r32"), [METHODS[method_name]], 6).rows)
