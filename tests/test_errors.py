@@ -19,11 +19,18 @@ from harness.methods import METHODS, methods_for
 from harness.problem.bodies import lower_body
 from harness.problem.case import registered_cases
 from harness.study.chain import PROFILES, run_chain
+from harness.study.degree_study import PLAN
 
 # cases measured against u (a reference case's errors are exact matrix norms: tests/test_reference.py)
 EXACT_CASES = [name for name, case in registered_cases(dimension=2).items() if case.exact]     # 3D: test_three_d.py
 
-FINEST_DEFAULT_LEVEL = PROFILES["default"]["levels"] - 1
+DEFAULT = PROFILES["default"]
+FINEST_DEFAULT_LEVEL = DEFAULT["levels"] - 1
+# the degrees the default report's main study runs (1 and 2) end on FINEST_DEFAULT_LEVEL; those
+# beyond (P3, P4) only in its degree study, on uniform levels up to FINEST_DEGREE_LEVEL of the
+# degree study's cases
+FINEST_DEGREE_LEVEL = DEFAULT["degree_levels"] - 1
+DEGREE_CASES = [name for name, meshes in PLAN["cases"].items() if "uniform" in meshes]
 # `make test` checks the error integration on a small level (the same rule, elements of every
 # kind: near the singular points and away; level 2, 0.5-4 s per case) for a case of each kind: a
 # corner singularity, a singular load, an elastic body, two bodies. Every exact case on level 2
@@ -32,7 +39,8 @@ SMALL_LEVEL = 2
 SMALL_CASES = {"corner-r12", "borderline-h2", "elastic-wedge", "two-body-junction"}
 ERROR_LEVELS = [(name, level) if (name, level) in {(c, SMALL_LEVEL) for c in SMALL_CASES}
                 else pytest.param(name, level, marks=pytest.mark.slow)
-                for level in (SMALL_LEVEL, 3, FINEST_DEFAULT_LEVEL) for name in EXACT_CASES]
+                for level in (SMALL_LEVEL, 3, FINEST_DEFAULT_LEVEL) for name in EXACT_CASES] + \
+    [pytest.param(name, FINEST_DEGREE_LEVEL, marks=pytest.mark.slow) for name in DEGREE_CASES]
 REFERENCE_ORDER, REFERENCE_DEPTH = 20, 22
 
 
@@ -81,15 +89,19 @@ def test_errors_agree_with_a_much_finer_integration(case_name, level):
     points, Gauss order 6 elsewhere) against grading at every geometry point, depth 22 and
     order 20 everywhere, to 0.1%, on a P2 level (P1 ends one level later, on a mesh of the same
     dofs): a small one and level 3 for every method, and the finest of `make report` for one
-    method of each order (`make test-full`; every method there cost 10 minutes of CI)."""
+    method of each order it runs there (`make test-full`; every method there cost 10 minutes of
+    CI): orders 1 and 2 on the main study's finest level, P3 and P4 on the degree study's (P3/P4
+    on the main study's finest level, which no report row reaches, cost CI 12 minutes)."""
     case = registered_cases()[case_name]
+    methods = methods_for(case, METHODS.values())
+    if level == FINEST_DEFAULT_LEVEL:
+        methods = [m for m in one_of_each_order(methods) if m.order in DEFAULT["orders"]]
+    elif level == FINEST_DEGREE_LEVEL:
+        methods = [m for m in one_of_each_order(methods) if m.order not in DEFAULT["orders"]]
     if case.bodies == 2:
         # the finest level of `make report` for two bodies is their own (asymptotic_levels); level
         # 6 would put mortar-standard's SuperLU saddle at 2e6 dofs (past 19 GB)
         level = min(level, case.asymptotic_levels - 1)
-    methods = methods_for(case, METHODS.values())
-    if level == FINEST_DEFAULT_LEVEL:
-        methods = one_of_each_order(methods)
     reference = ReferenceErrors(level)
     with ngs.TaskManager():
         rows = run_chain(case, methods, level + 1, on_level=reference).rows
