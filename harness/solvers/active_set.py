@@ -197,7 +197,9 @@ class MultigridSystem:
         key = free.tobytes()
         if self._last is None or self._last[0] != key:
             # the same pins again (a loose solve's set, solved to the full depth): the same V-cycle
-            self._last = key, TruncatedVCycle(self.multilevel, self.K_ngs, free, self.edges, self.stiff_vertices)
+            previous = None if self._last is None else self._last[1]
+            self._last = key, TruncatedVCycle(self.multilevel, self.K_ngs, free, self.edges, self.stiff_vertices,
+                                              previous=previous)
             self.preconditioners += 1
         preconditioner = self._last[1]
         z, iterations = pcg(self.K_ngs, preconditioner, self.b, z, free, tol, self.max_cg_iterations)

@@ -318,10 +318,15 @@ class TruncatedVCycle:
     active penalty or Nitsche term, (1/eps) with eps ~ h), which the coarse spaces, made of A,
     do not see: they are truncated there as at a pin -- nearly a pin is what such a term
     makes of a vertex -- while the finest smoother still relaxes them.
+
+    ``previous``: the V-cycle of the last active set on the same hierarchy and matrix, whose
+    coarse smoothers and coarsest factorisation are taken over on every level whose pins are the
+    same (a new set flips a few rows near Gamma_C; most coarse levels' truncated pins stay).
     """
 
     def __init__(self, multilevel: Multilevel, K_ngs, free: np.ndarray, edges: ContactEdges,
-                 stiff_vertices: np.ndarray | None = None, smoothed: np.ndarray | None = None):
+                 stiff_vertices: np.ndarray | None = None, smoothed: np.ndarray | None = None,
+                 previous: "TruncatedVCycle | None" = None):
         n = multilevel.ndof
         pinned_vertices = edges.touched(~free, n)
         self.multilevel, self.K, self.edges, self.nv = multilevel, K_ngs, edges, n
@@ -338,8 +343,11 @@ class TruncatedVCycle:
         # a P1 problem's own matrix is the top P1 level (the same as A for the cone methods,
         # A plus its Gamma_C terms for penalty and Nitsche)
         self.matrices = [*multilevel.matrices[:-1], K_ngs if self.fine_is_p1 else multilevel.matrices[-1]]
-        self.smoothers = [m.CreateSmoother(_bits(~p)) for m, p in zip(self.matrices, self.pins)]
-        self.coarsest = self.matrices[0].Inverse(_bits(~self.pins[0]), inverse="sparsecholesky")
+        same = _same_pins(previous, self.matrices, self.pins)
+        self.smoothers = [previous.smoothers[level] if same[level] else m.CreateSmoother(_bits(~p))
+                          for level, (m, p) in enumerate(zip(self.matrices, self.pins))]
+        self.coarsest = previous.coarsest if same[0] else \
+            self.matrices[0].Inverse(_bits(~self.pins[0]), inverse="sparsecholesky")
         # NGSolve work vectors with their NumPy views made once: a view costs microseconds, which
         # on small meshes is a good part of a V-cycle
         self._work = [_vectors(m, 3) for m in multilevel.matrices]
@@ -399,6 +407,14 @@ class TruncatedVCycle:
 
     def _after_coarse(self, x_np: np.ndarray, r) -> None:
         """A step between the coarse correction and the smoothing back (x in place; r the input)."""
+
+
+def _same_pins(previous: TruncatedVCycle | None, matrices: list, pins: list) -> list[bool]:
+    """Per level, whether ``previous`` has that level's matrix (the same object) and pins."""
+    if previous is None or len(previous.pins) != len(pins):
+        return [False] * len(pins)
+    return [old is new and np.array_equal(old_pins, new_pins)
+            for old, new, old_pins, new_pins in zip(previous.matrices, matrices, previous.pins, pins)]
 
 
 def _vectors(matrix, count: int) -> list[tuple]:
