@@ -45,6 +45,7 @@ class JointMultilevel:
         self.bodies = (upper, lower)
         self.free: list[np.ndarray] = []
         self._work: list = []
+        self._level_sizes: list[list[int]] = []      # each level's dofs per body, read at every V-cycle step
         self._extend()
 
     def refined(self, meshes) -> "JointMultilevel":
@@ -61,13 +62,14 @@ class JointMultilevel:
         for level in range(len(self.free), len(upper.matrices)):
             self.free.append(np.concatenate([body.free[level] for body in self.bodies]))
             self._work.append([body.matrices[level].CreateColVector() for body in self.bodies])
+            self._level_sizes.append([body.matrices[level].height for body in self.bodies])
 
     @property
     def ndof(self) -> int:
         return sum(self._sizes(len(self.free) - 1))
 
     def _sizes(self, level: int) -> list[int]:
-        return [body.matrices[level].height for body in self.bodies]
+        return self._level_sizes[level]
 
     def restrict(self, level: int, vector, rotate: bool = True) -> None:
         """In place, as ``Multilevel.restrict``: each body's part restricted by its hierarchy."""
