@@ -6,6 +6,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import scipy.sparse as sp
 import pytest
 
 from harness.fem.assembly import discretise
@@ -52,6 +53,25 @@ def test_the_coupled_coarse_matrices_are_galerkin_products_of_the_mortar_qp(case
         P = multilevel.prolongation_matrix(level)
         galerkin = P.T @ csr_view(hierarchy.matrices[level]) @ P
         assert abs(galerkin - csr_view(hierarchy.matrices[level - 1])).max() <= 1e-12 * scale
+
+
+@pytest.mark.parametrize("edge_functional", ["midpoint", "mean"])
+@pytest.mark.parametrize("case_name", TWO_BODY_CASES)
+def test_the_dual_qps_matrix_is_the_congruence_of_both_bodies_matrices(case_name, edge_functional):
+    """K = S^T diag(A_1, A_2) S, made from the slave trace's rows of A only
+    (``fem.sparse.congruence_terms``), equals the triple product, in P2 (both weights of the
+    edge variables: `mortar-nodal`, `mortar-mean`) and P1."""
+    for order in (1, 2):
+        case, problem, _ = _pair_on_hierarchy(case_name, 2, order)
+        coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint")
+        weight = {"midpoint": 4.0, "mean": 6.0}[edge_functional] if order == 2 else None
+        qp = dual_bound_qp(problem, coupling, weight)
+        A = sp.block_diag([problem.upper.A, problem.lower.A], format="csr")
+        product = qp.S.T @ A @ qp.S
+        assert abs(qp.K - product).max() <= 1e-13 * abs(product).max()
+        # the rows the congruence reads: S is the identity off the constrained (slave trace) dofs
+        changed = np.flatnonzero(abs(qp.S - sp.identity(problem.ndof)).sum(axis=1).A.ravel())
+        assert np.isin(changed, qp.C).all()
 
 
 @pytest.mark.parametrize("case_name, strategy", [("transition-r32", "uniform"), ("elastic-transition-r32", "uniform"),

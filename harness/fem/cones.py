@@ -25,7 +25,7 @@ import scipy.sparse as sp
 
 from ..mesh.points import evaluate
 from .assembly import ContactTraceFunction, DiscreteProblem
-from .sparse import csr_positions, csr_view
+from .sparse import congruence_terms, csr_positions, csr_view
 
 # Gauss-Legendre points on [0, 1] for edge means of the gap (exact for polynomial gaps of
 # degree <= 15, far below the discretisation error otherwise).
@@ -221,10 +221,7 @@ def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix, take: bool = 
     (``DiscreteProblem.take_stiffness``).
     """
     A, E = problem.A, problem.edge_dofs
-    D_E = (S[E] - sp.csr_matrix((np.ones(len(E)), (np.arange(len(E)), E)), shape=(len(E), A.shape[1]))).tocsr()
-    rows_E = A[E]
-    P = (D_E.T @ rows_E).tocoo()
-    Q = (D_E.T @ (rows_E[:, E] @ D_E)).tocoo()
+    P, Q = congruence_terms(A, S, E)
     rows = np.concatenate([P.row, P.col, Q.row]).astype(np.int64)
     cols = np.concatenate([P.col, P.row, Q.col]).astype(np.int64)
     positions = csr_positions(A, rows, cols)

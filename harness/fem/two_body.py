@@ -17,6 +17,7 @@ import scipy.sparse as sp
 
 from .assembly import DiscreteProblem
 from .mortar import MortarCoupling, TraceElements, hierarchical_basis, intersection
+from .sparse import congruence_terms
 
 
 @dataclass
@@ -136,6 +137,8 @@ def dual_bound_qp(problem: TwoBodyProblem, dual: MortarCoupling, weight: float |
             alpha = np.concatenate([alpha[:nv], (alpha[a] + alpha[b]) / 6.0 + 2.0 * alpha[nv:] / 3.0])
     S = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
     joint = joint_qp(problem)
-    K = (S.T @ joint.K @ S).tocsr()
+    # K = S^T A S from the slave trace's rows of A (S is the identity elsewhere)
+    P, Q = congruence_terms(joint.K, S, np.concatenate([V, E]))
+    K = (joint.K + P + P.T + Q).tocsr()
     K.sort_indices()
     return BoundQP(S, K, S.T @ joint.b, joint.free, joint.lift, np.concatenate([V, E]), alpha, dual.D)
