@@ -18,7 +18,8 @@ from harness.mesh.strategies import MeshStrategy
 from harness.methods import METHODS, get_method
 from harness.problem.bodies import lower_body
 from harness.problem.case import load_case
-from harness.solvers.joint_multigrid import JointMultilevel, mortar_coupling_matrix, mortar_injection
+from harness.solvers.active_set import ActiveSetSolver, MultigridSystem, ngsolve_matrix
+from harness.solvers.joint_multigrid import JointMultilevel, OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection
 from harness.solvers.multigrid import Multilevel
 from harness.study.two_body import run_two_body_chain
 
@@ -112,3 +113,53 @@ def test_mortar_on_multigrid_solves_what_it_solves_on_cholesky(case_name, method
         assert np.abs(u_multigrid - u_cholesky).max() <= 1e-8 * np.abs(u_cholesky).max()
     # CG iterations against factorisations: the two solvers did run
     assert outputs[0].rows[-1]["linear_iterations"] > outputs[1].rows[-1]["linear_iterations"]
+
+
+
+def _opening_hierarchy(levels: int, order: int = 1):
+    """The scalar pair's dual QP on ``levels`` levels, with both hierarchies in its variables: the
+    body-wise one (``JointMultilevel.coupled``) and the one in opening variables."""
+    case, problem, multilevel = _pair_on_hierarchy("two-body-transition-r32", levels, order)
+    qp = dual_bound_qp(problem, mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint"),
+                       4.0 if order == 2 else None)
+    E = mortar_injection(problem)
+    coupling = mortar_coupling_matrix(problem, qp.S, qp.C, E)
+    return problem, qp, E, multilevel.coupled(coupling), OpeningLevels(multilevel, problem, multilevel.finest(coupling))
+
+
+def test_opening_levels_keep_a_zero_opening_zero_and_are_galerkin_products():
+    """A master coarse hat prolongates to zero openings on the finer level (it touches no trace
+    variable: no pin) while it drags the slave's vertices off the trace with it; and every
+    coarse matrix is P^T K P of the finer one."""
+    problem, qp, E, _, levels = _opening_hierarchy(3)
+    trace = problem.upper.trace.vertices
+    top = len(levels.sizes) - 1
+    (coarse_slave, _), (fine_slave, _) = levels.body_sizes[top - 1], levels.body_sizes[top]
+    P = levels.prolongation_matrix(top)
+    master_hats = P[:, coarse_slave:].tocsc()
+    slave_rows = master_hats[:fine_slave]
+    assert abs(slave_rows[trace[trace < fine_slave]]).max() == 0.0      # the openings stay zero
+    assert abs(slave_rows).max() > 0.0                                  # the slave follows
+    scale = abs(csr_view(levels.matrices[-1])).max()
+    for level in range(top, 0, -1):
+        P = levels.prolongation_matrix(level)
+        galerkin = P.T @ csr_view(levels.matrices[level]) @ P
+        assert abs(galerkin - csr_view(levels.matrices[level - 1])).max() <= 1e-12 * scale
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_opening_levels_solve_with_far_fewer_cg_iterations_than_the_body_wise_levels(order):
+    """The same dual QP from a cold start (the same active sets) on both hierarchies: in opening
+    variables the coarse levels carry the bodies' joint motion, and CG needs at most half the
+    iterations (measured: 76 against 237 in P1 on 5 levels, 84 against 207 in P2 on 4); both exact,
+    the same u_h."""
+    problem, qp, E, coupled, levels = _opening_hierarchy(5 if order == 1 else 4, order)
+    edges = SparseEdges(E)
+    K_ngs = ngsolve_matrix(qp.K)
+    solutions = [ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift,
+                                 system=MultigridSystem(K_ngs, qp.b, hierarchy, edges)).solve()
+                 for hierarchy in (coupled, levels)]
+    assert all(s.status == "converged" and s.kkt.residual <= 1e-10 for s in solutions)
+    assert [s.iterations for s in solutions][0] == solutions[1].iterations
+    assert np.abs(solutions[0].z - solutions[1].z).max() <= 1e-8 * np.abs(solutions[0].z).max()
+    assert solutions[1].work["cg_iterations"] <= 0.5 * solutions[0].work["cg_iterations"]

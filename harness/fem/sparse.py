@@ -53,3 +53,16 @@ def congruence_terms(A: sp.csr_matrix, S: sp.csr_matrix, rows: np.ndarray) -> tu
     D = (S[rows] - identity).tocsr()
     A_rows = A[rows]
     return (D.T @ A_rows).tocoo(), (D.T @ (A_rows[:, rows] @ D)).tocoo()
+
+
+def csr_block_diag(blocks: list) -> sp.csr_matrix:
+    """diag(B_1, B_2, ...) of CSR matrices by concatenating their arrays (``scipy.sparse.block_diag``
+    goes through COO: 1.6 s for two bodies' P2 matrices at 2e6 dofs)."""
+    blocks = [sp.csr_matrix(block) for block in blocks]
+    rows = np.cumsum([0] + [block.shape[0] for block in blocks])
+    columns = np.cumsum([0] + [block.shape[1] for block in blocks])
+    nnz = np.cumsum([0] + [block.nnz for block in blocks])
+    indptr = np.concatenate([[0]] + [block.indptr[1:].astype(np.int64) + offset for block, offset in zip(blocks, nnz)])
+    indices = np.concatenate([block.indices.astype(np.int64) + offset for block, offset in zip(blocks, columns)])
+    data = np.concatenate([block.data for block in blocks])
+    return sp.csr_matrix((data, indices, indptr), shape=(rows[-1], columns[-1]))

@@ -17,7 +17,7 @@ import scipy.sparse as sp
 
 from .assembly import DiscreteProblem
 from .mortar import MortarCoupling, TraceElements, hierarchical_basis, intersection
-from .sparse import congruence_terms
+from .sparse import congruence_terms, csr_block_diag
 
 
 @dataclass
@@ -56,7 +56,7 @@ class JointQP:
 
 def joint_qp(problem: TwoBodyProblem) -> JointQP:
     upper, lower = problem.bodies
-    return JointQP(sp.block_diag([upper.A, lower.A], format="csr"), np.concatenate([upper.b, lower.b]),
+    return JointQP(csr_block_diag([upper.A, lower.A]), np.concatenate([upper.b, lower.b]),
                    np.concatenate([upper.free, lower.free]), np.concatenate([upper.lift, lower.lift]))
 
 

@@ -15,8 +15,9 @@ from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
 from ..mesh.points import evaluate
 from ..solvers.active_set import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix
 from ..solvers.general_constraints import GeneralConstraintSolver
-from ..solvers.joint_multigrid import SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injection, p1_map
-from ..solvers.multigrid import nested_start, p1_values
+from ..solvers.joint_multigrid import (OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injection,
+                                       p1_map)
+from ..solvers.multigrid import p1_values
 from .base import Carry, Expectation, LevelSolve, Method, SolveFields, timer
 
 
@@ -117,10 +118,18 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
     if multilevel is None or problem.ndof < options.mortar_multigrid_from:
         return FactorisedSystem(qp.K, K_ngs, qp.b, options.refactor_above), None
     E = mortar_injection(problem)
-    hierarchy = multilevel.coupled(mortar_coupling_matrix(problem, qp.S, qp.C, E))
-    # the coarser u_h prolongated, in z: S^{-1} of it (E is not: it keeps the slave's trace)
-    start = None if carry is None else nested_start(hierarchy, carry.p1, problem,
-                                                    SparseEdges(p1_map(qp.S, qp.C, p1_injection(problem))))
+    coupling = mortar_coupling_matrix(problem, qp.S, qp.C, E)
+    # scalar: opening variables on every level (``joint_multigrid.OpeningLevels``); elastic:
+    # each body's P1 levels (the slave's trace follows a master hat on the finest level only)
+    hierarchy = OpeningLevels(multilevel, problem, multilevel.finest(coupling)) if problem.upper.physics.components == 1 \
+        else multilevel.coupled(coupling)
+    # the coarser u_h prolongated body by body (displacements, not openings), in z: S^{-1} of it
+    # (E is not: it keeps the slave's trace)
+    start = None
+    if carry is not None:
+        start = np.zeros(problem.ndof)
+        fine = multilevel.prolongation_matrix(len(multilevel.free) - 1) @ carry.p1
+        SparseEdges(p1_map(qp.S, qp.C, p1_injection(problem))).prolongate(fine, start)
     return MultigridSystem(K_ngs, qp.b, hierarchy, SparseEdges(E), options=options), start
 
 

@@ -30,7 +30,7 @@ import copy
 import numpy as np
 import scipy.sparse as sp
 
-from ..fem.sparse import csr_view
+from ..fem.sparse import csr_block_diag, csr_view
 from .multigrid import ContactEdges, Multilevel, truncated_pins
 
 
@@ -100,6 +100,10 @@ class JointMultilevel:
     def prolongation_matrix(self, level: int) -> sp.csr_matrix:
         return sp.block_diag([body.prolongation_matrix(level) for body in self.bodies], format="csr")
 
+    def finest(self, coupling: sp.csr_matrix) -> sp.csr_matrix:
+        """diag(A_1, A_2) + ``coupling`` on the finest level: a mortar QP's P1 level, E^T K E."""
+        return (csr_block_diag([csr_view(body.matrices[-1]) for body in self.bodies]) + coupling).tocsr()
+
     def coupled(self, coupling: sp.csr_matrix) -> "JointMultilevel":
         """The same hierarchy with the matrices diag(A_1, A_2)_l + C_l, C_L = ``coupling`` on
         the finest level and C_{l-1} = P_l^T C_l P_l: the Galerkin products of the finest."""
@@ -114,6 +118,94 @@ class JointMultilevel:
                 P = self.prolongation_matrix(level)
                 C = (P.T @ C @ P).tocsr()
         return view
+
+
+class OpeningLevels:
+    """Two bodies' P1 levels in opening variables at every level (scalar problems, uniform pairs):
+    on level l a slave trace vertex's variable is the opening there, w = u_1 + I_l u_2 (I_l: the
+    master's level-l trace function at that vertex), every other variable a displacement -- on
+    the finest level that is the dual mortar QP's own change of variables (its trace variable
+    the dual projection of the opening). The prolongation keeps that meaning on each level:
+
+        master:                   P_2 c_2
+        slave trace vertices:     P_1 c_1 (on the trace: the 1D interpolation of the openings)
+        other slave vertices:     P_1 (c_1 - Q I_{l-1} c_2)   (the coarse slave displacement)
+
+    (Q: the coarse trace vertices' values into the slave's coarse vector). So a master coarse hat
+    with zero opening drags the slave with it in a layer as thick as its own level, and touches
+    no trace variable (no pin) on any finer level; in ``JointMultilevel.coupled`` it moves the
+    slave on the finest trace nodes only, a spike one fine element thick whose energy grows
+    with the level, and the CG iterations with it. The idea is Wohlmuth and Krause's mortar
+    basis on every level (SIAM J. Sci. Comput. 25 (2003), abstract read), made nested by this
+    prolongation. Coarse matrices: the Galerkin products of the finest (``top``: the mortar QP's
+    P1 level, diag(A_1, A_2) + C, ``mortar_coupling_matrix``).
+
+    Vertex v of a body lies on its level l when v < nv_l: NGSolve refines in place and numbers
+    new vertices last."""
+
+    def __init__(self, joint: JointMultilevel, problem, top: sp.csr_matrix):
+        from .active_set import ngsolve_matrix
+        upper, lower = joint.bodies
+        if upper.components != 1:
+            raise ValueError("opening variables on every level are built for scalar problems")
+        self.free = joint.free
+        self.body_sizes = joint._level_sizes        # (slave, master) dofs per level
+        slave_x = problem.upper.mesh.ngmesh.Coordinates()[:, 0]
+        master_x = problem.lower.mesh.ngmesh.Coordinates()[:, 0]
+        slave_trace, master_trace = problem.upper.trace.vertices, problem.lower.trace.vertices
+        self.sizes = [sum(pair) for pair in joint._level_sizes]
+        self.P = [None]
+        for level in range(1, len(self.sizes)):
+            (n_slave, n_master), (fine_slave, _) = joint._level_sizes[level - 1], joint._level_sizes[level]
+            on_slave = slave_trace[slave_trace < n_slave]
+            on_master = master_trace[master_trace < n_master]
+            I = trace_interpolation(slave_x[on_slave], master_x[on_master], on_master, n_master)
+            Q = sp.csr_matrix((np.ones(len(on_slave)), (on_slave, np.arange(len(on_slave)))), shape=(n_slave, len(on_slave)))
+            P_slave, P_master = (body.prolongation_matrix(level) for body in joint.bodies)
+            off_trace = np.ones(fine_slave)
+            off_trace[slave_trace[slave_trace < fine_slave]] = 0.0
+            drag = -(sp.diags(off_trace) @ P_slave @ Q @ I)
+            self.P.append(sp.bmat([[P_slave, drag], [None, P_master]], format="csr"))
+        self.PT = [None] + [P.T.tocsr() for P in self.P[1:]]
+        # the pins' indicators are restricted by |P|^T: the drag's entries are negative
+        self.abs_PT = [None] + [abs(P).T.tocsr() for P in self.P[1:]]
+        matrices = [top.tocsr()]
+        for level in range(len(self.sizes) - 1, 0, -1):
+            matrices.insert(0, (self.PT[level] @ matrices[0] @ self.P[level]).tocsr())
+        self.matrices = [ngsolve_matrix(matrix) for matrix in matrices]
+
+    @property
+    def ndof(self) -> int:
+        return self.sizes[-1]
+
+    def restrict(self, level: int, vector, rotate: bool = True) -> None:
+        """In place, as ``Multilevel.restrict`` (``rotate=False``: the indicators of
+        ``truncated_pins``, by |P|^T)."""
+        values = vector.FV().NumPy()
+        coarse = (self.PT[level] if rotate else self.abs_PT[level]) @ values[: self.sizes[level]]
+        values[: len(coarse)] = coarse
+
+    def prolongate(self, level: int, vector) -> None:
+        values = vector.FV().NumPy()
+        values[: self.sizes[level]] = self.P[level] @ values[: self.sizes[level - 1]]
+
+    def prolongation_matrix(self, level: int) -> sp.csr_matrix:
+        return self.P[level]
+
+    def truncated_pins(self, pinned: np.ndarray) -> list[np.ndarray]:
+        return truncated_pins(self, pinned)
+
+
+def trace_interpolation(x: np.ndarray, nodes_x: np.ndarray, nodes: np.ndarray, n: int) -> sp.csr_matrix:
+    """(len(x), n): the values at ``x`` of a P1 function on the line through the vertices
+    ``nodes`` (at ``nodes_x``; ends: constant beyond them), columns its n vertex values."""
+    order = np.argsort(nodes_x)
+    sorted_x = nodes_x[order]
+    k = np.clip(np.searchsorted(sorted_x, x, side="right") - 1, 0, len(sorted_x) - 2)
+    t = np.clip((x - sorted_x[k]) / (sorted_x[k + 1] - sorted_x[k]), 0.0, 1.0)
+    columns = nodes[order][np.stack([k, k + 1], axis=1)].ravel()
+    rows = np.repeat(np.arange(len(x)), 2)
+    return sp.csr_matrix((np.stack([1.0 - t, t], axis=1).ravel(), (rows, columns)), shape=(len(x), n))
 
 
 class SparseEdges:
