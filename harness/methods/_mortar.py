@@ -15,8 +15,7 @@ from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
 from ..mesh.points import evaluate
 from ..solvers.active_set import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix
 from ..solvers.general_constraints import GeneralConstraintSolver
-from ..solvers.joint_multigrid import (OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injection,
-                                       p1_map)
+from ..solvers.joint_multigrid import OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injection, p1_map
 from ..solvers.multigrid import p1_values
 from .base import Carry, Expectation, LevelSolve, Method, SolveFields, timer
 
