@@ -159,12 +159,12 @@ class OpeningLevels:
             (n_slave, n_master), (fine_slave, _) = joint._level_sizes[level - 1], joint._level_sizes[level]
             on_slave = slave_trace[slave_trace < n_slave]
             on_master = master_trace[master_trace < n_master]
-            I = trace_interpolation(slave_x[on_slave], master_x[on_master], on_master, n_master)
+            master_at_slave = trace_interpolation(slave_x[on_slave], master_x[on_master], on_master, n_master)
             Q = sp.csr_matrix((np.ones(len(on_slave)), (on_slave, np.arange(len(on_slave)))), shape=(n_slave, len(on_slave)))
             P_slave, P_master = (body.prolongation_matrix(level) for body in joint.bodies)
             off_trace = np.ones(fine_slave)
             off_trace[slave_trace[slave_trace < fine_slave]] = 0.0
-            drag = -(sp.diags(off_trace) @ P_slave @ Q @ I)
+            drag = -(sp.diags(off_trace) @ P_slave @ Q @ master_at_slave)
             self.P.append(sp.bmat([[P_slave, drag], [None, P_master]], format="csr"))
         self.PT = [None] + [P.T.tocsr() for P in self.P[1:]]
         # the pins' indicators are restricted by |P|^T: the drag's entries are negative
