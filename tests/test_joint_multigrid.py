@@ -163,3 +163,11 @@ def test_opening_levels_solve_with_far_fewer_cg_iterations_than_the_body_wise_le
     assert [s.iterations for s in solutions][0] == solutions[1].iterations
     assert np.abs(solutions[0].z - solutions[1].z).max() <= 1e-8 * np.abs(solutions[0].z).max()
     assert solutions[1].work["cg_iterations"] <= 0.5 * solutions[0].work["cg_iterations"]
+
+
+def test_opening_levels_refuse_a_contact_condition_in_a_rotated_frame():
+    """Elastic pairs (u . n in the normal-tangential frame) keep the body-wise levels: the opening
+    levels say so rather than take a displacement component for the opening."""
+    case, problem, multilevel = _pair_on_hierarchy("two-body-elastic-transition", 2)
+    with pytest.raises(ValueError, match="rotated|scalar"):
+        OpeningLevels(multilevel, problem, None)

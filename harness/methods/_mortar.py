@@ -118,10 +118,11 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
         return FactorisedSystem(qp.K, K_ngs, qp.b, options.refactor_above), None
     E = mortar_injection(problem)
     coupling = mortar_coupling_matrix(problem, qp.S, qp.C, E)
-    # scalar: opening variables on every level (``joint_multigrid.OpeningLevels``); elastic:
-    # each body's P1 levels (the slave's trace follows a master hat on the finest level only)
-    hierarchy = OpeningLevels(multilevel, problem, multilevel.finest(coupling)) if problem.upper.physics.components == 1 \
-        else multilevel.coupled(coupling)
+    # a contact condition on u itself (scalar): opening variables on every level
+    # (``joint_multigrid.OpeningLevels``); in a rotated frame (elastic): each body's P1 levels
+    # (the slave's trace follows a master hat on the finest level only)
+    hierarchy = multilevel.coupled(coupling) if problem.upper.physics.rotated_frame \
+        else OpeningLevels(multilevel, problem, multilevel.finest(coupling))
     # the coarser u_h prolongated body by body (displacements, not openings), in z: S^{-1} of it
     # (E is not: it keeps the slave's trace)
     start = None

@@ -145,9 +145,8 @@ class OpeningLevels:
 
     def __init__(self, joint: JointMultilevel, problem, top: sp.csr_matrix):
         from .active_set import ngsolve_matrix
-        upper, lower = joint.bodies
-        if upper.components != 1:
-            raise ValueError("opening variables on every level are built for scalar problems")
+        if problem.upper.physics.rotated_frame:
+            raise ValueError("opening variables on every level are built for a contact condition on u itself (scalar)")
         self.free = joint.free
         self.body_sizes = joint._level_sizes        # (slave, master) dofs per level
         slave_x = problem.upper.mesh.ngmesh.Coordinates()[:, 0]
