@@ -45,7 +45,7 @@ class JointMultilevel:
         self.bodies = (upper, lower)
         self.free: list[np.ndarray] = []
         self._work: list = []
-        self._level_sizes: list[list[int]] = []      # each level's dofs per body, read at every V-cycle step
+        self.level_sizes: list[list[int]] = []      # each level's dofs per body, read at every V-cycle step
         self._extend()
 
     def refined(self, meshes) -> "JointMultilevel":
@@ -62,14 +62,14 @@ class JointMultilevel:
         for level in range(len(self.free), len(upper.matrices)):
             self.free.append(np.concatenate([body.free[level] for body in self.bodies]))
             self._work.append([body.matrices[level].CreateColVector() for body in self.bodies])
-            self._level_sizes.append([body.matrices[level].height for body in self.bodies])
+            self.level_sizes.append([body.matrices[level].height for body in self.bodies])
 
     @property
     def ndof(self) -> int:
         return sum(self._sizes(len(self.free) - 1))
 
     def _sizes(self, level: int) -> list[int]:
-        return self._level_sizes[level]
+        return self.level_sizes[level]
 
     def restrict(self, level: int, vector, rotate: bool = True) -> None:
         """In place, as ``Multilevel.restrict``: each body's part restricted by its hierarchy."""
@@ -148,14 +148,14 @@ class OpeningLevels:
         if problem.upper.physics.rotated_frame:
             raise ValueError("opening variables on every level are built for a contact condition on u itself (scalar)")
         self.free = joint.free
-        self.body_sizes = joint._level_sizes        # (slave, master) dofs per level
+        self.body_sizes = joint.level_sizes        # (slave, master) dofs per level
         slave_x = problem.upper.mesh.ngmesh.Coordinates()[:, 0]
         master_x = problem.lower.mesh.ngmesh.Coordinates()[:, 0]
         slave_trace, master_trace = problem.upper.trace.vertices, problem.lower.trace.vertices
-        self.sizes = [sum(pair) for pair in joint._level_sizes]
+        self.sizes = [sum(pair) for pair in joint.level_sizes]
         self.P = [None]
         for level in range(1, len(self.sizes)):
-            (n_slave, n_master), (fine_slave, _) = joint._level_sizes[level - 1], joint._level_sizes[level]
+            (n_slave, n_master), (fine_slave, _) = joint.level_sizes[level - 1], joint.level_sizes[level]
             on_slave = slave_trace[slave_trace < n_slave]
             on_master = master_trace[master_trace < n_master]
             master_at_slave = trace_interpolation(slave_x[on_slave], master_x[on_master], on_master, n_master)

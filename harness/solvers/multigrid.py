@@ -70,6 +70,7 @@ class Multilevel:
         self.frames: list = []                # per level: (pairs (k, dim), Q (k, dim, dim)) at Gamma_C, or None
         self.rotations: list = []             # per level: the sparse rotation Q (u_cartesian = Q u_ours), or None
         self.mesh_levels: list[int] = []      # NGSolve's refinement count at each of our levels
+        self._prolongations: dict = {}        # level -> ``prolongation_matrix(level)``, made once
         # per level from 1: (the P1 space whose NGSolve prolongation goes there, or None) and
         # (the explicit prolongation from the level below, a sparse vertex matrix, or None)
         self._steps: list[tuple] = [(None, None, None)]  # (space, P, P^T as CSR) per level
@@ -166,7 +167,10 @@ class Multilevel:
     def prolongation_matrix(self, level: int) -> sp.csr_matrix:
         """The prolongation from ``level`` - 1 to ``level`` as a sparse matrix, Q_f^T P Q_c in the
         variables of the levels (components blocked): for an algebraic Galerkin product (two
-        bodies' coupled coarse matrices, ``joint_multigrid``)."""
+        bodies' coupled coarse matrices, ``joint_multigrid``); made once per level (a level's
+        prolongation never changes)."""
+        if level in self._prolongations:
+            return self._prolongations[level]
         space, matrix, _ = self._steps[level]
         if matrix is None:
             for sweep in self._sweeps(level):
@@ -178,7 +182,8 @@ class Multilevel:
             P = fine.T @ P
         if coarse is not None:
             P = P @ coarse
-        return P.tocsr()
+        self._prolongations[level] = P.tocsr()
+        return self._prolongations[level]
 
     @property
     def nvertices(self) -> int:
