@@ -90,6 +90,7 @@ class BoundQP:
     C: np.ndarray
     alpha: np.ndarray
     D: np.ndarray       # the dual rows' weights int psi_i: row multiplier = (force on z[C]) / D
+    K_interface: sp.csr_matrix | None = None    # K - diag(A_1, A_2): nonzero near the interface only
 
     def to_u(self, z: np.ndarray) -> np.ndarray:
         return self.S @ z
@@ -139,6 +140,7 @@ def dual_bound_qp(problem: TwoBodyProblem, dual: MortarCoupling, weight: float |
     joint = joint_qp(problem)
     # K = S^T A S from the slave trace's rows of A (S is the identity elsewhere)
     P, Q = congruence_terms(joint.K, S, np.concatenate([V, E]))
-    K = (joint.K + P + P.T + Q).tocsr()
+    interface = (P + P.T + Q).tocsr()
+    K = (joint.K + interface).tocsr()
     K.sort_indices()
-    return BoundQP(S, K, S.T @ joint.b, joint.free, joint.lift, np.concatenate([V, E]), alpha, dual.D)
+    return BoundQP(S, K, S.T @ joint.b, joint.free, joint.lift, np.concatenate([V, E]), alpha, dual.D, interface)

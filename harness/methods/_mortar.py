@@ -14,6 +14,7 @@ from ..fem.mortar import mortar_coupling
 from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
 from ..mesh.points import evaluate
 from ..solvers.active_set import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix
+from ..solvers.coupled_blocks import CoupledBlocks
 from ..solvers.general_constraints import GeneralConstraintSolver
 from ..solvers.joint_multigrid import OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injection, p1_map
 from ..solvers.multigrid import p1_values
@@ -113,16 +114,17 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
     truncated multigrid in the dual variables (``joint_multigrid``), started from the coarser
     level's u_h prolongated, where ``multilevel`` is given and the QP has at least
     ``options.mortar_multigrid_from`` dofs; else sparse Cholesky from nothing."""
-    K_ngs = ngsolve_matrix(qp.K)
     if multilevel is None or problem.ndof < options.mortar_multigrid_from:
-        return FactorisedSystem(qp.K, K_ngs, qp.b, options.refactor_above), None
+        return FactorisedSystem(qp.K, ngsolve_matrix(qp.K), qp.b, options.refactor_above), None
+    # K = diag(A_1, A_2) + (K - A) on the bodies' own NGSolve matrices: not copied into one
+    K_ngs = CoupledBlocks([body.A_ngs for body in problem.bodies], qp.K_interface)
     E = mortar_injection(problem)
     coupling = mortar_coupling_matrix(problem, qp.S, qp.C, E)
     # a contact condition on u itself (scalar): opening variables on every level
     # (``joint_multigrid.OpeningLevels``); in a rotated frame (elastic): each body's P1 levels
     # (the slave's trace follows a master hat on the finest level only)
     hierarchy = multilevel.coupled(coupling) if problem.upper.physics.rotated_frame \
-        else OpeningLevels(multilevel, problem, multilevel.finest(coupling))
+        else OpeningLevels(multilevel, problem, coupling)
     # the coarser u_h prolongated body by body (displacements, not openings), in z: S^{-1} of it
     # (E is not: it keeps the slave's trace)
     start = None

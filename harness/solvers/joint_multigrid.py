@@ -30,7 +30,8 @@ import copy
 import numpy as np
 import scipy.sparse as sp
 
-from ..fem.sparse import csr_block_diag, csr_view
+from ..fem.sparse import csr_view
+from .coupled_blocks import CoupledBlocks
 from .multigrid import ContactEdges, Multilevel, truncated_pins
 
 
@@ -100,20 +101,15 @@ class JointMultilevel:
     def prolongation_matrix(self, level: int) -> sp.csr_matrix:
         return sp.block_diag([body.prolongation_matrix(level) for body in self.bodies], format="csr")
 
-    def finest(self, coupling: sp.csr_matrix) -> sp.csr_matrix:
-        """diag(A_1, A_2) + ``coupling`` on the finest level: a mortar QP's P1 level, E^T K E."""
-        return (csr_block_diag([csr_view(body.matrices[-1]) for body in self.bodies]) + coupling).tocsr()
-
     def coupled(self, coupling: sp.csr_matrix) -> "JointMultilevel":
         """The same hierarchy with the matrices diag(A_1, A_2)_l + C_l, C_L = ``coupling`` on
-        the finest level and C_{l-1} = P_l^T C_l P_l: the Galerkin products of the finest."""
-        from .active_set import ngsolve_matrix
+        the finest level and C_{l-1} = P_l^T C_l P_l: the Galerkin products of the finest, each
+        the bodies' own level matrices and C_l (``coupled_blocks.CoupledBlocks``)."""
         view = copy.copy(self)
         view.matrices = [None] * len(self.free)
         C = coupling.tocsr()
         for level in range(len(self.free) - 1, -1, -1):
-            blocks = sp.block_diag([csr_view(body.matrices[level]) for body in self.bodies], format="csr")
-            view.matrices[level] = ngsolve_matrix(blocks + C)
+            view.matrices[level] = CoupledBlocks([body.matrices[level] for body in self.bodies], C)
             if level:
                 P = self.prolongation_matrix(level)
                 C = (P.T @ C @ P).tocsr()
@@ -137,14 +133,14 @@ class OpeningLevels:
     slave on the finest trace nodes only, a spike one fine element thick whose energy grows
     with the level, and the CG iterations with it. The idea is Wohlmuth and Krause's mortar
     basis on every level (SIAM J. Sci. Comput. 25 (2003), abstract read), made nested by this
-    prolongation. Coarse matrices: the Galerkin products of the finest (``top``: the mortar QP's
-    P1 level, diag(A_1, A_2) + C, ``mortar_coupling_matrix``).
+    prolongation. Coarse matrices: the Galerkin products of the finest (the mortar QP's P1 level,
+    diag(A_1, A_2) + ``coupling``, ``mortar_coupling_matrix``), each held as the bodies' own
+    level matrices and a coupling near Gamma_C (``_levels``).
 
     Vertex v of a body lies on its level l when v < nv_l: NGSolve refines in place and numbers
     new vertices last."""
 
-    def __init__(self, joint: JointMultilevel, problem, top: sp.csr_matrix):
-        from .active_set import ngsolve_matrix
+    def __init__(self, joint: JointMultilevel, problem, coupling: sp.csr_matrix):
         if problem.upper.physics.rotated_frame:
             raise ValueError("opening variables on every level are built for a contact condition on u itself (scalar)")
         self.free = joint.free
@@ -153,7 +149,7 @@ class OpeningLevels:
         master_x = problem.lower.mesh.ngmesh.Coordinates()[:, 0]
         slave_trace, master_trace = problem.upper.trace.vertices, problem.lower.trace.vertices
         self.sizes = [sum(pair) for pair in joint.level_sizes]
-        self.P = [None]
+        self.P, drags = [None], [None]
         for level in range(1, len(self.sizes)):
             (n_slave, n_master), (fine_slave, _) = joint.level_sizes[level - 1], joint.level_sizes[level]
             on_slave = slave_trace[slave_trace < n_slave]
@@ -163,15 +159,35 @@ class OpeningLevels:
             P_slave, P_master = (body.prolongation_matrix(level) for body in joint.bodies)
             off_trace = np.ones(fine_slave)
             off_trace[slave_trace[slave_trace < fine_slave]] = 0.0
-            drag = -(sp.diags(off_trace) @ P_slave @ Q @ master_at_slave)
+            drag = -(sp.diags(off_trace) @ P_slave @ Q @ master_at_slave).tocsr()
+            drags.append(drag)
             self.P.append(sp.bmat([[P_slave, drag], [None, P_master]], format="csr"))
         self.PT = [None] + [P.T.tocsr() for P in self.P[1:]]
         # the pins' indicators are restricted by |P|^T: the drag's entries are negative
         self.abs_PT = [None] + [abs(P).T.tocsr() for P in self.P[1:]]
-        matrices = [top.tocsr()]
-        for level in range(len(self.sizes) - 1, 0, -1):
-            matrices.insert(0, (self.PT[level] @ matrices[0] @ self.P[level]).tocsr())
-        self.matrices = [ngsolve_matrix(matrix) for matrix in matrices]
+        self.matrices = self._levels(joint, coupling.tocsr(), drags)
+
+    def _levels(self, joint: JointMultilevel, C: sp.csr_matrix, drags: list) -> list:
+        """Each level's matrix diag(A_1, A_2)_l + C_l (``coupled_blocks.CoupledBlocks``: the
+        bodies' own level matrices), C_L = ``C`` (the mortar QP's P1 level minus the bodies',
+        ``mortar_coupling_matrix``) and C_{l-1} such that A_{l-1} + C_{l-1} is the Galerkin
+        product P^T (A_l + C_l) P. With P = diag(P_1, P_2) + Delta (Delta: the drag, slave rows
+        and master columns) and P_k^T A_k P_k = A_{k, l-1} (nested P1 spaces),
+
+            C_{l-1} = P^T C_l P + X + X^T + Delta^T A_l Delta,   X = Delta^T A_l diag(P_1, P_2),
+
+        every term near Gamma_C: no product with all of A_l."""
+        slave = joint.bodies[0]
+        matrices = [None] * len(self.sizes)
+        for level in range(len(self.sizes) - 1, -1, -1):
+            matrices[level] = CoupledBlocks([body.matrices[level] for body in joint.bodies], C)
+            if level:
+                A_drag = (csr_view(slave.matrices[level]) @ drags[level]).tocsr()        # fine slave x coarse master
+                X = (A_drag.T @ slave.prolongation_matrix(level)).tocsr()                # coarse master x coarse slave
+                n_slave = self.body_sizes[level - 1][0]
+                C = (self.PT[level] @ C @ self.P[level]
+                     + sp.bmat([[sp.csr_matrix((n_slave, n_slave)), X.T], [X, drags[level].T @ A_drag]])).tocsr()
+        return matrices
 
     @property
     def ndof(self) -> int:
@@ -211,10 +227,12 @@ class SparseEdges:
     """The finest P1 level inside the variables z of a QP, z = E c for a sparse E: the interface
     of ``multigrid.ContactEdges`` (which is E for one body's contact models) for any E."""
 
-    identity = False        # a mortar QP's P1 variables are not the P1 hierarchy's (S changes them)
-
     def __init__(self, E: sp.csr_matrix):
         self.E = E.tocsr()
+        # z = c (a P1 mortar QP: S changes the trace variables, the hierarchy's top level is K's)
+        n = self.E.shape[0]
+        self.identity = self.E.shape[1] == n and self.E.nnz == n and bool(
+            np.array_equal(self.E.indices, np.arange(n)) and (self.E.data == 1.0).all())
         self.ET = self.E.T.tocsr()
         self._pattern = abs(self.ET).astype(bool).astype(float)
 

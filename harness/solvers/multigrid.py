@@ -239,6 +239,13 @@ def _bits(mask: np.ndarray) -> ngs.BitArray:
     return ngs.BitArray(np.asarray(mask, dtype=bool).tolist())
 
 
+def smoother(matrix, mask: np.ndarray):
+    """Gauss-Seidel of ``matrix`` over the dofs of ``mask``: the matrix's own where it has one
+    (``coupled_blocks.CoupledBlocks``, an operator, not one NGSolve matrix), else NGSolve's."""
+    own = getattr(matrix, "smoother", None)
+    return own(mask) if own is not None else matrix.CreateSmoother(_bits(mask))
+
+
 @dataclass(frozen=True)
 class ContactEdges:
     """The finest P1 level inside the problem's variables z: z = E c for a P1 function c, and
@@ -344,12 +351,12 @@ class TruncatedVCycle:
             self.pins[-1] = pinned_vertices     # the finest level smooths the stiff vertices too
         self.keep = [(~p).astype(float) for p in self.pins]
         # ``smoothed``: the dofs the finest Gauss-Seidel relaxes (default: every free one)
-        self.smoother = None if self.fine_is_p1 else K_ngs.CreateSmoother(_bits(free if smoothed is None else smoothed))
+        self.smoother = None if self.fine_is_p1 else smoother(K_ngs, free if smoothed is None else smoothed)
         # a P1 problem's own matrix is the top P1 level (the same as A for the cone methods,
         # A plus its Gamma_C terms for penalty and Nitsche)
         self.matrices = [*multilevel.matrices[:-1], K_ngs if self.fine_is_p1 else multilevel.matrices[-1]]
         same = _same_pins(previous, self.matrices, self.pins)
-        self.smoothers = [previous.smoothers[level] if same[level] else m.CreateSmoother(_bits(~p))
+        self.smoothers = [previous.smoothers[level] if same[level] else smoother(m, ~p)
                           for level, (m, p) in enumerate(zip(self.matrices, self.pins))]
         self.coarsest = previous.coarsest if same[0] else \
             self.matrices[0].Inverse(_bits(~self.pins[0]), inverse="sparsecholesky")
