@@ -13,6 +13,7 @@ from harness.fem.two_body import TwoBodyProblem, dual_bound_qp
 from harness.mesh.levels import UniformRefinement
 from harness.problem.bodies import lower_body
 from harness.problem.case import load_case
+from harness.solvers.active_set import row_norm
 from harness.solvers.coupled_blocks import CoupledBlocks
 
 
@@ -44,6 +45,9 @@ def test_coupled_blocks_multiply_as_the_dual_qps_matrix(case_name, order):
     expected = qp.K @ x
     assert np.abs(y.FV().NumPy() - expected).max() <= 1e-13 * np.abs(expected).max()
     assert abs(K.scipy() - qp.K).max() <= 1e-13 * abs(qp.K).max()
+    # the active set method's view of it: products of NumPy vectors and the row norms
+    assert np.abs(K @ x - expected).max() <= 1e-13 * np.abs(expected).max()
+    assert K.row_norm(qp.free) == pytest.approx(row_norm(qp.K, qp.free), rel=1e-13)
     # the interface is small: a few dofs per trace dof
     assert len(K.interface) <= 12 * len(qp.C)
 

@@ -149,6 +149,27 @@ def test_opening_levels_keep_a_zero_opening_zero_and_are_galerkin_products():
         assert abs(galerkin - levels.matrices[level - 1].scipy()).max() <= 1e-12 * scale
 
 
+def test_opening_levels_apply_their_prolongation_matrix_body_by_body():
+    """The V-cycle's prolongation (each body's hierarchy plus the drag) and restriction (with the
+    pins' |P|^T) are the sparse P of the Galerkin products and its transposes."""
+    _, _, _, _, levels = _opening_hierarchy(3)
+    rng = np.random.default_rng(2)
+    top = len(levels.sizes) - 1
+    P = levels.prolongation_matrix(top)
+    vector = levels.matrices[top].CreateColVector()
+    coarse = rng.standard_normal(P.shape[1])
+    vector.FV().NumPy()[:] = 0.0
+    vector.FV().NumPy()[: len(coarse)] = coarse
+    levels.prolongate(top, vector)
+    assert np.abs(vector.FV().NumPy() - P @ coarse).max() <= 1e-14 * np.abs(coarse).max()
+    for rotate, transposed in ((True, P.T), (False, abs(P).T)):
+        fine = rng.standard_normal(P.shape[0])
+        vector.FV().NumPy()[:] = fine
+        levels.restrict(top, vector, rotate)
+        expected = transposed @ fine
+        assert np.abs(vector.FV().NumPy()[: len(expected)] - expected).max() <= 1e-13 * np.abs(expected).max()
+
+
 @pytest.mark.parametrize("order", [1, 2])
 def test_opening_levels_solve_with_far_fewer_cg_iterations_than_the_body_wise_levels(order):
     """The same dual QP from a cold start (the same active sets) on both hierarchies: in opening

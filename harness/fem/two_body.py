@@ -11,6 +11,7 @@ the fluxes balance). z = (u_1, u_2) concatenates the two bodies' NGSolve numberi
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -80,17 +81,25 @@ def opening(problem: TwoBodyProblem, z: np.ndarray, samples: int = 9) -> tuple[n
 @dataclass
 class BoundQP:
     """The dual mortar QP as bounds (``dual_bound_qp``): min 1/2 z'Kz - b'z over z = lift on the
-    pinned dofs and z[C] >= alpha, u = S z."""
+    pinned dofs and z[C] >= alpha, u = S z, K = diag(A_1, A_2) + ``K_interface``."""
 
     S: sp.csr_matrix
-    K: sp.csr_matrix
+    blocks: list                # A_1, A_2 (scipy views of the bodies' NGSolve matrices)
+    K_interface: sp.csr_matrix  # K - diag(A_1, A_2): nonzero in the rows and columns near Gamma_C only
     b: np.ndarray
     free: np.ndarray
     lift: np.ndarray
     C: np.ndarray
     alpha: np.ndarray
     D: np.ndarray       # the dual rows' weights int psi_i: row multiplier = (force on z[C]) / D
-    K_interface: sp.csr_matrix | None = None    # K - diag(A_1, A_2): nonzero near the interface only
+
+    @cached_property
+    def K(self) -> sp.csr_matrix:
+        """K as one scipy matrix, made on first use (sparse Cholesky, the general-constraint
+        cross-check); the multigrid never makes it (``solvers.coupled_blocks``)."""
+        K = (csr_block_diag(self.blocks) + self.K_interface).tocsr()
+        K.sort_indices()
+        return K
 
     def to_u(self, z: np.ndarray) -> np.ndarray:
         return self.S @ z
@@ -137,10 +146,11 @@ def dual_bound_qp(problem: TwoBodyProblem, dual: MortarCoupling, weight: float |
         if w == 6.0:
             alpha = np.concatenate([alpha[:nv], (alpha[a] + alpha[b]) / 6.0 + 2.0 * alpha[nv:] / 3.0])
     S = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
-    joint = joint_qp(problem)
-    # K = S^T A S from the slave trace's rows of A (S is the identity elsewhere)
-    P, Q = congruence_terms(joint.K, S, np.concatenate([V, E]))
-    interface = (P + P.T + Q).tocsr()
-    K = (joint.K + interface).tocsr()
-    K.sort_indices()
-    return BoundQP(S, K, S.T @ joint.b, joint.free, joint.lift, np.concatenate([V, E]), alpha, dual.D, interface)
+    # K = S^T A S from the slave trace's rows of A (S is the identity elsewhere): A_1's rows with
+    # the joint columns (the same arrays, no copy)
+    A_1 = upper.A
+    slave_rows = sp.csr_matrix((A_1.data, A_1.indices, A_1.indptr), shape=(n1, n), copy=False)
+    P, Q = congruence_terms(slave_rows, S, np.concatenate([V, E]))
+    b, free, lift = (np.concatenate([getattr(body, name) for body in problem.bodies]) for name in ("b", "free", "lift"))
+    return BoundQP(S, [upper.A, problem.lower.A], (P + P.T + Q).tocsr(), S.T @ b, free, lift, np.concatenate([V, E]),
+                   alpha, dual.D)

@@ -83,10 +83,10 @@ class Mortar(Method):
             start = None
             if dual and not general:
                 qp = dual_bound_qp(problem, coupling, self.contact_weight(problem.order))
-                system, start = bound_system(qp, problem, carry, multilevel, self.solver)
+                K, system, start = bound_system(qp, problem, carry, multilevel, self.solver)
         with timed("solve"):
             if dual and not general:
-                solution = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system,
+                solution = ActiveSetSolver(K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system,
                                            options=self.solver).solve(predicted, start)
                 u = qp.to_u(solution.z)
                 # the bound's multiplier is the force on its variable: D_i times the row's
@@ -110,12 +110,13 @@ def joint_p1_values(problem: TwoBodyProblem, u: np.ndarray) -> np.ndarray:
 
 
 def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
-    """(the linear system of the active set iteration, the start): the two bodies' coupled,
+    """(K, the linear system of the active set iteration, the start): the two bodies' coupled,
     truncated multigrid in the dual variables (``joint_multigrid``), started from the coarser
     level's u_h prolongated, where ``multilevel`` is given and the QP has at least
-    ``options.mortar_multigrid_from`` dofs; else sparse Cholesky from nothing."""
+    ``options.mortar_multigrid_from`` dofs, K the bodies' own matrices and the coupling
+    (``coupled_blocks.CoupledBlocks``); else sparse Cholesky from nothing, K one scipy matrix."""
     if multilevel is None or problem.ndof < options.mortar_multigrid_from:
-        return FactorisedSystem(qp.K, ngsolve_matrix(qp.K), qp.b, options.refactor_above), None
+        return qp.K, FactorisedSystem(qp.K, ngsolve_matrix(qp.K), qp.b, options.refactor_above), None
     # K = diag(A_1, A_2) + (K - A) on the bodies' own NGSolve matrices: not copied into one
     K_ngs = CoupledBlocks([body.A_ngs for body in problem.bodies], qp.K_interface)
     E = mortar_injection(problem)
@@ -130,9 +131,9 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
     start = None
     if carry is not None:
         start = np.zeros(problem.ndof)
-        fine = multilevel.prolongation_matrix(len(multilevel.free) - 1) @ carry.p1
+        fine = multilevel.prolongated(carry.p1)
         SparseEdges(p1_map(qp.S, qp.C, p1_injection(problem))).prolongate(fine, start)
-    return MultigridSystem(K_ngs, qp.b, hierarchy, SparseEdges(E), options=options), start
+    return K_ngs, MultigridSystem(K_ngs, qp.b, hierarchy, SparseEdges(E), options=options), start
 
 
 def _general(problem: TwoBodyProblem, coupling, predicted, options):

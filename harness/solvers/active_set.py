@@ -218,7 +218,9 @@ class ActiveSetSolver:
     """
 
     def __init__(self, K, b, free, C, alpha, K_ngs=None, lift=None, system=None, options: SolverOptions = _DEFAULT):
-        self.K = sp.csr_matrix(K)
+        # K: a scipy matrix, or an operator that multiplies NumPy vectors and knows its row norms
+        # (``coupled_blocks.CoupledBlocks``: a mortar QP's K, never made into one matrix)
+        self.K = K if hasattr(K, "row_norm") else sp.csr_matrix(K)
         self.b = np.asarray(b, float)
         self.free = np.asarray(free, bool)
         self.C = np.asarray(C, np.int64)
@@ -234,7 +236,7 @@ class ActiveSetSolver:
         self.load_scale = max(np.abs((self.b - self.K @ self.lift)[self.free]).max(initial=0.0),
                               np.abs((self.K @ pins)[self.free]).max(initial=0.0), np.finfo(float).tiny)
         # ||K||_inf and ||b||_inf over the free rows: the scale of the normwise backward error
-        self.K_norm = row_norm(self.K, self.free)
+        self.K_norm = self.K.row_norm(self.free) if hasattr(self.K, "row_norm") else row_norm(self.K, self.free)
         self.b_norm = float(np.abs(self.b[self.free]).max(initial=0.0))
         if system is None:
             system = FactorisedSystem(self.K, ngsolve_matrix(self.K) if K_ngs is None else K_ngs, self.b,
@@ -305,10 +307,15 @@ class ActiveSetSolver:
 
 
 def row_norm(K: sp.csr_matrix, rows: np.ndarray, chunk: int = 1 << 22) -> float:
-    """max over ``rows`` of sum_j |K_ij| (||K||_inf restricted to them), from K's CSR arrays a
-    block of about ``chunk`` entries at a time: no copy of K (which row slices make, once per
-    method and level); row sums by ``np.add.reduceat`` over each block's non-empty rows, faster
-    than differences of a cumulative sum."""
+    """max over ``rows`` of sum_j |K_ij| (||K||_inf restricted to them)."""
+    return float(row_sums(K, chunk)[rows].max(initial=0.0))
+
+
+def row_sums(K: sp.csr_matrix, chunk: int = 1 << 22) -> np.ndarray:
+    """sum_j |K_ij| of every row, from K's CSR arrays a block of about ``chunk`` entries at a
+    time: no copy of K (which row slices make, once per method and level); row sums by
+    ``np.add.reduceat`` over each block's non-empty rows, faster than differences of a
+    cumulative sum."""
     n, indptr = K.shape[0], K.indptr
     step = max(1, chunk // max(1, K.nnz // max(1, n)))
     sums = np.zeros(n)
@@ -320,7 +327,7 @@ def row_norm(K: sp.csr_matrix, rows: np.ndarray, chunk: int = 1 << 22) -> float:
         if len(filled):
             # consecutive starts of the non-empty rows bound each row's entries exactly
             sums[start + filled] = np.add.reduceat(np.abs(K.data[low:indptr[stop]]), starts[filled] - low)
-    return float(sums[rows].max(initial=0.0))
+    return sums
 
 
 def _columns(n: int, columns: list) -> np.ndarray:

@@ -64,13 +64,27 @@ class CoupledBlocks(ngs.BaseMatrix):
         self.Mult(x, self._tmp)
         y.data += scale * self._tmp
 
+    def __matmul__(self, z: np.ndarray) -> np.ndarray:
+        """K z for a NumPy vector (the active set method's KKT residuals)."""
+        x, y = self.CreateColVector(), self.CreateColVector()
+        x.FV().NumPy()[:] = z
+        self.Mult(x, y)
+        return y.FV().NumPy().copy()
+
+    def row_norm(self, rows: np.ndarray) -> float:
+        """max over ``rows`` (a mask) of sum_j |K_ij|: A's row sums off T, those of A + C on T."""
+        from .active_set import row_sums
+        sums = np.concatenate([row_sums(csr_view(block)) for block in self.blocks])
+        sums[self.interface] = row_sums(self.A_T + _embed_columns(self.C_T, self.interface, self.n))
+        return float(sums[rows].max(initial=0.0))
+
     def scipy(self) -> sp.csr_matrix:
         """K as one scipy matrix (for the tests and small levels)."""
         from ..fem.sparse import csr_block_diag
         blocks = csr_block_diag([csr_view(block) for block in self.blocks])
-        coupling = sp.csr_matrix((self.C_T.data, self.interface[self.C_T.indices], _expand_indptr(self.C_T.indptr, self.interface, self.n)),
-                                 shape=(self.n, self.n))
-        return (blocks + coupling).tocsr()
+        coupling = _embed_columns(self.C_T, self.interface, self.n)
+        return (blocks + sp.csr_matrix((coupling.data, coupling.indices, _expand_indptr(coupling.indptr, self.interface, self.n)),
+                                       shape=(self.n, self.n))).tocsr()
 
     def smoother(self, mask: np.ndarray) -> "BlockGaussSeidel":
         return BlockGaussSeidel(self, mask)
@@ -136,3 +150,8 @@ def _expand_indptr(indptr: np.ndarray, rows: np.ndarray, n: int) -> np.ndarray:
     counts = np.zeros(n, dtype=np.int64)
     counts[rows] = np.diff(indptr)
     return np.concatenate([[0], np.cumsum(counts)])
+
+
+def _embed_columns(C_T: sp.csr_matrix, interface: np.ndarray, n: int) -> sp.csr_matrix:
+    """The compact rows C_T (columns numbered within ``interface``) with the joint columns."""
+    return sp.csr_matrix((C_T.data, interface[C_T.indices], C_T.indptr), shape=(C_T.shape[0], n))

@@ -27,10 +27,11 @@ from __future__ import annotations
 
 import copy
 
+import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from ..fem.sparse import csr_view
+from ..fem.sparse import csr_block_diag, csr_view
 from .coupled_blocks import CoupledBlocks
 from .multigrid import ContactEdges, Multilevel, truncated_pins
 
@@ -99,7 +100,23 @@ class JointMultilevel:
         return truncated_pins(self, pinned)
 
     def prolongation_matrix(self, level: int) -> sp.csr_matrix:
-        return sp.block_diag([body.prolongation_matrix(level) for body in self.bodies], format="csr")
+        return csr_block_diag([body.prolongation_matrix(level) for body in self.bodies])
+
+    def prolongation_rows(self, level: int, rows: np.ndarray) -> sp.csr_matrix:
+        """The rows ``rows`` (sorted) of ``prolongation_matrix(level)``, from each body's."""
+        (n_slave, n_master), (fine_slave, _) = self.level_sizes[level - 1], self.level_sizes[level]
+        upper, lower = (body.prolongation_matrix(level) for body in self.bodies)
+        blocks = [upper[rows[rows < fine_slave]], lower[rows[rows >= fine_slave] - fine_slave]]
+        return sp.bmat([[blocks[0], sp.csr_matrix((blocks[0].shape[0], n_master))],
+                        [sp.csr_matrix((blocks[1].shape[0], n_slave)), blocks[1]]], format="csr")
+
+    def prolongated(self, coarse: np.ndarray) -> np.ndarray:
+        """A vector of the level below the finest, prolongated to the finest, body by body."""
+        top = len(self.free) - 1
+        vector = ngs.BaseVector(self.ndof)
+        vector.FV().NumPy()[: len(coarse)] = coarse
+        self.prolongate(top, vector)
+        return vector.FV().NumPy().copy()
 
     def coupled(self, coupling: sp.csr_matrix) -> "JointMultilevel":
         """The same hierarchy with the matrices diag(A_1, A_2)_l + C_l, C_L = ``coupling`` on
@@ -111,9 +128,16 @@ class JointMultilevel:
         for level in range(len(self.free) - 1, -1, -1):
             view.matrices[level] = CoupledBlocks([body.matrices[level] for body in self.bodies], C)
             if level:
-                P = self.prolongation_matrix(level)
-                C = (P.T @ C @ P).tocsr()
+                C = galerkin_near(C, lambda rows, level=level: self.prolongation_rows(level, rows))
         return view
+
+
+def galerkin_near(C: sp.csr_matrix, prolongation_rows) -> sp.csr_matrix:
+    """P^T C P for a symmetric C nonzero only in the rows (and columns) T, from P's rows there
+    (``prolongation_rows(T)``): never all of P."""
+    near = np.flatnonzero(np.diff(C.indptr))
+    R = prolongation_rows(near)
+    return (R.T @ C[near][:, near] @ R).tocsr()
 
 
 class OpeningLevels:
@@ -143,31 +167,33 @@ class OpeningLevels:
     def __init__(self, joint: JointMultilevel, problem, coupling: sp.csr_matrix):
         if problem.upper.physics.rotated_frame:
             raise ValueError("opening variables on every level are built for a contact condition on u itself (scalar)")
+        self.joint = joint
         self.free = joint.free
         self.body_sizes = joint.level_sizes        # (slave, master) dofs per level
+        self.sizes = [sum(pair) for pair in joint.level_sizes]
+        self.drags = [None] + [self._drag(joint, problem, level) for level in range(1, len(self.sizes))]
+        self._drags_T = [None] + [drag.T.tocsr() for drag in self.drags[1:]]
+        # the pins' indicators are restricted by |P|^T: the drag's entries are negative
+        self._abs_drags_T = [None] + [abs(drag_T) for drag_T in self._drags_T[1:]]
+        self.matrices = self._levels(joint, coupling.tocsr())
+
+    @staticmethod
+    def _drag(joint: JointMultilevel, problem, level: int) -> sp.csr_matrix:
+        """Delta of level ``level``: -P_1 Q I_{l-1} off the slave's trace (the class docstring),
+        (the level's slave dofs) x (the coarser level's master dofs)."""
         slave_x = problem.upper.mesh.ngmesh.Coordinates()[:, 0]
         master_x = problem.lower.mesh.ngmesh.Coordinates()[:, 0]
         slave_trace, master_trace = problem.upper.trace.vertices, problem.lower.trace.vertices
-        self.sizes = [sum(pair) for pair in joint.level_sizes]
-        self.P, drags = [None], [None]
-        for level in range(1, len(self.sizes)):
-            (n_slave, n_master), (fine_slave, _) = joint.level_sizes[level - 1], joint.level_sizes[level]
-            on_slave = slave_trace[slave_trace < n_slave]
-            on_master = master_trace[master_trace < n_master]
-            master_at_slave = trace_interpolation(slave_x[on_slave], master_x[on_master], on_master, n_master)
-            Q = sp.csr_matrix((np.ones(len(on_slave)), (on_slave, np.arange(len(on_slave)))), shape=(n_slave, len(on_slave)))
-            P_slave, P_master = (body.prolongation_matrix(level) for body in joint.bodies)
-            off_trace = np.ones(fine_slave)
-            off_trace[slave_trace[slave_trace < fine_slave]] = 0.0
-            drag = -(sp.diags(off_trace) @ P_slave @ Q @ master_at_slave).tocsr()
-            drags.append(drag)
-            self.P.append(sp.bmat([[P_slave, drag], [None, P_master]], format="csr"))
-        self.PT = [None] + [P.T.tocsr() for P in self.P[1:]]
-        # the pins' indicators are restricted by |P|^T: the drag's entries are negative
-        self.abs_PT = [None] + [abs(P).T.tocsr() for P in self.P[1:]]
-        self.matrices = self._levels(joint, coupling.tocsr(), drags)
+        (n_slave, n_master), (fine_slave, _) = joint.level_sizes[level - 1], joint.level_sizes[level]
+        on_slave = slave_trace[slave_trace < n_slave]
+        on_master = master_trace[master_trace < n_master]
+        master_at_slave = trace_interpolation(slave_x[on_slave], master_x[on_master], on_master, n_master)
+        Q = sp.csr_matrix((np.ones(len(on_slave)), (on_slave, np.arange(len(on_slave)))), shape=(n_slave, len(on_slave)))
+        off_trace = np.ones(fine_slave)
+        off_trace[slave_trace[slave_trace < fine_slave]] = 0.0
+        return -(sp.diags(off_trace) @ joint.bodies[0].prolongation_matrix(level) @ Q @ master_at_slave).tocsr()
 
-    def _levels(self, joint: JointMultilevel, C: sp.csr_matrix, drags: list) -> list:
+    def _levels(self, joint: JointMultilevel, C: sp.csr_matrix) -> list:
         """Each level's matrix diag(A_1, A_2)_l + C_l (``coupled_blocks.CoupledBlocks``: the
         bodies' own level matrices), C_L = ``C`` (the mortar QP's P1 level minus the bodies',
         ``mortar_coupling_matrix``) and C_{l-1} such that A_{l-1} + C_{l-1} is the Galerkin
@@ -176,17 +202,18 @@ class OpeningLevels:
 
             C_{l-1} = P^T C_l P + X + X^T + Delta^T A_l Delta,   X = Delta^T A_l diag(P_1, P_2),
 
-        every term near Gamma_C: no product with all of A_l."""
+        every term near Gamma_C: no product with all of A_l or P."""
         slave = joint.bodies[0]
         matrices = [None] * len(self.sizes)
         for level in range(len(self.sizes) - 1, -1, -1):
             matrices[level] = CoupledBlocks([body.matrices[level] for body in joint.bodies], C)
             if level:
-                A_drag = (csr_view(slave.matrices[level]) @ drags[level]).tocsr()        # fine slave x coarse master
+                drag = self.drags[level]
+                A_drag = (csr_view(slave.matrices[level]) @ drag).tocsr()                # fine slave x coarse master
                 X = (A_drag.T @ slave.prolongation_matrix(level)).tocsr()                # coarse master x coarse slave
                 n_slave = self.body_sizes[level - 1][0]
-                C = (self.PT[level] @ C @ self.P[level]
-                     + sp.bmat([[sp.csr_matrix((n_slave, n_slave)), X.T], [X, drags[level].T @ A_drag]])).tocsr()
+                C = (galerkin_near(C, lambda rows, level=level: self.prolongation_rows(level, rows))
+                     + sp.bmat([[sp.csr_matrix((n_slave, n_slave)), X.T], [X, drag.T @ A_drag]])).tocsr()
         return matrices
 
     @property
@@ -195,17 +222,32 @@ class OpeningLevels:
 
     def restrict(self, level: int, vector, rotate: bool = True) -> None:
         """In place, as ``Multilevel.restrict`` (``rotate=False``: the indicators of
-        ``truncated_pins``, by |P|^T)."""
+        ``truncated_pins``, by |P|^T): each body's by its hierarchy, and Delta^T on the slave's part."""
         values = vector.FV().NumPy()
-        coarse = (self.PT[level] if rotate else self.abs_PT[level]) @ values[: self.sizes[level]]
-        values[: len(coarse)] = coarse
+        dragged = (self._drags_T[level] if rotate else self._abs_drags_T[level]) @ values[: self.body_sizes[level][0]]
+        self.joint.restrict(level, vector, rotate)
+        n_slave = self.body_sizes[level - 1][0]
+        values[n_slave: n_slave + len(dragged)] += dragged
 
     def prolongate(self, level: int, vector) -> None:
+        """In place: each body's by its hierarchy, plus Delta of the coarse master part on the slave's."""
         values = vector.FV().NumPy()
-        values[: self.sizes[level]] = self.P[level] @ values[: self.sizes[level - 1]]
+        n_slave, n_master = self.body_sizes[level - 1]
+        dragged = self.drags[level] @ values[n_slave: n_slave + n_master]
+        self.joint.prolongate(level, vector)
+        values[: len(dragged)] += dragged
+
+    def prolongation_rows(self, level: int, rows: np.ndarray) -> sp.csr_matrix:
+        """The rows ``rows`` (sorted) of ``prolongation_matrix(level)``."""
+        n_slave = self.body_sizes[level - 1][0]
+        slave_rows = rows[rows < self.body_sizes[level][0]]
+        drag = sp.hstack([sp.csr_matrix((len(slave_rows), n_slave)), self.drags[level][slave_rows]])
+        drag.resize(len(rows), self.sizes[level - 1])
+        return (self.joint.prolongation_rows(level, rows) + drag).tocsr()
 
     def prolongation_matrix(self, level: int) -> sp.csr_matrix:
-        return self.P[level]
+        """diag(P_1, P_2) + Delta (for the tests: the V-cycle applies it body by body)."""
+        return self.prolongation_rows(level, np.arange(self.sizes[level]))
 
     def truncated_pins(self, pinned: np.ndarray) -> list[np.ndarray]:
         return truncated_pins(self, pinned)
@@ -255,7 +297,7 @@ def p1_injection(problem) -> sp.csr_matrix:
     blocks = []
     for body in problem.bodies:
         blocks.append(_injection(body, ContactEdges.of(body, model=False)))
-    return sp.block_diag(blocks, format="csr")
+    return csr_block_diag(blocks)
 
 
 def mortar_injection(problem) -> sp.csr_matrix:
@@ -263,8 +305,7 @@ def mortar_injection(problem) -> sp.csr_matrix:
     its variables, the slave's trace variables its values there (a trace edge's: the mean of its
     ends', ``multigrid.ContactEdges`` of the slave's contact model), the master's unchanged."""
     upper, lower = problem.bodies
-    return sp.block_diag([_injection(upper, ContactEdges.of(upper)), _injection(lower, ContactEdges.of(lower, model=False))],
-                         format="csr")
+    return csr_block_diag([_injection(upper, ContactEdges.of(upper)), _injection(lower, ContactEdges.of(lower, model=False))])
 
 
 def _injection(body, edges: ContactEdges) -> sp.csr_matrix:
