@@ -73,6 +73,9 @@ def test_the_dual_qps_matrix_is_the_congruence_of_both_bodies_matrices(case_name
         # the rows the congruence reads: S is the identity off the constrained (slave trace) dofs
         changed = np.flatnonzero(abs(qp.S - sp.identity(problem.ndof)).sum(axis=1).A.ravel())
         assert np.isin(changed, qp.C).all()
+        # and the nested start's change of variables inverts it
+        u = np.random.default_rng(3).standard_normal(problem.ndof)
+        assert np.abs(qp.to_u(qp.to_z(u)) - u).max() <= 1e-13 * np.abs(u).max()
 
 
 @pytest.mark.parametrize("case_name, strategy", [("transition-r32", "uniform"), ("elastic-transition-r32", "uniform"),

@@ -104,6 +104,18 @@ class BoundQP:
     def to_u(self, z: np.ndarray) -> np.ndarray:
         return self.S @ z
 
+    def to_z(self, u: np.ndarray) -> np.ndarray:
+        """z with S z = u: S is the identity off the trace rows C, so z = u there and
+        z_C = S_CC^{-1} (u_C - S_CR u_R) (S_CC: the identity on the vertex rows, the edge rows
+        -2w on the diagonal and w at their ends: triangular)."""
+        from scipy.sparse.linalg import spsolve
+        S_C = self.S[self.C]
+        rest = u.copy()
+        rest[self.C] = 0.0
+        z = rest
+        z[self.C] = spsolve(S_C[:, self.C].tocsc(), u[self.C] - S_C @ rest)
+        return z
+
 
 def dual_bound_qp(problem: TwoBodyProblem, dual: MortarCoupling, weight: float | None = None) -> BoundQP:
     """The dual mortar condition (``mortar_coupling(..., "dual")``, one row per slave node) as

@@ -46,7 +46,6 @@ class JointMultilevel:
     def __init__(self, upper: Multilevel, lower: Multilevel):
         self.bodies = (upper, lower)
         self.free: list[np.ndarray] = []
-        self._work: list = []
         self.level_sizes: list[list[int]] = []      # each level's dofs per body, read at every V-cycle step
         self._extend()
 
@@ -63,7 +62,6 @@ class JointMultilevel:
             raise ValueError("the two bodies' hierarchies have different numbers of levels")
         for level in range(len(self.free), len(upper.matrices)):
             self.free.append(np.concatenate([body.free[level] for body in self.bodies]))
-            self._work.append([body.matrices[level].CreateColVector() for body in self.bodies])
             self.level_sizes.append([body.matrices[level].height for body in self.bodies])
 
     @property
@@ -74,27 +72,25 @@ class JointMultilevel:
         return self.level_sizes[level]
 
     def restrict(self, level: int, vector, rotate: bool = True) -> None:
-        """In place, as ``Multilevel.restrict``: each body's part restricted by its hierarchy."""
+        """In place, as ``Multilevel.restrict``: each body's part restricted by its hierarchy in
+        its own range of ``vector`` (NGSolve views, no copies), then the master's coarse part
+        moved next to the slave's."""
+        (fine_slave, fine_master), (n_slave, n_master) = self._sizes(level), self._sizes(level - 1)
+        upper, lower = self.bodies
+        upper.restrict(level, vector.Range(0, fine_slave), rotate)
+        lower.restrict(level, vector.Range(fine_slave, fine_slave + fine_master), rotate)
         values = vector.FV().NumPy()
-        parts = np.split(values[: sum(self._sizes(level))], [self._sizes(level)[0]])
-        coarse = []
-        for body, work, part, n in zip(self.bodies, self._work[level], parts, self._sizes(level - 1)):
-            work.FV().NumPy()[:] = part
-            body.restrict(level, work, rotate)
-            coarse.append(work.FV().NumPy()[:n].copy())
-        values[: sum(self._sizes(level - 1))] = np.concatenate(coarse)
+        values[n_slave: n_slave + n_master] = values[fine_slave: fine_slave + n_master]
 
     def prolongate(self, level: int, vector) -> None:
-        """In place, as ``Multilevel.prolongate``: each body's part prolongated by its hierarchy."""
+        """In place, as ``Multilevel.prolongate``: the master's coarse part moved to its fine
+        range, then each body's part prolongated by its hierarchy there."""
+        (n_slave, n_master), (fine_slave, fine_master) = self._sizes(level - 1), self._sizes(level)
         values = vector.FV().NumPy()
-        parts = np.split(values[: sum(self._sizes(level - 1))], [self._sizes(level - 1)[0]])
-        fine = []
-        for body, work, part in zip(self.bodies, self._work[level], parts):
-            work.FV().NumPy()[:] = 0.0
-            work.FV().NumPy()[: len(part)] = part
-            body.prolongate(level, work)
-            fine.append(work.FV().NumPy().copy())
-        values[:] = np.concatenate(fine)
+        values[fine_slave: fine_slave + n_master] = values[n_slave: n_slave + n_master]
+        upper, lower = self.bodies
+        upper.prolongate(level, vector.Range(0, fine_slave))
+        lower.prolongate(level, vector.Range(fine_slave, fine_slave + fine_master))
 
     def truncated_pins(self, pinned: np.ndarray) -> list[np.ndarray]:
         return truncated_pins(self, pinned)
@@ -275,8 +271,9 @@ class SparseEdges:
         n = self.E.shape[0]
         self.identity = self.E.shape[1] == n and self.E.nnz == n and bool(
             np.array_equal(self.E.indices, np.arange(n)) and (self.E.data == 1.0).all())
-        self.ET = self.E.T.tocsr()
-        self._pattern = abs(self.ET).astype(bool).astype(float)
+        # (the identity's: never applied, the V-cycle starts at the P1 level)
+        self.ET = None if self.identity else self.E.T.tocsr()
+        self._pattern = None if self.identity else abs(self.ET).astype(bool).astype(float)
 
     def prolongate(self, c: np.ndarray, z: np.ndarray) -> None:
         """z += E c."""
@@ -288,6 +285,8 @@ class SparseEdges:
 
     def touched(self, mask: np.ndarray, n: int) -> np.ndarray:
         """The P1 dofs whose image E e_j reaches a variable of ``mask``."""
+        if self.identity:
+            return np.asarray(mask, dtype=bool).copy()
         return self._pattern @ mask.astype(float) > 0
 
 
@@ -311,8 +310,11 @@ def mortar_injection(problem) -> sp.csr_matrix:
 def _injection(body, edges: ContactEdges) -> sp.csr_matrix:
     """``edges`` (z = E c for one body) as a sparse matrix."""
     n1 = body.mesh.nv * body.physics.components
-    rows = np.arange(n1) if edges.p1_dofs is None else edges.p1_dofs
-    E = sp.csr_matrix((np.ones(n1), (rows, np.arange(n1))), shape=(body.ndof, n1))
+    # one entry per row of a P1 dof, made as CSR arrays (increasing rows: no sort)
+    column = np.full(body.ndof, -1, dtype=np.int64)
+    column[np.arange(n1) if edges.p1_dofs is None else edges.p1_dofs] = np.arange(n1)
+    indptr = np.concatenate([[0], np.cumsum(column >= 0)])
+    E = sp.csr_matrix((np.ones(n1), column[column >= 0], indptr), shape=(body.ndof, n1))
     if len(edges.edge_dofs):
         ends = edges.end_dofs
         half = sp.csr_matrix((np.full(2 * len(ends), 0.5), (np.repeat(edges.edge_dofs, 2), ends.ravel())), shape=E.shape)
@@ -331,25 +333,3 @@ def mortar_coupling_matrix(problem, S: sp.csr_matrix, trace: np.ndarray, E: sp.c
     AI = (A_T[:, :n1] @ injection[:n1]).tocsr()                     # (A I)[T], body 1's columns of I
     X = (D.T @ AI).tocsr()
     return (X + X.T + D.T @ A_T[:, trace] @ D).tocsr()
-
-
-def p1_map(S: sp.csr_matrix, trace: np.ndarray, injection: sp.csr_matrix) -> sp.csr_matrix:
-    """S^{-1} I for a change of variables u = S z that is the identity off the rows ``trace``:
-    there z_T = S_TT^{-1} (u_T - S_TR u_R), elsewhere z = u. (A P1 function of u in z: the
-    nested start.)"""
-    from scipy.sparse.linalg import spsolve
-    n = S.shape[0]
-    off_trace = np.ones(n, dtype=bool)
-    off_trace[trace] = False
-    rest = np.flatnonzero(off_trace)
-    S_T = S[trace]
-    rhs = (injection[trace] - S_T[:, rest] @ injection[rest]).tocsr()
-    # S_TT^{-1} column by column of the identity (|T| small sparse solves), not of rhs, whose
-    # columns are every joint P1 dof
-    inverse_TT = sp.csr_matrix(spsolve(S_T[:, trace].tocsc(), sp.identity(len(trace), format="csc")))
-    rows_T = (inverse_TT @ rhs).tocsr()
-    order = np.concatenate([rest, trace])
-    stacked = sp.vstack([injection[rest], rows_T], format="csr")
-    inverse = np.empty(n, dtype=np.int64)
-    inverse[order] = np.arange(n)
-    return stacked[inverse]

@@ -176,7 +176,7 @@ class Multilevel:
             for sweep in self._sweeps(level):
                 step = csr_view(self._scalar.Prolongation().CreateMatrix(sweep)).copy()
                 matrix = step if matrix is None else step @ matrix
-        P = sp.kron(sp.identity(self.components), matrix, format="csr")
+        P = matrix.tocsr() if self.components == 1 else sp.kron(sp.identity(self.components), matrix, format="csr")
         fine, coarse = self.rotations[level], self.rotations[level - 1]
         if fine is not None:
             P = fine.T @ P
