@@ -44,6 +44,10 @@ def test_coupled_blocks_multiply_as_the_dual_qps_matrix(case_name, order):
     y.data = K * _vector(K, x)
     expected = qp.K @ x
     assert np.abs(y.FV().NumPy() - expected).max() <= 1e-13 * np.abs(expected).max()
+    # a residual, NGSolve's b - K x (MultAdd, no temporary vector)
+    b = np.random.default_rng(4).standard_normal(len(x))
+    y.data = _vector(K, b) - K * _vector(K, x)
+    assert np.abs(y.FV().NumPy() - (b - expected)).max() <= 1e-13 * np.abs(expected).max()
     assert abs(K.scipy() - qp.K).max() <= 1e-13 * abs(qp.K).max()
     # the active set method's view of it: products of NumPy vectors and the row norms
     assert np.abs(K @ x - expected).max() <= 1e-13 * np.abs(expected).max()

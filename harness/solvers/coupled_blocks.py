@@ -35,12 +35,12 @@ class CoupledBlocks(ngs.BaseMatrix):
         self.blocks = list(blocks)
         self.offsets = np.cumsum([0] + [block.height for block in self.blocks])
         self.n = int(self.offsets[-1])
+        self.ranges = [(int(a), int(b)) for a, b in zip(self.offsets[:-1], self.offsets[1:])]
         coupling = sp.csr_matrix(coupling)
         self.interface = np.flatnonzero(np.diff(coupling.indptr) > 0)
         self.C_T = coupling[self.interface][:, self.interface].tocsr()
         # the rows T of diag(A_1, A_2), all columns: the T block's residual reads the bulk through them
         self.A_T = _rows_of_blocks([csr_view(block) for block in self.blocks], self.offsets, self.interface)
-        self._tmp = self.CreateColVector()
 
     def Height(self) -> int:        # noqa: N802 -- NGSolve's BaseMatrix interface
         return self.n
@@ -55,14 +55,16 @@ class CoupledBlocks(ngs.BaseMatrix):
         return ngs.BaseVector(self.n)
 
     def Mult(self, x, y) -> None:   # noqa: N802
-        for block, start, stop in zip(self.blocks, self.offsets[:-1], self.offsets[1:]):
-            y.Range(int(start), int(stop)).data = block * x.Range(int(start), int(stop))
+        for block, (start, stop) in zip(self.blocks, self.ranges):
+            y.Range(start, stop).data = block * x.Range(start, stop)
         x_np, y_np = x.FV().NumPy(), y.FV().NumPy()
         y_np[self.interface] += self.C_T @ x_np[self.interface]
 
     def MultAdd(self, scale, x, y) -> None:     # noqa: N802 -- ``r.data = b - K * x`` comes here
-        self.Mult(x, self._tmp)
-        y.data += scale * self._tmp
+        for block, (start, stop) in zip(self.blocks, self.ranges):
+            y.Range(start, stop).data += scale * (block * x.Range(start, stop))
+        x_np, y_np = x.FV().NumPy(), y.FV().NumPy()
+        y_np[self.interface] += scale * (self.C_T @ x_np[self.interface])
 
     def __matmul__(self, z: np.ndarray) -> np.ndarray:
         """K z for a NumPy vector (the active set method's KKT residuals)."""
@@ -106,7 +108,7 @@ class BlockGaussSeidel:
         bulk = mask.copy()
         bulk[K.interface] = False
         self.K = K
-        self.ranges = [(int(a), int(b)) for a, b in zip(K.offsets[:-1], K.offsets[1:])]
+        self.ranges = K.ranges
         self.smoothers = [block.CreateSmoother(ngs.BitArray(bulk[a:b].tolist()))
                           for block, (a, b) in zip(K.blocks, self.ranges)]
         free_T = mask[K.interface]
