@@ -31,6 +31,9 @@ MORTAR_COLUMNS = ["case", "method", "ndof", "t_contact", "t_setup", "t_linear", 
                   "linear_cg_iterations", "kkt_residual", "t_contact_cholesky", "t_linear_cholesky", "ratio_cholesky",
                   "kkt_residual_cholesky", "peak_rss_mb"]
 MORTAR_GOAL = 1.5       # the contact solve / one linear solve of the same matrix by the same multigrid CG
+# the Cholesky columns up to this size: past it the factorisation's fill nears the memory of the
+# machines this runs on
+CHOLESKY_UP_TO = 3_000_000
 
 
 def _pair(case, bodies, steps, order):
@@ -107,7 +110,6 @@ def _mortar_row(case, method, problem, carry, multilevel) -> dict:
     """The level's contact solve on the multigrid and on Cholesky, and the linear solves of both
     bodies without contact by multigrid and by Cholesky."""
     from ..solvers.active_set import Cholesky
-    from ..solvers.options import SolverOptions
 
     # the multigrid at every size (the study takes it from ``mortar_multigrid_from`` dofs)
     on_multigrid = dataclasses.replace(method, solver=dataclasses.replace(method.solver, mortar_multigrid_from=0))
@@ -118,11 +120,12 @@ def _mortar_row(case, method, problem, carry, multilevel) -> dict:
            "ratio_linear": t_contact / t_linear, "iterations": fields["solver_iterations"],
            "cg_iterations": fields["linear_iterations"], "linear_cg_iterations": linear_iterations,
            "kkt_residual": fields["kkt_residual"]}
-    # the Cholesky columns where the study factorises
-    if problem.ndof >= SolverOptions().mortar_multigrid_from:
+    # the Cholesky columns: what the study ran below ``SolverOptions.mortar_multigrid_from``, up to
+    # the size that fits in memory
+    if problem.ndof >= CHOLESKY_UP_TO:
         return row | dict.fromkeys(["t_contact_cholesky", "t_linear_cholesky", "ratio_cholesky", "kkt_residual_cholesky"],
                                    float("nan"))
-    t_cholesky, factorised = timed(method.solve, case, problem, carry, None)
+    t_cholesky, factorised = timed(method.solve, case, problem, carry, None)     # no hierarchy: Cholesky
 
     def linear_cholesky():
         for body in problem.bodies:

@@ -36,9 +36,9 @@ class SolverOptions:
     refactor_above: int = 24
     # two bodies: the dual mortar QP of this many dofs (both bodies) or more is solved on their
     # coupled multigrid (``joint_multigrid``), a smaller one on sparse Cholesky, which is as fast
-    # or faster there; past it the factorisation's fill nears the memory of the machines this
-    # runs on (``python -m harness bench --only mortar`` times both up to it)
-    mortar_multigrid_from: int = 3_000_000
+    # there (measured, 0.10.2: the same time at 8e3 dofs, multigrid 3 times faster at 3e4 and
+    # 10 times at 2e6; ``python -m harness bench --only mortar`` times both)
+    mortar_multigrid_from: int = 20_000
     # the saddle systems' regularisation, times the block's scale (``general_constraints``)
     regularisation: float = 1e-14
     # steps of iterative refinement of each saddle solve (``general_constraints.SaddleSystem``)
