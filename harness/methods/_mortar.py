@@ -114,7 +114,7 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
     truncated multigrid in the dual variables (``joint_multigrid``), started from the coarser
     level's u_h prolongated, where ``multilevel`` is given and the QP has at least
     ``options.mortar_multigrid_from`` dofs, K the bodies' own matrices and the coupling
-    (``coupled_blocks.CoupledBlocks``); else sparse Cholesky from nothing, K one scipy matrix."""
+    (``solvers.coupled_blocks.CoupledBlocks``); else sparse Cholesky from nothing, K one scipy matrix."""
     if multilevel is None or problem.ndof < options.mortar_multigrid_from:
         return qp.K, FactorisedSystem(qp.K, ngsolve_matrix(qp.K), qp.b, options.refactor_above), None
     # K = diag(A_1, A_2) + (K - A) on the bodies' own NGSolve matrices: not copied into one

@@ -39,7 +39,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..fem.rotated_frame import RotatedFrame, rotate_in_place
-from ..fem.sparse import csr_view, free_dofs
+from ..fem.sparse import csr_block_diag, csr_view, free_dofs
 from ..mesh.trace import contact_trace
 from ..problem.physics import SCALAR
 
@@ -176,7 +176,7 @@ class Multilevel:
             for sweep in self._sweeps(level):
                 step = csr_view(self._scalar.Prolongation().CreateMatrix(sweep)).copy()
                 matrix = step if matrix is None else step @ matrix
-        P = matrix.tocsr() if self.components == 1 else sp.kron(sp.identity(self.components), matrix, format="csr")
+        P = csr_block_diag([matrix] * self.components)      # the components blocked (a Kronecker product: slower)
         fine, coarse = self.rotations[level], self.rotations[level - 1]
         if fine is not None:
             P = fine.T @ P
