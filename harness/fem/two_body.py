@@ -143,26 +143,27 @@ def dual_bound_qp(problem: TwoBodyProblem, dual: MortarCoupling, weight: float |
     row_of_vertex = np.full(n1, -1, np.int64)
     row_of_vertex[V] = np.arange(nv)
     # S = I but in the rows of the slave's trace dofs; u_1,v = pi_v - m_v u_2
-    rows, cols, vals = [np.arange(n)], [np.arange(n)], [np.ones(n)]
+    # S = I + R, R nonzero in the trace rows only (made apart: a COO matrix of all n rows costs seconds at 8e6)
+    rows, cols, vals = [], [], []
     mv = m[:nv].tocoo()
     rows.append(V[mv.row]), cols.append(n1 + mv.col), vals.append(-mv.data)
     if ne:
         w = 4.0 if weight is None else float(weight)
         a, b = row_of_vertex[ends[:, 0]], row_of_vertex[ends[:, 1]]
-        vals[0][E] = -2.0 * w
-        rows += [E, E]
-        cols += [ends[:, 0], ends[:, 1]]
-        vals += [np.full(ne, w), np.full(ne, w)]
+        rows += [E, E, E]
+        cols += [E, ends[:, 0], ends[:, 1]]
+        vals += [np.full(ne, -2.0 * w - 1.0), np.full(ne, w), np.full(ne, w)]
         me = (8.0 * m[nv:] - 4.0 * m[a] - 4.0 * m[b]).tocoo()
         rows.append(E[me.row]), cols.append(n1 + me.col), vals.append(me.data)
         if w == 6.0:
             alpha = np.concatenate([alpha[:nv], (alpha[a] + alpha[b]) / 6.0 + 2.0 * alpha[nv:] / 3.0])
-    S = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+    R = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
+    S = (sp.identity(n, format="csr") + R).tocsr()
     # K = S^T A S from the slave trace's rows of A (S is the identity elsewhere): A_1's rows with
     # the joint columns (the same arrays, no copy)
     A_1 = upper.A
     slave_rows = sp.csr_matrix((A_1.data, A_1.indices, A_1.indptr), shape=(n1, n), copy=False)
     P, Q = congruence_terms(slave_rows, S, np.concatenate([V, E]))
     b, free, lift = (np.concatenate([getattr(body, name) for body in problem.bodies]) for name in ("b", "free", "lift"))
-    return BoundQP(S, [upper.A, problem.lower.A], (P + P.T + Q).tocsr(), S.T @ b, free, lift, np.concatenate([V, E]),
+    return BoundQP(S, [upper.A, problem.lower.A], (P + P.T + Q).tocsr(), b + R.T @ b, free, lift, np.concatenate([V, E]),
                    alpha, dual.D)
