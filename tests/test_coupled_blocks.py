@@ -85,12 +85,16 @@ def test_the_smoother_is_block_gauss_seidel_of_k_forward_and_back(case_name, ord
     dense = qp.K.toarray()
     n = dense.shape[0]
     rng = np.random.default_rng(1)
-    mask = qp.free.copy()
-    mask[qp.C[::3]] = False            # some bounds active: pinned
-    smoother = K.smoother(mask)
     x0, b = rng.standard_normal(n), rng.standard_normal(n)
-    for backward in (False, True):
-        x = _vector(K, x0)
-        (smoother.SmoothBack if backward else smoother.Smooth)(x, _vector(K, b))
-        expected = _reference_sweep(dense, x0.copy(), b, mask, K.interface, backward)
-        assert np.abs(x.FV().NumPy() - expected).max() <= 1e-12 * np.abs(expected).max()
+    # two active sets (some bounds pinned): the second takes over the first's bulk sweeps
+    smoothers = []
+    for pinned in (qp.C[::3], qp.C[1::3]):
+        mask = qp.free.copy()
+        mask[pinned] = False
+        smoothers.append(smoother := K.smoother(mask))
+        for backward in (False, True):
+            x = _vector(K, x0)
+            (smoother.SmoothBack if backward else smoother.Smooth)(x, _vector(K, b))
+            expected = _reference_sweep(dense, x0.copy(), b, mask, K.interface, backward)
+            assert np.abs(x.FV().NumPy() - expected).max() <= 1e-12 * np.abs(expected).max()
+    assert smoothers[1].smoothers is smoothers[0].smoothers

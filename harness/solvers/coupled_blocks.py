@@ -22,7 +22,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from ..fem.sparse import csr_view
+from ..fem.sparse import csr_block_diag, csr_view
+from .active_set import ngsolve_matrix, row_sums
 
 
 class CoupledBlocks(ngs.BaseMatrix):
@@ -41,6 +42,9 @@ class CoupledBlocks(ngs.BaseMatrix):
         self.C_T = coupling[self.interface][:, self.interface].tocsr()
         # the rows T of diag(A_1, A_2), all columns: the T block's residual reads the bulk through them
         self.A_T = _rows_of_blocks([csr_view(block) for block in self.blocks], self.offsets, self.interface)
+        # the bulk rows' NGSolve smoothers of the last pin set, by their mask: a new active set
+        # pins rows of T only (the bounds are the slave's trace variables), so they carry over
+        self._bulk_smoothers: tuple[bytes, list] = (b"", [])
 
     def Height(self) -> int:        # noqa: N802 -- NGSolve's BaseMatrix interface
         return self.n
@@ -75,14 +79,12 @@ class CoupledBlocks(ngs.BaseMatrix):
 
     def row_norm(self, rows: np.ndarray) -> float:
         """max over ``rows`` (a mask) of sum_j |K_ij|: A's row sums off T, those of A + C on T."""
-        from .active_set import row_sums
         sums = np.concatenate([row_sums(csr_view(block)) for block in self.blocks])
         sums[self.interface] = row_sums(self.A_T + _embed_columns(self.C_T, self.interface, self.n))
         return float(sums[rows].max(initial=0.0))
 
     def scipy(self) -> sp.csr_matrix:
         """K as one scipy matrix (for the tests and small levels)."""
-        from ..fem.sparse import csr_block_diag
         blocks = csr_block_diag([csr_view(block) for block in self.blocks])
         coupling = _embed_columns(self.C_T, self.interface, self.n)
         return (blocks + sp.csr_matrix((coupling.data, coupling.indices, _expand_indptr(coupling.indptr, self.interface, self.n)),
@@ -93,7 +95,6 @@ class CoupledBlocks(ngs.BaseMatrix):
 
     def Inverse(self, freedofs, inverse: str = "sparsecholesky"):  # noqa: N802 -- NGSolve's interface
         """NGSolve's factorisation of a copy of K (the coarsest level of a V-cycle: small)."""
-        from .active_set import ngsolve_matrix
         self._copy = ngsolve_matrix(self.scipy())
         return self._copy.Inverse(freedofs, inverse=inverse)
 
@@ -109,8 +110,11 @@ class BlockGaussSeidel:
         bulk[K.interface] = False
         self.K = K
         self.ranges = K.ranges
-        self.smoothers = [block.CreateSmoother(ngs.BitArray(bulk[a:b].tolist()))
-                          for block, (a, b) in zip(K.blocks, self.ranges)]
+        key = bulk.tobytes()
+        if K._bulk_smoothers[0] != key:
+            K._bulk_smoothers = key, [block.CreateSmoother(ngs.BitArray(bulk[a:b].tolist()))
+                                      for block, (a, b) in zip(K.blocks, self.ranges)]
+        self.smoothers = K._bulk_smoothers[1]
         free_T = mask[K.interface]
         self.rows = K.interface[free_T]
         self.A_rows = K.A_T[free_T]
