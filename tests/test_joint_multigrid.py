@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 
+import ngsolve as ngs
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -19,7 +20,8 @@ from harness.problem.bodies import lower_body
 from harness.problem.case import load_case
 from harness.solvers.active_set import ActiveSetSolver, MultigridSystem
 from harness.solvers.coupled_blocks import CoupledBlocks
-from harness.solvers.joint_multigrid import JointMultilevel, OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection
+from harness.solvers.joint_multigrid import (JointMultilevel, OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection,
+                                            p1_injected)
 from harness.solvers.multigrid import Multilevel
 from harness.study.two_body import run_two_body_chain
 
@@ -54,6 +56,25 @@ def test_the_coupled_coarse_matrices_are_galerkin_products_of_the_mortar_qp(case
         P = multilevel.prolongation_matrix(level)
         galerkin = P.T @ hierarchy.matrices[level].scipy() @ P
         assert abs(galerkin - hierarchy.matrices[level - 1].scipy()).max() <= 1e-12 * scale
+
+
+@pytest.mark.parametrize("case_name", TWO_BODY_CASES)
+def test_the_joint_p1_injection_is_ngsolves_interpolation_of_each_bodys_p1_function(case_name):
+    """I c, the nested start's map of the joint P1 vector into the joint dofs, against NGSolve
+    interpolating each body's P1 function (vertex values c, components blocked) into its space."""
+    case, problem, _ = _pair_on_hierarchy(case_name, 2)
+    rng = np.random.default_rng(5)
+    spaces = [case.physics.space(body.mesh, 1) for body in problem.bodies]
+    c = rng.standard_normal(sum(space.ndof for space in spaces))
+    expected, offset = [], 0
+    for body, space in zip(problem.bodies, spaces):
+        p1, interpolated = ngs.GridFunction(space), ngs.GridFunction(body.fes)
+        p1.vec.FV().NumPy()[:] = c[offset: offset + space.ndof]
+        interpolated.Set(p1)
+        expected.append(interpolated.vec.FV().NumPy().copy())
+        offset += space.ndof
+    expected = np.concatenate(expected)
+    assert np.abs(p1_injected(problem, c) - expected).max() <= 1e-12 * np.abs(c).max()
 
 
 @pytest.mark.parametrize("edge_functional", ["midpoint", "mean"])

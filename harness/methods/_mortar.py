@@ -16,7 +16,7 @@ from ..mesh.points import evaluate
 from ..solvers.active_set import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix
 from ..solvers.coupled_blocks import CoupledBlocks
 from ..solvers.general_constraints import GeneralConstraintSolver
-from ..solvers.joint_multigrid import OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injection
+from ..solvers.joint_multigrid import OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injected
 from ..solvers.multigrid import p1_values
 from .base import Carry, Expectation, LevelSolve, Method, SolveFields, timer
 
@@ -128,7 +128,7 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
         else OpeningLevels(multilevel, problem, coupling)
     # the coarser u_h prolongated body by body (displacements, not openings), in z: S^{-1} of it
     # (E is not: it keeps the slave's trace)
-    start = None if carry is None else qp.to_z(p1_injection(problem) @ multilevel.prolongated(carry.p1))
+    start = None if carry is None else qp.to_z(p1_injected(problem, multilevel.prolongated(carry.p1)))
     return K_ngs, MultigridSystem(K_ngs, qp.b, hierarchy, SparseEdges(E), options=options), start
 
 

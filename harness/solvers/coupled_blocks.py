@@ -45,6 +45,7 @@ class CoupledBlocks(ngs.BaseMatrix):
         # the bulk rows' NGSolve smoothers of the last pin set, by their mask: a new active set
         # pins rows of T only (the bounds are the slave's trace variables), so they carry over
         self._bulk_smoothers: tuple[bytes, list] = (b"", [])
+        self._matmul_vectors = None
 
     def Height(self) -> int:        # noqa: N802 -- NGSolve's BaseMatrix interface
         return self.n
@@ -71,8 +72,11 @@ class CoupledBlocks(ngs.BaseMatrix):
         y_np[self.interface] += scale * (self.C_T @ x_np[self.interface])
 
     def __matmul__(self, z: np.ndarray) -> np.ndarray:
-        """K z for a NumPy vector (the active set method's KKT residuals)."""
-        x, y = self.CreateColVector(), self.CreateColVector()
+        """K z for a NumPy vector (the active set method's KKT residuals), through two work
+        vectors made once (memory first touched is dear: ``multigrid.TruncatedVCycle``)."""
+        if self._matmul_vectors is None:
+            self._matmul_vectors = self.CreateColVector(), self.CreateColVector()
+        x, y = self._matmul_vectors
         x.FV().NumPy()[:] = z
         self.Mult(x, y)
         return y.FV().NumPy().copy()

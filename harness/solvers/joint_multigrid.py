@@ -168,9 +168,12 @@ class OpeningLevels:
         self.body_sizes = joint.level_sizes        # (slave, master) dofs per level
         self.sizes = [sum(pair) for pair in joint.level_sizes]
         self.drags = [None] + [self._drag(joint, problem, level) for level in range(1, len(self.sizes))]
-        self._drags_T = [None] + [drag.T.tocsr() for drag in self.drags[1:]]
+        # the V-cycle applies Delta and Delta^T on their nonzero rows only, a layer near Gamma_C
+        # (full-length products cost two passes over each body's vector per level and cycle)
+        self._near = [None] + [_nonzero_rows(drag) for drag in self.drags[1:]]
+        self._near_T = [None] + [_nonzero_rows(drag.T.tocsr()) for drag in self.drags[1:]]
         # the pins' indicators are restricted by |P|^T: the drag's entries are negative
-        self._abs_drags_T = [None] + [abs(drag_T) for drag_T in self._drags_T[1:]]
+        self._abs_near_T = [None] + [(rows, abs(block)) for rows, block in self._near_T[1:]]
         self.matrices = self._levels(joint, coupling.tocsr())
 
     @staticmethod
@@ -220,18 +223,19 @@ class OpeningLevels:
         """In place, as ``Multilevel.restrict`` (``rotate=False``: the indicators of
         ``truncated_pins``, by |P|^T): each body's by its hierarchy, and Delta^T on the slave's part."""
         values = vector.FV().NumPy()
-        dragged = (self._drags_T[level] if rotate else self._abs_drags_T[level]) @ values[: self.body_sizes[level][0]]
+        rows, block = (self._near_T if rotate else self._abs_near_T)[level]
+        dragged = block @ values[: self.body_sizes[level][0]]
         self.joint.restrict(level, vector, rotate)
-        n_slave = self.body_sizes[level - 1][0]
-        values[n_slave: n_slave + len(dragged)] += dragged
+        values[self.body_sizes[level - 1][0] + rows] += dragged
 
     def prolongate(self, level: int, vector) -> None:
         """In place: each body's by its hierarchy, plus Delta of the coarse master part on the slave's."""
         values = vector.FV().NumPy()
         n_slave, n_master = self.body_sizes[level - 1]
-        dragged = self.drags[level] @ values[n_slave: n_slave + n_master]
+        rows, block = self._near[level]
+        dragged = block @ values[n_slave: n_slave + n_master]
         self.joint.prolongate(level, vector)
-        values[: len(dragged)] += dragged
+        values[rows] += dragged
 
     def prolongation_rows(self, level: int, rows: np.ndarray) -> sp.csr_matrix:
         """The rows ``rows`` (sorted) of ``prolongation_matrix(level)``."""
@@ -247,6 +251,17 @@ class OpeningLevels:
 
     def truncated_pins(self, pinned: np.ndarray) -> list[np.ndarray]:
         return truncated_pins(self, pinned)
+
+
+def _with_columns(matrix: sp.csr_matrix, n: int) -> sp.csr_matrix:
+    """``matrix`` with n columns, its own the first (the same arrays)."""
+    return sp.csr_matrix((matrix.data, matrix.indices, matrix.indptr), shape=(matrix.shape[0], n))
+
+
+def _nonzero_rows(matrix: sp.csr_matrix) -> tuple[np.ndarray, sp.csr_matrix]:
+    """(the rows of ``matrix`` with an entry, those rows as a CSR matrix)."""
+    rows = np.flatnonzero(np.diff(matrix.indptr))
+    return rows, matrix[rows]
 
 
 def trace_interpolation(x: np.ndarray, nodes_x: np.ndarray, nodes: np.ndarray, n: int) -> sp.csr_matrix:
@@ -290,13 +305,17 @@ class SparseEdges:
         return self._pattern @ mask.astype(float) > 0
 
 
-def p1_injection(problem) -> sp.csr_matrix:
-    """I: the joint P1 dofs of a ``fem.two_body.TwoBodyProblem`` -> its joint dofs (a P1
-    function's vertex values, bubbles zero; components blocked as each body's space numbers them)."""
-    blocks = []
-    for body in problem.bodies:
-        blocks.append(_injection(body, ContactEdges.of(body, model=False)))
-    return csr_block_diag(blocks)
+def p1_injected(problem, c: np.ndarray) -> np.ndarray:
+    """I c, I: the joint P1 dofs of a ``fem.two_body.TwoBodyProblem`` -> its joint dofs (a P1
+    function's vertex values, bubbles zero; components blocked as each body's space numbers
+    them), body by body without the matrix."""
+    z = np.zeros(problem.ndof)
+    offset = 0
+    for body, part in zip(problem.bodies, problem.split(z)):
+        n = body.mesh.nv * body.physics.components
+        ContactEdges.of(body, model=False).prolongate(c[offset: offset + n], part)
+        offset += n
+    return z
 
 
 def mortar_injection(problem) -> sp.csr_matrix:
@@ -326,10 +345,13 @@ def mortar_coupling_matrix(problem, S: sp.csr_matrix, trace: np.ndarray, E: sp.c
     """C = E^T K E - I^T A I for K = S^T A S (``trace``: the rows where S is not the identity,
     the slave's trace dofs): with S E = I + D, D nonzero in those rows only,
     C = D^T A I + I^T A D + D^T A D, from the slave's rows there (never a product with all of A)."""
-    injection = p1_injection(problem)
-    D = (S[trace] @ E - injection[trace]).tocsr()                   # |T| x joint P1
-    A_T = problem.upper.A[trace]                                    # the slave's rows there (T is in body 1)
-    n1 = problem.upper.ndof
-    AI = (A_T[:, :n1] @ injection[:n1]).tocsr()                     # (A I)[T], body 1's columns of I
+    upper = problem.upper
+    # T is in body 1: of I only body 1's block is read (its columns are the joint P1's first)
+    injection = _injection(upper, ContactEdges.of(upper, model=False))
+    joint_columns = E.shape[1]
+    I_T = _with_columns(injection[trace], joint_columns)
+    D = (S[trace] @ E - I_T).tocsr()                                # |T| x joint P1
+    A_T = upper.A[trace]                                            # the slave's rows there
+    AI = _with_columns((A_T @ injection).tocsr(), joint_columns)    # (A I)[T]
     X = (D.T @ AI).tocsr()
     return (X + X.T + D.T @ A_T[:, trace] @ D).tocsr()

@@ -361,29 +361,46 @@ class TruncatedVCycle:
         self.coarsest = previous.coarsest if same[0] else \
             self.matrices[0].Inverse(_bits(~self.pins[0]), inverse="sparsecholesky")
         # NGSolve work vectors with their NumPy views made once: a view costs microseconds, which
-        # on small meshes is a good part of a V-cycle
-        self._work = [_vectors(m, 3) for m in multilevel.matrices]
-        self._x, self._d = _vectors(K_ngs, 2)
+        # on small meshes is a good part of a V-cycle. A new active set on the same hierarchy and
+        # K takes over the last set's (and pcg's, ``cg_vectors``): at 8e6 dofs a set made some 30
+        # vectors of up to 65 MB afresh, and memory first touched costs about 1.7 ms per MB on
+        # these machines (the performance page)
+        same = previous is not None and previous.multilevel is multilevel and previous.K is K_ngs
+        self._work = previous._work if same else [_vectors(m, 3) for m in multilevel.matrices]
+        self._x, self._d = (previous._x, previous._d) if same else _vectors(K_ngs, 2)
+        self._cg_vectors = previous._cg_vectors if same else None
 
-    def _p1_cycle(self, level: int, d: np.ndarray) -> np.ndarray:
-        (x, x_np), (b, b_np), (r, r_np) = self._work[level]
-        b_np[:] = d
+    def _p1_cycle(self, level: int) -> None:
+        """x_l = B_l b_l on level ``level``'s work vectors (b_l set by the caller; x_l valid until
+        the level's next cycle). No full-length temporary: past 32 MB (4e6 dofs) every NumPy
+        temporary is a fresh mmap whose pages are touched anew, and in the two-body V-cycle at
+        8e6 dofs those made its NumPy work three times what it is in place."""
+        (x, x_np), (b, _), (r, r_np) = self._work[level]
         if level == 0:
             x.data = self.coarsest * b
-            return x_np.copy()
+            return
         x_np[:] = 0.0
         self.smoothers[level].Smooth(x, b)
         r.data = b - self.matrices[level] * x
         r_np *= self.keep[level]
         self.multilevel.restrict(level, r)
-        nc = len(self.keep[level - 1])
-        correction = self._p1_cycle(level - 1, r_np[:nc] * self.keep[level - 1])
-        r_np[:] = 0.0
-        r_np[:nc] = correction
+        (_, coarse_x), (_, coarse_b), _ = self._work[level - 1]
+        nc = len(coarse_b)
+        np.multiply(r_np[:nc], self.keep[level - 1], out=coarse_b)
+        self._p1_cycle(level - 1)
+        r_np[nc:] = 0.0
+        r_np[:nc] = coarse_x
         self.multilevel.prolongate(level, r)
-        x_np += r_np * self.keep[level]
+        r_np *= self.keep[level]
+        x_np += r_np
         self.smoothers[level].SmoothBack(x, b)
-        return x_np.copy()
+
+    def cg_vectors(self) -> list[tuple]:
+        """``pcg``'s five work vectors of K with their NumPy views, made on first use and kept
+        (a new active set's V-cycle takes them over)."""
+        if self._cg_vectors is None:
+            self._cg_vectors = _vectors(self.K, 5)
+        return self._cg_vectors
 
     def apply(self, r, out) -> None:
         """out = B r for NGSolve vectors (r vanishes on the pins; so does out): smoothing on K,
@@ -399,8 +416,10 @@ class TruncatedVCycle:
         d.data = r - self.K * x
         d_np *= self.free
         self._before_coarse(x_np, d_np)
-        correction = self._p1_cycle(top, self.edges.restrict(d_np, self.nv) * self.keep[top])
-        self.edges.prolongate(correction, x_np)
+        (_, top_x), (_, top_b), _ = self._work[top]
+        np.multiply(self.edges.restrict(d_np, self.nv), self.keep[top], out=top_b)
+        self._p1_cycle(top)
+        self.edges.prolongate(top_x, x_np)
         self._after_coarse(x_np, r)
         self.smoother.SmoothBack(x, r)
         out.data = x
@@ -408,9 +427,10 @@ class TruncatedVCycle:
 
     def _apply_p1(self, r, out) -> None:
         """K is the top P1 matrix (S = I for P1) with the same pins: one P1 V-cycle."""
-        x, x_np = self._x
         top = len(self.multilevel.matrices) - 1
-        x_np[:] = self._p1_cycle(top, r.FV().NumPy() * self.keep[top])
+        (x, _), (_, b), _ = self._work[top]
+        np.multiply(r.FV().NumPy(), self.keep[top], out=b)
+        self._p1_cycle(top)
         out.data = x
         out.FV().NumPy()[:] *= self.free
 
@@ -435,7 +455,7 @@ def _vectors(matrix, count: int) -> list[tuple]:
     return [(v, v.FV().NumPy()) for v in vectors]
 
 
-def _max_abs(a: np.ndarray) -> float:
+def max_abs(a: np.ndarray) -> float:
     """max |a| without a temporary the size of a."""
     return max(a.max(initial=0.0), -a.min(initial=0.0))
 
@@ -471,7 +491,7 @@ class _PreconditionedCG:
         self.K, self.preconditioner, self.projection = K_ngs, preconditioner, projection
         self.mask = preconditioner.free      # the float indicator of ``free``, made once per pin set
         (self.x, self.x_np), (self.r, self.r_np), (self.p, _), (self.q, self.q_np), (self.s, self.s_np) = \
-            _vectors(K_ngs, 5)
+            preconditioner.cg_vectors() if preconditioner.K is K_ngs else _vectors(K_ngs, 5)
         self.x_np[:] = z
         self.iterations = 0
 
@@ -479,18 +499,19 @@ class _PreconditionedCG:
         """r = rhs - K x on the free dofs, computed afresh: the recurrence's r drifts from it by
         round-off, and a restart must judge convergence on the true one."""
         self.r.data = self.K * self.x
-        self.r_np[:] = (rhs - self.r_np) * self.mask
+        np.subtract(rhs, self.r_np, out=self.r_np)
+        self.r_np *= self.mask
 
     def converged(self, bound: float) -> bool:
         """max |r| <= bound, or max |P r| with a projection: the stationarity once the constraints'
         least-squares multipliers are taken off (``pcg``)."""
         r_np, projection = self.r_np, self.projection
         if projection is None:
-            return _max_abs(r_np) <= bound
+            return max_abs(r_np) <= bound
         # P changes r on the constraints' columns only: those are kept and put back, not all of r
         kept = r_np[projection.columns]
         projection.apply_in_place(r_np)
-        largest = _max_abs(r_np)
+        largest = max_abs(r_np)
         r_np[projection.columns] = kept
         return largest <= bound
 
