@@ -20,8 +20,14 @@ from harness.problem.bodies import lower_body
 from harness.problem.case import load_case
 from harness.solvers.active_set import ActiveSetSolver, MultigridSystem
 from harness.solvers.coupled_blocks import CoupledBlocks
-from harness.solvers.joint_multigrid import (JointMultilevel, OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection,
-                                            p1_injected)
+from harness.solvers.joint_multigrid import (
+    JointMultilevel,
+    OpeningLevels,
+    SparseEdges,
+    mortar_coupling_matrix,
+    mortar_injection,
+    p1_injected,
+)
 from harness.solvers.multigrid import Multilevel
 from harness.study.two_body import run_two_body_chain
 
