@@ -54,7 +54,7 @@ def test_the_coupled_coarse_matrices_are_galerkin_products_of_the_mortar_qp(case
     case, problem, multilevel = _pair_on_hierarchy(case_name, 3)
     qp = dual_bound_qp(problem, mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint"))
     E = mortar_injection(problem)
-    hierarchy = multilevel.coupled(mortar_coupling_matrix(problem, qp.S, qp.C, E))
+    hierarchy = multilevel.coupled(mortar_coupling_matrix(problem, qp.S_rows(qp.C), qp.C, E))
     top = hierarchy.matrices[-1].scipy()
     scale = abs(top).max()
     assert abs(E.T @ qp.K @ E - top).max() <= 1e-13 * scale
@@ -154,7 +154,7 @@ def _opening_hierarchy(levels: int, order: int = 1):
     qp = dual_bound_qp(problem, mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint"),
                        4.0 if order == 2 else None)
     E = mortar_injection(problem)
-    coupling = mortar_coupling_matrix(problem, qp.S, qp.C, E)
+    coupling = mortar_coupling_matrix(problem, qp.S_rows(qp.C), qp.C, E)
     return problem, qp, E, multilevel.coupled(coupling), OpeningLevels(multilevel, problem, coupling)
 
 

@@ -221,7 +221,7 @@ def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix, take: bool = 
     (``DiscreteProblem.take_stiffness``).
     """
     A, E = problem.A, problem.edge_dofs
-    P, Q = congruence_terms(A, S, E)
+    P, Q = congruence_terms(A, S[E], E)
     rows = np.concatenate([P.row, P.col, Q.row]).astype(np.int64)
     cols = np.concatenate([P.col, P.row, Q.col]).astype(np.int64)
     positions = csr_positions(A, rows, cols)

@@ -44,13 +44,14 @@ def csr_positions(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.nd
     return positions[where]
 
 
-def congruence_terms(A: sp.csr_matrix, S: sp.csr_matrix, rows: np.ndarray) -> tuple[sp.coo_matrix, sp.coo_matrix]:
+def congruence_terms(A: sp.csr_matrix, S_rows: sp.csr_matrix, rows: np.ndarray) -> tuple[sp.coo_matrix, sp.coo_matrix]:
     """(P, Q) with S^T A S = A + P + P^T + Q, for a symmetric A and a change of variables S that
-    is the identity off ``rows``: with S = I + R, R nonzero in those rows only (D = R[rows]),
-    P = D^T A[rows, :] and Q = D^T A[rows, rows] D. Every term comes from the O(|rows|) rows of A
-    there: no product of n x n matrices (``A`` may be any matrix with those rows and all columns)."""
+    is the identity off ``rows`` (``S_rows``: its rows there): with S = I + R, R nonzero in those
+    rows only (D = R[rows]), P = D^T A[rows, :] and Q = D^T A[rows, rows] D. Every term comes from
+    the O(|rows|) rows of A there: no product of n x n matrices (``A`` may be any matrix with
+    those rows and all columns)."""
     identity = sp.csr_matrix((np.ones(len(rows)), (np.arange(len(rows)), rows)), shape=(len(rows), A.shape[1]))
-    D = (S[rows] - identity).tocsr()
+    D = (S_rows - identity).tocsr()
     A_rows = A[rows]
     return (D.T @ A_rows).tocoo(), (D.T @ (A_rows[:, rows] @ D)).tocoo()
 

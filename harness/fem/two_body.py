@@ -81,9 +81,9 @@ def opening(problem: TwoBodyProblem, z: np.ndarray, samples: int = 9) -> tuple[n
 @dataclass
 class BoundQP:
     """The dual mortar QP as bounds (``dual_bound_qp``): min 1/2 z'Kz - b'z over z = lift on the
-    pinned dofs and z[C] >= alpha, u = S z, K = diag(A_1, A_2) + ``K_interface``."""
+    pinned dofs and z[C] >= alpha, u = S z with S = I + R, K = diag(A_1, A_2) + ``K_interface``."""
 
-    S: sp.csr_matrix
+    R: sp.csr_matrix            # S - I: nonzero in the slave's trace rows C only
     blocks: list                # A_1, A_2 (scipy views of the bodies' NGSolve matrices)
     K_interface: sp.csr_matrix  # K - diag(A_1, A_2): nonzero in the rows and columns near Gamma_C only
     b: np.ndarray
@@ -101,15 +101,24 @@ class BoundQP:
         K.sort_indices()
         return K
 
+    @cached_property
+    def S(self) -> sp.csr_matrix:
+        """S = I + R as one matrix, made on first use (the tests; the solvers read R's rows)."""
+        return (sp.identity(self.R.shape[0], format="csr") + self.R).tocsr()
+
+    def S_rows(self, rows: np.ndarray) -> sp.csr_matrix:
+        """The rows ``rows`` of S (``identity_plus_rows``)."""
+        return identity_plus_rows(self.R, rows)
+
     def to_u(self, z: np.ndarray) -> np.ndarray:
-        return self.S @ z
+        return z + self.R @ z
 
     def to_z(self, u: np.ndarray) -> np.ndarray:
         """z with S z = u: S is the identity off the trace rows C, so z = u there and
         z_C = S_CC^{-1} (u_C - S_CR u_R) (S_CC: the identity on the vertex rows, the edge rows
         -2w on the diagonal and w at their ends: triangular)."""
         from scipy.sparse.linalg import spsolve
-        S_C = self.S[self.C]
+        S_C = self.S_rows(self.C)
         rest = u.copy()
         rest[self.C] = 0.0
         z = rest
@@ -158,12 +167,18 @@ def dual_bound_qp(problem: TwoBodyProblem, dual: MortarCoupling, weight: float |
         if w == 6.0:
             alpha = np.concatenate([alpha[:nv], (alpha[a] + alpha[b]) / 6.0 + 2.0 * alpha[nv:] / 3.0])
     R = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n))
-    S = (sp.identity(n, format="csr") + R).tocsr()
     # K = S^T A S from the slave trace's rows of A (S is the identity elsewhere): A_1's rows with
     # the joint columns (the same arrays, no copy)
     A_1 = upper.A
     slave_rows = sp.csr_matrix((A_1.data, A_1.indices, A_1.indptr), shape=(n1, n), copy=False)
-    P, Q = congruence_terms(slave_rows, S, np.concatenate([V, E]))
+    trace = np.concatenate([V, E])
+    P, Q = congruence_terms(slave_rows, identity_plus_rows(R, trace), trace)
     b, free, lift = (np.concatenate([getattr(body, name) for body in problem.bodies]) for name in ("b", "free", "lift"))
-    return BoundQP(S, [upper.A, problem.lower.A], (P + P.T + Q).tocsr(), b + R.T @ b, free, lift, np.concatenate([V, E]),
-                   alpha, dual.D)
+    return BoundQP(R, [upper.A, problem.lower.A], (P + P.T + Q).tocsr(), b + R.T @ b, free, lift, trace, alpha, dual.D)
+
+
+def identity_plus_rows(R: sp.csr_matrix, rows: np.ndarray) -> sp.csr_matrix:
+    """The rows ``rows`` of I + R, from R's (I + R itself, an identity of all n rows, is never
+    made: 160 MB at 8e6 dofs)."""
+    identity = sp.csr_matrix((np.ones(len(rows)), (np.arange(len(rows)), rows)), shape=(len(rows), R.shape[1]))
+    return (identity + R[rows]).tocsr()

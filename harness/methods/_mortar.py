@@ -120,7 +120,7 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
     # K = diag(A_1, A_2) + (K - A) on the bodies' own NGSolve matrices: not copied into one
     K_ngs = CoupledBlocks([body.A_ngs for body in problem.bodies], qp.K_interface)
     E = mortar_injection(problem)
-    coupling = mortar_coupling_matrix(problem, qp.S, qp.C, E)
+    coupling = mortar_coupling_matrix(problem, qp.S_rows(qp.C), qp.C, E)
     # a contact condition on u itself (scalar): opening variables on every level
     # (``joint_multigrid.OpeningLevels``); in a rotated frame (elastic): each body's P1 levels
     # (the slave's trace follows a master hat on the finest level only)

@@ -231,12 +231,9 @@ class ActiveSetSolver:
             raise ValueError("a constrained dof lies on the Dirichlet boundary")
         # the scale of the forces: the loads, and the force that holds the constrained dofs at
         # the obstacle (the only one in a problem driven by its gap alone); a zero lift or
-        # obstacle gives a zero product, not worth a product with K (8e6 dofs: 0.1 s each)
+        # obstacle makes no product with K (8e6 dofs: 0.05 s each)
         self._pinned_rows = np.flatnonzero(~self.free)
-        pins = np.zeros(len(self.b))
-        pins[self.C] = self.alpha
-        self.load_scale = max(max_abs(self._gradient(self.lift)), max_abs(self._gradient(pins, with_load=False)),
-                              np.finfo(float).tiny)
+        self.load_scale = max(max_abs(self._gradient(self.lift)), self._obstacle_force(), np.finfo(float).tiny)
         # ||K||_inf and ||b||_inf over the free rows: the scale of the normwise backward error
         self.K_norm = self.K.row_norm(self.free) if hasattr(self.K, "row_norm") else row_norm(self.K, self.free)
         self.b_norm = float(np.abs(self.b[self.free]).max(initial=0.0))
@@ -244,6 +241,14 @@ class ActiveSetSolver:
             system = FactorisedSystem(self.K, ngsolve_matrix(self.K) if K_ngs is None else K_ngs, self.b,
                                       options.refactor_above)
         self.system = system
+
+    def _obstacle_force(self) -> float:
+        """max |K p| on the free rows, p = alpha on C and 0 elsewhere."""
+        if not self.alpha.any():
+            return 0.0
+        pins = np.zeros(len(self.b))
+        pins[self.C] = self.alpha
+        return max_abs(self._gradient(pins, with_load=False))
 
     def _gradient(self, z: np.ndarray, with_load: bool = True) -> np.ndarray:
         """K z - b (``with_load``; else K z) on the free rows, zero on the Dirichlet ones, made

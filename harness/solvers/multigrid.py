@@ -367,7 +367,9 @@ class TruncatedVCycle:
         # these machines (the performance page)
         same = previous is not None and previous.multilevel is multilevel and previous.K is K_ngs
         self._work = previous._work if same else [_vectors(m, 3) for m in multilevel.matrices]
-        self._x, self._d = (previous._x, previous._d) if same else _vectors(K_ngs, 2)
+        # (a P1 problem's cycle runs in the levels' vectors alone)
+        self._x, self._d = (previous._x, previous._d) if same else \
+            (_vectors(K_ngs, 2) if not self.fine_is_p1 else (None, None))
         self._cg_vectors = previous._cg_vectors if same else None
 
     def _p1_cycle(self, level: int) -> None:
