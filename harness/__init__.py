@@ -1,7 +1,7 @@
 """Convergence-study harness for the Signorini problem: the quadratic finite elements of
 Z. Belhachmi and F. Ben Belgacem, Math. Comp. 72 (2003), beside other discretisations; see
 docs/development/architecture.md ("How the code is laid out")."""
-__version__ = "0.10.2"      # the one version: pyproject.toml reads it
+__version__ = "0.10.3"      # the one version: pyproject.toml reads it
 
 # The public names, each imported from its stage when first used (PEP 562): `import harness`
 # and the listing commands cost the standard library, not NGSolve, pandas or SciPy. The

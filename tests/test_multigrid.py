@@ -88,7 +88,7 @@ def test_truncated_vcycle_is_symmetric_positive_and_keeps_the_pins(model_name, c
 def test_a_vcycle_built_on_the_last_sets_is_the_one_built_afresh(case_name, rng):
     """The V-cycle of a new active set takes over the last one's coarse smoothers (and coarsest
     factorisation) on exactly the levels whose pins are unchanged -- all of them for the same
-    set -- and is the same operator as one built from nothing (here: every contact row
+    set --, the work vectors on every level, and is the same operator as one built from nothing (here: every contact row
     released, which changes the finest P1 levels' pins)."""
     qp, multilevel, pinned = _exact_pins(case_name, "nodal", 3)
     edges = ContactEdges.of(qp.problem)
@@ -101,6 +101,8 @@ def test_a_vcycle_built_on_the_last_sets_is_the_one_built_afresh(case_name, rng)
     fresh = TruncatedVCycle(multilevel, qp.K_ngs, ~released, edges)
     shared = [new is old for new, old in zip(reused.smoothers, last.smoothers)]
     assert shared == [np.array_equal(a, b) for a, b in zip(reused.pins, last.pins)] and not all(shared)
+    # and its work vectors and CG's, whatever the pins (each cycle writes them before reading)
+    assert reused.cg_vectors() is last.cg_vectors() and fresh.cg_vectors() is not last.cg_vectors()
     r, by_reused, by_fresh = (qp.K_ngs.CreateColVector() for _ in range(3))
     r.FV().NumPy()[:] = np.where(released, 0.0, rng.standard_normal(len(released)))
     reused.apply(r, by_reused)
