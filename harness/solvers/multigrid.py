@@ -370,7 +370,7 @@ class TruncatedVCycle:
         # (a P1 problem's cycle runs in the levels' vectors alone)
         self._x, self._d = (previous._x, previous._d) if same else \
             (_vectors(K_ngs, 2) if not self.fine_is_p1 else (None, None))
-        self._cg_vectors = previous._cg_vectors if same else None
+        self._cg_vectors = previous._cg_vectors if same else []     # filled on first use, shared
 
     def _p1_cycle(self, level: int) -> None:
         """x_l = B_l b_l on level ``level``'s work vectors (b_l set by the caller; x_l valid until
@@ -400,8 +400,8 @@ class TruncatedVCycle:
     def cg_vectors(self) -> list[tuple]:
         """``pcg``'s five work vectors of K with their NumPy views, made on first use and kept
         (a new active set's V-cycle takes them over)."""
-        if self._cg_vectors is None:
-            self._cg_vectors = _vectors(self.K, 5)
+        if not self._cg_vectors:
+            self._cg_vectors.extend(_vectors(self.K, 5))
         return self._cg_vectors
 
     def apply(self, r, out) -> None:
