@@ -363,8 +363,8 @@ class TruncatedVCycle:
         # NGSolve work vectors with their NumPy views made once: a view costs microseconds, which
         # on small meshes is a good part of a V-cycle. A new active set on the same hierarchy and
         # K takes over the last set's (and pcg's, ``cg_vectors``): at 8e6 dofs a set made some 30
-        # vectors of up to 65 MB afresh, and memory first touched costs about 1.7 ms per MB on
-        # these machines (the performance page)
+        # vectors of up to 65 MB afresh, and memory first touched is dear on these machines
+        # (``bench --only mortar``'s first runs)
         same = previous is not None and previous.multilevel is multilevel and previous.K is K_ngs
         self._work = previous._work if same else [_vectors(m, 3) for m in multilevel.matrices]
         # (a P1 problem's cycle runs in the levels' vectors alone)
