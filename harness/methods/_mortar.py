@@ -10,6 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..fem.cones import ContactModel, contact_pressure
+from ..fem.contact_law import predicted_active as nearest_status
 from ..fem.mortar import mortar_coupling
 from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
 from ..mesh.points import evaluate
@@ -39,16 +40,22 @@ def row_points(problem: TwoBodyProblem) -> np.ndarray:
     return np.concatenate([points, trace.midpoints[:, 0]]) if problem.order == 2 else points
 
 
-def predicted_active(carry, points: np.ndarray) -> np.ndarray | None:
-    """Nested iteration: each row takes the status of the coarser level's row nearest to it."""
+def predicted_active(carry, points: np.ndarray, vertex_rows: int) -> np.ndarray | None:
+    """Nested iteration, the one-body cones' rule (``fem.cones.ContactQP.predicted_active``): a
+    vertex row (the first ``vertex_rows`` of ``points``) takes the status of the coarser level's
+    row nearest to it (at the same point: a coarse vertex, or a coarse edge at its midpoint), an
+    edge row that of the nearest coarse edge row, its parent edge's. The nearest row of either
+    kind gave the first edge past a transition point the status of the vertex at that point (an
+    edge half as long: as near as its parent's midpoint), which `mortar-mean` then corrected with
+    two more active sets on every level (trace at 2.0e6 dofs: 4 sets, 23 CG iterations)."""
     if carry is None:
         return None
-    coarse_points, coarse_active = carry.points, carry.active
-    order = np.argsort(coarse_points)
-    sorted_points = coarse_points[order]
-    right = np.clip(np.searchsorted(sorted_points, points), 1, len(sorted_points) - 1)
-    nearer_left = points - sorted_points[right - 1] <= sorted_points[right] - points
-    return coarse_active[order][np.where(nearer_left, right - 1, right)]
+    coarse_edges = slice(len(carry.points) if carry.vertex_rows is None else carry.vertex_rows, None)
+    if not len(carry.points[coarse_edges]):        # a coarse level without edge rows: any row
+        coarse_edges = slice(None)
+    return np.concatenate([nearest_status(carry.points[:, None], carry.active, points[:vertex_rows, None]),
+                           nearest_status(carry.points[coarse_edges, None], carry.active[coarse_edges],
+                                          points[vertex_rows:, None])])
 
 
 @dataclass(frozen=True)
@@ -79,7 +86,7 @@ class Mortar(Method):
             coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, self.multipliers,
                                        self.edge_functional if general or not dual else "midpoint")
             points = row_points(problem)
-            predicted = predicted_active(carry, points)
+            predicted = predicted_active(carry, points, len(problem.upper.trace.vertex_points))
             start = None
             if dual and not general:
                 qp = dual_bound_qp(problem, coupling, self.contact_weight(problem.order))
@@ -101,7 +108,8 @@ class Mortar(Method):
         pressure = contact_pressure(problem.upper, forces)
         fields = SolveFields.of_exact(solution, max_penetration(case, problem, u), pressure, coupling.rows)
         # each row's slave node and status (the predicted active set) and both bodies' vertex values
-        return LevelSolve(fields, u, None, pressure, Carry(joint_p1_values(problem, u), points=points, active=solution.active))
+        return LevelSolve(fields, u, None, pressure, Carry(joint_p1_values(problem, u), points=points, active=solution.active,
+                                                           vertex_rows=len(problem.upper.trace.vertex_points)))
 
 
 def joint_p1_values(problem: TwoBodyProblem, u: np.ndarray) -> np.ndarray:

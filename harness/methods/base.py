@@ -103,12 +103,14 @@ class Carry:
     """What a level's solve hands the next, finer level (nested iteration): u_h's values at the
     vertices (``p1``: the multigrid's start, prolongated) and what predicts the next active set:
     the trace of u_h with its constraints' status (the cones: ``trace``) or the contact points
-    with their branch (contact laws and mortars: ``points``, ``active``)."""
+    with their branch (contact laws and mortars: ``points``, ``active``; a mortar's first
+    ``vertex_rows`` points are its vertex rows, the rest its edge rows)."""
 
     p1: np.ndarray
     trace: object = None            # fem.assembly.ContactTraceFunction
     points: np.ndarray | None = None
     active: np.ndarray | None = None
+    vertex_rows: int | None = None
 
 
 @dataclass
