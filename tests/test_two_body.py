@@ -219,14 +219,17 @@ def test_mortar_methods_meet_their_rates_on_non_matching_meshes(case_name, level
 
 
 def test_a_mortar_edge_row_is_predicted_from_its_parent_edge_and_a_vertex_row_from_the_row_at_its_point():
-    """Nested iteration, as the one-body cones predict: a coarse level with vertex rows at 0 and 1
-    (inactive) and an active edge row at 0.5 gives the fine vertex at 0.5 and both halves of the
-    edge the edge's status, the vertices at 0 and 1 theirs. (The nearest row of either kind gives
-    the half-edges' midpoints, 0.25 and 0.75, as near to a vertex row as to the edge row.)"""
+    """Nested iteration, as the one-body cones predict (``fem.cones.ContactQP.predicted_active``):
+    a coarse level with vertex rows at 0 and 1 (inactive) and an active edge row at 0.5 gives
+    the fine vertex at 0.5 and both halves of the edge the edge's status, the vertices at 0 and 1
+    theirs. (The nearest row of either kind gives the half-edges' midpoints, 0.25 and 0.75, as
+    near to a vertex row as to the edge row.)"""
     coarse = Carry(np.zeros(2), points=np.array([0.0, 1.0, 0.5]), active=np.array([False, False, True]), vertex_rows=2)
     fine = np.array([0.0, 0.5, 1.0, 0.25, 0.75])
     assert predicted_active(coarse, fine, 3).tolist() == [False, True, False, True, True]
-    # P1 rows (vertices only), from either kind of coarse level
-    assert predicted_active(coarse, fine[:3], 3).tolist() == [False, True, False]
+    # P1 (vertex rows only): a new vertex is active when the coarse edge it halves has both ends
+    # active, as the one-body P1 cones predict
     p1 = Carry(np.zeros(2), points=np.array([0.0, 0.5, 1.0]), active=np.array([False, True, True]), vertex_rows=3)
-    assert predicted_active(p1, np.array([0.0, 0.5, 1.0, 0.25]), 4).tolist() == [False, True, True, False]
+    assert predicted_active(p1, np.array([0.0, 0.25, 0.5, 0.75, 1.0]), 5).tolist() == [False, False, True, True, True]
+    # beyond the coarse ends: the end's status
+    assert predicted_active(p1, np.array([-0.1, 1.1]), 2).tolist() == [False, True]
