@@ -376,7 +376,7 @@ class TruncatedVCycle:
         """x_l = B_l b_l on level ``level``'s work vectors (b_l set by the caller; x_l valid until
         the level's next cycle). No full-length temporary: past 32 MB (4e6 dofs) every NumPy
         temporary is a fresh mmap whose pages are touched anew, and in the two-body V-cycle at
-        8e6 dofs those made its NumPy work three times what it is in place."""
+        8e6 dofs those made its NumPy work several times what it is in place."""
         (x, x_np), (b, _), (r, r_np) = self._work[level]
         if level == 0:
             x.data = self.coarsest * b
