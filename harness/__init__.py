@@ -13,7 +13,7 @@ _PUBLIC = {
     "load_case": "problem.case", "registered_cases": "problem.case", "Case": "problem.case",
     "CaseError": "problem.case", "METHODS": "methods", "methods_named": "methods",
     "InProcess": "study", "LocalProcesses": "study", "DaskEngine": "study",
-    "FolderBusy": "study.folder", "StudyFailed": "study.store", "VtkWriter": "report.vtk",
+    "FolderBusy": "study.storage.folder", "StudyFailed": "study.storage.store", "VtkWriter": "report.vtk",
 }
 __all__ = list(_PUBLIC)
 

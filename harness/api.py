@@ -52,9 +52,9 @@ def run(cases, methods="all", levels: int = 5, meshes="uniform", *, out=None, re
     ``vtk``: write every level's solutions for ParaView under ``out``/vtk. Cases, methods and
     meshes a study leaves out are named in a ``StudyWarning``. Input is refused (ValueError,
     ``CaseError``, ``FolderBusy``) before anything is computed; an error once the study has
-    started is a ``StudyFailed`` (``harness.study.store``) whose cause is the error."""
+    started is a ``StudyFailed`` (``harness.study.storage.store``) whose cause is the error."""
     from .study import InProcess, run_study
-    from .study.engines import study_jobs
+    from .study.execution.engines import study_jobs
     loaded, chosen, strategies = _study_inputs(cases, methods, meshes, reference_levels)
     engine = engine or InProcess()
     if vtk and out is None:
@@ -66,7 +66,8 @@ def run(cases, methods="all", levels: int = 5, meshes="uniform", *, out=None, re
     # refused before a folder is touched or a worker started
     study_jobs(loaded, chosen, levels, engine, check_memory=check_memory, meshes=strategies)
     _warn_left_out(loaded, chosen, strategies, methods)
-    from .study.store import run_into, study_phase
+    from .study.execution.into_folder import run_into
+    from .study.storage.store import study_phase
     if out is None:
         with study_phase():
             return run_study(loaded, chosen, levels, show_progress=show_progress, on_level=on_level, engine=engine,
@@ -99,7 +100,7 @@ def _warn_left_out(cases, methods, meshes, asked) -> None:
     """A ``StudyWarning`` per mesh strategy a case cannot have, and per method named one by one
     (not through a group) that discretises none of the cases."""
     from .methods import GROUPS, Method
-    from .study.engines import skipped_meshes, skipped_methods
+    from .study.execution.engines import skipped_meshes, skipped_methods
     asked = [asked] if isinstance(asked, (str, Method)) else list(asked)
     named = {a if isinstance(a, str) else a.name for a in asked if not (isinstance(a, str) and (a == "all" or a in GROUPS))}
     lines = skipped_meshes(cases, meshes) + skipped_methods(cases, [m for m in methods if m.name in named])
@@ -120,8 +121,8 @@ def rows_of(rows) -> pd.DataFrame:
 def _written(table: pd.DataFrame, out, name: str) -> pd.DataFrame:
     """``table``, written as ``out``/``name`` (while this process owns the folder) if ``out``."""
     if out is not None:
-        from .study.files import write_csv
-        from .study.folder import owned
+        from .study.storage.files import write_csv
+        from .study.storage.folder import owned
         with owned(Path(out)) as folder:
             table.attrs["path"] = str(write_csv(table, folder / name))
     return table
@@ -185,7 +186,7 @@ def store(rows, folder) -> Path:
     a row computed again replaces the earlier one, every other is kept), while this process owns
     the folder (another command's folder is refused before anything is written); the file's
     path. ``harness.run(out=...)`` stores its rows so."""
-    from .study.store import store_rows
+    from .study.storage.store import store_rows
     return store_rows(rows_of(rows), folder).path
 
 

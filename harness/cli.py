@@ -84,7 +84,7 @@ def _print_run(frame, out: Path) -> None:
     """The run's rows as a table, the chains it resumed, and where reference errors come from."""
     import pandas as pd
 
-    from .study.outcome import reference_lines
+    from .study.chain.outcome import reference_lines
     for (case, method), level in frame.attrs["resumed"].items():
         if level:
             print(f"{case} {method}: resumed after level {level - 1} from {out / '.checkpoints'}")
@@ -106,7 +106,7 @@ def _print_vtk(folder: Path) -> None:
 
 def _report_failures(frame) -> int:
     """Every failed solve on stderr, one line each, --quiet or not; 1 if any."""
-    from .study.outcome import failures
+    from .study.chain.outcome import failures
     lines = failures(frame)
     for line in lines:
         print(f"harness: {line}", file=sys.stderr)
@@ -118,10 +118,10 @@ def cmd_sweep(args) -> int:
 
     from .problem.case import load_case
     from .report import figures
-    from .study.files import write_csv
-    from .study.folder import owned
-    from .study.store import study_phase
-    from .study.sweep import run_sweep, swept
+    from .study.storage.files import write_csv
+    from .study.storage.folder import owned
+    from .study.storage.store import study_phase
+    from .study.planning.sweep import run_sweep, swept
     case = load_case(args.case)
     for spec in args.method:
         swept(spec, args.values)        # a method without a parameter is refused before anything is written
@@ -229,14 +229,14 @@ def build_parser(argv=None) -> argparse.ArgumentParser:
 # An except clause's classes are looked up only when an exception reaches it: the study's
 # modules are imported then, not at start-up.
 def _bad_input() -> tuple:
-    from .study.files import OutputError
+    from .study.storage.files import OutputError
     return (BadInput, ValueError, FileNotFoundError, OutputError)       # CaseError is a ValueError
 
 
 def _study_failed() -> tuple:
-    from .study.dask_engine import SchedulerUnreachable
-    from .study.processes import WorkerDied
-    from .study.store import StudyFailed
+    from .study.execution.dask_engine import SchedulerUnreachable
+    from .study.execution.processes import WorkerDied
+    from .study.storage.store import StudyFailed
     return (StudyFailed, SchedulerUnreachable, WorkerDied)
 
 

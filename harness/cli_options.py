@@ -119,7 +119,7 @@ def add_run(p):
 
 def add_sweep(p):
     from .measure.reference import REFERENCE_METHOD as reference
-    from .study.sweep import REPORT_SWEEP, SWEEP_VALUES
+    from .study.planning.sweep import REPORT_SWEEP, SWEEP_VALUES
     p.add_argument("--case", required=True, metavar="NAME|PATH")
     _method_option(p, required=True, help=f"a method with a parameter (penalty, Nitsche), e.g. "
                                           f"{', '.join(REPORT_SWEEP['methods'])}; repeat for several")

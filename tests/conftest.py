@@ -15,7 +15,7 @@ if os.environ.get("PYTEST_XDIST_WORKER"):
     # a 5-minute suite ran for 15 minutes and more)
     import ngsolve as ngs
     from threadpoolctl import threadpool_limits
-    os.environ["HARNESS_THREADS"] = "1"         # the study's levels (``study.threads``), here and in subprocesses
+    os.environ["HARNESS_THREADS"] = "1"         # the study's levels (``study.execution.threads``), here and in subprocesses
     ngs.SetNumThreads(1)
     _BLAS_THREADS = threadpool_limits(1)
 

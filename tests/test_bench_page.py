@@ -11,7 +11,7 @@ import pytest
 
 from harness.bench import command
 from harness.bench.common import write_bench
-from harness.study.cache import provenance
+from harness.study.planning.cache import provenance
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "docs" / "_ext"))

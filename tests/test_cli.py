@@ -12,7 +12,7 @@ from harness.measure.quantities import QUANTITY_COLUMNS
 from harness.measure.rates import RATE_COLUMNS
 from harness.measure.richardson import QUANTITY_TABLE_COLUMNS
 from harness.methods import METHODS
-from harness.study.rows import COLUMNS
+from harness.study.chain.rows import COLUMNS
 
 # the methods of a 2D scalar case (`mean-edges` is 3D only)
 METHODS_2D = [name for name, m in METHODS.items() if 2 in m.dimensions and 1 in m.bodies]   # one body

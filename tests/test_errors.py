@@ -19,7 +19,7 @@ from harness.methods import METHODS, methods_for
 from harness.problem.bodies import lower_body
 from harness.problem.case import registered_cases
 from harness.study.chain import PROFILES, run_chain
-from harness.study.degree_study import PLAN
+from harness.study.planning.degree_study import PLAN
 
 # cases measured against u (a reference case's errors are exact matrix norms: tests/test_reference.py)
 EXACT_CASES = [name for name, case in registered_cases(dimension=2).items() if case.exact]     # 3D: test_three_d.py

@@ -22,11 +22,11 @@ from harness.mesh.levels import mesh_hierarchy
 from harness.methods import METHODS, methods_for, methods_named
 from harness.problem.case import load_case, registered_cases
 from harness.study import DaskEngine, InProcess, LocalProcesses, budget, run_study
-from harness.study.budget import BudgetError, LevelSizes, estimate
-from harness.study.checkpoint import CheckpointStore
-from harness.study.engines import chains, study_weights
-from harness.study.files import write_csv
-from harness.study.progress import StudyProgress
+from harness.study.execution.budget import BudgetError, LevelSizes, estimate
+from harness.study.storage.checkpoint import CheckpointStore
+from harness.study.execution.engines import chains, study_weights
+from harness.study.storage.files import write_csv
+from harness.study.execution.progress import StudyProgress
 
 REPOSITORY = Path(__file__).resolve().parents[1]
 # what may differ between two runs of one study: wall times
@@ -161,7 +161,7 @@ def test_the_progress_line_fits_a_100_column_terminal_and_counts_methods_done():
     whatever the names; the bar takes what is left of 100 columns."""
     from tqdm import tqdm
 
-    from harness.study.progress import BAR_FORMAT
+    from harness.study.execution.progress import BAR_FORMAT
     case = load_case("transition-r32")
     progress = StudyProgress(budget.solve_weights(case, methods_named(["all"]), 3), show=False)
     progress.solving("transition-r32", "nodal", 2, 36225)

@@ -29,7 +29,7 @@ from harness.solvers.joint_multigrid import (
     p1_injected,
 )
 from harness.solvers.multigrid import Multilevel
-from harness.study.two_body import run_two_body_chain
+from harness.study.chain.two_body import run_two_body_chain
 
 TWO_BODY_CASES = ["two-body-transition-r32", "two-body-elastic-transition"]
 DUAL_MORTAR = [m.name for m in METHODS.values() if 2 in m.bodies and getattr(m, "multipliers", None) == "dual"]

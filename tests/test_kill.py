@@ -17,8 +17,8 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-from harness.study.files import TEMPORARY_MARK
-from harness.study.folder import LOCK_NAME
+from harness.study.storage.files import TEMPORARY_MARK
+from harness.study.storage.folder import LOCK_NAME
 
 ROOT = Path(__file__).resolve().parent.parent
 pytestmark = pytest.mark.slow

@@ -72,7 +72,7 @@ def test_only_the_physics_tells_scalar_from_elastic():
 
 
 def test_the_study_takes_h_from_its_level_sequence():
-    assert "h / 2" not in (PACKAGE / "study" / "chain.py").read_text()
+    assert "h / 2" not in (PACKAGE / "study" / "chain" / "run.py").read_text()
 
 
 # a function longer than this does more than one job (issue 51 item 7; 60 since issue 62)
@@ -190,7 +190,7 @@ def test_the_cycle_check_finds_a_cycle():
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
 
 
-@pytest.mark.parametrize("columns, meanings", [("harness.study.rows:COLUMNS", "harness.study.rows:COLUMN_MEANINGS"),
+@pytest.mark.parametrize("columns, meanings", [("harness.study.chain.rows:COLUMNS", "harness.study.chain.rows:COLUMN_MEANINGS"),
                                                ("harness.measure.rates:RATE_COLUMNS", "harness.measure.rates:COLUMN_MEANINGS"),
                                                ("harness.measure.efficiency:COLUMNS", "harness.measure.efficiency:COLUMN_MEANINGS")])
 def test_every_csv_column_has_the_meaning_the_docs_print(columns, meanings):

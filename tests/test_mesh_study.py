@@ -10,7 +10,7 @@ from harness.problem.case import load_case, registered_cases
 from harness.report.figures import plt
 from harness.report.mesh_figures import adaptive_mesh
 from harness.study.chain import PROFILES, run_chain
-from harness.study.mesh_study import (
+from harness.study.planning.mesh_study import (
     PICTURE_METHOD,
     PLAN,
     FinestMesh,

@@ -28,8 +28,8 @@ from harness.methods import (
     with_role,
 )
 from harness.report.plots import method_styles
-from harness.study.budget import SOLVE_SECONDS_PER_DOF, solve_seconds_per_dof
-from harness.study.sweep import REPORT_SWEEP
+from harness.study.execution.budget import SOLVE_SECONDS_PER_DOF, solve_seconds_per_dof
+from harness.study.planning.sweep import REPORT_SWEEP
 
 PACKAGE = Path(__file__).resolve().parent.parent / "harness"
 NAMES = set(METHODS) | set(GROUPS)

@@ -3,12 +3,12 @@ study, from its settings alone (the fine profile's mesh study failed to plan for
 version while only the default one was ever run by a test)."""
 import pytest
 
-import harness.study.cache as cache
+import harness.study.planning.cache as cache
 from harness.methods import GROUPS, SWEPT, methods_named, with_role
 from harness.problem.case import registered_cases
 from harness.report.build import in_profile
 from harness.study.chain import PROFILES
-from harness.study.degree_study import degree_config
+from harness.study.planning.degree_study import degree_config
 
 
 @pytest.mark.parametrize("profile", list(PROFILES))

@@ -9,7 +9,7 @@ import pytest
 from harness.methods import GROUPS, METHODS
 from harness.report.build import make_report
 from harness.study.chain import PROFILES
-from harness.study.sweep import REPORT_SWEEP
+from harness.study.planning.sweep import REPORT_SWEEP
 
 CASES = ["transition-r32", "corner-r12"]            # the cases the report sweeps and studies on other meshes
 # and a case without u, the Remark 4.3 case and a two-body case, for what the report says of them
@@ -68,7 +68,7 @@ def test_every_figure_exists_as_png_and_pdf(report):
 
 
 def test_report_answers_whether_p2_is_the_sweet_spot_across_the_degree(report):
-    """The degree study (``study.degree_study``) of the named cases it plans: Nitsche and the
+    """The degree study (``study.planning.degree_study``) of the named cases it plans: Nitsche and the
     nodal cone of every degree k = 1 ... 4 on uniform and adaptive meshes, and on hp meshes those
     of them whose space may vary in degree (Nitsche, the nodal cones of k >= 3), each solve exact,
     its rows in degrees.csv, and the section with its figure, cost tables and hp fits."""
@@ -108,7 +108,7 @@ def test_rewording_the_report_keeps_the_study_cache_key_and_changing_a_solver_do
     benchmark) edited in a copy of the package leaves it unchanged, a solver's code does not."""
     import shutil
 
-    from harness.study.checkpoint import PACKAGE, code_digest
+    from harness.study.storage.checkpoint import PACKAGE, code_digest
     copy = tmp_path / "harness"
     shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
     before = code_digest(copy)

@@ -1,6 +1,6 @@
 """A results folder shared by runs and people: one command owns it at a time, runs merge their
 rows by key, files get the umask's mode, a killed run leaves nothing the next one does not
-clear or reuse; and threads that fit the machine (``study.threads``)."""
+clear or reuse; and threads that fit the machine (``study.execution.threads``)."""
 import os
 import stat
 import subprocess
@@ -12,9 +12,9 @@ import pytest
 
 from harness.cli import main
 from harness.study import threads
-from harness.study.files import TEMPORARY_MARK, write_atomic
-from harness.study.folder import LOCK_NAME, FolderBusy, owned
-from harness.study.merge import ROW_KEY, merge_rows, read_rows
+from harness.study.storage.files import TEMPORARY_MARK, write_atomic
+from harness.study.storage.folder import LOCK_NAME, FolderBusy, owned
+from harness.study.storage.merge import ROW_KEY, merge_rows, read_rows
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -151,7 +151,7 @@ def test_an_old_results_file_without_mesh_and_parameters_columns_merges(tmp_path
     assert merge_rows(earlier, rows).frame.err_h1.tolist() == [2.0]
 
 
-# --- threads (``study.threads``)
+# --- threads (``study.execution.threads``)
 
 @pytest.mark.parametrize("files, cores", [({"cpu.max": "150000 100000\n"}, 1.5), ({"cpu.max": "max 100000\n"}, None),
                                           ({"cpu/cpu.cfs_quota_us": "300000", "cpu/cpu.cfs_period_us": "100000"}, 3.0),
@@ -265,7 +265,7 @@ def test_forgetting_a_cases_uniform_checkpoints_leaves_its_other_strategies_writ
     of a vanished temporary file failed a report in CI before)."""
     from types import SimpleNamespace
 
-    from harness.study.checkpoint import CheckpointStore
+    from harness.study.storage.checkpoint import CheckpointStore
     case, method = SimpleNamespace(name="transition-r32"), SimpleNamespace(name="nodal")
     uniform, graded = CheckpointStore(tmp_path, 3), CheckpointStore(tmp_path, 3, mesh="graded")
     for store in (uniform, graded):

@@ -71,7 +71,7 @@ def test_singular_point_off_the_mesh_vertices_is_refused():
 
 
 def test_a_case_asymptotic_by_six_levels_runs_six_in_the_default_report_and_what_it_is_told_otherwise():
-    from harness.study.cache import case_settings, study_groups
+    from harness.study.planning.cache import case_settings, study_groups
     from harness.study.chain import PROFILES
     known = registered_cases()
     default, fine = {"profile": "default", **PROFILES["default"]}, {"profile": "fine", **PROFILES["fine"]}
@@ -90,7 +90,7 @@ def test_a_case_asymptotic_by_six_levels_runs_six_in_the_default_report_and_what
 
 
 def test_p1_stops_with_p2_in_the_default_report_where_the_case_says_its_fits_are_asymptotic():
-    from harness.study.cache import case_settings, study_methods
+    from harness.study.planning.cache import case_settings, study_methods
     from harness.study.chain import PROFILES, study_levels
     known = registered_cases()
     default, fine = {"methods": ["all"], **PROFILES["default"]}, {"methods": ["all"], **PROFILES["fine"]}

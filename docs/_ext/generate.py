@@ -13,7 +13,7 @@ def write_generated(folder: Path) -> None:
     from harness.measure.efficiency import QUANTITY_EFFICIENCY_MEANINGS as QUANTITY_EFFICIENCY
     from harness.measure.rates import COLUMN_MEANINGS as RATES
     from harness.measure.richardson import QUANTITY_TABLE_MEANINGS as QUANTITIES
-    from harness.study.rows import COLUMN_MEANINGS as RESULTS
+    from harness.study.chain.rows import COLUMN_MEANINGS as RESULTS
     folder.mkdir(exist_ok=True)
     cases = case_table().drop(columns=["description"]).rename(columns={"expected_log_exponent": "log exponent"})
     pages = {"cases.md": cases, "methods.md": method_table(),

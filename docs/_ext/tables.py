@@ -19,7 +19,7 @@ def columns_table(meanings: dict[str, str]) -> pd.DataFrame:
 
 def machine_stamp(provenance: dict) -> str:
     """The harness, its commit, NGSolve, the date and the machine of a provenance record
-    (``harness.study.cache.environment``); the processor's name and the cores the process could
+    (``harness.study.planning.cache.environment``); the processor's name and the cores the process could
     use where the record has them (a benchmark's)."""
     machine = provenance.get("machine", {})
     details = [str(machine.get("platform", "?"))]

@@ -77,7 +77,7 @@ def run_bench_command(args) -> int:
     written beside ``args.out`` with its provenance (``common.write_bench``), then every goal with
     its measured figure."""
     from ..methods import PAPER, role_names
-    from ..study.files import ensure_writable
+    from ..study.storage.files import ensure_writable
     from .common import timed
     from .solvers import DEFAULT_SIZES, goals, run_bench
     out = Path(args.out)

@@ -146,12 +146,12 @@ def cpu_model() -> str | None:
 
 def bench_provenance(title: str, goals, wall_seconds: float | None, command: str) -> dict:
     """What a benchmark table was measured with and what it showed: its title, the harness,
-    NGSolve, the date and the machine (``study.cache.environment``, here with the cores this
+    NGSolve, the date and the machine (``study.planning.cache.environment``, here with the cores this
     process may use and the processor's name), the command line, the table's wall seconds and
     the load averages as it is written, and the goals judged on it ((goal, met, figure) each, as
     `bench` prints them)."""
-    from ..study.cache import environment
-    from ..study.threads import usable_cpus
+    from ..study.planning.cache import environment
+    from ..study.execution.threads import usable_cpus
     meta = {"title": title} | environment()
     meta["machine"] |= {"cpus_usable": usable_cpus(), "cpu_model": cpu_model()}
     # the machine's load averages (1, 5, 15 minutes) as the table is written: NGSolve's threads
@@ -169,7 +169,7 @@ def write_bench(frame: pd.DataFrame, path: Path, title: str = "", goals=(), wall
     import hashlib
     import json
 
-    from ..study.files import ensure_writable, write_atomic, write_csv
+    from ..study.storage.files import ensure_writable, write_atomic, write_csv
     ensure_writable(path.parent)
     write_csv(frame, path)
     meta = bench_provenance(title, goals, wall_seconds, command) | {"csv_sha256": hashlib.sha256(path.read_bytes()).hexdigest()}

@@ -1,6 +1,6 @@
 """The load rows of `bench`: a study's wall time on an idle machine and beside one
 busy process (a Python loop holding a core, as a browser tab, a second study or a CI
-neighbour does), with the default thread policy (``study.threads``: per level, the cores the
+neighbour does), with the default thread policy (``study.execution.threads``: per level, the cores the
 other processes leave free), with one thread, and with every core on every level (``--threads``
 = the core count, which the goals label 0.3.10). Each run is a fresh ``python -m harness run``,
 timed from outside, all in one command so that the ratios are measured in one sitting."""
@@ -50,7 +50,7 @@ LOAD_REPEATS = {"2 levels (609 dofs)": 3, "7 levels (5.7e5 dofs)": 2}
 def run_load_bench(runs=None, progress=print) -> pd.DataFrame:
     """Every run of ``runs`` (default ``load_runs()``) with each thread setting, idle and beside
     one busy process; each the fastest of its ``LOAD_REPEATS``, the settings interleaved."""
-    from ..study.threads import usable_cpus
+    from ..study.execution.threads import usable_cpus
     runs = runs or load_runs()
     settings = ["auto", "1", str(usable_cpus())]
     best: dict = {}

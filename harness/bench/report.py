@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..study.timing import by_phase, by_section
+from ..study.planning.timing import by_phase, by_section
 
 # job_seconds: the work of every job, summed over processes; jobs_wall: the wall time of the
 # jobs (their ratio: how busy the workers kept the cores); figures_wall: the figures' wall time

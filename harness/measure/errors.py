@@ -188,7 +188,7 @@ class ExactErrors:
         pass
 
     def state_of(self, method_name: str) -> list:
-        """What a method's chain carries to its next level (``study.walk.ChainState``): its order's
+        """What a method's chain carries to its next level (``study.chain.walk.ChainState``): its order's
         R_h u at the vertices of its last level, the next level's CG start."""
         mine = sorted(key for key in self.vertex_values if key[0] == self.orders.get(method_name))
         return [(key, self.vertex_values[key]) for key in mine[-1:]]

@@ -68,12 +68,12 @@ class LevelReferenceErrors:
     """The error columns of a graded or adaptive chain of a case without u: each level against
     the reference method's solution on the level's mesh refined uniformly ``refinements`` times,
     4^k times the level's dofs, k = ``case.reference_levels`` (module docstring). The same calls as ``reference.ReferenceErrors`` (the study's level
-    loop, ``study.walk``); every row is complete at the end of its level, so nothing is carried
+    loop, ``study.chain.walk``); every row is complete at the end of its level, so nothing is carried
     across levels (``state_of``: nothing to checkpoint).
 
     ``orders``: the chain's methods' finite element orders by name; ``reference``: the method
     that solves the references (``reference.reference_method``); ``threads(size)``: a context
-    for work of ``size`` scalar P2 dofs (``study.threads.level``), the reference's solves run
+    for work of ``size`` scalar P2 dofs (``study.execution.threads.level``), the reference's solves run
     under it."""
 
     def __init__(self, case, orders: dict[str, int], reference, phases=None, threads=None):

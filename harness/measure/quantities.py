@@ -94,7 +94,7 @@ def contact_measure(physics, q, pressure: np.ndarray, gap: np.ndarray) -> float:
 
 def exact_quantities(case, problem) -> dict:
     """The exact value of each quantity on Gamma_C from the declared u, on ``problem``'s mesh
-    (the same for every order of a level: a caller keeps it per level, ``study.one_body``); the
+    (the same for every order of a level: a caller keeps it per level, ``study.chain.one_body``); the
     exact energy comes with the volume errors (``errors.ExactErrors.end_level``)."""
     two_d = problem.trace.faces is None
     q = (contact_quadrature(problem, EXACT_POINTS, graded_at=singular_vertices(case, problem.mesh)) if two_d

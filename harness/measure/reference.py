@@ -401,7 +401,7 @@ class ReferenceErrors:
         self.solution, self.norms = None, None
 
     def state_of(self, method_name: str) -> list:
-        """What a method's chain must keep to be resumed (``study.walk.ChainState``): its studied
+        """What a method's chain must keep to be resumed (``study.chain.walk.ChainState``): its studied
         (u_h, lambda_h) that wait for the reference."""
         return list(self.kept.get(method_name, []))
 

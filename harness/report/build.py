@@ -1,4 +1,4 @@
-"""`make report`: the study of a profile (computed, or reused, by ``study.cache``: results of a
+"""`make report`: the study of a profile (computed, or reused, by ``study.planning.cache``: results of a
 case are reused while the computing code, the case file and the settings are unchanged), its
 rates, figures and the document (Markdown and HTML), from the tables of ``tables`` and the
 sentences of ``prose``.
@@ -23,14 +23,14 @@ from ..methods import DEGREES, METHODS, SWEPT, get_method, methods_named, with_r
 from ..methods import known as known_methods
 from ..problem.case import REPORT_PROFILES, Case, fraction, registered_cases
 from ..study import InProcess
-from ..study.cache import case_settings, compute, provenance
+from ..study.planning.cache import case_settings, compute, provenance
 from ..study.chain import PROFILES
-from ..study.files import ensure_writable, write_atomic, write_csv
-from ..study.folder import all_owned
-from ..study.merge import read_rows
-from ..study.mesh_study import PICTURE_METHOD
-from ..study.store import merge_into
-from ..study.timing import Timings
+from ..study.storage.files import ensure_writable, write_atomic, write_csv
+from ..study.storage.folder import all_owned
+from ..study.storage.merge import read_rows
+from ..study.planning.mesh_study import PICTURE_METHOD
+from ..study.storage.store import merge_into
+from ..study.planning.timing import Timings
 from .degree_section import add_degree_section
 from .document import Document, anchor
 from .figure_jobs import FIGURE_WORKERS, FigurePool
@@ -251,7 +251,7 @@ def left_out_text(cases: list[Case], settings: dict) -> str:
 def levels_text(cases: list[Case], settings: dict) -> str:
     """How many P2 levels the 2D cases ran: the profile's, fewer for the cases whose fits are
     asymptotic earlier (``Case.asymptotic_levels``) and for those whose levels cost more than the
-    profile allows (``Case.report_levels``; ``study.cache.case_settings``)."""
+    profile allows (``Case.report_levels``; ``study.planning.cache.case_settings``)."""
     fewer: dict[int, list[str]] = {}
     budget: dict[int, list[str]] = {}
     for case in cases:
@@ -331,7 +331,7 @@ def _contact_caption(case: Case) -> str:
 
 
 def computed_since(cases, store: Path, since: datetime.datetime) -> list[str]:
-    """The cases whose stored results (``study.cache``) were written by this run."""
+    """The cases whose stored results (``study.planning.cache``) were written by this run."""
     def date(case):
         meta = store / f"{case.name}.json"
         return datetime.datetime.fromisoformat(json.loads(meta.read_text())["date"]) if meta.is_file() else None
@@ -393,7 +393,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
 
 def method_files(methods) -> dict[str, str]:
     """{name: sha256 of its file} of the methods defined outside the package (``methods.base.Method.source``):
-    in the settings, whose hash keys the cached results (``study.cache``), so that a changed file
+    in the settings, whose hash keys the cached results (``study.planning.cache``), so that a changed file
     runs its method again."""
     files = {}
     for m in methods:

@@ -1,4 +1,4 @@
-"""The report's section "Is P2 the sweet spot?": the degree study's rows (``study.degree_study``),
+"""The report's section "Is P2 the sweet spot?": the degree study's rows (``study.planning.degree_study``),
 their rates in h and in N against each method's theory, the cost at equal accuracy across the
 degree, per case and mesh strategy, and the error against dofs and against seconds."""
 from __future__ import annotations

@@ -19,7 +19,7 @@ from pathlib import Path
 import pandas as pd
 from PIL import Image
 
-from ..study.files import write_atomic
+from ..study.storage.files import write_atomic
 from .plots import VERDICT_COLORS
 
 CSS = """

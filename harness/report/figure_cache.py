@@ -2,7 +2,7 @@
 
 A figure is a function of its inputs (a case's stored rows and snapshots, a frame of rows, the
 methods' styles) and of the drawing code; when a report is written again over a stored study
-(``study.cache``: every case reused), drawing its figures again would be most of its time.
+(``study.planning.cache``: every case reused), drawing its figures again would be most of its time.
 Each job of ``figure_jobs.FigurePool`` therefore leaves a key beside its figures: the
 SHA-256 of the drawing function's name, its arguments (files by their bytes, frames by their
 values), the styles and the source of the report's drawing modules with the harness's and
@@ -19,7 +19,7 @@ import matplotlib
 import pandas as pd
 
 from .. import __version__
-from ..study.files import write_atomic
+from ..study.storage.files import write_atomic
 
 KEYS = ".keys"           # the folder of keys, inside the figures' folder
 DRAWING_MODULES = ("figures.py", "plots.py", "mesh_figures.py", "figure_jobs.py", "document.py")

@@ -2,7 +2,7 @@
 
 matplotlib draws on one core, and the report has dozens of figures (each in PNG and PDF);
 each needs only its case's stored rows and snapshots, so two processes draw them side by side.
-A case's figures are queued as soon as the case is stored (``study.cache.compute``'s
+A case's figures are queued as soon as the case is stored (``study.planning.cache.compute``'s
 listener), but drawn only on cores the study leaves idle (``cores_free``: the study's tail,
 when fewer jobs are left than worker processes; on one process, once the study is done).
 Drawing them beside the running study, on cores it uses, slows the study more than it saves,
@@ -40,7 +40,7 @@ def _case_figures(source: str, store: str, folder: str) -> dict:
     """The figures of one case from its stored rows (``report_cache``) and snapshots."""
     from ..measure.efficiency import efficiency_table
     from ..problem.case import load_case
-    from ..study.snapshots import load_snapshots
+    from ..study.chain.snapshots import load_snapshots
     from . import figures
     case, store, folder = load_case(source), Path(store), Path(folder)
     frame = pd.read_csv(store / f"{case.name}.csv")
@@ -57,7 +57,7 @@ def _case_figures(source: str, store: str, folder: str) -> dict:
 def _mesh_figures(source: str, frame: pd.DataFrame, mesh_file: str, method: str, folder: str) -> dict:
     """The mesh study's figures of one case (``report.mesh_figures``)."""
     from ..problem.case import load_case
-    from ..study.mesh_study import load_finest_mesh
+    from ..study.planning.mesh_study import load_finest_mesh
     from . import mesh_figures
     case, folder = load_case(source), Path(folder)
     finest = load_finest_mesh(Path(mesh_file))
@@ -99,7 +99,7 @@ class FigurePool:
     """Figures drawn in ``workers`` processes, at most ``cores_free(n)`` at once (none until told:
     the study may still use every core); ``collect`` lets all workers draw, waits, and gives them
     by name (a case's name, "summary", "sweeps") with the seconds each took in its worker. It is
-    the listener of ``study.cache.compute``: a stored case's figures are queued at once.
+    the listener of ``study.planning.cache.compute``: a stored case's figures are queued at once.
     ``methods``: the study's methods (Method objects or names), or their styles
     (``plots.method_styles``)."""
 
@@ -140,7 +140,7 @@ class FigurePool:
             self._changed.notify_all()
 
     def case_stored(self, case) -> None:
-        """``study.cache.compute``'s listener: the case is in ``store``, its figures can be drawn."""
+        """``study.planning.cache.compute``'s listener: the case is in ``store``, its figures can be drawn."""
         self.case(case, self.store)
 
     def _dispatch(self) -> None:

@@ -11,7 +11,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import matplotlib.tri as mtri  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..study.files import write_atomic
+from ..study.storage.files import write_atomic
 from . import plots
 from .document import save_compact
 from .plots import OTHER_COLORS, register_methods, style  # noqa: F401  (register_methods: figure_jobs's)
@@ -179,13 +179,13 @@ def domain(case, snapshot: dict, folder: Path) -> dict[str, Path] | None:
 
 
 def _whose(snapshot: dict) -> str:
-    """" (nodal)": the method whose solution a domain picture shows (``study.snapshots.SnapshotHook``)."""
+    """" (nodal)": the method whose solution a domain picture shows (``study.chain.snapshots.SnapshotHook``)."""
     method = snapshot.get("method")
     return "" if method is None else f" ({method})"
 
 
 def interface(case, snapshot: dict | None, folder: Path) -> dict[str, Path] | None:
-    """Two bodies: both meshes near the interface on a coarse level (``study.snapshots.INTERFACE_LEVEL``),
+    """Two bodies: both meshes near the interface on a coarse level (``study.chain.snapshots.INTERFACE_LEVEL``),
     upper and lower in their own colours, and the vertices of each on Gamma_C: they do not match."""
     if not snapshot:
         return None

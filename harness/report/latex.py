@@ -24,7 +24,7 @@ import pandas as pd
 
 from ..measure.rates import pairwise_rates
 from ..problem.case import fraction
-from ..study.files import ensure_writable, write_atomic
+from ..study.storage.files import ensure_writable, write_atomic
 
 _SPECIAL = {"&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_", "{": r"\{", "}": r"\}",
             "~": r"\textasciitilde{}", "^": r"\textasciicircum{}", "\\": r"\textbackslash{}"}

@@ -1,4 +1,4 @@
-"""The figures of the report's section on meshes (``study.mesh_study``): error and effectivity
+"""The figures of the report's section on meshes (``study.planning.mesh_study``): error and effectivity
 against the number of dofs per mesh strategy, and the finest adaptive mesh with a zoom on the
 singular point."""
 from __future__ import annotations

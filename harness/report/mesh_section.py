@@ -1,5 +1,5 @@
 """The report's section "Meshes that fit the singularity (Remark 4.4)": the mesh study's rows
-(``study.mesh_study``) beside the uniform rows of the same cases and methods, their rates in N,
+(``study.planning.mesh_study``) beside the uniform rows of the same cases and methods, their rates in N,
 the estimator's effectivity, the finest adaptive mesh, and "Is P2 worth it?" on adaptive meshes."""
 from __future__ import annotations
 

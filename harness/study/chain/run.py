@@ -6,14 +6,14 @@ from __future__ import annotations
 
 import ngsolve as ngs
 
-from ..measure.errors import ExactErrors
-from ..measure.level_reference import LevelReferenceErrors
-from ..measure.reference import ReferenceErrors, reference_method
-from ..mesh.levels import LevelSequence, UniformRefinement
-from ..mesh.strategies import UNIFORM, MeshStrategy
-from ..methods import Method, methods_for
-from ..problem.case import REPORT_PROFILES, Case
-from . import threads
+from ...measure.errors import ExactErrors
+from ...measure.level_reference import LevelReferenceErrors
+from ...measure.reference import ReferenceErrors, reference_method
+from ...mesh.levels import LevelSequence, UniformRefinement
+from ...mesh.strategies import UNIFORM, MeshStrategy
+from ...methods import Method, methods_for
+from ...problem.case import REPORT_PROFILES, Case
+from ..execution import threads
 from .one_body import OneBody
 from .rows import ChainOutput, Phases, study_levels
 from .two_body import run_two_body_chain

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..mesh.points import evaluate
-from ..methods import REFERENCE, with_role
-from .files import write_atomic
+from ...mesh.points import evaluate
+from ...methods import REFERENCE, with_role
+from ..storage.files import write_atomic
 from .rows import study_levels
 
 PICTURE_LEVEL = 3
@@ -94,7 +94,7 @@ def two_body_snapshot(case, problem, solve) -> dict:
     """``contact_snapshot``'s fields for two bodies (``fem.two_body``): along Gamma_C the opening
     c_1 + c_2 of u_h and of u (twice the one-body contact value), twice the obstacle, the
     pressures (the mortar pressure per slave edge, ``methods._mortar``)."""
-    from ..fem.two_body import opening
+    from ...fem.two_body import opening
     x, values = opening(problem, solve.u, SAMPLES_PER_EDGE)
     points = np.stack([x, np.zeros_like(x)], axis=-1)
     upper = problem.upper

@@ -31,21 +31,21 @@ from __future__ import annotations
 import math
 from collections.abc import Iterator
 
-from ..fem.assembly import discretise
-from ..fem.element_quadrature import ElementQuadrature
-from ..fem.two_body import TwoBodyProblem
-from ..measure.errors import ExactErrors
-from ..measure.quantities import exact_column, exact_quantities, quantities, strain_energy
-from ..measure.two_body_estimator import TwoBodyEstimator
-from ..mesh.levels import Level
-from ..mesh.strategies import UNIFORM, element_budget, singular_lines, singular_points
-from ..mesh.two_body_levels import AdaptivePair, GradedPair, UniformPair
-from ..methods import methods_for
-from ..problem.bodies import lower_body
-from ..solvers.joint_multigrid import JointMultilevel
-from ..solvers.multigrid import Multilevel
+from ...fem.assembly import discretise
+from ...fem.element_quadrature import ElementQuadrature
+from ...fem.two_body import TwoBodyProblem
+from ...measure.errors import ExactErrors
+from ...measure.quantities import exact_column, exact_quantities, quantities, strain_energy
+from ...measure.two_body_estimator import TwoBodyEstimator
+from ...mesh.levels import Level
+from ...mesh.strategies import UNIFORM, element_budget, singular_lines, singular_points
+from ...mesh.two_body_levels import AdaptivePair, GradedPair, UniformPair
+from ...methods import methods_for
+from ...problem.bodies import lower_body
+from ...solvers.joint_multigrid import JointMultilevel
+from ...solvers.multigrid import Multilevel
 from .rows import ChainOutput, Phases, study_levels
-from .threads import p2_size
+from ..execution.threads import p2_size
 from .walk import ChainPlan, ChainWalk
 
 # the error columns combined over the bodies as the root of the sum of squares

@@ -22,24 +22,24 @@ from pathlib import Path
 import ngsolve as ngs
 import pandas as pd
 
-from .. import __version__
-from ..methods import ContactLawMethod, methods_named
-from ..methods.base import EXTRA_LEVELS
-from ..problem.case import Case
-from ..problem.validate import validate_case
-from ..solvers.options import SolverOptions
+from ... import __version__
+from ...methods import ContactLawMethod, methods_named
+from ...methods.base import EXTRA_LEVELS
+from ...problem.case import Case
+from ...problem.validate import validate_case
+from ...solvers.options import SolverOptions
 from . import degree_study
-from .budget import SWEEP_SECONDS_PER_DOF, solve_weights
-from .chain import BothHooks
-from .checkpoint import CheckpointStore, code_digest
-from .engines import InProcess, Job, chains, check_methods, mesh_scope, plan, study_weights, tidy
-from .files import ensure_writable, write_atomic, write_csv
+from ..execution.budget import SWEEP_SECONDS_PER_DOF, solve_weights
+from ..chain.run import BothHooks
+from ..storage.checkpoint import CheckpointStore, code_digest
+from ..execution.engines import InProcess, Job, chains, check_methods, mesh_scope, plan, study_weights, tidy
+from ..storage.files import ensure_writable, write_atomic, write_csv
 from .mesh_study import FinestMesh, mesh_config, mesh_jobs_plan, mesh_levels, read_mesh_results, save_finest_mesh, store_name
-from .progress import StudyProgress, scoped
-from .rows import PHASES
-from .snapshots import SnapshotHook, save_snapshots
+from ..execution.progress import StudyProgress, scoped
+from ..chain.rows import PHASES
+from ..chain.snapshots import SnapshotHook, save_snapshots
 from .sweep import REPORT_SWEEP, label_sweep, sweep_plan
-from .threads import usable_cpus
+from ..execution.threads import usable_cpus
 from .timing import Timings
 
 PACKAGE = Path(__file__).resolve().parents[1]

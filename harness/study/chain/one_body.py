@@ -7,14 +7,14 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from ..fem.assembly import discretise
-from ..fem.element_quadrature import ElementQuadrature
-from ..measure.estimator import ResidualEstimator
-from ..measure.quantities import exact_quantities, quantities
-from ..mesh.levels import Level, LevelSequence
-from ..mesh.strategies import element_budget
-from ..solvers.multigrid import Multilevel
-from .threads import p2_size
+from ...fem.assembly import discretise
+from ...fem.element_quadrature import ElementQuadrature
+from ...measure.estimator import ResidualEstimator
+from ...measure.quantities import exact_quantities, quantities
+from ...mesh.levels import Level, LevelSequence
+from ...mesh.strategies import element_budget
+from ...solvers.multigrid import Multilevel
+from ..execution.threads import p2_size
 
 
 def has_estimator(case, sequence: LevelSequence) -> bool:

@@ -26,17 +26,17 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..mesh.strategies import UNIFORM, MeshStrategy, refusal, serves
-from ..methods import methods_for
-from ..problem.case import load_case
-from ..problem.validate import validate_case
+from ...mesh.strategies import UNIFORM, MeshStrategy, refusal, serves
+from ...methods import methods_for
+from ...problem.case import load_case
+from ...problem.validate import validate_case
 from . import budget
 from . import threads as thread_policy
 from .budget import check_fits, estimate, solve_weights
-from .chain import run_chain
-from .checkpoint import CheckpointStore
+from ..chain.run import run_chain
+from ..storage.checkpoint import CheckpointStore
 from .progress import Scoped, StudyProgress, scoped
-from .rows import COLUMNS, Phases
+from ..chain.rows import COLUMNS, Phases
 from .threads import usable_cpus
 
 
@@ -190,8 +190,8 @@ def planned_levels(job: Job) -> int:
     mesh = job.mesh
     if getattr(mesh, "name", None) != "hp":
         return job.levels
-    from ..mesh.hp import uniform_equivalent
-    from ..mesh.levels import coarse_mesh
+    from ...mesh.hp import uniform_equivalent
+    from ...mesh.levels import coarse_mesh
     return uniform_equivalent(coarse_mesh(job.case).ne, max(m.order for m in job.methods), job.levels, mesh.mu)
 
 

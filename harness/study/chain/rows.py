@@ -8,7 +8,7 @@ from collections import defaultdict
 from contextlib import contextmanager
 from dataclasses import dataclass
 
-from ..methods import Method
+from ...methods import Method
 
 COLUMNS = [
     "case", "method", "order", "parameters", "mesh", "dimension", "level", "h", "ndof", "n_contact_constraints", "err_h1", "err_h1_semi",

@@ -8,9 +8,9 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 
-from ..mesh.levels import coarse_mesh
-from .chain import chain_levels, chain_methods, is_reference
-from .rows import study_levels
+from ...mesh.levels import coarse_mesh
+from ..chain.run import chain_levels, chain_methods, is_reference
+from ..chain.rows import study_levels
 
 MB = 2.0**20
 

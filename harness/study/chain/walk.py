@@ -14,9 +14,9 @@ from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Protocol
 
-from ..measure.estimator import estimate
-from ..mesh.levels import Level
-from . import threads
+from ...measure.estimator import estimate
+from ...mesh.levels import Level
+from ..execution import threads
 from .rows import ChainOutput, Phases, keep, level_row
 
 

@@ -15,12 +15,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..measure.reference import REFERENCE_METHOD
-from ..mesh.points import cells, coordinates
-from ..mesh.strategies import parse_meshes, refusal
-from ..mesh.trace import contact_trace
-from ..methods import BASELINE, MESH_STUDY, PAPER, SWEPT, methods_named
-from .files import write_atomic
+from ...measure.reference import REFERENCE_METHOD
+from ...mesh.points import cells, coordinates
+from ...mesh.strategies import parse_meshes, refusal
+from ...mesh.trace import contact_trace
+from ...methods import BASELINE, MESH_STUDY, PAPER, SWEPT, methods_named
+from ..storage.files import write_atomic
 
 PLAN = {
     # a junction (r^1/2), a transition point (r^3/2), the elastic junction at 3 pi / 4 (r^0.5445:

@@ -11,8 +11,8 @@ from pathlib import Path
 
 import pandas as pd
 
-from ..mesh.strategies import parse_meshes, refusal, serves
-from ..methods import methods_named
+from ...mesh.strategies import parse_meshes, refusal, serves
+from ...methods import methods_named
 
 PLAN = {
     # (case, the mesh strategies it runs on): adaptive and hp meshes where a singular point limits
@@ -47,7 +47,7 @@ def degree_jobs_plan(cases, config: dict):
     ``config`` among ``cases``, and where the report runs its profile's list, those it lacks
     from the registry (smooth-quintic is the fine profile's case, the degree study's at every
     profile)."""
-    from ..problem.case import registered_cases
+    from ...problem.case import registered_cases
     methods = methods_named(config["methods"]) if config["methods"] else []
     given = {case.name: case for case in cases}
     known = registered_cases() if config.get("registry", True) else {}
