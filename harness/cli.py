@@ -118,10 +118,10 @@ def cmd_sweep(args) -> int:
 
     from .problem.case import load_case
     from .report import figures
+    from .study.planning.sweep import run_sweep, swept
     from .study.storage.files import write_csv
     from .study.storage.folder import owned
     from .study.storage.store import study_phase
-    from .study.planning.sweep import run_sweep, swept
     case = load_case(args.case)
     for spec in args.method:
         swept(spec, args.values)        # a method without a parameter is refused before anything is written

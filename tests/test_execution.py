@@ -23,10 +23,10 @@ from harness.methods import METHODS, methods_for, methods_named
 from harness.problem.case import load_case, registered_cases
 from harness.study import DaskEngine, InProcess, LocalProcesses, budget, run_study
 from harness.study.execution.budget import BudgetError, LevelSizes, estimate
-from harness.study.storage.checkpoint import CheckpointStore
 from harness.study.execution.engines import chains, study_weights
-from harness.study.storage.files import write_csv
 from harness.study.execution.progress import StudyProgress
+from harness.study.storage.checkpoint import CheckpointStore
+from harness.study.storage.files import write_csv
 
 REPOSITORY = Path(__file__).resolve().parents[1]
 # what may differ between two runs of one study: wall times

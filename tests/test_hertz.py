@@ -9,8 +9,8 @@ import pytest
 
 import harness
 from harness.problem.case import CaseError, load_case, registered_cases
-from harness.study.planning.cache import case_settings
 from harness.study.chain import PROFILES
+from harness.study.planning.cache import case_settings
 
 CASE = Path(__file__).resolve().parent.parent / "cases" / "hertz_line.py"
 

@@ -104,24 +104,51 @@ def test_report_answers_whether_p2_is_worth_it(report):
 
 
 def test_rewording_the_report_keeps_the_study_cache_key_and_changing_a_solver_does_not(tmp_path):
-    """The cache key hashes the computing stages only: a sentence of the report's prose (or a
-    benchmark) edited in a copy of the package leaves it unchanged, a solver's code does not."""
+    """The cache key hashes the computing code only: a sentence of the report's prose, a comment
+    in a report module and in a planning module (``study.planning``), a benchmark, edited in a copy
+    of the package, leave it unchanged; a solver's code does not. A comment or docstring edited in
+    the computing code leaves it unchanged too (its syntax is hashed), and the figures' key with it."""
     import shutil
 
-    from harness.study.storage.checkpoint import PACKAGE, code_digest
+    from harness.study.storage.digest import COMPUTING, PACKAGE, code_digest
     copy = tmp_path / "harness"
     shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    before = code_digest(copy)
-    assert before == code_digest(PACKAGE)
+    before, drawing = code_digest(copy), code_digest(copy, ("report",))
+    assert before == code_digest(PACKAGE) == code_digest(PACKAGE, COMPUTING)
     build = copy / "report" / "build.py"
     build.write_text(build.read_text().replace("Fitted H¹ rates", "Fitted H1 rates"))
-    (copy / "bench" / "solvers.py").write_text((copy / "bench" / "solvers.py").read_text() + "\n# a note\n")
+    for path in [copy / "bench" / "solvers.py", *(copy / "study" / "planning").glob("*.py"), *(copy / "report").rglob("*.py")]:
+        path.write_text("# a note\n" + path.read_text() + "\n# a note\n")
+    newton = copy / "solvers" / "newton.py"
+    newton.write_text(newton.read_text().replace('"""', '"""A reworded docstring. ', 1) + "\n# a comment\n")
     code_digest.cache_clear()
     assert code_digest(copy) == before
-    newton = copy / "solvers" / "newton.py"
-    newton.write_text(newton.read_text() + "\n# a change\n")
+    build.write_text(build.read_text().replace("Fitted H1 rates", "Fitted H¹ rates"))
+    code_digest.cache_clear()
+    assert code_digest(copy, ("report",)) == drawing            # comments only: no figure drawn again
+    newton.write_text(newton.read_text() + "\nCHANGE = 1\n")
     code_digest.cache_clear()
     assert code_digest(copy) != before
+
+
+def test_the_case_cache_the_checkpoints_and_the_figures_share_one_digest(tmp_path, monkeypatch):
+    """``cache_key``, ``chain_key`` and ``figure_cache.job_key`` all begin with
+    ``digest.code_hash``: NGSolve's version is in each of them, the report's code in none but
+    the figures'."""
+    from harness.methods import METHODS
+    from harness.problem.case import load_case
+    from harness.report import figure_cache
+    from harness.study.planning.cache import cache_key
+    from harness.study.storage import digest
+    from harness.study.storage.checkpoint import chain_key
+    case = load_case("transition-r32")
+
+    def keys():
+        return (cache_key(case, {"levels": 3}), chain_key(case, METHODS["nodal"], 3),
+                figure_cache.job_key(figure_cache.job_key, {}, ()))
+    before = keys()
+    monkeypatch.setattr(digest, "ngsolve_version", lambda: "0.0")
+    assert all(a != b for a, b in zip(before, keys()))
 
 
 def test_a_figure_is_drawn_again_when_its_rows_its_files_or_the_styles_change(tmp_path):

@@ -21,8 +21,8 @@ from harness.mesh.points import evaluate
 from harness.methods import METHODS, methods_for
 from harness.problem.case import CaseError, load_case, registered_cases
 from harness.solvers.active_set import solve_contact_qp
-from harness.study.execution.budget import LevelSizes
 from harness.study.chain import run_chain
+from harness.study.execution.budget import LevelSizes
 
 # the 3D cases with u (the reference case hertz-sphere, whose levels and reference cost 8 times the
 # dofs each, is test_hertz's and test_reference's)

@@ -71,8 +71,8 @@ def test_singular_point_off_the_mesh_vertices_is_refused():
 
 
 def test_a_case_asymptotic_by_six_levels_runs_six_in_the_default_report_and_what_it_is_told_otherwise():
-    from harness.study.planning.cache import case_settings, study_groups
     from harness.study.chain import PROFILES
+    from harness.study.planning.cache import case_settings, study_groups
     known = registered_cases()
     default, fine = {"profile": "default", **PROFILES["default"]}, {"profile": "fine", **PROFILES["fine"]}
     assert known["corner-r12"].asymptotic_levels == 6
@@ -90,8 +90,8 @@ def test_a_case_asymptotic_by_six_levels_runs_six_in_the_default_report_and_what
 
 
 def test_p1_stops_with_p2_in_the_default_report_where_the_case_says_its_fits_are_asymptotic():
-    from harness.study.planning.cache import case_settings, study_methods
     from harness.study.chain import PROFILES, study_levels
+    from harness.study.planning.cache import case_settings, study_methods
     known = registered_cases()
     default, fine = {"methods": ["all"], **PROFILES["default"]}, {"methods": ["all"], **PROFILES["fine"]}
 

@@ -150,8 +150,8 @@ def bench_provenance(title: str, goals, wall_seconds: float | None, command: str
     process may use and the processor's name), the command line, the table's wall seconds and
     the load averages as it is written, and the goals judged on it ((goal, met, figure) each, as
     `bench` prints them)."""
-    from ..study.planning.cache import environment
     from ..study.execution.threads import usable_cpus
+    from ..study.planning.cache import environment
     meta = {"title": title} | environment()
     meta["machine"] |= {"cpus_usable": usable_cpus(), "cpu_model": cpu_model()}
     # the machine's load averages (1, 5, 15 minutes) as the table is written: NGSolve's threads

@@ -23,14 +23,14 @@ from ..methods import DEGREES, METHODS, SWEPT, get_method, methods_named, with_r
 from ..methods import known as known_methods
 from ..problem.case import REPORT_PROFILES, Case, fraction, registered_cases
 from ..study import InProcess
-from ..study.planning.cache import case_settings, compute, provenance
 from ..study.chain import PROFILES
+from ..study.planning.cache import case_settings, compute, provenance
+from ..study.planning.mesh_study import PICTURE_METHOD
+from ..study.planning.timing import Timings
 from ..study.storage.files import ensure_writable, write_atomic, write_csv
 from ..study.storage.folder import all_owned
 from ..study.storage.merge import read_rows
-from ..study.planning.mesh_study import PICTURE_METHOD
 from ..study.storage.store import merge_into
-from ..study.planning.timing import Timings
 from .degree_section import add_degree_section
 from .document import Document, anchor
 from .figure_jobs import FIGURE_WORKERS, FigurePool

@@ -5,32 +5,23 @@ methods' styles) and of the drawing code; when a report is written again over a 
 (``study.planning.cache``: every case reused), drawing its figures again would be most of its time.
 Each job of ``figure_jobs.FigurePool`` therefore leaves a key beside its figures: the
 SHA-256 of the drawing function's name, its arguments (files by their bytes, frames by their
-values), the styles and the source of the report's drawing modules with the harness's and
-matplotlib's versions. A job whose key is stored, with every figure it names on disk, is not
+values), the styles, and the code of the report (``study.storage.digest.code_hash``: its syntax, so
+that an edited comment draws nothing again) with the harness's, NGSolve's and Matplotlib's versions. A job whose key is stored, with every figure it names on disk, is not
 drawn again.
 """
 from __future__ import annotations
 
-import hashlib
 import json
 from pathlib import Path
 
 import matplotlib
 import pandas as pd
 
-from .. import __version__
+from ..study.storage.digest import code_hash
 from ..study.storage.files import write_atomic
 
 KEYS = ".keys"           # the folder of keys, inside the figures' folder
-DRAWING_MODULES = ("figures.py", "plots.py", "mesh_figures.py", "figure_jobs.py", "document.py")
-
-
-def _code_digest() -> str:
-    here = Path(__file__).parent
-    digest = hashlib.sha256(f"{__version__} {matplotlib.__version__}".encode())
-    for name in DRAWING_MODULES:
-        digest.update((here / name).read_bytes())
-    return digest.hexdigest()
+DRAWING_CODE = ("report",)        # what draws a figure: the report package
 
 
 def _feed(digest, value) -> None:
@@ -48,7 +39,7 @@ def _feed(digest, value) -> None:
 
 def job_key(draw, styles: dict, args: tuple, inputs: tuple = ()) -> str:
     """The key of one figure job: ``draw(styles, *args)``, reading also the files ``inputs``."""
-    digest = hashlib.sha256(_code_digest().encode())
+    digest = code_hash(DRAWING_CODE, harness_version=True, versions=(f"matplotlib {matplotlib.__version__}",))
     digest.update(draw.__name__.encode())
     digest.update(json.dumps(styles, sort_keys=True, default=repr).encode())
     for value in (*args, *map(str, inputs)):

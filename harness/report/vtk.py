@@ -28,9 +28,9 @@ import meshio
 import numpy as np
 
 from ..mesh.points import cells, coordinates, evaluate, in_elements
-from ..study.storage.files import TEMPORARY_MARK, write_atomic
 from ..study.chain.rows import study_levels
 from ..study.chain.snapshots import problem_vertex_values
+from ..study.storage.files import TEMPORARY_MARK, write_atomic
 
 # VTK's node order of quadratic cells: the corners, then the midpoints of these corner pairs
 QUADRATIC_SIDES = {2: ((0, 1), (1, 2), (2, 0)), 3: ((0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3))}

@@ -4,7 +4,7 @@ after another, resumable), meshed, discretised and solved (``one_body``, ``two_b
 rows (``rows``) and said in words (``outcome``), and what the report draws of them collected on
 the way (``snapshots``). The computing code of the study: its source is part of the cache digest
 (``study.storage.digest``)."""
-from .run import PROFILES, BothHooks, chain_levels, chain_methods, is_reference, run_chain
 from .rows import study_levels
+from .run import PROFILES, BothHooks, chain_levels, chain_methods, is_reference, run_chain
 
 __all__ = ["PROFILES", "BothHooks", "chain_levels", "chain_methods", "is_reference", "run_chain", "study_levels"]

@@ -44,8 +44,8 @@ from ...methods import methods_for
 from ...problem.bodies import lower_body
 from ...solvers.joint_multigrid import JointMultilevel
 from ...solvers.multigrid import Multilevel
-from .rows import ChainOutput, Phases, study_levels
 from ..execution.threads import p2_size
+from .rows import ChainOutput, Phases, study_levels
 from .walk import ChainPlan, ChainWalk
 
 # the error columns combined over the bodies as the root of the sum of squares

@@ -9,8 +9,8 @@ import os
 from dataclasses import dataclass
 
 from ...mesh.levels import coarse_mesh
-from ..chain.run import chain_levels, chain_methods, is_reference
 from ..chain.rows import study_levels
+from ..chain.run import chain_levels, chain_methods, is_reference
 
 MB = 2.0**20
 

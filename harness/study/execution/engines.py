@@ -30,13 +30,13 @@ from ...mesh.strategies import UNIFORM, MeshStrategy, refusal, serves
 from ...methods import methods_for
 from ...problem.case import load_case
 from ...problem.validate import validate_case
+from ..chain.rows import COLUMNS, Phases
+from ..chain.run import run_chain
+from ..storage.checkpoint import CheckpointStore
 from . import budget
 from . import threads as thread_policy
 from .budget import check_fits, estimate, solve_weights
-from ..chain.run import run_chain
-from ..storage.checkpoint import CheckpointStore
 from .progress import Scoped, StudyProgress, scoped
-from ..chain.rows import COLUMNS, Phases
 from .threads import usable_cpus
 
 

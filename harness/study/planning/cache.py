@@ -8,7 +8,6 @@ beside it); ``make clean`` forgets them.
 from __future__ import annotations
 
 import datetime
-import hashlib
 import json
 import os
 import platform
@@ -28,18 +27,19 @@ from ...methods.base import EXTRA_LEVELS
 from ...problem.case import Case
 from ...problem.validate import validate_case
 from ...solvers.options import SolverOptions
-from . import degree_study
-from ..execution.budget import SWEEP_SECONDS_PER_DOF, solve_weights
-from ..chain.run import BothHooks
-from ..storage.checkpoint import CheckpointStore, code_digest
-from ..execution.engines import InProcess, Job, chains, check_methods, mesh_scope, plan, study_weights, tidy
-from ..storage.files import ensure_writable, write_atomic, write_csv
-from .mesh_study import FinestMesh, mesh_config, mesh_jobs_plan, mesh_levels, read_mesh_results, save_finest_mesh, store_name
-from ..execution.progress import StudyProgress, scoped
 from ..chain.rows import PHASES
+from ..chain.run import BothHooks
 from ..chain.snapshots import SnapshotHook, save_snapshots
-from .sweep import REPORT_SWEEP, label_sweep, sweep_plan
+from ..execution.budget import SWEEP_SECONDS_PER_DOF, solve_weights
+from ..execution.engines import InProcess, Job, chains, check_methods, mesh_scope, plan, study_weights, tidy
+from ..execution.progress import StudyProgress, scoped
 from ..execution.threads import usable_cpus
+from ..storage.checkpoint import CheckpointStore
+from ..storage.digest import code_hash
+from ..storage.files import ensure_writable, write_atomic, write_csv
+from . import degree_study
+from .mesh_study import FinestMesh, mesh_config, mesh_jobs_plan, mesh_levels, read_mesh_results, save_finest_mesh, store_name
+from .sweep import REPORT_SWEEP, label_sweep, sweep_plan
 from .timing import Timings
 
 PACKAGE = Path(__file__).resolve().parents[1]
@@ -79,11 +79,11 @@ def provenance(settings: dict, methods=()) -> dict:
 
 
 def cache_key(case: Case, settings: dict) -> str:
-    """Hash of the harness source, the case file and the settings."""
-    digest = hashlib.sha256(code_digest().encode())
+    """Hash of the computing code and NGSolve's version (``study.storage.digest.code_hash``: not
+    the report, nor this planning), the case file and the settings."""
+    digest = code_hash()
     digest.update(Path(case.source).read_bytes())
     digest.update(json.dumps(settings, sort_keys=True).encode())
-    digest.update(ngs.__version__.encode())
     return digest.hexdigest()
 
 

@@ -11,9 +11,9 @@ import pandas as pd
 from ...fem.laws import THETAS
 from ...measure.reference import REFERENCE_METHOD
 from ...methods import SWEPT, Method, methods_named, with_role
-from ..execution.engines import run_study
-from ..execution.budget import solve_weights
 from ..chain.rows import study_levels
+from ..execution.budget import solve_weights
+from ..execution.engines import run_study
 
 # eps0 / gamma0 values: four decades around the defaults (0.05) and past theta = 1's bound
 # (gamma0 < 0.145 for P2 on every registered case, ``methods/nitsche.py``)

@@ -9,40 +9,22 @@ trust.
 """
 from __future__ import annotations
 
-import functools
 import hashlib
 import pickle
 import re
 import shutil
 from pathlib import Path
 
+from .digest import code_hash
 from .files import write_atomic
-
-PACKAGE = Path(__file__).resolve().parents[1]
-
-
-# the stages whose code computes a study's rows and snapshots; the report (which renders them),
-# the benchmarks and the entry points are left out, so that rewording the report reuses the study
-COMPUTING_STAGES = ("mesh", "problem", "fem", "solvers", "methods", "measure", "study")
-
-
-@functools.lru_cache(maxsize=4)
-def code_digest(package: Path = PACKAGE) -> str:
-    """Hash of the computing stages' source (of ``package``, default this harness): results and
-    checkpoints of other code are not reused."""
-    digest = hashlib.sha256()
-    for stage in COMPUTING_STAGES:
-        for path in sorted((package / stage).rglob("*.py")):
-            digest.update(str(path.relative_to(package)).encode())
-            digest.update(path.read_bytes())
-    return digest.hexdigest()
 
 
 def chain_key(case, method, levels: int, hook=None, mesh: str = "uniform") -> str:
-    """What a (case, method) chain's results depend on: the code, the case file and its
-    reference setting, the method (and the file of one from outside the package) and its parameters, the number of levels, the hook, the
-    mesh strategy."""
-    digest = hashlib.sha256(code_digest().encode())
+    """What a (case, method) chain's results depend on: the computing code and NGSolve's version
+    (``digest.code_hash``), the case file and its reference setting, the method (and the file of
+    one from outside the package) and its parameters, the number of levels, the hook, the mesh
+    strategy."""
+    digest = code_hash()
     digest.update(Path(case.source).read_bytes())
     if method.source:               # a method from outside the package: its file too
         digest.update(Path(method.source).read_bytes())

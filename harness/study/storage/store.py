@@ -12,8 +12,6 @@ from pathlib import Path
 
 import pandas as pd
 
-from .checkpoint import CheckpointStore
-from ..execution.engines import run_study
 from .files import write_csv
 from .folder import owned
 from .merge import Merged, merge_rows, read_rows
