@@ -218,7 +218,7 @@ def test_a_case_file_that_exits_or_raises_at_import_is_one_line_naming_file_and_
 
 def test_an_unreachable_scheduler_is_one_line_within_its_timeout(tmp_path, capsys, monkeypatch):
     from harness import cli
-    from harness.study import dask_engine
+    from harness.study.execution import dask_engine
     monkeypatch.setattr(dask_engine, "SCHEDULER_TIMEOUT", 1)
     code = cli.main(["run", "--case", "transition-r32", "--method", "nodal", "--levels", "1", "--out", str(tmp_path),
                      "--scheduler", "tcp://127.0.0.1:1", "--quiet"])
@@ -242,7 +242,7 @@ def test_every_failed_solve_is_one_line_on_stderr_even_with_quiet(tmp_path, caps
 
 def test_an_unexpected_error_is_one_line_and_debug_shows_its_traceback(tmp_path, capsys, monkeypatch):
     from harness import cli
-    from harness.study import engines
+    from harness.study.execution import engines
 
     def broken(*args, **kwargs):
         raise RuntimeError("something inside")

@@ -11,7 +11,7 @@ import pandas as pd
 import pytest
 
 from harness.cli import main
-from harness.study import threads
+from harness.study.execution import threads
 from harness.study.storage.files import TEMPORARY_MARK, write_atomic
 from harness.study.storage.folder import LOCK_NAME, FolderBusy, owned
 from harness.study.storage.merge import ROW_KEY, merge_rows, read_rows
@@ -116,7 +116,7 @@ def test_a_file_that_is_not_results_is_refused_before_the_study(tmp_path, capsys
 
 
 def test_a_failed_run_leaves_only_the_checkpoints_its_resume_reuses(tmp_path, monkeypatch, capsys):
-    from harness.study import walk
+    from harness.study.chain import walk
     solved = []
     original = walk.keep
 

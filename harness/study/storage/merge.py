@@ -10,6 +10,7 @@ from pathlib import Path
 
 import pandas as pd
 
+from ...measure.results_file import NotResults, read_results
 from .files import OutputError
 
 # what identifies a row: the same key computed again replaces it
@@ -17,21 +18,16 @@ ROW_KEY = ["case", "method", "parameters", "mesh", "level"]
 
 
 def read_rows(path: Path) -> pd.DataFrame | None:
-    """The rows already in results file ``path`` (None if there is none); OutputError, naming
-    it, if it is not one this harness can merge into (nothing is then written over it)."""
+    """The rows already in results file ``path`` (None if there is none; read by
+    ``measure.results_file.read_results``); OutputError, naming it, if it is not one this harness
+    can merge into (nothing is then written over it)."""
     path = Path(path)
     if not path.is_file():
         return None
     try:
-        frame = pd.read_csv(path)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise OutputError(f"{path} is not a results CSV ({exc}): move it away or choose another output folder") from None
-    missing = [c for c in ("case", "method", "level") if c not in frame.columns]
-    if missing:
-        raise OutputError(f"{path} is not a results CSV (no column {', '.join(missing)}): "
-                          f"move it away or choose another output folder")
-    if "mesh" not in frame.columns:         # before the mesh axis: uniform meshes
-        frame["mesh"] = "uniform"
+        frame = read_results(path, ("case", "method", "level"))
+    except NotResults as exc:
+        raise OutputError(f"{exc}: move it away or choose another output folder") from None
     if "parameters" not in frame.columns:
         frame["parameters"] = ""
     return frame
