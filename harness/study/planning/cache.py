@@ -38,7 +38,8 @@ from ..storage.checkpoint import CheckpointStore
 from ..storage.digest import code_hash
 from ..storage.files import ensure_writable, write_atomic, write_csv
 from . import degree_study
-from .mesh_study import FinestMesh, mesh_config, mesh_jobs_plan, mesh_levels, read_mesh_results, save_finest_mesh, store_name
+from .mesh_study import FinestMesh, mesh_config, mesh_jobs_plan, mesh_levels, read_mesh_results, save_finest_mesh
+from .stored import store_name
 from .sweep import REPORT_SWEEP, label_sweep, sweep_plan
 from .timing import Timings
 
@@ -288,7 +289,7 @@ def plan_mesh_studies(work: Work, cases: list[Case], config: dict, stores: Store
 def plan_degree_studies(work: Work, cases: list[Case], config: dict, stores: Stores) -> None:
     """The jobs of the degree study's (case, mesh strategy) chains not stored."""
     for case, mesh, methods in degree_study.degree_jobs_plan(cases, config):
-        name = degree_study.store_name(case, mesh)
+        name = store_name(case, mesh)
         key = cache_key(case, {"degree_study": config, "mesh": mesh.label})
         if _stored(stores.degrees / f"{name}.json", [stores.degrees / f"{name}.csv"], key):
             print(f"{case.name}: reusing the degree study on {mesh.label} meshes computed with the same code and settings")
@@ -306,7 +307,7 @@ def plan_degree_studies(work: Work, cases: list[Case], config: dict, stores: Sto
 
 def _store_degrees(store: Path, case: Case, mesh, outputs: list, methods, config: dict) -> None:
     """One (case, mesh strategy)'s rows of the degree study in the report's cache."""
-    name = degree_study.store_name(case, mesh)
+    name = store_name(case, mesh)
     write_csv(tidy(outputs, [case], methods, [mesh]), store / f"{name}.csv")
     CheckpointStore(store / ".checkpoints", degree_study.levels_of(mesh, config), None, mesh.label).forget(case)
     write_atomic(store / f"{name}.json", json.dumps(provenance({"degree_study": config}) | {

@@ -13,6 +13,7 @@ import pandas as pd
 
 from ...mesh.strategies import parse_meshes, refusal, serves
 from ...methods import methods_named
+from .stored import read_stored
 
 PLAN = {
     # (case, the mesh strategies it runs on): adaptive and hp meshes where a singular point limits
@@ -62,12 +63,6 @@ def degree_jobs_plan(cases, config: dict):
                 yield case, mesh, served
 
 
-def store_name(case, mesh) -> str:
-    return f"{case.name}-{mesh.label.replace(':', '_').replace('=', '')}"
-
-
 def read_degree_results(store: Path, cases, config: dict) -> pd.DataFrame:
     """Every stored (case, mesh) frame the degree study of ``config`` has (empty if none)."""
-    paths = [Path(store) / f"{store_name(case, mesh)}.csv" for case, mesh, _ in degree_jobs_plan(cases, config)]
-    frames = [pd.read_csv(path) for path in paths if path.is_file()]
-    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    return read_stored(store, degree_jobs_plan(cases, config))

@@ -21,6 +21,7 @@ from ...mesh.strategies import parse_meshes, refusal
 from ...mesh.trace import contact_trace
 from ...methods import BASELINE, MESH_STUDY, PAPER, SWEPT, methods_named
 from ..storage.files import write_atomic
+from .stored import read_stored
 
 PLAN = {
     # a junction (r^1/2), a transition point (r^3/2), the elastic junction at 3 pi / 4 (r^0.5445:
@@ -77,10 +78,6 @@ def mesh_jobs_plan(cases, config: dict):
                 yield case, mesh, own
 
 
-def store_name(case, mesh) -> str:
-    return f"{case.name}-{mesh.label.replace(':', '_').replace('=', '')}"
-
-
 class FinestMesh:
     """An ``on_level`` hook keeping every adaptive level's mesh of ``PICTURE_METHOD`` (vertices and
     triangles; in 3D the triangles of Gamma_C, where the contact's singular lines lie); the store
@@ -115,6 +112,4 @@ def load_finest_mesh(path: Path):
 
 def read_mesh_results(store: Path, cases, config: dict) -> pd.DataFrame:
     """Every stored (case, mesh) frame the mesh study of ``config`` has for ``cases`` (empty if none)."""
-    paths = [Path(store) / f"{store_name(case, mesh)}.csv" for case, mesh, _ in mesh_jobs_plan(cases, config)]
-    frames = [pd.read_csv(path) for path in paths if path.is_file()]
-    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    return read_stored(store, mesh_jobs_plan(cases, config))
