@@ -9,12 +9,18 @@ __version__ = "0.10.3"      # the one version: pyproject.toml reads it
 _PUBLIC = {
     "run": "api", "rates": "api", "quantities": "api", "efficiency": "api", "plot": "api", "store": "api",
     "cases": "api", "case_table": "api", "method_table": "api", "StudyWarning": "api",
-    "report": "report",             # the report package, callable: harness.report(...) builds the report
+    "report": "api", "sweep": "api", "latex_tables": "api", "Engine": "study.execution.engines",
     "load_case": "problem.case", "registered_cases": "problem.case", "Case": "problem.case",
     "CaseError": "problem.case", "METHODS": "methods", "methods_named": "methods",
     "InProcess": "study", "LocalProcesses": "study", "DaskEngine": "study",
     "FolderBusy": "study.storage.folder", "StudyFailed": "study.storage.store", "VtkWriter": "report.vtk",
 }
+# the report package, imported once here, where the import system binds it as `harness.report`;
+# unbound again, so that `harness.report` is the function of _PUBLIC and stays so after
+# `import harness.report.plots` (the package is bound once, when first imported)
+from . import report as _report_package  # noqa: E402
+
+del globals()["report"], _report_package
 __all__ = list(_PUBLIC)
 
 

@@ -190,6 +190,75 @@ def store(rows, folder) -> Path:
     return store_rows(rows_of(rows), folder).path
 
 
+def sweep(case, methods, values=None, level: int = 4, *, reference=True, out=None, engine=None,
+          show_progress: bool = True) -> pd.DataFrame:
+    """A parameter sweep: each of ``methods`` (with a parameter: "penalty", "nitsche:theta=-1",
+    ...) at every value of its first parameter (gamma0 or eps0; ``values``: default
+    ``study.planning.sweep.SWEEP_VALUES``), on level ``level`` of ``case`` (P1 methods: their level
+    with about the same dofs), beside a reference method (``reference``: True, the reference of
+    ``measure.reference``; a method's name; None, none); one
+    row per method and value, with its swept method, parameter and value (``sweep_*`` columns).
+    ``out``: a folder, owned by this call while it lasts, where sweep_CASE.csv and its figure
+    (sweep_CASE.png) are written, as ``python -m harness sweep`` does (their paths in
+    ``attrs["path"]`` and ``attrs["figure"]``). A method without a parameter is refused
+    (ValueError) before anything is computed or written."""
+    from .measure.reference import REFERENCE_METHOD
+    from .problem.case import Case, load_case
+    from .study.planning.sweep import SWEEP_VALUES, run_sweep, swept
+    from .study.storage.store import study_phase
+    case = case if isinstance(case, Case) else load_case(str(case))
+    methods = [methods] if isinstance(methods, str) else list(methods)
+    values = list(SWEEP_VALUES if values is None else values)
+    for spec in methods:
+        swept(spec, values)
+    references = [] if reference in (None, False, "none") else [REFERENCE_METHOD if reference is True else reference]
+    if out is None:
+        with study_phase():
+            return run_sweep(case, methods, values, level, reference=references, show_progress=show_progress,
+                             engine=engine)
+    return _sweep_into(Path(out), case, methods, values, level, references, engine, show_progress)
+
+
+def _sweep_into(out: Path, case, methods, values, level, references, engine, show_progress) -> pd.DataFrame:
+    """``sweep`` with ``out``: the rows and their figure written there while this process owns it."""
+    from .report import figures
+    from .study.planning.sweep import run_sweep
+    from .study.storage.files import write_csv
+    from .study.storage.folder import owned
+    from .study.storage.store import study_phase
+    with owned(out) as folder:
+        with study_phase():
+            frame = run_sweep(case, methods, values, level, reference=references, show_progress=show_progress,
+                              engine=engine)
+        frame.attrs["path"] = write_csv(frame, folder / f"sweep_{case.name}.csv")
+        frame.attrs["figure"] = figures.sweep(case, frame, folder)["png"]
+    return frame
+
+
+def latex_tables(rows, fit_levels: int = 3) -> str:
+    """The rates (``rates``) and each case's levels as booktabs LaTeX tables, one after the
+    other, as ``python -m harness rates --latex`` prints them."""
+    from .report import latex
+    frame = rows_of(rows)
+    table = rates(frame, fit_levels)
+    return "\n".join([latex.summary_table(table), *(latex.convergence_table(frame, case) for case in frame.case.unique())])
+
+
+def report(cases=None, methods=("all",), levels: int | None = None, profile: str = "default", results="results",
+           out="report", engine=None, show_progress: bool = True, vtk: bool = False, check_memory: bool = True) -> Path:
+    """The report of ``profile`` ("default" or "fine") into ``out``/report.html, its study's
+    rows merged into ``results``/results.csv (rows already there and unchanged are reused).
+    ``cases``: registered case names (default: the profile's); ``methods``: as ``run`` takes
+    them, your own objects included; ``levels``: instead of the profile's. Both folders are owned
+    by this call while it runs. Returns the HTML's path.
+
+        >>> harness.report(cases=["transition-r32"], methods=["paper", my_method], levels=3)
+    """
+    from .report.build import make_report
+    return make_report(profile, Path(results), Path(out), cases, show_progress=show_progress, levels=levels,
+                       methods=methods, engine=engine, check_memory=check_memory, vtk=vtk)
+
+
 def case_rows(cases=None) -> list[dict]:
     """One dict per case: regularity, theorem and the rate it predicts (``case_table``'s rows)."""
     from .problem.case import fraction, registered_cases
@@ -199,12 +268,6 @@ def case_rows(cases=None) -> list[dict]:
         "expected_rate": c.expected_rate, "expected_log_exponent": c.expected_log_exponent,
         "bound": c.expected_bound, "description": c.description,
     } for c in cases]
-
-
-def case_table(cases=None) -> pd.DataFrame:
-    """One row per case: regularity, theorem and the rate it predicts."""
-    import pandas as pd
-    return pd.DataFrame(case_rows(cases))
 
 
 def method_rows() -> list[dict]:
@@ -220,4 +283,14 @@ def method_table() -> pd.DataFrame:
     return pd.DataFrame(method_rows())
 
 
-cases = case_table
+def case_table(cases=None) -> pd.DataFrame:
+    """One row per case: regularity, theorem and the rate it predicts (the columns of
+    ``python -m harness cases``)."""
+    import pandas as pd
+    return pd.DataFrame(case_rows(cases))
+
+
+def cases(cases=None) -> pd.DataFrame:
+    """``case_table`` under a second name: deprecated (a DeprecationWarning), removed in 0.12."""
+    warnings.warn("harness.cases() is harness.case_table() since 0.11.0", DeprecationWarning, stacklevel=2)
+    return case_table(cases)

@@ -1,6 +1,6 @@
 """Command line: python -m harness {run, sweep, cases, methods, rates, report, bench}.
 
-Each command calls the Python API (``harness.api``, ``harness.report``) and adds only its
+Each command calls the Python API (``harness.api``) and adds only its
 arguments and what it prints. Exit status: 0 done; 1 done, but a solve did not converge (each
 named on stderr); 2 input refused before the study, nothing on disk touched; 3 the study
 stopped on an error once started (one line; ``--debug`` shows the traceback); 130 interrupted.
@@ -116,25 +116,14 @@ def _report_failures(frame) -> int:
 def cmd_sweep(args) -> int:
     import pandas as pd
 
-    from .problem.case import load_case
-    from .report import figures
-    from .study.planning.sweep import run_sweep, swept
-    from .study.storage.files import write_csv
-    from .study.storage.folder import owned
-    from .study.storage.store import study_phase
-    case = load_case(args.case)
-    for spec in args.method:
-        swept(spec, args.values)        # a method without a parameter is refused before anything is written
-    with owned(Path(args.out)) as out:
-        with study_phase():
-            frame = run_sweep(case, args.method, args.values, args.level, show_progress=not args.quiet,
-                              reference=[] if args.reference == "none" else [args.reference])
-        path, figure = write_csv(frame, out / f"sweep_{case.name}.csv"), figures.sweep(case, frame, out)
+    from .api import sweep
+    frame = sweep(args.case, args.method, args.values, args.level, reference=args.reference, out=args.out,
+                  show_progress=not args.quiet)
     if not args.quiet:
         with pd.option_context("display.width", 200, "display.max_columns", 20):
             print(frame[["method", "level", "ndof", "err_h1", "max_penetration", "min_pressure", "solver_iterations",
                          "kkt_residual", "status"]].to_string(index=False))
-    print(f"wrote {path} and {figure['png']}")
+    print(f"wrote {frame.attrs['path']} and {frame.attrs['figure']}")
     return 0 if (frame["status"] == "converged").all() else EXIT_NOT_CONVERGED
 
 
@@ -155,10 +144,8 @@ def cmd_rates(args) -> int:
         return 0
     table = rates(args.results, args.fit_levels, out=folder)
     if args.latex:
-        from .measure.results_file import read_results
-        from .report import latex
-        frame = read_results(Path(args.results))
-        print(latex.summary_table(table), *(latex.convergence_table(frame, case) for case in frame.case.unique()), sep="\n")
+        from .api import latex_tables
+        print(latex_tables(args.results, args.fit_levels))
     else:
         with pd.option_context("display.width", 200, "display.max_colwidth", 60):
             print(table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
@@ -169,7 +156,7 @@ def cmd_rates(args) -> int:
 def cmd_report(args) -> int:
     import pandas as pd
 
-    from . import report
+    from .api import report
     engine = engine_of(args)
     try:
         path = report(args.case, args.method or ["all"], args.levels, args.profile, args.results, args.report, engine,

@@ -20,9 +20,12 @@ SIGNATURES = {
     harness.efficiency: [("rows", E), ("mesh", "uniform"), ("baseline", None), ("methods", ())],
     harness.plot: [("rows", E), ("case", None), ("kind", "convergence"), ("ax", None)],
     harness.store: [("rows", E), ("folder", E)],
-    type(harness.report).__call__: [("self", E), ("cases", None), ("methods", ("all",)), ("levels", None),
-                                    ("profile", "default"), ("results", "results"), ("out", "report"), ("engine", None),
-                                    ("show_progress", True), ("vtk", False), ("check_memory", True)],
+    harness.report: [("cases", None), ("methods", ("all",)), ("levels", None), ("profile", "default"),
+                     ("results", "results"), ("out", "report"), ("engine", None), ("show_progress", True), ("vtk", False),
+                     ("check_memory", True)],
+    harness.sweep: [("case", E), ("methods", E), ("values", None), ("level", 4), ("reference", True), ("out", None),
+                    ("engine", None), ("show_progress", True)],
+    harness.latex_tables: [("rows", E), ("fit_levels", 3)],
     harness.case_table: [("cases", None)],
     harness.method_table: [],
     harness.load_case: [("spec", E)],
@@ -46,7 +49,6 @@ def test_the_citation_cites_this_version_on_its_changelog_date():
 def test_the_api_readme_shows_exists_with_its_signatures():
     # the version is the CHANGELOG's latest entry
     assert re.search(r"^## (\S+)", (Path(harness.__file__).parents[1] / "CHANGELOG.md").read_text(), re.M)[1] == harness.__version__
-    assert harness.cases is harness.case_table
     for function, expected in SIGNATURES.items():
         parameters = inspect.signature(function).parameters.values()
         if expected is not None:
@@ -58,7 +60,25 @@ def test_the_api_readme_shows_exists_with_its_signatures():
                                     "case_table", "method_table", "load_case", "registered_cases", "Case", "CaseError",
                                     "METHODS", "methods_named"}
     plots = importlib.import_module("harness.report.plots")
-    assert callable(harness.report) and harness.report.plots is plots    # the package, callable
+    assert inspect.isfunction(harness.report) and plots.__name__ == "harness.report.plots"
+    assert all(isinstance(engine, harness.Engine) for engine in (InProcess(), LocalProcesses(2), DaskEngine(2)))
+
+
+def test_report_is_a_function_after_its_package_is_imported_in_a_fresh_process():
+    """``harness.report`` is ``harness.api.report``, not the package the import system binds
+    under that name (the package is imported once by ``harness/__init__``, and unbound)."""
+    import subprocess
+    import sys
+    code = ("import harness.report.plots, harness.report.build, harness, inspect; "
+            "from harness.report import latex; assert inspect.isfunction(harness.report), harness.report; "
+            "assert harness.report is harness.api.report")
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_cases_is_case_table_deprecated():
+    import pytest
+    with pytest.warns(DeprecationWarning, match="case_table"):
+        assert harness.cases().equals(harness.case_table())
 
 
 def test_the_hook_sees_every_studied_solve_and_keeps_what_it_returns():

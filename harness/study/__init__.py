@@ -5,8 +5,8 @@ results folder and what is kept in it (``storage``), and what the report asks of
 the stages before it."""
 from ._moved import install as _install
 from .execution.dask_engine import DaskEngine
-from .execution.engines import InProcess, run_jobs, run_study
+from .execution.engines import Engine, InProcess, run_jobs, run_study
 from .execution.processes import LocalProcesses
 
-__all__ = ["DaskEngine", "InProcess", "LocalProcesses", "run_jobs", "run_study"]
+__all__ = ["DaskEngine", "Engine", "InProcess", "LocalProcesses", "run_jobs", "run_study"]
 _install(__name__)

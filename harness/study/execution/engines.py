@@ -21,8 +21,10 @@ under it) are not done in a fixed order, and two runs agree only to about 1e-14 
 from __future__ import annotations
 
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Protocol, runtime_checkable
 
 import pandas as pd
 
@@ -98,6 +100,41 @@ def by_order(job: Job) -> list[Job]:
     orders = sorted({m.order for m in job.methods}, reverse=True)
     return [Job(job.case, tuple(m for m in job.methods if m.order == order), job.levels, job.on_level, job.checkpoints,
                 job.scope, job.tag, job.per_dof, job.mesh) for order in orders]
+
+
+@runtime_checkable
+class Engine(Protocol):
+    """Where a study's jobs run (``harness.run(engine=...)``, ``harness.report(engine=...)``): what
+    ``InProcess``, ``processes.LocalProcesses`` and ``dask_engine.DaskEngine`` have in common. An
+    engine of your own implements these six methods; a study calls ``split``, ``memory`` and
+    ``describe`` before it starts, ``run`` once with all its jobs, ``busy_cores`` as they finish,
+    and the caller ``close`` at the end."""
+
+    threads: int | None
+
+    def split(self, jobs: list[Job]) -> list[Job]:
+        """The jobs at this engine's grain (a case's job split by order: ``split_large``)."""
+        ...
+
+    def describe(self) -> str:
+        """Where the jobs run, in a few words ("in one process", "on 2 local processes")."""
+        ...
+
+    def memory(self) -> tuple[float, str]:
+        """(bytes a job may use, what has them): the budget's check (``budget.check_fits``)."""
+        ...
+
+    def busy_cores(self, remaining: int) -> int:
+        """The cores the study keeps busy while ``remaining`` jobs are left (``threads``)."""
+        ...
+
+    def run(self, jobs: list[Job], progress=None) -> Iterator[tuple[Job, object]]:
+        """(job, ``study.chain.rows.ChainOutput``) for each job, as they finish."""
+        ...
+
+    def close(self) -> None:
+        """Release the workers (nothing for this process)."""
+        ...
 
 
 class InProcess:
