@@ -64,20 +64,23 @@ def run(cases, methods="all", levels: int = 5, meshes="uniform", *, out=None, re
     if out is not None and checkpoints is not None:
         raise ValueError("a run with out= keeps its checkpoints in out/.checkpoints: give out= or checkpoints=, not both")
     # refused before a folder is touched or a worker started
-    study_jobs(loaded, chosen, levels, engine, check_memory=check_memory, meshes=strategies)
+    study_jobs(loaded, chosen, levels, engine, on_level, check_memory=check_memory, meshes=strategies)
     _warn_left_out(loaded, chosen, strategies, methods)
     from .study.execution.into_folder import run_into
     from .study.storage.store import study_phase
     if out is None:
         with study_phase():
-            return run_study(loaded, chosen, levels, show_progress=show_progress, on_level=on_level, engine=engine,
-                             checkpoints=checkpoints, check_memory=False, meshes=strategies)
+            frame = run_study(loaded, chosen, levels, show_progress=show_progress, on_level=on_level, engine=engine,
+                              checkpoints=checkpoints, check_memory=False, meshes=strategies)
+        return _summary(frame, loaded, chosen, strategies)
     if vtk:
         from .report.vtk import VtkWriter
         on_level = VtkWriter(Path(out) / "vtk")
     frame, stored = run_into(out, loaded, chosen, levels, engine=engine, meshes=strategies, show_progress=show_progress,
                              on_level=on_level)
-    frame.attrs["stored"] = stored.summary()
+    _summary(frame, loaded, chosen, strategies)
+    frame.attrs["stored"] = stored.summary() + "".join(f"; left out: {line}" for line in frame.attrs["left_out"][:1]) + \
+        (f" and {len(frame.attrs['left_out']) - 1} more (attrs['left_out'])" if len(frame.attrs["left_out"]) > 1 else "")
     return frame
 
 
@@ -98,14 +101,21 @@ def _study_inputs(cases, methods, meshes, reference_levels):
 
 def _warn_left_out(cases, methods, meshes, asked) -> None:
     """A ``StudyWarning`` per mesh strategy a case cannot have, and per method named one by one
-    (not through a group) that discretises none of the cases."""
+    (not through a group) that discretises none of the cases or that a strategy's meshes cannot
+    carry."""
     from .methods import GROUPS, Method
-    from .study.execution.engines import skipped_meshes, skipped_methods
+    from .study.execution.engines import left_out
     asked = [asked] if isinstance(asked, (str, Method)) else list(asked)
     named = {a if isinstance(a, str) else a.name for a in asked if not (isinstance(a, str) and (a == "all" or a in GROUPS))}
-    lines = skipped_meshes(cases, meshes) + skipped_methods(cases, [m for m in methods if m.name in named])
-    for line in lines:
+    for line in left_out(cases, [m for m in methods if m.name in named], meshes):
         warnings.warn(line, StudyWarning, stacklevel=3)
+
+
+def _summary(frame, cases, methods, meshes):
+    """``frame`` with what the study left out and why (``attrs["left_out"]``: one line each)."""
+    from .study.execution.engines import left_out
+    frame.attrs["left_out"] = left_out(cases, methods, meshes)
+    return frame
 
 
 def rows_of(rows) -> pd.DataFrame:

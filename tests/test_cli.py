@@ -293,3 +293,26 @@ def test_report_answers_for_its_own_rows_not_for_other_runs_kept_in_the_folder(t
     from harness.cli import _report_failures, _report_rows, build_parser
     parsed = build_parser(args).parse_args(args)
     assert _report_failures(_report_rows(parsed, own)) == 1
+
+
+def test_a_method_that_a_mesh_strategy_cannot_carry_is_refused_alone_and_named_with_others(tmp_path):
+    """hp meshes carry only methods of variable degree: nodal alone is refused in one line
+    (exit 2, nothing written); beside penalty, which runs, it is named in one line, under
+    --quiet too, and in the run's summary."""
+    done = harness_here("run", "--case", "transition-r32", "--method", "nodal", "--mesh", "hp", "--levels", "1",
+                        "--out", str(tmp_path / "alone"))
+    assert done.returncode == 2 and "nodal skipped on hp meshes" in _one_line(done.stderr)
+    assert not (tmp_path / "alone" / "results.csv").exists()
+    done = harness_here("run", "--case", "transition-r32", "--method", "nodal", "--method", "penalty", "--mesh", "hp",
+                        "--levels", "1", "--out", str(tmp_path / "both"), "--quiet")
+    assert done.returncode == 0 and "nodal skipped on hp meshes" in _one_line(done.stderr)
+    assert "left out: nodal skipped on hp meshes" in done.stdout
+
+
+def test_an_on_level_hook_of_another_signature_is_refused_naming_the_expected_one():
+    import harness
+
+    def old_hook(case, method, level, problem, solve, u, fields):
+        pass
+    with pytest.raises(ValueError, match=r"on_level must take \(case, method, level, problem, solve\); .*old_hook"):
+        harness.run("transition-r32", "nodal", 1, on_level=old_hook, show_progress=False)

@@ -20,6 +20,7 @@ under it) are not done in a fixed order, and two runs agree only to about 1e-14 
 """
 from __future__ import annotations
 
+import inspect
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -319,6 +320,56 @@ def skipped_methods(cases, methods) -> list[str]:
     return lines
 
 
+def unserved(mesh, method) -> str:
+    """Why ``mesh``'s meshes cannot carry ``method`` (``mesh.strategies.serves`` said no), in one clause."""
+    if getattr(mesh, "name", None) == "hp":
+        return ("hp meshes vary the degree from element to element, and its space is of one degree (only a method "
+                "with variable_degree runs on them: the contact laws, the cones given per degree)")
+    return f"the strategy {mesh.label} does not carry it (its serves())"
+
+
+def skipped_on_meshes(cases, methods, meshes) -> list[str]:
+    """One line per (method, mesh strategy) a study skips because the strategy's meshes cannot
+    carry the method, for a case both would otherwise run (``unserved``)."""
+    return [f"{method.name} skipped on {mesh.label} meshes: {unserved(mesh, method)}" for mesh in meshes
+            for method in methods if not serves(mesh, method)
+            and any(method.supports(case) and refusal(mesh, case) is None for case in cases)]
+
+
+def check_runs(cases, methods, meshes) -> None:
+    """ValueError in one line if no case would get a row: no method that discretises it on a mesh
+    strategy that meshes it and carries the method."""
+    runs = (case for case in cases for mesh in meshes if refusal(mesh, case) is None
+            for method in methods_for(case, methods) if serves(mesh, method))
+    if cases and next(runs, None) is None:
+        raise ValueError("nothing to run: " + "; ".join(skipped_on_meshes(cases, methods, meshes)))
+
+
+def left_out(cases, methods, meshes) -> list[str]:
+    """What a study leaves out and why, one line each: the cases a strategy cannot mesh, the
+    methods that discretise none of the cases, the methods a strategy's meshes cannot carry."""
+    return skipped_meshes(cases, meshes) + skipped_methods(cases, methods) + skipped_on_meshes(cases, methods, meshes)
+
+
+HOOK_ARGUMENTS = ("case", "method", "level", "problem", "solve")
+
+
+def check_hook(on_level) -> None:
+    """ValueError in one line if ``on_level`` cannot be called as ``on_level(case, method, level,
+    problem, solve)`` (``walk``'s call), before anything runs."""
+    if on_level is None:
+        return
+    try:
+        signature = inspect.signature(on_level)
+    except (TypeError, ValueError):         # a callable without a signature (a builtin): called as it is
+        return
+    try:
+        signature.bind(*HOOK_ARGUMENTS)
+    except TypeError:
+        name = getattr(on_level, "__qualname__", type(on_level).__qualname__)
+        raise ValueError(f"on_level must take ({', '.join(HOOK_ARGUMENTS)}); {name}{signature} does not") from None
+
+
 def check_meshes(cases, meshes) -> None:
     """ValueError in one line if a mesh strategy applies to none of ``cases``."""
     for mesh in meshes:
@@ -339,6 +390,8 @@ def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: 
     for case in cases:
         check_methods(case, methods)
     check_meshes(cases, meshes)
+    check_runs(cases, methods, meshes)
+    check_hook(on_level)
     return plan(chains(cases, methods, levels, on_level, checkpoints, meshes=meshes), engine, check_memory)
 
 
