@@ -48,7 +48,7 @@ def test_the_citation_cites_this_version_on_its_changelog_date():
 
 def test_the_api_readme_shows_exists_with_its_signatures():
     # the version is the CHANGELOG's latest entry
-    assert re.search(r"^## (\S+)", (Path(harness.__file__).parents[1] / "CHANGELOG.md").read_text(), re.M)[1] == harness.__version__
+    assert re.search(r"^## (\S+) — ", (Path(harness.__file__).parents[1] / "CHANGELOG.md").read_text(), re.M)[1] == harness.__version__
     for function, expected in SIGNATURES.items():
         parameters = inspect.signature(function).parameters.values()
         if expected is not None:
