@@ -165,6 +165,10 @@ def attribute(obj, name: str):
     attribute of class ``obj``; ``Missing`` if there is none."""
     if obj is Unknown:
         return Unknown                          # past a declaration: the rest is not checked
+    if inspect.ismodule(obj) and hasattr(obj, "__path__") and importable(f"{obj.__name__}.{name}"):
+        # a submodule first, as the import system takes a dotted path: ``harness.report`` is a
+        # function, ``harness.report.figures`` the report package's module
+        return importlib.import_module(f"{obj.__name__}.{name}")
     if hasattr(obj, name):
         return getattr(obj, name)
     if inspect.ismodule(obj) and name != "__main__" and hasattr(obj, "__path__"):

@@ -169,7 +169,7 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, o
     (``pair_sequence``; an adaptive chain serves one method and runs until the budget).
     ``on_level(case, method, level, problem, solve)`` as in ``chain.run_chain``, with
     ``problem`` a ``fem.two_body.TwoBodyProblem``; what it returns is kept by (method, level).
-    Returns ``chain.ChainOutput``."""
+    Returns ``rows.ChainOutput``."""
     phases = phases or Phases()
     methods = methods_for(case, methods)
     if not case.exact:
