@@ -94,7 +94,7 @@ class MeshStrategy:
 
     def serves(self, method) -> bool:
         """Whether the strategy's meshes can carry ``method``: on hp meshes, one whose space may
-        vary in degree from element to element (``methods.base.Method.variable_degree``: the
+        vary in degree from element to element (``methods.method.Method.variable_degree``: the
         contact laws, the cones of functionals given per degree)."""
         return self.name != "hp" or getattr(method, "variable_degree", False)
 

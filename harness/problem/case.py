@@ -56,7 +56,7 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            the fine profile do not
     asymptotic_levels_p1   optional int >= 3: the same for the P1 methods (order 1), which a
                            study otherwise runs one level past P2, to P2's finest number of
-                           dofs (``methods.base.EXTRA_LEVELS``): P2's levels or one more
+                           dofs (``methods.method.EXTRA_LEVELS``): P2's levels or one more
     report_levels          optional {profile: int >= 3}: the most levels a report of that profile
                            runs for the case, where its levels cost more than the profile's
                            levels assume (``{"default": 4, "fine": 5}``); unlike
