@@ -1,6 +1,8 @@
 """Convergence-study harness for the Signorini problem: the quadratic finite elements of
 Z. Belhachmi and F. Ben Belgacem, Math. Comp. 72 (2003), beside other discretisations; see
 docs/development/architecture.md ("How the code is laid out")."""
+from .core.lazy import lazy as _lazy
+
 __version__ = "0.10.3"      # the one version: pyproject.toml reads it
 
 # The public names, each imported from its stage when first used (PEP 562): `import harness`
@@ -24,24 +26,5 @@ del globals()["report"], _report_package
 __all__ = list(_PUBLIC)
 
 
-def lazy(package: str, public: dict[str, str]):
-    """(``__getattr__``, ``__dir__``) of a package whose ``public`` names (name -> module, relative
-    to ``package``) are imported from their modules when first used (PEP 562); a name that is its
-    module's own is the module."""
-    import importlib
-    import sys
-
-    def __getattr__(name: str):
-        if name not in public:
-            raise AttributeError(f"module {package!r} has no attribute {name!r}")
-        module = importlib.import_module(f"{package}.{public[name]}")
-        value = module if public[name] == name else getattr(module, name)
-        setattr(sys.modules[package], name, value)
-        return value
-
-    def __dir__() -> list[str]:
-        return sorted({*vars(sys.modules[package]), *public})
-    return __getattr__, __dir__
-
-
-__getattr__, __dir__ = lazy(__name__, _PUBLIC)
+__getattr__, __dir__ = _lazy(__name__, _PUBLIC)
+del _lazy

@@ -130,7 +130,7 @@ def test_the_sub_edge_mean_cone_of_degree_2_is_the_papers_mean():
     (general rows, the general-constraint active set method) solves `mean`'s problem (a bound
     cone after a change of variables, the projected active set method): the same u_h."""
     from harness.methods import FunctionalCone
-    from harness.methods._mean_pk import sub_edge_means
+    from harness.methods.cones import sub_edge_means
     rule, = sub_edge_means(2)
     assert sum(w for _, w in rule) == pytest.approx(1.0) and sum(w * t for t, w in rule) == pytest.approx(0.5)
     assert [len(r) for r in sub_edge_means(4)] == [3, 3, 3]

@@ -105,7 +105,7 @@ def test_errors_agree_with_a_much_finer_integration(case_name, level):
     reference = ReferenceErrors(level)
     with ngs.TaskManager():
         rows = run_chain(case, methods, level + 1, on_level=reference).rows
-    # P4 ends a level earlier (``methods.base.EXTRA_LEVELS``)
+    # P4 ends a level earlier (``methods.method.EXTRA_LEVELS``)
     assert set(reference.errors) == {m.name for m in methods if level + 1 + m.extra_levels > level}
     for name, ref in reference.errors.items():
         (row,) = [r for r in rows if r["method"] == name and r["level"] == level]

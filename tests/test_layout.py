@@ -10,7 +10,7 @@ import pytest
 PACKAGE = Path(__file__).resolve().parent.parent / "harness"
 REPOSITORY = PACKAGE.parent
 # the stages in pipeline order: a module imports only from its own stage and earlier ones
-STAGES = ["mesh", "problem", "fem", "solvers", "methods", "measure", "study", "report", "bench"]
+STAGES = ["core", "mesh", "problem", "fem", "solvers", "methods", "measure", "study", "report", "bench"]
 # the entry points: import anything (cli_options: the command line's options, which cli.py
 # imports per command)
 TOP = {"__init__", "__main__", "api", "cli", "cli_options"}

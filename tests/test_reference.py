@@ -19,7 +19,7 @@ from harness.problem.validate import validate_case
 DATA = Path(__file__).parent / "data"
 
 # a reference solution is nodal P2, into whose space P_k (k >= 3) does not embed: those methods
-# refuse a case measured against one (``methods.base.Method.supports``;
+# refuse a case measured against one (``methods.method.Method.supports``;
 # test_a_high_order_method_refuses_a_case_without_an_exact_solution)
 REFERENCE_METHODS = CONE_NAMES + WEAK_NAMES
 # hertz-line (elastic, its reference 2e5 dofs at four levels) in `make test-full`: the elastic

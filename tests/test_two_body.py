@@ -12,8 +12,8 @@ from harness.fem.mortar import TraceElements, intersection, mortar_coupling
 from harness.fem.two_body import TwoBodyProblem
 from harness.mesh.levels import coarse_mesh
 from harness.methods import METHODS, methods_for, methods_named
-from harness.methods._mortar import predicted_active
-from harness.methods.base import Carry
+from harness.methods.method import MortarCarry
+from harness.methods.mortar import predicted_active
 from harness.problem.bodies import MirrorBody, lower_body
 from harness.problem.case import CaseError, case_from_module, registered_cases
 from harness.problem.geometry import contact_strip
@@ -224,12 +224,12 @@ def test_a_mortar_edge_row_is_predicted_from_its_parent_edge_and_a_vertex_row_fr
     the fine vertex at 0.5 and both halves of the edge the edge's status, the vertices at 0 and 1
     theirs. (The nearest row of either kind gives the half-edges' midpoints, 0.25 and 0.75, as
     near to a vertex row as to the edge row.)"""
-    coarse = Carry(np.zeros(2), points=np.array([0.0, 1.0, 0.5]), active=np.array([False, False, True]), vertex_rows=2)
+    coarse = MortarCarry(np.zeros(2), points=np.array([0.0, 1.0, 0.5]), active=np.array([False, False, True]), vertex_rows=2)
     fine = np.array([0.0, 0.5, 1.0, 0.25, 0.75])
     assert predicted_active(coarse, fine, 3).tolist() == [False, True, False, True, True]
     # P1 (vertex rows only): a new vertex is active when the coarse edge it halves has both ends
     # active, as the one-body P1 cones predict
-    p1 = Carry(np.zeros(2), points=np.array([0.0, 0.5, 1.0]), active=np.array([False, True, True]), vertex_rows=3)
+    p1 = MortarCarry(np.zeros(2), points=np.array([0.0, 0.5, 1.0]), active=np.array([False, True, True]), vertex_rows=3)
     assert predicted_active(p1, np.array([0.0, 0.25, 0.5, 0.75, 1.0]), 5).tolist() == [False, False, True, True, True]
     # beyond the coarse ends: the end's status
     assert predicted_active(p1, np.array([-0.1, 1.1]), 2).tolist() == [False, True]

@@ -89,7 +89,7 @@ def smallest_slave_edge(case, method, level, problem, solve):
 
 def test_standard_multipliers_solve_to_round_off_on_slave_edges_down_to_1e_5():
     """mortar-standard's rows as general constraints, divided by their weights int psi_i
-    (``methods._mortar._general``): on the junction's adaptive meshes, undivided, the saddle
+    (``methods.mortar._general``): on the junction's adaptive meshes, undivided, the saddle
     system's regularisation swamped the rows of the shortest slave edges and the active set
     method stalled at KKT residuals of 1e-10 .. 1e-7 from edges of 8e-6 on."""
     case = registered_cases()["two-body-junction"]

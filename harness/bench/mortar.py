@@ -22,7 +22,7 @@ MORTAR_LEVELS = (4, 5, 6, 7)
 
 def mortar_methods() -> tuple:
     """The registered two-body methods with dual multipliers (bounds after the dual change of
-    variables: ``methods._mortar.Mortar``), in registry order."""
+    variables: ``methods.mortar.Mortar``), in registry order."""
     from ..methods import METHODS
     return tuple(m.name for m in METHODS.values() if 2 in m.bodies and getattr(m, "multipliers", None) == "dual")
 

@@ -116,10 +116,10 @@ def _measure_3d(model_name: str, level: int, connection):
 
 
 def _cell_means() -> list[str]:
-    """The registered methods whose 3D cone is the triangle means (``methods.base.CellMean``:
+    """The registered methods whose 3D cone is the triangle means (``methods.cones.CellMean``:
     general rows, not bounds)."""
     from ..methods import METHODS
-    from ..methods.base import CellMean
+    from ..methods.cones import CellMean
     return [name for name, m in METHODS.items() if isinstance(m, CellMean)]
 
 

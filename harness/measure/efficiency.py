@@ -71,7 +71,7 @@ def equal_ndof_ratio(baseline: pd.DataFrame, group: pd.DataFrame) -> float:
 
 def baseline_name(names, methods=()) -> str | None:
     """The P1 baseline among the method names ``names``: the first whose method declares the
-    role BASELINE (``methods.base.Method.roles``; looked up among ``methods``, Method objects, then by name:
+    role BASELINE (``methods.method.Method.roles``; looked up among ``methods``, Method objects, then by name:
     ``methods.names_with_role``); None if none does."""
     return next(iter(names_with_role(BASELINE, names, methods)), None)
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ..problem.regularity import capped_rate
 from .exponential import exponential_fit
 
 DEFAULT_FIT_LEVELS = 3
@@ -131,8 +132,9 @@ def verdict(fitted: float, expected: float, tolerance: float = TOLERANCE) -> str
 
 
 def best_approximation_rate(nu: float, order: int) -> float:
-    """The rate of the Ritz projection's H^1 error on uniform meshes: min(nu - 1, order)."""
-    return min(nu - 1.0, float(order))
+    """The rate of the Ritz projection's H^1 error on uniform meshes: min(nu - 1, order)
+    (``problem.regularity.capped_rate``)."""
+    return capped_rate(nu, float(order))
 
 
 def rate_table(results: pd.DataFrame, error: str = "err_h1", levels: int = DEFAULT_FIT_LEVELS,

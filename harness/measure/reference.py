@@ -220,7 +220,7 @@ def norm_matrices(mesh: ngs.Mesh, order: int, stiffness: sp.csr_matrix | None = 
 def reference_method(case=None, methods=()):
     """The method whose solution k levels finer is every method's reference on ``case``: the
     first of ``methods``, then of the registered methods, that declares the role REFERENCE
-    (``methods.base.Method.roles``), is P2 and discretises ``case`` (without a case: one body). The
+    (``methods.method.Method.roles``), is P2 and discretises ``case`` (without a case: one body). The
     registered one is P2 with the paper's nodal cone (Theorem 4.1 / 5.1), converged to a KKT
     residual <= 1e-10 like every solve, and discretising every physics and dimension of the
     harness."""

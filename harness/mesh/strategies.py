@@ -31,11 +31,12 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from ..core.names import assignments, split_spec, unknown
+from ..core.plugins import PluginError, entry_point_objects, is_external, load_spec
 from .bisection import AdaptiveRefinement, GradedRefinement
 from .hp import DEFAULT_MU, DEFAULT_SIGMA, HpRefinement
 from .levels import LevelSequence, UniformRefinement, coarse_mesh
 from .newest_vertex import straight_polygon
-from .plugins import PluginError, entry_point_objects, is_external, load_spec
 from .points import coordinates, geometry_vertices
 
 STRATEGIES = ("uniform", "graded", "adaptive", "hp")
@@ -93,7 +94,7 @@ class MeshStrategy:
 
     def serves(self, method) -> bool:
         """Whether the strategy's meshes can carry ``method``: on hp meshes, one whose space may
-        vary in degree from element to element (``methods.base.Method.variable_degree``: the
+        vary in degree from element to element (``methods.method.Method.variable_degree``: the
         contact laws, the cones of functionals given per degree)."""
         return self.name != "hp" or getattr(method, "variable_degree", False)
 
@@ -191,11 +192,11 @@ def singular_lines(case) -> np.ndarray:
 
 def parse_mesh(spec) -> list:
     """``uniform``, ``graded``, ``adaptive``, ``adaptive:theta=0.3``, ``all``, the label of an
-    installed strategy, a file or a dotted name (``plugins``) or a strategy object; a one-line
+    installed strategy, a file or a dotted name (``core.plugins``) or a strategy object; a one-line
     ValueError otherwise."""
     if not isinstance(spec, str):
         return [check_strategy(spec, "a mesh strategy object")]
-    name, _, parameters = spec.strip().partition(":")
+    name, parameters = split_spec(spec.strip())
     if name == "all" and not parameters:
         return [MeshStrategy(s) for s in H_STRATEGIES]
     if name not in STRATEGIES and spec in installed_strategies():
@@ -204,8 +205,8 @@ def parse_mesh(spec) -> list:
         objects, _ = load_spec(spec, ("strategy", "strategies"), Strategy, "mesh strategy")
         return [check_strategy(obj, spec) for obj in objects]
     if name not in STRATEGIES:
-        raise ValueError(f"unknown mesh strategy {spec!r}: choose from {', '.join([*STRATEGIES, *installed_strategies()])} "
-                         f"or all, a file (path/to/strategy.py[:name]) or a module (package.module[:name])")
+        raise ValueError(unknown("mesh strategy", spec, [*STRATEGIES, *installed_strategies()], "mesh strategies",
+                                 " or all, a file (path/to/strategy.py[:name]) or a module (package.module[:name])"))
     if not parameters:
         return [MeshStrategy(name)]
     return [MeshStrategy(name, **_parameters(name, spec, parameters))]
@@ -217,13 +218,11 @@ def _parameters(name: str, spec: str, text: str) -> dict:
     if not known:
         raise ValueError(f"mesh strategy {name!r} has no parameters (got {spec!r})")
     values = {}
-    for item in text.split(","):
-        key, _, value = item.partition("=")
-        key = key.strip()
+    for key, value in assignments(text):
         if key not in known:
             raise ValueError(f"mesh strategy {name!r} has the parameter{'s' if len(known) > 1 else ''} "
                              f"{', '.join(known)}, not {key!r}")
-        values[key] = _parameter(name, key, value)
+        values[key] = _parameter(name, key, value or "")
     return values
 
 

@@ -1,4 +1,7 @@
-"""`nitsche`: P2 with Nitsche's treatment of the contact condition, the law (N) of ``fem.laws``:
+"""The Nitsche family: `nitsche` (P2), `nitsche-p1`, and `nitsche-p3`, `nitsche-p4`
+(``at_order``), each a ``protocol.ContactLawMethod`` (``methods``).
+
+`nitsche`: P2 with Nitsche's treatment of the contact condition, the law (N) of ``fem.laws``:
 Chouly & Hild, SIAM J. Numer. Anal. 51 (2013) 1295-1307 (theta = 1, the scalar problem); the
 variants theta = 0, -1 of Chouly, Hild & Renard, Math. Comp. 84 (2015) 1089-1112, whose eq. (10)
 is (N) for elasticity (eps = gamma0 h_T). The same law runs on the scalar problem and on
@@ -17,11 +20,10 @@ text), u in H^{3/2 + m}, 0 < m <= k - 1/2, gives h^{1/2 + m}: h^{nu - 1} for 3/2
 capped at h^k beyond. Nothing is proven for nu <= 3/2 (corner-r12): no expected rate, the study
 measures one.
 """
-import math
 from dataclasses import replace
 
 from ..fem.laws import Nitsche
-from .base import DEGREES, MESH_STUDY, SWEPT, Expectation
+from .method import DEGREES, MESH_STUDY, SWEPT, Expectation, capped_expectation, no_result_below
 from .protocol import ContactLawMethod
 
 REFERENCE = "Chouly & Hild 2013 (SINUM 51); Chouly, Hild & Renard 2015 (Math. Comp. 84), Thm 3.8"
@@ -40,9 +42,7 @@ def expected_for(order: int):
     reference = REFERENCE if order <= 2 else REFERENCE_HIGH_ORDER
 
     def expected(case) -> Expectation:
-        if case.nu <= 1.5:
-            return Expectation(math.nan, 0.0, f"{reference}: no result for nu <= 3/2")
-        return Expectation(min(case.nu - 1.0, order), 0.0, reference)
+        return capped_expectation(case.nu, order, reference, 1.5, no_result_below(reference))
     return expected
 
 
@@ -71,3 +71,12 @@ method = ContactLawMethod(
     law=Nitsche(gamma0=GAMMA0, theta=1.0),
     roles=frozenset({SWEPT, MESH_STUDY, DEGREES}),
 )
+
+# `nitsche-p1`: the `nitsche` method on P1 (same defaults; expected h^{min(nu - 1, 1)} for
+# nu > 3/2, CHR 2015 Theorem 3.8 with k = 1)
+p1 = replace(method, name="nitsche-p1", order=1, contact="Nitsche, as `nitsche`, on P1",
+             expected=expected_for(1), roles=frozenset({DEGREES}))
+
+# the family's variants (``registry``): P3 and P4 with gamma0 scaled with the degree
+# (``gamma0_for``), expected h^{min(nu - 1, k)} for nu > 3/2 (``expected_for``)
+methods = [method, p1, at_order(3), at_order(4)]

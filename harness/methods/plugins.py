@@ -12,7 +12,8 @@
 
 - an object: ``harness.run(cases, methods=[my_method, "nodal"])``.
 
-Every route, and every registered method, passes the same checks (``check_method``); a file
+The loading is ``core.plugins``'s, as for mesh strategies and cases. Every route, and every
+registered method, passes the same checks (``check_method``); a file
 that fails to import, defines no method or a malformed one is refused in one line
 (``MethodError``, a ValueError: exit 2 on the command line, nothing written).
 """
@@ -23,11 +24,11 @@ import re
 from dataclasses import replace
 from pathlib import Path
 
+from ..core.plugins import PluginError, entry_point_objects, load_spec
 from ..fem.assembly import ORDERS
 from ..fem.contact_law import ContactLaw
-from ..mesh.plugins import PluginError, entry_point_objects, load_spec
-from .base import Method
-from .protocol import ContactLawMethod, OwnSolve, no_theory
+from .method import Method, no_theory
+from .protocol import ContactLawMethod, OwnSolve
 
 ENTRY_POINTS = "signorini_harness.methods"
 NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.+-]*$")

@@ -1,9 +1,10 @@
-"""The method protocol's second and third levels: a method of your own that the harness measures
-as it measures its own (rows, errors, rates, verdicts, cost, report), without touching its
+"""The method protocol, its three levels: a method of your own that the harness measures as it
+measures its own (rows, errors, rates, verdicts, cost, report), without touching its
 internals. Pick the level that fits what you bring:
 
-1. a **cone** given only by its constraint functionals on Gamma_C: ``FunctionalCone``
-   (``base``), solved exactly by the harness's active set method with its multigrid;
+1. a **cone** given only by its constraint functionals on Gamma_C: ``FunctionalCone`` below,
+   solved exactly by the harness's active set method with its multigrid (2D; scalar and
+   elastic);
 2. a **weak method** given by its contact law on Gamma_C (a pressure term and a flux term, and
    their derivative): ``ContactLawMethod`` below, solved by the harness's semismooth Newton
    method, its residual recorded (``fem.contact_law`` has the law's protocol and checks);
@@ -13,12 +14,16 @@ internals. Pick the level that fits what you bring:
    residual, iterations, status, optionally your pressure); it checks feasibility (the largest
    penetration of the row) and records your residual in the row's ``kkt_residual``.
 
+Levels 2 and 3 run in every physics and dimension by default (``physics=("scalar",
+"elasticity")``, ``dimensions=(2, 3)``, one body); a method that does not declares what it
+discretises, and a study leaves it out of the cases it does not fit, saying why
+(``registry.left_out``).
+
 Each declares its expected rate (``expected``: case -> ``Expectation``) or None: "no theory",
 grey in the verdict matrix. ``examples/methods/`` has one method at each level.
 """
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, fields, is_dataclass, replace
 from typing import Callable
@@ -30,16 +35,93 @@ from ..fem.assembly import ContactTraceFunction
 from ..fem.cones import contact_pressure
 from ..fem.contact_law import contact_data, law_system, predicted_active
 from ..fem.contact_quadrature import contact_quadrature
+from ..fem.edge_functionals import check_rules, edge_functional_qp
 from ..fem.penetration import max_penetration
 from ..mesh.points import evaluate
+from ..solvers.general_constraints import GeneralConstraintSolver
 from ..solvers.multigrid import ContactEdges, nested_start, p1_values
 from ..solvers.newton import solve_semismooth_newton
-from .base import Carry, Expectation, LevelSolve, Method, SolveFields, timer
+from ..solvers.options import SolverOptions
+from ..solvers.projected import ProjectedMultigridSystem
+from .method import Carry, ConeCarry, LawCarry, LevelSolve, Method, SolveFields, timer
+
+# Level 1: a cone given by its functionals
 
 
-def no_theory(case) -> Expectation:
-    """The expectation of a method that declares none: no rate to compare with (grey)."""
-    return Expectation(math.nan, 0.0, "no theory declared")
+def exact_level(case, problem, u, trace_u, pressure, solution) -> LevelSolve:
+    """The row of a level solved exactly (a bound or general-constraint QP's ``solution``)."""
+    fields = SolveFields.of_exact(solution, max_penetration(case, problem.mesh, trace_u), pressure, len(solution.active))
+    return LevelSolve(fields, u, trace_u, pressure, ConeCarry(p1_values(problem, u), trace=trace_u))
+
+
+def solve_general_rows(case, problem, carry, multilevel, phases, make_qp,
+                       options: SolverOptions = SolverOptions()) -> LevelSolve:
+    """A level of a cone of general rows B u >= g (``make_qp()``: a ``FaceMeanQP`` or an
+    ``EdgeFunctionalQP``), solved exactly by the general-constraint active set method, by
+    projected multigrid CG on ``multilevel``'s hierarchy (else SuperLU's factorised saddle
+    system), nested from ``carry``."""
+    timed = timer(phases)
+    embedding = ContactEdges.of(problem, model=False)
+    with timed("setup"):
+        qp = make_qp()
+        start = None
+        if multilevel is not None and carry is not None:
+            start = nested_start(multilevel, carry.p1, problem, embedding)
+        predicted = qp.predicted_active(None if carry is None else carry.trace)
+    with timed("solve"):
+        system = None if multilevel is None else ProjectedMultigridSystem(qp.K_ngs, multilevel, embedding, options)
+        solution = GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift, system=system,
+                                           options=options).solve(predicted, start)
+    trace_u = qp.trace_function(solution.z, solution.active)
+    return exact_level(case, problem, solution.z, trace_u, qp.pressure(solution.multipliers), solution)
+
+
+@dataclass(frozen=True)
+class FunctionalCone(Method):
+    """A cone given only by its constraint functionals on the contact edges (2D;
+    ``fem.edge_functionals``): v_h >= alpha at the vertices of Gamma_C and, on every contact
+    edge, each rule ((t, w), ...) of ``functionals`` applied to v_h - alpha >= 0 (t in [0, 1]
+    along the edge). Solved exactly (KKT residual <= 1e-10) by the general-constraint active set
+    method with the projected multigrid, nested from level to level, as the 3D ``mean``. The
+    paper's ``nodal`` is ``functionals=(((0.5, 1.0),),)``; "v_h >= alpha at the points 1/4 and
+    3/4 of each edge" is ``(((0.25, 1.0),), ((0.75, 1.0),))``. Known limit: where Gamma_C is
+    wholly in contact at a zero gap (elastic-wedge), the general-constraint solver's relative
+    primal residual divides round-off by round-off and the rows read "stalled" though the
+    solution is the paper cones' (tests/test_functional_cone.py, a strict xfail)."""
+
+    functionals: tuple = ()
+    physics: tuple = ("scalar", "elasticity")
+    # the functionals of an edge of degree p, if they depend on it (a module-level function: a
+    # method travels to worker processes by pickle): each edge of an hp mesh gets its own degree's
+    # (``fem.edge_functionals.rules_per_edge``); ``functionals`` are then those of ``order``
+    functionals_of: Callable[[int], tuple] | None = None
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.functionals_of is not None and not self.functionals:
+            object.__setattr__(self, "functionals", self.functionals_of(self.order))
+        object.__setattr__(self, "functionals", check_rules(self.functionals))
+
+    @property
+    def variable_degree(self) -> bool:
+        return self.functionals_of is not None
+
+    def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
+        # two or more functionals per edge: with both ends active, an edge's rows outnumber its
+        # three trace variables, the active rows are linearly dependent, and the projected CG
+        # (``solvers.projection``) stalls (oscillating-r34 with the quarter points);
+        # SuperLU's saddle solve takes dependent rows (KKT 1e-16 on the same levels)
+        # (on P_k, k - 1 functionals per edge are independent rows: the projected CG serves them)
+        hierarchy = multilevel if len(self.functionals) <= max(problem.order - 1, 1) else None
+        return solve_general_rows(case, problem, carry, hierarchy, phases,
+                                  lambda: edge_functional_qp(case, problem, self.functionals_of or self.functionals,
+                                                             take_stiffness=take_stiffness),
+                                  self.solver)
+
+
+# Level 2: a weak method given by its contact law
+
+
 
 
 @dataclass(frozen=True)
@@ -109,7 +191,7 @@ class ContactLawMethod(Method):
                              active_constraints=int(solution.active.sum()), backward_error=solution.backward,
                              solve_seconds=solution.seconds)
         return LevelSolve(fields, u, trace_u, pressure,
-                          Carry(p1_values(problem, u), points=system.quadrature.points, active=solution.active))
+                          LawCarry(p1_values(problem, u), points=system.quadrature.points, active=solution.active))
 
 
 def nested_guess(system, carry, multilevel):
@@ -121,6 +203,9 @@ def nested_guess(system, carry, multilevel):
     if multilevel is not None:
         start = nested_start(multilevel, carry.p1, system.problem, ContactEdges.of(system.problem, model=False))
     return start, predicted_active(carry.points, carry.active, system.quadrature.points)
+
+
+# Level 3: a solve of your own
 
 
 @dataclass(frozen=True)
@@ -184,9 +269,13 @@ class OwnSolution:
 
 @dataclass(frozen=True)
 class OwnSolve(Method):
-    """A method with its own solve: ``solve_level(level: LevelProblem) -> OwnSolution``."""
+    """A method with its own solve: ``solve_level(level: LevelProblem) -> OwnSolution``, in
+    every physics and dimension (``LevelProblem`` holds the contact variable of either physics),
+    one body; declare fewer (``physics``, ``dimensions``) if yours does not."""
 
     solve_level: Callable | None = None
+    physics: tuple = ("scalar", "elasticity")
+    dimensions: tuple = (2, 3)
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         timed = timer(phases)

@@ -1,7 +1,7 @@
 """Stage 2, the problem: what a case declares (``case``: the contract and its loading,
 ``geometry``, ``functions``: exact-solution helpers), its ``physics`` (every scalar/elastic and
 2D/3D difference) and the checks of a case (``validate``). Imports only ``mesh``."""
-from .. import lazy
+from ..core.lazy import lazy
 
 # The case protocol and the helpers a case file of your own uses (``examples/cases/``,
 # docs/guide/cases.md), imported when first used.

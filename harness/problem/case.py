@@ -56,7 +56,7 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            the fine profile do not
     asymptotic_levels_p1   optional int >= 3: the same for the P1 methods (order 1), which a
                            study otherwise runs one level past P2, to P2's finest number of
-                           dofs (``methods.base.EXTRA_LEVELS``): P2's levels or one more
+                           dofs (``methods.method.EXTRA_LEVELS``): P2's levels or one more
     report_levels          optional {profile: int >= 3}: the most levels a report of that profile
                            runs for the case, where its levels cost more than the profile's
                            levels assume (``{"default": 4, "fine": 5}``); unlike
@@ -120,6 +120,8 @@ from pathlib import Path
 
 import ngsolve as ngs
 
+from ..core.names import look_up
+from ..core.plugins import PluginError, entry_point_files
 from .contract import (  # noqa: F401
     DEFAULT_REFERENCE_LEVELS,
     REFERENCE_OPTIONAL,
@@ -351,19 +353,12 @@ def _registered_files() -> list[Path]:
 
 
 def installed_case_files() -> list[Path]:
-    """The files of the case modules of the entry-point group ``CASE_ENTRY_POINTS``."""
-    import importlib.metadata
-    import importlib.util
-    files = []
-    for entry in importlib.metadata.entry_points(group=CASE_ENTRY_POINTS):
-        try:
-            spec = importlib.util.find_spec(entry.module)
-        except (ImportError, ValueError) as exc:
-            raise CaseError(f"case entry point {entry.name} = {entry.value} ({CASE_ENTRY_POINTS}): {exc}") from exc
-        if spec is None or not spec.origin or not spec.origin.endswith(".py"):
-            raise CaseError(f"case entry point {entry.name} = {entry.value} ({CASE_ENTRY_POINTS}) is not a case module (.py)")
-        files.append(Path(spec.origin))
-    return files
+    """The files of the case modules of the entry-point group ``CASE_ENTRY_POINTS``
+    (``harness.core.plugins.entry_point_files``)."""
+    try:
+        return entry_point_files(CASE_ENTRY_POINTS, "case")
+    except PluginError as exc:
+        raise CaseError(str(exc)) from exc.__cause__
 
 
 # the cases of the files read so far, by (path, name in messages, sha1 of the text): a file is run
@@ -397,7 +392,4 @@ def load_case(spec: str) -> Case:
         if not path.is_file():
             raise CaseError(f"case file not found: {spec}")
         return case_of_file(path.resolve(), str(path))
-    cases = registered_cases()
-    if spec not in cases:
-        raise CaseError(f"unknown case {spec!r}; known cases: {', '.join(cases)}")
-    return cases[spec]
+    return look_up(registered_cases(), spec, "case", CaseError)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import ngsolve as ngs
 
-from ..mesh import plugins
+from ..core import plugins
 from .geometry import geometry_dimension
 from .physics import PHYSICS, SCALAR, Elasticity
 
@@ -28,7 +28,7 @@ class CaseError(ValueError):
 
 def import_file(path: Path):
     """The case module of the file ``path``, run afresh (a case file edited between two loads
-    is read again); CaseError in one line if it fails (``mesh.plugins.import_file``)."""
+    is read again); CaseError in one line if it fails (``harness.core.plugins.import_file``)."""
     try:
         return plugins.import_file(Path(path), "case", cached=False)
     except plugins.PluginError as exc:

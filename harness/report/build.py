@@ -392,7 +392,7 @@ def make_report(profile: str = "default", results_dir: Path = Path("results"), r
 
 
 def method_files(methods) -> dict[str, str]:
-    """{name: sha256 of its file} of the methods defined outside the package (``methods.base.Method.source``):
+    """{name: sha256 of its file} of the methods defined outside the package (``methods.method.Method.source``):
     in the settings, whose hash keys the cached results (``study.planning.cache``), so that a changed file
     runs its method again."""
     files = {}

@@ -11,7 +11,7 @@ over the levels of each, whose "time" is the level.
   ``physics``) and ``active`` (the constraints the contact solver held active there: the
   vertex conditions, and for P2 the edge condition of ``mean`` or the midpoint condition of
   ``nodal``, shown at the edge's midpoint; none for Nitsche and penalty, which have no
-  constraints), cell data ``pressure`` (the discrete contact pressure, ``methods.base.LevelSolve.pressure``)
+  constraints), cell data ``pressure`` (the discrete contact pressure, ``methods.method.LevelSolve.pressure``)
   and ``in_contact`` = pressure > 0, for the 3D ``mean`` also ``active`` (its triangle-mean
   condition; its midpoints have none), and for an exact case ``gap`` and ``exact_pressure``.
 

@@ -1,5 +1,5 @@
 """The solvers' settings as data: tolerances, the gains of the loose (inexact) solves, and
-iteration caps, one frozen value passed from a method (``methods.base.Method.solver``) down to
+iteration caps, one frozen value passed from a method (``methods.method.Method.solver``) down to
 every solver it calls. The defaults are the harness's; each is explained where it is used
 (named in its comment)."""
 from __future__ import annotations

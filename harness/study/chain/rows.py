@@ -102,7 +102,7 @@ class Phases:
 
 def study_levels(method: Method, levels: int) -> int:
     """Levels a method runs in a study of ``levels`` levels: more for P1, so that every method
-    ends at about the same number of dofs (``methods.base.EXTRA_LEVELS``), fewer for P4; at
+    ends at about the same number of dofs (``methods.method.EXTRA_LEVELS``), fewer for P4; at
     least one."""
     return max(levels + method.extra_levels, 1)
 

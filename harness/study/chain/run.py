@@ -146,7 +146,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
     methods = own if per_level else chain_methods(case, methods)
     if getattr(sequence, "variable_degree", False):
         # an hp level is a number of layers, the same for every degree: no P1 level more, no P4
-        # level less (``methods.base.EXTRA_LEVELS`` equalises the dofs of uniform chains)
+        # level less (``methods.method.EXTRA_LEVELS`` equalises the dofs of uniform chains)
         methods = [m.with_extra_levels(0) for m in methods]
     if sequence.adaptive:
         check_adaptive(case, methods)

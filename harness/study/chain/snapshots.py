@@ -93,7 +93,7 @@ def domain_snapshot(case, problem, u: np.ndarray) -> dict:
 def two_body_snapshot(case, problem, solve) -> dict:
     """``contact_snapshot``'s fields for two bodies (``fem.two_body``): along Gamma_C the opening
     c_1 + c_2 of u_h and of u (twice the one-body contact value), twice the obstacle, the
-    pressures (the mortar pressure per slave edge, ``methods._mortar``)."""
+    pressures (the mortar pressure per slave edge, ``methods.mortar``)."""
     from ...fem.two_body import opening
     x, values = opening(problem, solve.u, SAMPLES_PER_EDGE)
     points = np.stack([x, np.zeros_like(x)], axis=-1)

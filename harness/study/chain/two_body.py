@@ -1,6 +1,6 @@
 """The level chain of a two-body case (``problem.bodies``): each body's mesh hierarchy refined
 uniformly on its own (the meshes stay non-matching on Gamma_C), each level's two discrete
-problems coupled by a mortar method (``methods._mortar``), each body's errors measured as a
+problems coupled by a mortar method (``methods.mortar``), each body's errors measured as a
 one-body chain measures them (``measure.errors.ExactErrors``, the lower body against the same
 u in its mirrored frame) and combined over the two bodies:
 

@@ -162,7 +162,7 @@ def solve_weights(case, methods, levels: int, sizes: LevelSizes | None = None, p
 
 
 def solve_seconds_per_dof(method, physics: str, dimension: int) -> float:
-    """A solve's seconds per dof by the cost model ``method`` declares (``methods.base.Method.cost_model``):
+    """A solve's seconds per dof by the cost model ``method`` declares (``methods.method.Method.cost_model``):
     its own number, or the figure of its model, physics and dimension (``SOLVE_SECONDS_PER_DOF``;
     the largest for a combination not measured)."""
     model = getattr(method, "cost_model", None)

@@ -308,7 +308,7 @@ def skipped_meshes(cases, meshes) -> list[str]:
 
 def skipped_methods(cases, methods) -> list[str]:
     """One line per method of ``methods`` that discretises none of ``cases`` (their physics,
-    dimension or number of bodies: ``methods.base.Method.supports``), which a study would leave without a
+    dimension or number of bodies: ``methods.method.Method.supports``), which a study would leave without a
     row; a method that serves some of them is the run's mix, not a mistake."""
     lines = []
     for method in methods:

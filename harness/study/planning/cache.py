@@ -23,7 +23,7 @@ import pandas as pd
 
 from ... import __version__
 from ...methods import ContactLawMethod, methods_named
-from ...methods.base import EXTRA_LEVELS
+from ...methods.method import EXTRA_LEVELS
 from ...problem.case import Case
 from ...problem.validate import validate_case
 from ...solvers.options import SolverOptions

@@ -4,7 +4,7 @@ adaptive meshes (``mesh.strategies``), beside the uniform rows of the main study
 (case, mesh) under ``results/meshes`` and reused while code, case file and settings are unchanged.
 
 The methods are those that declare the role MESH_STUDY (the fine profile adds the PAPER, BASELINE
-and SWEPT ones: ``methods.base.Method.roles``). The finest adaptive mesh of ``PICTURE_METHOD`` (the reference
+and SWEPT ones: ``methods.method.Method.roles``). The finest adaptive mesh of ``PICTURE_METHOD`` (the reference
 method, ``measure.reference``) is kept (``FinestMesh``) for the report's picture.
 """
 from __future__ import annotations

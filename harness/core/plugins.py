@@ -1,9 +1,9 @@
-"""Plug-ins from outside the package, whatever their kind (mesh strategies here, methods in
-``methods.plugins``): a file (``path/to/file.py[:name]``), an attribute of an importable module
-(``package.module[:name]``) or an installed package's entry point. The loading is one piece of
-code for every kind; each kind says what it looks for and checks what it finds. It lives in the
-first stage of the pipeline that takes plug-ins (the mesh axis), so that every later one may
-use it.
+"""Plug-ins from outside the package, whatever their kind (methods: ``harness.methods.plugins``;
+mesh strategies: ``harness.mesh.strategies``; cases: ``harness.problem.case``): a file
+(``path/to/file.py[:name]``), an attribute of an importable module (``package.module[:name]``),
+an installed package's entry point or an object. The loading is one piece of code for every
+kind; each kind says what it looks for and checks what it finds. It knows no stage, so that
+every stage may use it.
 """
 from __future__ import annotations
 
@@ -124,3 +124,18 @@ def entry_point_objects(group: str, names: tuple[str, ...], kind_type: type, kin
         source = getattr(sys.modules.get(entry.module), "__file__", None)
         found.append((objects, Path(source) if source else None, where))
     return found
+
+
+def entry_point_files(group: str, kind: str) -> list[Path]:
+    """The files of the modules the entry points of ``group`` name (each a module of ``kind``,
+    a .py file), found without importing them; PluginError in one line for one that is not."""
+    files = []
+    for entry in importlib.metadata.entry_points(group=group):
+        try:
+            spec = importlib.util.find_spec(entry.module)
+        except (ImportError, ValueError) as exc:
+            raise PluginError(f"{kind} entry point {entry.name} = {entry.value} ({group}): {exc}") from exc
+        if spec is None or not spec.origin or not spec.origin.endswith(".py"):
+            raise PluginError(f"{kind} entry point {entry.name} = {entry.value} ({group}) is not a {kind} module (.py)")
+        files.append(Path(spec.origin))
+    return files
