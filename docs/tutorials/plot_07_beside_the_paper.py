@@ -50,10 +50,9 @@ rates = harness.rates(rows)
 print(rates.pivot(index="case", columns="method", values="fitted_rate").round(2).to_string())
 
 # %%
-# The verdict matrix: each cell the fitted rate over the expected one, green where they agree
-# within ±0.1, blue above (the theorems are upper bounds), red below, amber pre-asymptotic (below,
-# as the best approximation of the same space is), grey where there is no theory. borderline-h2
-# is blue for all three: the paper's h|log h|^{1/4} is an upper bound, and its data follow
+# The verdict matrix: each cell the fitted rate over the expected one, coloured by the verdict
+# (the colours: :doc:`../guide/report`, "The verdict matrix and its colours"). borderline-h2 is
+# blue, *above*, for all three: the paper's h|log h|^{1/4} is an upper bound, and its data follow
 # Drouet & Hild's h (:doc:`../guide/findings`). ``python -m harness report --case paper --method
 # mine.py --method paper`` writes the whole report of the same study.
 figure = harness.plot(rows, kind="verdicts")
