@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: test test-full lint report report-fine bench docs clean distclean
+.PHONY: test test-full lint report report-fine readme-figure bench docs clean distclean
 
 $(STAMP): pyproject.toml setup.py
 	$(PYTHON) -m venv $(VENV)
@@ -35,6 +35,11 @@ report: $(STAMP)
 
 report-fine: $(STAMP)
 	$(PY) -m harness report --profile fine $(ENGINE)
+
+# the README's figure: the last default report's verdict matrix, the caption naming the version
+# that computed it (results/provenance.json); run after `make report`, with every release
+readme-figure: $(STAMP)
+	$(PY) docs/_ext/readme_figure.py
 
 bench: $(STAMP)
 	$(PY) -m harness bench

@@ -21,6 +21,7 @@ name = "borderline-h2"
 description = "(r - x)/2 |log(r/2)|^{-0.6} (exactly H^2) plus an r^{3/2} transition at 0"
 regime = "nu = 2"
 theorem = "4.2 ii, 5.2 ii"
+groups = ["paper"]            # one scalar case per regime of the paper's theorems (--case paper)
 nu = 2.0
 expected_rate = 1.0
 expected_log_exponent = 0.25

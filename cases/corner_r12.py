@@ -20,6 +20,7 @@ name = "corner-r12"
 description = "binding contact meets Gamma_g at a straight junction (r^{1/2}), transition at x = 1/2"
 regime = "1 < nu <= 3/2"
 theorem = "4.1 i, 5.1 i"
+groups = ["paper"]            # one scalar case per regime of the paper's theorems (--case paper)
 nu = 1.5
 expected_rate = 0.5
 

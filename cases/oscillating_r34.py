@@ -52,6 +52,7 @@ name = "oscillating-r34"
 description = "infinitely many transitions accumulating at 0 (r^{3/4} cos(3 log r) on Gamma_C), Remark 4.3"
 regime = "3/2 < nu < 2, infinitely many transitions"
 theorem = "Remark 4.3 (belief; 4.2 i, 5.2 i need finitely many transitions)"
+groups = ["paper"]            # one scalar case per regime of the paper's theorems (--case paper)
 A_EXPONENT, BETA = 0.75, 3.0
 nu = 1.0 + A_EXPONENT
 expected_rate = nu - 1.0

@@ -16,6 +16,7 @@ name = "smooth"
 description = "max(0,-x)^3 - y max(0,x)^3 + y^2 cos(x+y): H^{7/2-eps}, transition at 0"
 regime = "nu > 5/2"
 theorem = "Remark 4.9"
+groups = ["paper"]            # one scalar case per regime of the paper's theorems (--case paper)
 nu = 3.5
 expected_rate = 2.0
 

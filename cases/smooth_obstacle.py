@@ -28,6 +28,7 @@ name = "smooth-obstacle"
 description = "smooth obstacle cos(pi x) + 0.3 sin(pi x/2) - 0.2 under a membrane, no closed form"
 regime = "2 < nu <= 5/2 (transitions off the mesh vertices)"
 theorem = "4.1 ii, 5.1 ii"
+groups = ["paper"]            # one scalar case per regime of the paper's theorems (--case paper)
 nu = 2.5
 expected_rate = 1.5
 

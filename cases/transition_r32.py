@@ -14,6 +14,7 @@ name = "transition-r32"
 description = "r^{3/2} sin(3 theta/2) contact/separation transition at the middle of Gamma_C"
 regime = "2 < nu <= 5/2"
 theorem = "4.1 ii, 5.1 ii"
+groups = ["paper"]            # one scalar case per regime of the paper's theorems (--case paper)
 nu = 2.5
 expected_rate = 1.5
 expected_log_exponent = 0.0

@@ -18,6 +18,7 @@ name = "wedge-r23"
 description = "binding contact meets Gamma_g at angle 3pi/4 (r^{2/3}), transition at x = 1/2"
 regime = "3/2 < nu < 2"
 theorem = "4.2 i, 5.2 i"
+groups = ["paper"]            # one scalar case per regime of the paper's theorems (--case paper)
 nu = 5 / 3
 expected_rate = 2 / 3
 

@@ -15,6 +15,7 @@ _PUBLIC = {
     "load_case": "problem.case", "registered_cases": "problem.case", "Case": "problem.case",
     "CaseError": "problem.case", "METHODS": "methods", "methods_named": "methods",
     "InProcess": "study", "LocalProcesses": "study", "DaskEngine": "study",
+    "methods": "methods", "mesh": "mesh", "problem": "problem",     # the protocols' packages, as attributes
     "FolderBusy": "study.storage.folder", "StudyFailed": "study.storage.store", "VtkWriter": "report.vtk",
 }
 # the report package, imported once here, where the import system binds it as `harness.report`;

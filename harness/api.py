@@ -37,7 +37,8 @@ def run(cases, methods="all", levels: int = 5, meshes="uniform", *, out=None, re
     """Run a convergence study: one row per case x method x mesh x level (the columns of
     ``docs/guide/results.md``).
 
-    ``cases``: names, case files, modules or ``Case`` objects (or one of them). ``methods``:
+    ``cases``: names, groups ('paper', 'all', '3d', ...: ``harness.problem.case.case_groups``),
+    case files, modules or ``Case`` objects (or one of them), each case run once. ``methods``:
     names, groups ('paper', 'weak', ...), 'all', parameters (``nitsche:gamma0=0.1``), files or
     modules of your own, or ``Method`` objects. ``meshes``: "uniform", "graded", "adaptive"
     ("adaptive:theta=0.3"), "hp" ("hp:sigma=0.15,mu=1"), "all" (the first three), a strategy of
@@ -88,10 +89,10 @@ def _study_inputs(cases, methods, meshes, reference_levels):
     """(cases, methods, mesh strategies) of ``run``'s arguments, each parsed or loaded."""
     from .mesh.strategies import parse_meshes
     from .methods import methods_named
-    from .problem.case import Case, load_case
+    from .problem.case import Case, expand_groups, load_case
     if isinstance(cases, (str, Path, Case)):
         cases = [cases]
-    loaded = [c if isinstance(c, Case) else load_case(str(c)) for c in cases]
+    loaded = [c if isinstance(c, Case) else load_case(str(c)) for c in expand_groups(cases)]
     if reference_levels:
         loaded = [case.with_reference(reference_levels) for case in loaded]
     chosen = methods_named(methods)             # a name, a group, a Method, or a list of them
@@ -258,25 +259,28 @@ def report(cases=None, methods=("all",), levels: int | None = None, profile: str
            out="report", engine=None, show_progress: bool = True, vtk: bool = False, check_memory: bool = True) -> Path:
     """The report of ``profile`` ("default" or "fine") into ``out``/report.html, its study's
     rows merged into ``results``/results.csv (rows already there and unchanged are reused).
-    ``cases``: registered case names (default: the profile's); ``methods``: as ``run`` takes
+    ``cases``: registered case names or groups (default: the profile's); ``methods``: as ``run`` takes
     them, your own objects included; ``levels``: instead of the profile's. Both folders are owned
     by this call while it runs. Returns the HTML's path.
 
         >>> harness.report(cases=["transition-r32"], methods=["paper", my_method], levels=3)
     """
+    from .problem.case import expand_groups
     from .report.build import make_report
+    cases = expand_groups(cases) if cases else cases        # a group ("paper"): its cases' names
     return make_report(profile, Path(results), Path(out), cases, show_progress=show_progress, levels=levels,
                        methods=methods, engine=engine, check_memory=check_memory, vtk=vtk)
 
 
 def case_rows(cases=None) -> list[dict]:
-    """One dict per case: regularity, theorem and the rate it predicts (``case_table``'s rows)."""
+    """One dict per case: regularity, theorem, the rate it predicts and its groups besides "all"
+    (``case_table``'s rows)."""
     from .problem.case import fraction, registered_cases
     cases = list(registered_cases().values()) if cases is None else cases
     return [{
         "case": c.name, "nu": fraction(c.nu), "regime": c.regime, "theorem": c.theorem,
         "expected_rate": c.expected_rate, "expected_log_exponent": c.expected_log_exponent,
-        "bound": c.expected_bound, "description": c.description,
+        "bound": c.expected_bound, "groups": " ".join(c.groups), "description": c.description,
     } for c in cases]
 
 
@@ -294,7 +298,7 @@ def method_table() -> pd.DataFrame:
 
 
 def case_table(cases=None) -> pd.DataFrame:
-    """One row per case: regularity, theorem and the rate it predicts (the columns of
+    """One row per case: regularity, theorem, the rate it predicts and its groups (the columns of
     ``python -m harness cases``)."""
     import pandas as pd
     return pd.DataFrame(case_rows(cases))

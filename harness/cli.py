@@ -38,8 +38,12 @@ def text_table(rows: list[dict], width: int = 60) -> str:
 
 def cmd_cases(args) -> int:
     from .api import case_rows
+    from .problem.case import case_groups
     hidden = ("expected_rate", "expected_log_exponent")
     print(text_table([{k: v for k, v in row.items() if k not in hidden} for row in case_rows()], width=70))
+    print("\ngroups (--case GROUP runs each of its cases):")
+    print(text_table([{"group": group, "count": len(names), "cases": ", ".join(names)}
+                      for group, names in case_groups().items()], width=100))
     return 0
 
 

@@ -97,8 +97,9 @@ def _engine_options(p) -> None:
 
 
 def add_run(p):
-    p.add_argument("--case", action="append", required=True, metavar="NAME|PATH",
-                   help="a registered case name or a case file; repeat for several")
+    p.add_argument("--case", action="append", required=True, metavar="NAME|GROUP|PATH",
+                   help="a registered case name, a group of them ('paper', 'all', '3d', ...: see `cases`) "
+                        "or a case file; repeat for several")
     _method_option(p)
     p.add_argument("--levels", type=POSITIVE, default=5, help="number of mesh levels (0..L-1)")
     p.add_argument("--reference-levels", type=POSITIVE, metavar="K",
@@ -149,7 +150,8 @@ def add_report(p):
     from .study.chain import PROFILES
     p.add_argument("--profile", default="default", choices=list(PROFILES))
     p.add_argument("--levels", type=POSITIVE, help="override the profile's number of levels")
-    p.add_argument("--case", action="append", metavar="NAME", help="only these registered cases")
+    p.add_argument("--case", action="append", metavar="NAME|GROUP",
+                   help="only these registered cases (a group: its cases; see `cases`)")
     _method_option(p)
     p.add_argument("--results", default="results", metavar="DIR")
     p.add_argument("--report", default="report", metavar="DIR")

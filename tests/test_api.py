@@ -120,3 +120,43 @@ def test_run_takes_one_method_object_and_warns_of_a_method_no_case_needs():
     with pytest.warns(harness.StudyWarning, match="mortar-nodal skipped: it discretises"):
         rows = harness.run("transition-r32", methods=["nodal", "mortar-nodal"], levels=1, show_progress=False)
     assert rows.method.tolist() == ["nodal"]
+
+
+PAPER = ["corner-r12", "wedge-r23", "oscillating-r34", "borderline-h2", "smooth-obstacle", "transition-r32", "smooth"]
+
+
+def test_a_group_of_cases_expands_to_its_cases_in_registry_order_each_once():
+    """``--case GROUP`` and ``harness.run([GROUP])``: "all", the groups derived from what a case
+    is, and those cases declare ("paper": one scalar 2D case per regime of the paper)."""
+    from harness.problem.case import case_groups, expand_groups
+    registry, groups = harness.registered_cases(), case_groups()
+    assert groups["all"] == list(registry) and groups["paper"] == PAPER
+    assert all(registry[n].dimension == 2 and registry[n].physics.name == "scalar" and registry[n].bodies == 1
+               for n in groups["paper"])
+    assert groups["3d"] == [n for n, c in registry.items() if c.dimension == 3]
+    assert groups["two-body"] == [n for n, c in registry.items() if c.bodies == 2]
+    assert groups["reference"] == [n for n, c in registry.items() if not c.exact]
+    own = "tests/data/gap_case.py"
+    assert expand_groups(["smooth", "paper", own, "two-body", own]) == (
+        ["smooth", *[n for n in PAPER if n != "smooth"], own, *groups["two-body"]])
+
+
+def test_declared_groups_are_names_and_none_derived_or_a_case_name(tmp_path):
+    import pytest
+
+    from harness.problem.case import CaseError, case_groups, load_case
+    text = (Path(__file__).parent / "data" / "gap_case.py").read_text()
+    for groups, message in [('"paper"', "list of names"), ('["two words"]', "list of names"),
+                            ('["3d"]', "derived from what the case declares")]:
+        path = tmp_path / f"case_{len(list(tmp_path.iterdir()))}.py"
+        path.write_text(text + f"\ngroups = {groups}\n")
+        with pytest.raises(CaseError, match=message):
+            load_case(str(path))
+    path = tmp_path / "clash.py"
+    path.write_text(text + '\ngroups = ["smooth"]\n')
+    own, smooth = load_case(str(path)), harness.registered_cases()["smooth"]
+    assert "smooth" in own.groups
+    with pytest.raises(CaseError, match="share a case's name"):
+        case_groups({own.name: own, "smooth": smooth})
+    with pytest.raises(CaseError, match="is a group of cases"):
+        load_case("paper")

@@ -84,6 +84,7 @@ def test_methods_lists_order_contact_condition_and_reference():
 
 @pytest.mark.parametrize("args, message", [
     (["--case", "no-such-case"], "known cases"),
+    (["--case", "no-such-case"], "groups: all, 2d, 3d"),
     (["--case", "transition-r32", "--model", "both"], "--model"),
     (["--case", "transition-r32", "--method", "p3"], "--method"),
     (["--case", "transition-r32", "--levels", "0"], "positive integer"),
@@ -111,6 +112,21 @@ def test_unwritable_output_folder_is_refused(tmp_path):
 def test_cases_lists_regime_and_expected_rate():
     done = harness_here("cases")
     assert done.returncode == 0 and "transition-r32" in done.stdout and "h^3/2" in done.stdout and "h^1 |log h|^1/4" in done.stdout
+
+
+def test_cases_lists_the_groups_case_takes():
+    done = harness_here("cases")
+    groups = done.stdout.split("groups (--case GROUP")[1]
+    assert done.returncode == 0 and "paper " in groups and "reference " in groups and "two-body " in groups
+
+
+def test_a_group_of_cases_runs_each_of_its_cases_once(tmp_path):
+    done = harness_here("run", "--case", "paper", "--case", "smooth", "--method", "nodal", "--levels", "1",
+                        "--out", str(tmp_path), "--quiet")
+    assert done.returncode == 0, done.stderr
+    frame = pd.read_csv(tmp_path / "results.csv")
+    assert sorted(frame.case) == sorted(["corner-r12", "wedge-r23", "oscillating-r34", "borderline-h2",
+                                         "smooth-obstacle", "transition-r32", "smooth"])
 
 
 def test_rates_of_missing_or_malformed_results_is_one_line(tmp_path):

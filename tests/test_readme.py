@@ -51,3 +51,30 @@ def test_every_make_target_of_the_readme_exists(line):
 def test_the_only_other_shell_line_is_the_clone():
     others = [line for line in shell_lines() if " -m harness " not in line and not line.startswith("make ")]
     assert [line.split()[:2] for line in others] == [["git", "clone"]]
+
+
+def test_the_figure_caption_names_a_release_and_make_readme_figure_writes_the_reports_version(tmp_path):
+    """The caption's version is a release of the CHANGELOG, written by ``make readme-figure``
+    (docs/_ext/readme_figure.py) from the report's provenance.json, not typed by hand."""
+    import json
+    sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+    try:
+        from readme_figure import CAPTION, update
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "_ext"))
+    readme = (ROOT / "README.md").read_text()
+    version = CAPTION.search(readme).group(0).split()[3].rstrip(",")
+    assert f"## {version} " in (ROOT / "CHANGELOG.md").read_text()
+    (tmp_path / "results").mkdir()
+    (tmp_path / "report" / "figures").mkdir(parents=True)
+    (tmp_path / "docs" / "_static").mkdir(parents=True)
+    (tmp_path / "report" / "figures" / "verdict_matrix.png").write_bytes(b"png")
+    (tmp_path / "README.md").write_text(readme)
+    meta = {"harness_version": "9.9.9", "git_commit": "abc", "settings": {"profile": "default"}}
+    (tmp_path / "results" / "provenance.json").write_text(json.dumps(meta))
+    assert update(tmp_path / "results", tmp_path / "report", tmp_path / "README.md") == "9.9.9"
+    assert "computed by harness 9.9.9, default profile" in (tmp_path / "README.md").read_text()
+    assert (tmp_path / "docs" / "_static" / "verdict_matrix.png").read_bytes() == b"png"
+    (tmp_path / "results" / "provenance.json").write_text(json.dumps(meta | {"settings": {"profile": "fine"}}))
+    with pytest.raises(SystemExit, match="fine report"):
+        update(tmp_path / "results", tmp_path / "report", tmp_path / "README.md")

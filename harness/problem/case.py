@@ -76,6 +76,9 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            two-body case (Section 6), the declared data being the upper body's
                            and the lower body its mirror image across Gamma_C, meshed on its
                            own (``problem.bodies``); 2D, exact u, solved by the mortar methods
+    groups                 optional list of group names the case belongs to beyond those derived
+                           from what it is (``DERIVED_GROUPS``), e.g. ["paper"]: ``--case
+                           GROUP`` runs every case of a group (``expand_groups``)
 
 An *elastic case* (``physics = "elasticity"``, ``harness.problem.physics.Elasticity``) declares besides
 
@@ -190,11 +193,21 @@ class Case:
     predicted_quantities: object = None                # force -> {results column: predicted value}
     predicted_pressure: object = None                  # (s along Gamma_C, force) -> pressure
     second_body: object = None                         # ``bodies.MirrorBody``: a two-body case
+    declared_groups: tuple = ()                        # the module's groups (``Case.groups``)
 
     @property
     def bodies(self) -> int:
         """1, or 2 for a two-body case (``second_body``)."""
         return 1 if self.second_body is None else 2
+
+    @property
+    def groups(self) -> tuple[str, ...]:
+        """The groups ``--case`` finds the case in besides "all": those of what it is (its
+        dimension, physics, bodies, and "reference" without a closed-form u), then those it
+        declares."""
+        derived = (f"{self.dimension}d", self.physics.name, "two-body" if self.bodies == 2 else "",
+                   "" if self.exact else "reference")
+        return tuple(group for group in derived if group) + self.declared_groups
 
     @property
     def exact(self) -> bool:
@@ -292,7 +305,19 @@ def case_from_module(module, source: str) -> Case:
         case = _elastic_case(case, physics, source)
     if case.second_body is not None:
         check_second_body(case, source)
-    return case
+    return dataclasses.replace(case, declared_groups=_declared_groups(module, source))
+
+
+def _declared_groups(module, source: str) -> tuple[str, ...]:
+    """The module's ``groups``: names of one word each, none of them a derived group's."""
+    groups = getattr(module, "groups", ())
+    if isinstance(groups, str) or not all(isinstance(g, str) and g and g.split() == [g] for g in groups):
+        raise CaseError(f"case {source}: groups must be a list of names without spaces, got {groups!r}")
+    derived = sorted(set(groups) & set(DERIVED_GROUPS))
+    if derived:
+        raise CaseError(f"case {source}: groups {', '.join(derived)} are derived from what the case declares, "
+                        f"not declared (derived: {', '.join(DERIVED_GROUPS)})")
+    return tuple(groups)
 
 
 def _exact_case(module, source: str) -> Case:
@@ -385,11 +410,53 @@ def registered_cases(dimension: int | None = None) -> dict[str, Case]:
                                                                       c.nu if c.nu == c.nu else float("inf"), c.name))}
 
 
+# the groups every case is sorted into by what it is (``Case.groups``); "all" holds every case
+DERIVED_GROUPS = ("all", "2d", "3d", "scalar", "elasticity", "two-body", "reference")
+
+
+def case_groups(cases: dict[str, Case] | None = None) -> dict[str, list[str]]:
+    """Every group of the registered ``cases`` (default: the registry) with its cases' names,
+    in registry order: "all", the derived groups, then the declared ones. A group that names
+    a case is refused (``--case NAME`` would be ambiguous)."""
+    cases = registered_cases() if cases is None else cases
+    groups: dict[str, list[str]] = {"all": list(cases)}
+    for case in cases.values():
+        for group in case.groups:
+            groups.setdefault(group, []).append(case.name)
+    clash = sorted(set(groups) & set(cases))
+    if clash:
+        raise CaseError(f"case group(s) {', '.join(clash)} share a case's name: rename the group")
+    return {group: groups[group] for group in sorted(groups, key=_group_order)}
+
+
+def _group_order(group: str) -> tuple:
+    return (0, DERIVED_GROUPS.index(group)) if group in DERIVED_GROUPS else (1, group)
+
+
+def expand_groups(specs) -> list:
+    """``specs`` (names, paths, ``Case`` objects, ...) with each group name replaced by its
+    cases' names (``case_groups``), each spec once, in the order given. A case file or case
+    of that name comes before a group."""
+    groups = None
+    expanded: list = []
+    for spec in specs:
+        members = [spec]
+        if isinstance(spec, str) and not spec.endswith(".py") and not Path(spec).is_file():
+            groups = case_groups() if groups is None else groups
+            members = groups.get(spec, members)
+        expanded += [item for item in members if not any(item is seen or item == seen for seen in expanded)]
+    return expanded
+
+
 def load_case(spec: str) -> Case:
-    """A registered case by name, or a case file by path."""
+    """A registered case by name, or a case file by path (a group of cases: ``expand_groups``)."""
     path = Path(spec)
     if spec.endswith(".py") or path.is_file():
         if not path.is_file():
             raise CaseError(f"case file not found: {spec}")
         return case_of_file(path.resolve(), str(path))
-    return look_up(registered_cases(), spec, "case", CaseError)
+    cases = registered_cases()
+    groups = case_groups(cases)
+    if spec in groups and spec not in cases:
+        raise CaseError(f"{spec!r} is a group of cases ({', '.join(groups[spec])}): name one case here")
+    return look_up(cases, spec, "case", CaseError, also=f"; groups: {', '.join(groups)}")
