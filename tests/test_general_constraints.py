@@ -167,7 +167,7 @@ def _face_mean_solvers(case_name: str, level: int, options: SolverOptions = Solv
     from conftest import problem_with_hierarchy
 
     from harness.fem.face_means import face_mean_qp
-    from harness.solvers.multigrid import ContactEdges
+    from harness.fem.p1_embedding import ContactEdges
     from harness.solvers.projected import ProjectedMultigridSystem
     problem, multilevel = problem_with_hierarchy(case_name, level)
     qp = face_mean_qp(load_case(case_name), problem)

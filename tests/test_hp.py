@@ -160,7 +160,7 @@ def test_the_hp_nodal_cone_has_each_edges_own_gauss_lobatto_rows_and_clarabel_ag
     general-constraint active set method is Clarabel's."""
     from conftest import clarabel_solution
 
-    from harness.fem.assembly import lobatto_points
+    from harness.fem.polynomials import lobatto_points
     from harness.fem.edge_functionals import edge_functional_qp, edge_functional_rows
     from harness.solvers.general_constraints import GeneralConstraintSolver
     case, (_, level) = hp_levels("corner-r12", 2, order=3)

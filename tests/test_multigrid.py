@@ -9,7 +9,8 @@ from harness.fem.cones import contact_qp
 from harness.methods import METHODS
 from harness.problem.case import load_case
 from harness.solvers.active_set import MultigridSystem, solve_contact_qp
-from harness.solvers.multigrid import ContactEdges, TruncatedVCycle
+from harness.solvers.multigrid import TruncatedVCycle
+from harness.fem.p1_embedding import ContactEdges
 
 
 def _csr(matrix) -> sp.csr_matrix:

@@ -33,7 +33,8 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
     from ..methods import get_method
     from ..problem.case import load_case
     from ..solvers.active_set import solve_contact_qp
-    from ..solvers.multigrid import Multilevel, nested_start
+    from ..solvers.multigrid import Multilevel
+    from ..fem.nested import nested_start
     from .three_d import linear_multigrid_seconds
 
     case, method = load_case(ADAPTIVE_CASE), get_method(method_name)

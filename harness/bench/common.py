@@ -50,7 +50,7 @@ def linear_multigrid_seconds(qp, multilevel, start=None) -> tuple[float, object]
     contact solver's multigrid CG, from ``start`` (default zero), as deep as its linear solves go
     (fastest of repeats)."""
     from ..solvers.active_set import ActiveSetSolver, MultigridSystem
-    from ..solvers.multigrid import ContactEdges
+    from ..fem.p1_embedding import ContactEdges
     system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
     load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
     return linear_seconds(system, qp, load_scale, start)

@@ -76,7 +76,7 @@ def _weak_row(method_name: str, size: tuple) -> dict:
     its Jacobian by the same multigrid CG (``MultigridSystem``, the Newton step's linear solver)
     from zero and from the same start, to the Newton step's depth."""
     from ..solvers.active_set import MultigridSystem
-    from ..solvers.multigrid import ContactEdges
+    from ..fem.p1_embedding import ContactEdges
     from ..solvers.newton import load_scale, solve_semismooth_newton
     from .common import fair_columns, linear_seconds, own_seconds
     from .solvers import weak_problem

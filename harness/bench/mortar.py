@@ -82,7 +82,8 @@ def _linear_multigrid(problem, carry, multilevel) -> tuple[float, int]:
     own truncated multigrid CG (``Multilevel``, pins: Gamma_u) from the contact solve's start
     (the coarser level's u_h prolongated): what the two bodies cost apart."""
     from ..solvers.active_set import ActiveSetSolver, MultigridSystem
-    from ..solvers.multigrid import ContactEdges, nested_start
+    from ..fem.p1_embedding import ContactEdges
+    from ..fem.nested import nested_start
     from .common import linear_seconds
     seconds, iterations, offset = 0.0, 0, 0
     for body, hierarchy in zip(problem.bodies, multilevel.bodies):

@@ -60,7 +60,8 @@ def cone_problem(model_name: str, level: int, coarse_maxh: float | None, case_na
     from ..methods import get_method
     from ..problem.case import load_case
     from ..solvers.active_set import solve_contact_qp
-    from ..solvers.multigrid import Multilevel, nested_start, p1_values
+    from ..solvers.multigrid import Multilevel
+    from ..fem.nested import nested_start, p1_values
 
     case = load_case(case_name)
     case = dataclasses.replace(case, maxh=coarse_maxh or case.maxh)
@@ -113,7 +114,7 @@ def _measure_weak(method: str, model_name: str, level: int, coarse_maxh) -> dict
     """`contact`: one penalty/Nitsche solve (semismooth Newton, nested start); `multigrid` and
     `cholesky`: one linear solve with its matrix (no contact term active)."""
     from ..solvers.active_set import DEFAULT_TOLERANCE, Cholesky, MultigridSystem
-    from ..solvers.multigrid import ContactEdges
+    from ..fem.p1_embedding import ContactEdges
     from ..solvers.newton import load_scale, solve_semismooth_newton
 
     system, start, predicted, multilevel = weak_problem(model_name, level, coarse_maxh)

@@ -38,7 +38,9 @@ def face_mean_problem(level: int, case_name: str = THREE_D_CASE, model_name: str
     from ..mesh.levels import UniformRefinement
     from ..methods import get_method
     from ..problem.case import load_case
-    from ..solvers.multigrid import ContactEdges, Multilevel, nested_start
+    from ..solvers.multigrid import Multilevel
+    from ..fem.p1_embedding import ContactEdges
+    from ..fem.nested import nested_start
 
     case, method = load_case(case_name), get_method(model_name or _cell_means()[0])
     multilevel, carry = None, None
@@ -82,7 +84,7 @@ def solve_row(model_name: str, level: int, case_name: str = THREE_D_CASE, coarse
         return SolveRow(qp, t_contact, solution, *linear[0], *linear[1])
     from ..solvers.active_set import MultigridSystem
     from ..solvers.general_constraints import GeneralConstraintSolver
-    from ..solvers.multigrid import ContactEdges
+    from ..fem.p1_embedding import ContactEdges
     from ..solvers.projected import ProjectedMultigridSystem
     qp, predicted, multilevel, start = face_mean_problem(level, case_name, model_name)
     embedding = ContactEdges.of(qp.problem, model=False)

@@ -38,7 +38,6 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.spatial import cKDTree
 
 from ..mesh.points import evaluate
 from .assembly import DiscreteProblem
@@ -284,11 +283,3 @@ def obstacle_force(case, problem: DiscreteProblem, J: sp.csr_matrix) -> float:
     if case.gap is not None:
         obstacle[problem.vertex_dofs] = problem.physics.obstacle(evaluate(case.gap, problem.mesh, problem.trace.vertex_points))
     return float(np.abs((J @ obstacle)[problem.free]).max(initial=0.0))
-
-
-def predicted_active(coarse_points: np.ndarray, coarse_active: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Nested iteration: each Gauss point takes the status of the nearest Gauss point of the
-    coarser level's solution. (The sign of the bracket of the interpolated coarse solution is a
-    poor guess: its bubbles are zero and near a transition where c - alpha and lambda both vanish
-    smoothly (the smooth case) it is wrong at many points, which Newton corrects a few per step.)"""
-    return coarse_active[cKDTree(coarse_points).query(points)[1]]

@@ -22,6 +22,7 @@ import scipy.sparse as sp
 
 from .assembly import ContactTraceFunction, DiscreteProblem
 from .cones import GeneralRowsQP, contact_pressure, end_status, vertex_rows
+from .nested import face_mean_prediction
 
 CONTACT = "contact"
 
@@ -74,14 +75,9 @@ class FaceMeanQP(GeneralRowsQP):
     ``problem.trace.faces``), g the obstacle's values and means there (``face_mean_rows``)."""
 
     def predicted_active(self, previous: ContactTraceFunction | None) -> np.ndarray | None:
-        """Nested iteration: a fine vertex inherits the status of the coarse vertex it is (or, at
-        a coarse edge midpoint, of both ends of that edge: ``trace_function``), a fine triangle
-        that of the coarse triangle it lies in."""
-        if previous is None:
-            return None
-        trace = self.problem.trace
-        return np.concatenate([previous.vertex_status(trace.vertex_points),
-                               previous.face_status(trace.faces.corners(trace))])
+        """Nested iteration: the active set predicted by the previous level's trace
+        (``fem.nested.face_mean_prediction``)."""
+        return face_mean_prediction(previous, self.problem)
 
     def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
         problem, nv = self.problem, self.n_vertices

@@ -43,7 +43,8 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from .multigrid import ContactEdges, TruncatedVCycle, max_abs, pcg
+from .multigrid import TruncatedVCycle, max_abs, pcg
+from ..fem.p1_embedding import ContactEdges
 from .options import SolverOptions
 from .pdas import KKT, primal_dual_active_set, resolved
 

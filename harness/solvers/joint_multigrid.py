@@ -33,7 +33,8 @@ import scipy.sparse as sp
 
 from ..fem.sparse import csr_block_diag, csr_view
 from .coupled_blocks import CoupledBlocks
-from .multigrid import ContactEdges, Multilevel, truncated_pins
+from .multigrid import Multilevel, truncated_pins
+from ..fem.p1_embedding import ContactEdges
 
 
 class JointMultilevel:

@@ -41,7 +41,7 @@ import ngsolve as ngs
 import numpy as np
 
 from .active_set import MultigridSystem, row_norm
-from .multigrid import ContactEdges
+from ..fem.p1_embedding import ContactEdges
 from .options import SolverOptions
 from .pdas import loose_depth
 

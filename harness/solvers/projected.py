@@ -28,7 +28,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .multigrid import HIERARCHICAL, ContactEdges, TruncatedVCycle, pcg
+from .multigrid import TruncatedVCycle, pcg
+from ..fem.p1_embedding import HIERARCHICAL, ContactEdges
 from .options import SolverOptions
 from .projection import RowProjection
 
