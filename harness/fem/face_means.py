@@ -8,7 +8,7 @@ beside v_h(x) >= alpha(x) at the vertices of Gamma_C. In 2D the edge mean of the
 triangle the P2 mean is the average of the three edge-midpoint values (the vertex functions
 of the Lagrange basis integrate to 0 over T; docs/mathematics.md §6), and each midpoint belongs
 to two triangles, so these rows couple variables and stay general rows of a matrix B, solved by
-``solvers.general_constraints`` (and ``solvers.projected``): the 3D ``mean``. (The
+``solvers.general_constraints`` (and ``solvers.projected_multigrid``): the 3D ``mean``. (The
 edge-wise cone, ``mean-edges``, constrains edge means only, which do not control the trace
 inside the triangles: its H^1 rate stalls near 1/2.)
 """

@@ -7,7 +7,7 @@ coarse spaces at the pins (Kornhuber, Numer. Math. 69 (1994); Graeser and Kornhu
 Math. 27 (2009)) keeps it bounded independently of h.
 
 The spaces, fine to coarse:
-  X_h in the contact model's variables z (P2; ``models``), then P1 on the finest mesh, then P1
+  X_h in the contact model's variables z (P2; ``fem.cones``), then P1 on the finest mesh, then P1
   on each coarser mesh of the hierarchy.
 The hierarchical P2 basis contains the P1 hat functions as its vertex functions, and the
 meshes are nested, so every coarse matrix (the P1 stiffness matrix of its mesh) is the exact
@@ -167,7 +167,7 @@ class Multilevel:
     def prolongation_matrix(self, level: int) -> sp.csr_matrix:
         """The prolongation from ``level`` - 1 to ``level`` as a sparse matrix, Q_f^T P Q_c in the
         variables of the levels (components blocked): for an algebraic Galerkin product (two
-        bodies' coupled coarse matrices, ``joint_multigrid``); made once per level (a level's
+        bodies' coupled coarse matrices, ``two_body_multigrid``); made once per level (a level's
         prolongation never changes)."""
         if level in self._prolongations:
             return self._prolongations[level]
@@ -201,7 +201,7 @@ class Multilevel:
 
 def truncated_pins(hierarchy, pinned: np.ndarray) -> list[np.ndarray]:
     """Pinned P1 dofs per level of ``hierarchy`` (a ``Multilevel``, or two bodies'
-    ``joint_multigrid.JointMultilevel``), coarse to fine, from those of the finest level: a
+    ``two_body_multigrid.JointMultilevel``), coarse to fine, from those of the finest level: a
     coarse hat is pinned when its prolongation touches a pinned finer dof (or it lies on
     Gamma_u). In a rotated frame, variable by variable (the module's note): the indicator is
     restricted by P^T alone, component block by component block."""
@@ -221,7 +221,7 @@ def _bits(mask: np.ndarray) -> ngs.BitArray:
 
 def smoother(matrix, mask: np.ndarray):
     """Gauss-Seidel of ``matrix`` over the dofs of ``mask``: the matrix's own where it has one
-    (``coupled_blocks.CoupledBlocks``, an operator, not one NGSolve matrix), else NGSolve's."""
+    (``two_body_operator.CoupledBlocks``, an operator, not one NGSolve matrix), else NGSolve's."""
     own = getattr(matrix, "smoother", None)
     return own(mask) if own is not None else matrix.CreateSmoother(_bits(mask))
 
@@ -312,7 +312,7 @@ class TruncatedVCycle:
     def apply(self, r, out) -> None:
         """out = B r for NGSolve vectors (r vanishes on the pins; so does out): smoothing on K,
         the hooks of a subclass's exact subspace steps before and after the coarse correction
-        (none here; ``projected.ConstrainedVCycle``'s Gamma_C block), smoothing back."""
+        (none here; ``projected_multigrid.ConstrainedVCycle``'s Gamma_C block), smoothing back."""
         if self.fine_is_p1:
             self._apply_p1(r, out)
             return
@@ -373,10 +373,10 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
     entries stay), until max |residual| <= tol, checked on the true residual. All vector work is
     NGSolve's (multithreaded, and no BLAS threads competing with its task manager).
 
-    ``projection`` (``projection.RowProjection``, or None): CG on the affine space {B z = B z0}
+    ``row_projection`` (``row_projection.RowProjection``, or None): CG on the affine space {B z = B z0}
     of a start z0 that satisfies active general constraints B z = g (projected CG, Gould,
     Hribar & Nocedal, SIAM J. Sci. Comput. 23 (2001)). The preconditioner must map into the
-    kernel of B (``projected.ConstrainedVCycle``; then M = P M P, P the orthogonal projector);
+    kernel of B (``projected_multigrid.ConstrainedVCycle``; then M = P M P, P the orthogonal projector);
     its output is projected once more all the same, so that round-off never moves the iterate
     off the affine space (without it the drift stalled CG at 1e-9 relative on transition-line-3d).
     The residual that decides convergence is P r, the stationarity once the constraints'
