@@ -261,7 +261,7 @@ def test_every_dotted_name_a_docstring_cites_resolves(path):
 
 
 @pytest.mark.parametrize("text, names", [
-    ("``fem.contact_laws.builtin.Nitsche``, ``harness.run(out=...)``, ``ngmesh.Copy()``.", ["fem.laws.Nitsche", "harness.run", "ngmesh.Copy"]),
+    ("``fem.laws.Nitsche``, ``harness.run(out=...)``, ``ngmesh.Copy()``.", ["fem.laws.Nitsche", "harness.run", "ngmesh.Copy"]),
     ("``z[C] >= alpha``, ``nitsche:gamma0=0.1``, ``tests/test_x.py``, ``all.tex``, ``Case``", []),
     ("a call over two lines, ``writer.written(case,\n    level)``, and ``a.b,``", ["writer.written", "a.b"]),
 ])
