@@ -217,3 +217,13 @@ def test_hp_nitsche_converges_exponentially_to_a_relative_error_of_1e_6(case_nam
     assert rates.exponential_verdict == "exponential" and rates.exponential_r2 >= 0.98
     assert rates.finest_relative_error <= 1e-6 and rows.ndof.iloc[-1] <= 1e5
     assert (rows.err_h1_over_best < 1.02).all()
+
+
+def test_hp_levels_below_round_off_are_refused_before_the_first_level():
+    """corner-r12's layers (sigma = 0.15) keep their smallest edge above 1e-13 of the coordinates
+    for 14 levels (``mesh.hp.SMALLEST_RELATIVE_EDGE``); 30 are refused before any level is made."""
+    from harness.mesh.strategies import MeshStrategy
+    levels = MeshStrategy("hp").sequence(load_case("corner-r12"), 2).levels
+    with pytest.raises(ValueError, match="at most 14 levels"):
+        next(levels(30))
+    assert next(levels(14)).index == 0
