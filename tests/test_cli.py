@@ -246,7 +246,7 @@ def test_every_failed_solve_is_one_line_on_stderr_even_with_quiet(tmp_path, caps
     """A solver that never meets its test (forced here): the run still writes its rows, says on
     stderr which case, method and level failed and why, one line each, and exits 1."""
     from harness import cli
-    from harness.solvers.active_set import KKT
+    from harness.solvers.bound_constraints import KKT
     monkeypatch.setattr(KKT, "converged", lambda self, tol: False)
     code = cli.main(["run", "--case", "transition-r32", "--method", "nodal", "--levels", "2", "--out", str(tmp_path), "--quiet"])
     err = capsys.readouterr().err.splitlines()

@@ -1,4 +1,4 @@
-"""K = diag(A_1, A_2) + C on the bodies' own NGSolve matrices (``harness.solvers.coupled_blocks``):
+"""K = diag(A_1, A_2) + C on the bodies' own NGSolve matrices (``harness.solvers.two_body_operator``):
 it multiplies as the scipy K of the dual mortar QP, and its smoother is the symmetric block
 Gauss-Seidel of K (bulk rows one by one, the interface rows as one block), checked against a
 dense sweep written out here."""
@@ -13,8 +13,8 @@ from harness.fem.two_body import TwoBodyProblem, dual_bound_qp
 from harness.mesh.levels import UniformRefinement
 from harness.problem.bodies import lower_body
 from harness.problem.case import load_case
-from harness.solvers.active_set import row_norm
-from harness.solvers.coupled_blocks import CoupledBlocks
+from harness.solvers.bound_constraints import row_norm
+from harness.solvers.two_body_operator import CoupledBlocks
 
 
 def _dual_qp(case_name: str, order: int, levels: int = 2):

@@ -7,10 +7,11 @@ import pytest
 import scipy.sparse as sp
 from conftest import HIGH_ORDER_NAMES, clarabel_solution, problem_at, problem_with_hierarchy
 
-from harness.fem.assembly import ContactTraceFunction, discretise, lobatto_points
-from harness.fem.contact_law import law_system
+from harness.fem.assembly import ContactTraceFunction, discretise
+from harness.fem.contact_laws.system import law_system
 from harness.fem.contact_quadrature import contact_quadrature
 from harness.fem.edge_functionals import edge_functional_qp
+from harness.fem.polynomials import lobatto_points
 from harness.mesh.points import evaluate, in_elements
 from harness.methods import METHODS
 from harness.problem.case import load_case

@@ -20,7 +20,7 @@ from harness.problem.functions import roller_free_mode
 from harness.problem.geometry import polygon
 from harness.problem.physics import Elasticity
 from harness.problem.validate import validate_case
-from harness.solvers.active_set import solve_contact_qp
+from harness.solvers.bound_constraints import solve_contact_qp
 from harness.solvers.multigrid import Multilevel
 from harness.study.chain import run_chain
 

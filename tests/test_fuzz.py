@@ -12,7 +12,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from harness import cli
-from harness.fem.laws import THETAS
+from harness.fem.contact_laws.builtin import THETAS
 from harness.methods import ContactLawMethod, methods_named
 from harness.problem.case import REQUIRED, CaseError, load_case
 from harness.problem.validate import validate_case

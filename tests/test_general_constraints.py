@@ -11,7 +11,7 @@ from qpsolvers import solve_qp
 from harness.fem.cones import contact_qp
 from harness.methods import METHODS
 from harness.problem.case import load_case
-from harness.solvers.active_set import solve_contact_qp
+from harness.solvers.bound_constraints import solve_contact_qp
 from harness.solvers.general_constraints import GeneralConstraintSolver
 from harness.solvers.options import SolverOptions
 
@@ -150,7 +150,7 @@ def _vertex_ids(problem):
 def test_row_projection_is_the_orthogonal_projector_even_with_dependent_rows():
     """P = I - B^T (B B^T)^+ B on rows with a repeated row and a sum of two (B B^T singular):
     P B^T = 0, P^2 = P, P symmetric, ``onto`` lands on {B z = t} for a consistent t."""
-    from harness.solvers.projection import RowProjection
+    from harness.solvers.row_projection import RowProjection
     rng = np.random.default_rng(5)
     B = rng.standard_normal((6, 30)) * (rng.random((6, 30)) < 0.4)
     B = sp.csr_matrix(np.vstack([B, B[1], B[2] + B[3]]))
@@ -167,8 +167,8 @@ def _face_mean_solvers(case_name: str, level: int, options: SolverOptions = Solv
     from conftest import problem_with_hierarchy
 
     from harness.fem.face_means import face_mean_qp
-    from harness.solvers.multigrid import ContactEdges
-    from harness.solvers.projected import ProjectedMultigridSystem
+    from harness.fem.p1_embedding import ContactEdges
+    from harness.solvers.projected_multigrid import ProjectedMultigridSystem
     problem, multilevel = problem_with_hierarchy(case_name, level)
     qp = face_mean_qp(load_case(case_name), problem)
     solver = lambda system=None: GeneralConstraintSolver(qp.K, qp.b, qp.free, qp.B, qp.g, lift=qp.lift,  # noqa: E731
@@ -195,8 +195,8 @@ def test_constrained_vcycle_keeps_the_face_rows_and_costs_about_a_pinned_solve()
     the kernel of the active face rows and is symmetric; projected CG with it needs at most 1.5x
     the CG iterations of the same vertex pins without the face rows (measured 35 and 32), where
     P M P with a pointwise smoother needed 223 (the rows are nearly dependent: module docstring
-    of ``solvers.projected``)."""
-    from harness.solvers.projected import ConstrainedVCycle
+    of ``solvers.projected_multigrid``)."""
+    from harness.solvers.projected_multigrid import ConstrainedVCycle
     qp, solver, system = _face_mean_solvers("transition-line-3d", 1)
     general_solver = solver(system)
     solution = general_solver.solve()

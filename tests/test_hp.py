@@ -137,7 +137,7 @@ def test_nitsche_on_hp_meshes_is_solved_exactly_and_its_error_falls_every_level(
 def test_nitsche_keeps_its_coercivity_margin_on_hp_meshes(case_name):
     """theta = 1 is coercive while gamma0 C_h < 1, C_h the largest ratio of int eps/gamma0
     flux(v)^2 over Gamma_C to a(v, v), with eps = gamma0 (2/p)^2 h at a point of degree p
-    (``fem.laws.degree_scale``). The trapezoid of each layer is split so that the child on Gamma_C
+    (``fem.contact_laws.builtin.degree_scale``). The trapezoid of each layer is split so that the child on Gamma_C
     keeps its parent's height (``mesh.hp.geometric_layer``); split the other way, C_h was 29 and
     theta = 1 Nitsche found spurious contact on transition-r32's free side. gamma0 = 0.05 keeps the
     factor 2.5 of uniform P2 meshes."""
@@ -160,8 +160,8 @@ def test_the_hp_nodal_cone_has_each_edges_own_gauss_lobatto_rows_and_clarabel_ag
     general-constraint active set method is Clarabel's."""
     from conftest import clarabel_solution
 
-    from harness.fem.assembly import lobatto_points
     from harness.fem.edge_functionals import edge_functional_qp, edge_functional_rows
+    from harness.fem.polynomials import lobatto_points
     from harness.solvers.general_constraints import GeneralConstraintSolver
     case, (_, level) = hp_levels("corner-r12", 2, order=3)
     problem = discretise(case, level.mesh, 3, degrees=level.degrees)
@@ -217,3 +217,13 @@ def test_hp_nitsche_converges_exponentially_to_a_relative_error_of_1e_6(case_nam
     assert rates.exponential_verdict == "exponential" and rates.exponential_r2 >= 0.98
     assert rates.finest_relative_error <= 1e-6 and rows.ndof.iloc[-1] <= 1e5
     assert (rows.err_h1_over_best < 1.02).all()
+
+
+def test_hp_levels_below_round_off_are_refused_before_the_first_level():
+    """corner-r12's layers (sigma = 0.15) keep their smallest edge above 1e-13 of the coordinates
+    for 14 levels (``mesh.hp.SMALLEST_RELATIVE_EDGE``); 30 are refused before any level is made."""
+    from harness.mesh.strategies import MeshStrategy
+    levels = MeshStrategy("hp").sequence(load_case("corner-r12"), 2).levels
+    with pytest.raises(ValueError, match="at most 14 levels"):
+        next(levels(30))
+    assert next(levels(14)).index == 0

@@ -1,4 +1,4 @@
-"""Two bodies on multigrid (``harness.solvers.joint_multigrid``): the coupled coarse matrices
+"""Two bodies on multigrid (``harness.solvers.two_body_multigrid``): the coupled coarse matrices
 are the Galerkin products of the mortar QP, the sparse prolongations are the hierarchy's, and
 the mortar methods solve on it what they solve on sparse Cholesky."""
 from __future__ import annotations
@@ -18,9 +18,9 @@ from harness.mesh.strategies import MeshStrategy
 from harness.methods import METHODS, get_method
 from harness.problem.bodies import lower_body
 from harness.problem.case import load_case
-from harness.solvers.active_set import ActiveSetSolver, MultigridSystem
-from harness.solvers.coupled_blocks import CoupledBlocks
-from harness.solvers.joint_multigrid import (
+from harness.solvers.bound_constraints import ActiveSetSolver, MultigridSystem
+from harness.solvers.multigrid import Multilevel
+from harness.solvers.two_body_multigrid import (
     JointMultilevel,
     OpeningLevels,
     SparseEdges,
@@ -28,7 +28,7 @@ from harness.solvers.joint_multigrid import (
     mortar_injection,
     p1_injected,
 )
-from harness.solvers.multigrid import Multilevel
+from harness.solvers.two_body_operator import CoupledBlocks
 from harness.study.chain.two_body import run_two_body_chain
 
 TWO_BODY_CASES = ["two-body-transition-r32", "two-body-elastic-transition"]

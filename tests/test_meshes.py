@@ -458,7 +458,7 @@ def test_the_nested_prediction_keeps_the_status_of_an_edge_that_bisection_leaves
     in binding zones; predicting from them set hundreds of such edges free and cost 18 active
     sets on adaptive corner-r12's finest level, 4 since)."""
     from harness.fem.cones import contact_qp
-    from harness.solvers.active_set import solve_contact_qp
+    from harness.solvers.bound_constraints import solve_contact_qp
 
     def edges(trace):
         return [tuple(np.round(np.r_[a, b], 12)) for a, b in zip(trace.a, trace.b)]

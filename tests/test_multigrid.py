@@ -6,10 +6,11 @@ import scipy.sparse as sp
 from conftest import CONE_NAMES, problem_with_hierarchy
 
 from harness.fem.cones import contact_qp
+from harness.fem.p1_embedding import ContactEdges
 from harness.methods import METHODS
 from harness.problem.case import load_case
-from harness.solvers.active_set import MultigridSystem, solve_contact_qp
-from harness.solvers.multigrid import ContactEdges, TruncatedVCycle
+from harness.solvers.bound_constraints import MultigridSystem, solve_contact_qp
+from harness.solvers.multigrid import TruncatedVCycle
 
 
 def _csr(matrix) -> sp.csr_matrix:

@@ -10,7 +10,7 @@ from qpsolvers import solve_qp
 from harness.fem.cones import contact_qp
 from harness.methods import METHODS
 from harness.problem.case import load_case
-from harness.solvers.active_set import ActiveSetSolver, solve_contact_qp
+from harness.solvers.bound_constraints import ActiveSetSolver, solve_contact_qp
 from harness.solvers.options import SolverOptions
 
 CROSS_CHECK_LEVELS = [0, 1, 2]   # 165, 609, 2337 dofs: all <= 3000
@@ -168,7 +168,7 @@ def test_the_issue_30_reference_solve_converges():
 
 @pytest.mark.parametrize("chunk", [1, 7, 1 << 22])
 def test_row_norm_is_the_infinity_norm_of_the_chosen_rows(chunk, rng):
-    from harness.solvers.active_set import row_norm
+    from harness.solvers.bound_constraints import row_norm
     K = sp.random(60, 45, density=0.15, format="csr", random_state=3)
     K = sp.vstack([K[:10], sp.csr_matrix((2, 45)), K[10:]]).tocsr()         # empty rows too
     rows = rng.random(K.shape[0]) < 0.6

@@ -20,7 +20,7 @@ from harness.mesh.levels import mesh_hierarchy
 from harness.mesh.points import evaluate
 from harness.methods import METHODS, methods_for
 from harness.problem.case import CaseError, load_case, registered_cases
-from harness.solvers.active_set import solve_contact_qp
+from harness.solvers.bound_constraints import solve_contact_qp
 from harness.study.chain import run_chain
 from harness.study.execution.budget import LevelSizes
 

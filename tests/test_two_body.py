@@ -9,11 +9,11 @@ from conftest import trace_values
 
 from harness.fem.assembly import discretise
 from harness.fem.mortar import TraceElements, intersection, mortar_coupling
+from harness.fem.nested import mortar_prediction as predicted_active
 from harness.fem.two_body import TwoBodyProblem
 from harness.mesh.levels import coarse_mesh
 from harness.methods import METHODS, methods_for, methods_named
 from harness.methods.method import MortarCarry
-from harness.methods.mortar import predicted_active
 from harness.problem.bodies import MirrorBody, lower_body
 from harness.problem.case import CaseError, case_from_module, registered_cases
 from harness.problem.geometry import contact_strip

@@ -1,4 +1,4 @@
-"""Penalty and Nitsche, the built-in contact laws (``fem.laws``, ``fem.contact_law``, ``newton``), in
+"""Penalty and Nitsche, the built-in contact laws (``fem.contact_laws.builtin``, ``fem.contact_laws``, ``newton``), in
 every physics and dimension: the Gamma_C rows are NGSolve's basis (the contact variable and its
 flux, d_n u or -sigma_n(u)), the semismooth Newton solution is the solution of NGSolve's own
 assembly of the nonlinear form, the multigrid path equals the direct one, and parameters are
@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from conftest import WEAK_NAMES, problem_at, problem_with_hierarchy
 
-from harness.fem.contact_law import law_system
+from harness.fem.contact_laws.builtin import Nitsche, Penalty
+from harness.fem.contact_laws.system import law_system
 from harness.fem.contact_quadrature import contact_quadrature
-from harness.fem.laws import Nitsche, Penalty
 from harness.mesh.points import evaluate
 from harness.methods import METHODS, get_method, methods_named
 from harness.problem.case import load_case
@@ -76,7 +76,7 @@ def cell_sizes(problem):
 
 
 def ngsolve_reference(case, problem, gamma0, theta, flux):
-    """The same method assembled by NGSolve from its symbolic form ((N)/(P) of ``fem.laws``, in
+    """The same method assembled by NGSolve from its symbolic form ((N)/(P) of ``fem.contact_laws.builtin``, in
     elasticity CHR 2015's eq. (10) with sigma_n(u) = n . sigma(u) n, written from the physics'
     own stress; the flux by a skeleton integral, the same Gauss rule) in NGSolve's Cartesian
     basis, and solved by a textbook Newton loop with NGSolve's linearisation and UMFPACK."""
@@ -284,7 +284,7 @@ def test_elastic_multigrid_newton_equals_direct_newton(case_name):
 @pytest.mark.parametrize("case_name", ["transition-r32", "elastic-transition-r32", "elastic-transition-incompressible"])
 def test_the_default_gamma0_lies_below_theta_one_coercivity_bound_whatever_the_material(case_name, order):
     """theta = 1 is coercive while gamma0 C_h < 1, C_h the largest eigenvalue of
-    int (h/M) flux(v)^2 against a(v, v) on X_h (``fem.laws``): with eps = gamma0 h / M,
+    int (h/M) flux(v)^2 against a(v, v) on X_h (``fem.contact_laws.builtin``): with eps = gamma0 h / M,
     M = lambda + 2 mu, C_h is about the same for lambda/mu = 1.5 and 49, and the default
     gamma0 = 0.05 keeps a factor 2.5 on levels 0-1."""
     import scipy.linalg

@@ -27,13 +27,14 @@ def _adaptive_row(method_name: str, levels: int) -> dict:
 
     from ..fem.assembly import discretise
     from ..fem.cones import contact_qp
+    from ..fem.nested import nested_start
     from ..measure.estimator import ResidualEstimator
     from ..mesh.bisection import dorfler
     from ..mesh.strategies import MeshStrategy, element_budget
     from ..methods import get_method
     from ..problem.case import load_case
-    from ..solvers.active_set import solve_contact_qp
-    from ..solvers.multigrid import Multilevel, nested_start
+    from ..solvers.bound_constraints import solve_contact_qp
+    from ..solvers.multigrid import Multilevel
     from .three_d import linear_multigrid_seconds
 
     case, method = load_case(ADAPTIVE_CASE), get_method(method_name)

@@ -49,8 +49,8 @@ def linear_multigrid_seconds(qp, multilevel, start=None) -> tuple[float, object]
     """(seconds, the MultigridSystem) of one unconstrained solve of ``qp``'s matrix by the
     contact solver's multigrid CG, from ``start`` (default zero), as deep as its linear solves go
     (fastest of repeats)."""
-    from ..solvers.active_set import ActiveSetSolver, MultigridSystem
-    from ..solvers.multigrid import ContactEdges
+    from ..fem.p1_embedding import ContactEdges
+    from ..solvers.bound_constraints import ActiveSetSolver, MultigridSystem
     system = MultigridSystem(qp.K_ngs, qp.b, multilevel, ContactEdges.of(qp.problem))
     load_scale = ActiveSetSolver(qp.K, qp.b, qp.free, qp.C, qp.alpha, lift=qp.lift, system=system).load_scale
     return linear_seconds(system, qp, load_scale, start)
@@ -60,7 +60,7 @@ def linear_seconds(system, qp, load_scale: float, start=None) -> tuple[float, ob
     """(seconds, ``system``) of one solve of ``qp``'s matrix without constraints by ``system``,
     from ``start`` (default zero) to the contact solver's linear tolerance; ``system``'s
     ``cg_iterations`` then counts that solve's iterations (each one fine-level V-cycle)."""
-    from ..solvers.active_set import DEFAULT_TOLERANCE
+    from ..solvers.bound_constraints import DEFAULT_TOLERANCE
 
     def linear():
         system.cg_iterations = 0

@@ -25,11 +25,12 @@ def _cone_row(method_name: str, level: int, connection) -> None:
     import ngsolve as ngs
 
     from ..fem.assembly import discretise
+    from ..fem.p1_embedding import ContactEdges
     from ..mesh.levels import UniformRefinement
     from ..methods import get_method
     from ..problem.case import load_case
-    from ..solvers.active_set import DEFAULT_TOLERANCE, Cholesky, MultigridSystem
-    from ..solvers.multigrid import ContactEdges, Multilevel
+    from ..solvers.bound_constraints import DEFAULT_TOLERANCE, Cholesky, MultigridSystem
+    from ..solvers.multigrid import Multilevel
 
     case, method = load_case(DEGREE_CASE), get_method(method_name)
     multilevel, carry = None, None

@@ -1,7 +1,7 @@
 """The elastic rows of `bench` (Remark 2.3): each P2 cone's contact solve, by the truncated
 vector multigrid (``solvers.multigrid``: vector P1 coarse spaces in the rotated frame) with
 nested iteration, against one linear elastic solve of the same matrix by the same multigrid CG,
-and against sparse Cholesky; and Nitsche's (a contact law, ``fem.laws``): its semismooth Newton
+and against sparse Cholesky; and Nitsche's (a contact law, ``fem.contact_laws.builtin``): its semismooth Newton
 solve, nested, against one linear solve of its Jacobian (the final set's) by the same multigrid
 CG, from zero and from the same start."""
 from __future__ import annotations
@@ -45,7 +45,7 @@ def _measure_elastic(model_name: str, size: tuple, connection):
     import ngsolve as ngs
 
     from ..methods import ContactLawMethod, get_method
-    from ..solvers.active_set import Cholesky
+    from ..solvers.bound_constraints import Cholesky
 
     ngs.ngsglobals.msg_level = 0
     case, coarse_maxh, level = size
@@ -75,8 +75,8 @@ def _weak_row(method_name: str, size: tuple) -> dict:
     """A weak method's row: its Newton solve from the nested start against one linear solve of
     its Jacobian by the same multigrid CG (``MultigridSystem``, the Newton step's linear solver)
     from zero and from the same start, to the Newton step's depth."""
-    from ..solvers.active_set import MultigridSystem
-    from ..solvers.multigrid import ContactEdges
+    from ..fem.p1_embedding import ContactEdges
+    from ..solvers.bound_constraints import MultigridSystem
     from ..solvers.newton import load_scale, solve_semismooth_newton
     from .common import fair_columns, linear_seconds, own_seconds
     from .solvers import weak_problem

@@ -1,6 +1,6 @@
 """The two-body rows of `bench`: a mortar method's contact solve on two non-matching meshes, as
 the study makes it (the coupling on the intersection of the trace meshes, the dual change of
-variables, the active set on the two bodies' coupled multigrid, ``solvers.joint_multigrid``,
+variables, the active set on the two bodies' coupled multigrid, ``solvers.two_body_multigrid``,
 nested iteration from the coarser level), against one linear solve of the same matrix by the
 same multigrid CG from the same start; beside it the same contact solve on sparse Cholesky and
 one linear solve of both bodies without contact by Cholesky (each body's matrix factorised and
@@ -49,8 +49,8 @@ def _measure_mortar(method_name: str, level: int, connection):
     from ..methods import get_method
     from ..problem.bodies import lower_body
     from ..problem.case import registered_cases
-    from ..solvers.joint_multigrid import JointMultilevel
     from ..solvers.multigrid import Multilevel
+    from ..solvers.two_body_multigrid import JointMultilevel
 
     ngs.ngsglobals.msg_level = 0
     method = get_method(method_name)
@@ -81,8 +81,9 @@ def _linear_multigrid(problem, carry, multilevel) -> tuple[float, int]:
     """(seconds, CG iterations) of one linear solve of both bodies without contact, each by its
     own truncated multigrid CG (``Multilevel``, pins: Gamma_u) from the contact solve's start
     (the coarser level's u_h prolongated): what the two bodies cost apart."""
-    from ..solvers.active_set import ActiveSetSolver, MultigridSystem
-    from ..solvers.multigrid import ContactEdges, nested_start
+    from ..fem.nested import nested_start
+    from ..fem.p1_embedding import ContactEdges
+    from ..solvers.bound_constraints import ActiveSetSolver, MultigridSystem
     from .common import linear_seconds
     seconds, iterations, offset = 0.0, 0, 0
     for body, hierarchy in zip(problem.bodies, multilevel.bodies):
@@ -109,7 +110,7 @@ class _BodyQP:
 def _mortar_row(case, method, problem, carry, multilevel) -> dict:
     """The level's contact solve on the multigrid and on Cholesky, and the linear solves of both
     bodies without contact by multigrid and by Cholesky."""
-    from ..solvers.active_set import Cholesky
+    from ..solvers.bound_constraints import Cholesky
 
     # the multigrid at every size (the study takes it from ``mortar_multigrid_from`` dofs)
     on_multigrid = dataclasses.replace(method, solver=dataclasses.replace(method.solver, mortar_multigrid_from=0))

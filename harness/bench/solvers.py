@@ -56,11 +56,12 @@ def cone_problem(model_name: str, level: int, coarse_maxh: float | None, case_na
     brings from ``level - 1`` (solved by the harness's solver): predicted active set, start."""
     from ..fem.assembly import discretise
     from ..fem.cones import contact_qp
+    from ..fem.nested import nested_start, p1_values
     from ..mesh.levels import UniformRefinement
     from ..methods import get_method
     from ..problem.case import load_case
-    from ..solvers.active_set import solve_contact_qp
-    from ..solvers.multigrid import Multilevel, nested_start, p1_values
+    from ..solvers.bound_constraints import solve_contact_qp
+    from ..solvers.multigrid import Multilevel
 
     case = load_case(case_name)
     case = dataclasses.replace(case, maxh=coarse_maxh or case.maxh)
@@ -112,8 +113,8 @@ def weak_problem(method_name: str, level: int, coarse_maxh: float | None, case_n
 def _measure_weak(method: str, model_name: str, level: int, coarse_maxh) -> dict:
     """`contact`: one penalty/Nitsche solve (semismooth Newton, nested start); `multigrid` and
     `cholesky`: one linear solve with its matrix (no contact term active)."""
-    from ..solvers.active_set import DEFAULT_TOLERANCE, Cholesky, MultigridSystem
-    from ..solvers.multigrid import ContactEdges
+    from ..fem.p1_embedding import ContactEdges
+    from ..solvers.bound_constraints import DEFAULT_TOLERANCE, Cholesky, MultigridSystem
     from ..solvers.newton import load_scale, solve_semismooth_newton
 
     system, start, predicted, multilevel = weak_problem(model_name, level, coarse_maxh)
@@ -186,7 +187,7 @@ def _ngsolve_multigrid_solve(level: int, coarse_maxh, order: int = 2) -> dict:
 def _measure(method: str, model_name: str, level: int, coarse_maxh, connection):
     import ngsolve as ngs
 
-    from ..solvers.active_set import Cholesky, solve_contact_qp
+    from ..solvers.bound_constraints import Cholesky, solve_contact_qp
 
     ngs.ngsglobals.msg_level = 0
     with ngs.TaskManager():

@@ -35,10 +35,12 @@ def face_mean_problem(level: int, case_name: str = THREE_D_CASE, model_name: str
     registered ``CellMean``): predicted set, start."""
     from ..fem.assembly import discretise
     from ..fem.face_means import face_mean_qp
+    from ..fem.nested import nested_start
+    from ..fem.p1_embedding import ContactEdges
     from ..mesh.levels import UniformRefinement
     from ..methods import get_method
     from ..problem.case import load_case
-    from ..solvers.multigrid import ContactEdges, Multilevel, nested_start
+    from ..solvers.multigrid import Multilevel
 
     case, method = load_case(case_name), get_method(model_name or _cell_means()[0])
     multilevel, carry = None, None
@@ -72,18 +74,18 @@ class SolveRow:
 def solve_row(model_name: str, level: int, case_name: str = THREE_D_CASE, coarse_maxh=None) -> SolveRow:
     """One row: the contact solve (nested iteration from ``level`` - 1) and the linear multigrid
     solves of its matrix (``SolveRow``). The 3D `mean` is the face-mean QP (general rows,
-    ``solvers.projected``), every other method a cone of bounds."""
+    ``solvers.projected_multigrid``), every other method a cone of bounds."""
     from ..problem.case import load_case
-    from ..solvers.active_set import solve_contact_qp
+    from ..solvers.bound_constraints import solve_contact_qp
     if model_name not in _cell_means() or load_case(case_name).dimension != 3:
         qp, predicted, multilevel, start = cone_problem(model_name, level, coarse_maxh, case_name)
         linear = [linear_multigrid_seconds(qp, multilevel, s) for s in (None, start)]
         t_contact, solution = fastest(lambda: own_seconds(solve_contact_qp(qp, predicted, multilevel=multilevel, start=start)))
         return SolveRow(qp, t_contact, solution, *linear[0], *linear[1])
-    from ..solvers.active_set import MultigridSystem
+    from ..fem.p1_embedding import ContactEdges
+    from ..solvers.bound_constraints import MultigridSystem
     from ..solvers.general_constraints import GeneralConstraintSolver
-    from ..solvers.multigrid import ContactEdges
-    from ..solvers.projected import ProjectedMultigridSystem
+    from ..solvers.projected_multigrid import ProjectedMultigridSystem
     qp, predicted, multilevel, start = face_mean_problem(level, case_name, model_name)
     embedding = ContactEdges.of(qp.problem, model=False)
 

@@ -17,11 +17,12 @@ from dataclasses import dataclass, field
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
-from scipy.spatial import cKDTree
 
 from ..mesh.hp import MAX_DEGREE
+from ..mesh.points import evaluate
 from ..mesh.trace import ContactTrace, contact_trace
 from .element_quadrature import ElementQuadrature, singular_vertices
+from .polynomials import barycentric_lattice, lagrange, lattice_degree, lattice_lagrange, lobatto_points, polynomial_minimum
 from .rotated_frame import RotatedFrame, rotate_in_place
 from .sparse import csr_view, free_dofs
 
@@ -77,6 +78,11 @@ class DiscreteProblem:
     def cartesian(self, vector: np.ndarray) -> np.ndarray:
         """The coefficients in NGSolve's own basis of a vector of this problem's variables."""
         return vector if self.basis is None else self.basis @ vector
+
+    def values_at(self, function, points: np.ndarray) -> np.ndarray:
+        """A case's coefficient function (an obstacle, a gap) at ``points`` of this problem's
+        mesh (``mesh.points.evaluate``)."""
+        return evaluate(function, self.mesh, points)
 
     @property
     def contact_dofs(self) -> np.ndarray:
@@ -255,7 +261,7 @@ class ContactTraceFunction:
     side k, from corner k to corner k+1).
 
     Kept independently of the mesh so that it survives refinement: the next level uses it to
-    predict its active set (nested iteration), the errors module to find the largest
+    predict its active set (nested iteration, ``fem.nested``), the errors module to find the largest
     penetration between nodes, the report to draw u_h along Gamma_C.
     """
 
@@ -321,82 +327,12 @@ class ContactTraceFunction:
 
     def minimum_parameters(self) -> np.ndarray:
         """Parameter of the stationary point of each edge's quadratic, clipped to [0, 1]; for P_k,
-        k >= 3, the parameter of each edge's least value (``_polynomial_minimum``)."""
+        k >= 3, the parameter of each edge's least value (``fem.polynomials.polynomial_minimum``)."""
         if self.lobatto is not None:
-            return _polynomial_minimum(self.lobatto)
+            return polynomial_minimum(self.lobatto)
         with np.errstate(divide="ignore", invalid="ignore"):
             t = 0.5 - (self.vb - self.va) / np.where(self.bubble != 0, self.bubble, np.nan)
         return np.clip(np.nan_to_num(t, nan=0.0), 0.0, 1.0)
-
-    def _nearest(self, anchors: np.ndarray, points: np.ndarray, reach: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(index of the nearest anchor to each point, whether it lies within that anchor's reach)."""
-        distance, index = cKDTree(anchors).query(points)
-        return index, distance <= reach[index]
-
-    def vertex_status(self, points: np.ndarray) -> np.ndarray:
-        """Active status of the vertex constraint at each point of the next (red-refined) level:
-        that of the coarse vertex it coincides with, or, at a coarse edge midpoint, that of the
-        edge constraint: the coarse function meets the gap at the midpoint (nodal) or dips to it
-        on the edge (mean). (A refinement that moves new boundary vertices onto a curved
-        geometry moves them by O(h^2): matched within a quarter of the coarse edge.)"""
-        length = np.linalg.norm(self.b - self.a, axis=1)
-        anchors = np.concatenate([self.a, self.b, 0.5 * (self.a + self.b)])
-        status = np.concatenate([self.end_active[:, 0], self.end_active[:, 1], self.edge_active])
-        index, near = self._nearest(anchors, points, 0.25 * np.tile(length, 3))
-        return status[index] & near
-
-    def face_status(self, corners: np.ndarray) -> np.ndarray:
-        """3D: active status of the mean constraint of each fine triangle (corners (f, 3, 3)):
-        that of the coarse triangle holding its centroid (the candidates: the coarse triangles
-        with the nearest centroids; the one whose smallest barycentric coordinate of the point
-        is largest holds it)."""
-        coarse = self.face_points
-        points = corners.mean(axis=1)
-        k = min(6, len(coarse))
-        _, candidates = cKDTree(coarse.mean(axis=1)).query(points, k=k)
-        candidates = candidates.reshape(len(points), k)
-        origin = coarse[candidates, 0]                                            # (n, k, 3)
-        e1, e2 = coarse[candidates, 1] - origin, coarse[candidates, 2] - origin
-        d = points[:, None] - origin
-        # the point's coordinates (s, t) in the triangle's plane: the 2 x 2 normal equations
-        a11, a12, a22 = (e1 * e1).sum(-1), (e1 * e2).sum(-1), (e2 * e2).sum(-1)
-        r1, r2 = (e1 * d).sum(-1), (e2 * d).sum(-1)
-        det = a11 * a22 - a12 * a12
-        s, t = (a22 * r1 - a12 * r2) / det, (a11 * r2 - a12 * r1) / det
-        smallest = np.minimum(np.minimum(s, t), 1.0 - s - t)
-        holder = candidates[np.arange(len(points)), smallest.argmax(axis=1)]
-        return self.face_active[holder]
-
-    def edge_status(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """Active status of the edge constraint of each fine edge [a, b]: that of the coarse edge
-        it is (a refinement that leaves it whole: bisection on adaptive and graded meshes) or
-        halves (its midpoint at the coarse edge's midpoint or at one of its quarter points); a
-        fine edge inside a coarse triangle (3D) is predicted active when both its ends are.
-        (An edge left whole keeps its own status rather than one predicted from its ends: in
-        `mean`'s binding zones the vertex constraints are degenerate and often inactive, so the
-        ends would set free edges that are in contact, and the active set method would spend
-        sets on taking them back; ``python -m harness bench --only adaptive`` counts the sets.)"""
-        length = np.linalg.norm(self.b - self.a, axis=1)
-        anchors = np.concatenate([0.5 * (self.a + self.b), 0.75 * self.a + 0.25 * self.b, 0.25 * self.a + 0.75 * self.b])
-        index, near = self._nearest(anchors, 0.5 * (a + b), 0.125 * np.tile(length, 3))
-        inherited = np.tile(self.edge_active, 3)[index]
-        return np.where(near, inherited, self.vertex_status(a) & self.vertex_status(b))
-
-
-def lobatto_points(k: int) -> np.ndarray:
-    """The k + 1 Gauss-Lobatto points of [0, 1]: the ends and the roots of P_k' (Legendre)."""
-    interior = np.polynomial.legendre.Legendre.basis(k).deriv().roots() if k > 1 else np.zeros(0)
-    return np.concatenate([[0.0], 0.5 * (np.sort(interior.real) + 1.0), [1.0]])
-
-
-def lagrange(nodes: np.ndarray, t) -> np.ndarray:
-    """The Lagrange basis of ``nodes`` at ``t``: shape t.shape + (len(nodes),)."""
-    t = np.asarray(t, float)[..., None]
-    out = np.ones(t.shape[:-1] + (len(nodes),))
-    for j, xj in enumerate(nodes):
-        others = np.delete(nodes, j)
-        out[..., j] = np.prod((t - others) / (xj - others), axis=-1)
-    return out
 
 
 def _lobatto_values(problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
@@ -410,27 +346,6 @@ def _lobatto_values(problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
     normals = np.repeat(trace.normals, k + 1, axis=0)
     T = trace_rows(problem.fes, problem.physics, problem.basis, volumes, points.reshape(-1, points.shape[-1]), normals)
     return (T @ u).reshape(-1, k + 1)
-
-
-def barycentric_lattice(n: int) -> np.ndarray:
-    """The (n + 1)(n + 2)/2 points (i, j, n - i - j) / n of a triangle, in barycentric coordinates."""
-    return np.array([(i, j, n - i - j) for i in range(n + 1) for j in range(n + 1 - i)], dtype=float) / n
-
-
-def lattice_degree(points: int) -> int:
-    """n of a lattice of ``points`` = (n + 1)(n + 2)/2 points."""
-    return int(round((np.sqrt(8 * points + 1) - 3) / 2))
-
-
-def lattice_lagrange(n: int, barycentric: np.ndarray) -> np.ndarray:
-    """(len(barycentric), lattice points) the Lagrange basis of degree n on ``barycentric_lattice(n)``
-    at the given points: monomials in the first two coordinates, the lattice's Vandermonde
-    inverted (n <= 4: well conditioned)."""
-    exponents = [(i, j) for i in range(n + 1) for j in range(n + 1 - i)]
-
-    def monomials(lam):
-        return np.stack([lam[:, 0] ** i * lam[:, 1] ** j for i, j in exponents], axis=1)
-    return monomials(np.asarray(barycentric, float)) @ np.linalg.inv(monomials(barycentric_lattice(n)))
 
 
 def edge_volumes(trace: ContactTrace) -> np.ndarray:
@@ -453,31 +368,3 @@ def _face_lattice_values(problem: DiscreteProblem, u: np.ndarray) -> np.ndarray:
     T = trace_rows(problem.fes, problem.physics, problem.basis, np.repeat(faces.volumes, count),
                    points.reshape(-1, 3), np.repeat(faces.normals, count, axis=0))
     return (T @ u).reshape(-1, count)
-
-
-def _polynomial_minimum(values: np.ndarray, samples: int = 33, steps: int = 8) -> np.ndarray:
-    """The parameter in [0, 1] of the least value of each row's polynomial (given at the
-    Gauss-Lobatto points): the best of ``samples`` equispaced values, then Newton's method on
-    the derivative (monomial coefficients, degree <= 4), kept where it lowers the value."""
-    k = values.shape[1] - 1
-    coefficients = np.linalg.solve(np.vander(lobatto_points(k), increasing=True), values.T).T     # (m, k + 1)
-    powers = np.arange(k + 1)
-
-    def derivative(t, order):
-        falling = np.ones(k + 1)
-        for i in range(order):
-            falling = falling * np.maximum(powers - i, 0)
-        exponents = np.maximum(powers - order, 0)
-        return (coefficients * falling * t[:, None] ** exponents).sum(axis=1)
-
-    grid = np.linspace(0.0, 1.0, samples)
-    t = grid[np.argmin(values @ lagrange(lobatto_points(k), grid).T, axis=1)]
-    best = derivative(t, 0)
-    for _ in range(steps):
-        curvature = derivative(t, 2)
-        step = np.where(curvature > 0, derivative(t, 1) / np.where(curvature > 0, curvature, 1.0), 0.0)
-        trial = np.clip(t - step, 0.0, 1.0)
-        value = derivative(trial, 0)
-        better = value < best
-        t, best = np.where(better, trial, t), np.where(better, value, best)
-    return t

@@ -25,6 +25,7 @@ import scipy.sparse as sp
 
 from ..mesh.points import evaluate
 from .assembly import ContactTraceFunction, DiscreteProblem
+from .nested import cone_prediction
 from .sparse import congruence_terms, csr_positions, csr_view
 
 # Gauss-Legendre points on [0, 1] for edge means of the gap (exact for polynomial gaps of
@@ -185,20 +186,9 @@ class ContactQP(ProblemQP):
         return self.S @ z
 
     def predicted_active(self, previous: ContactTraceFunction | None) -> np.ndarray | None:
-        """Nested iteration: the active set predicted by the previous level's solution.
-
-        A fine vertex at a coarse vertex inherits its status, a fine vertex at a coarse
-        midpoint and both halves of a coarse edge inherit its edge constraint's status (asking
-        for the whole coarse edge in contact instead misses the first vertex past a transition
-        point for `mean`, costing two more active set iterations on every level). (Predicting from the sign of the coarse
-        function instead fails for `mean` near a pressure singularity, where vertex values are
-        positive and edge means zero on alternate nodes.)
-        """
-        if previous is None:
-            return None
-        trace = self.problem.trace
-        edges = previous.edge_status(trace.a, trace.b) if len(self.problem.edge_dofs) else np.zeros(0, bool)
-        return np.concatenate([previous.vertex_status(trace.vertex_points), edges])
+        """Nested iteration: the active set predicted by the previous level's trace
+        (``fem.nested.cone_prediction``)."""
+        return cone_prediction(previous, self.problem)
 
     def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
         problem = self.problem

@@ -29,6 +29,7 @@ from ..mesh.points import evaluate
 from .assembly import ContactTraceFunction, DiscreteProblem
 from .cones import GeneralRowsQP, contact_pressure, end_status, vertex_rows
 from .contact_quadrature import trace_rows
+from .nested import functional_prediction
 
 
 def check_rules(rules) -> tuple:
@@ -125,13 +126,9 @@ class EdgeFunctionalQP(GeneralRowsQP):
         return np.repeat(np.arange(len(self.counts)), self.counts)
 
     def predicted_active(self, previous: ContactTraceFunction | None) -> np.ndarray | None:
-        """Nested iteration: a fine vertex inherits the status of the coarse vertex or edge it
-        lies at, each functional of a fine edge that of the coarse edge it lies in."""
-        if previous is None:
-            return None
-        trace = self.problem.trace
-        return np.concatenate([previous.vertex_status(trace.vertex_points),
-                               np.repeat(previous.edge_status(trace.a, trace.b), self.counts)])
+        """Nested iteration: the active set predicted by the previous level's trace
+        (``fem.nested.functional_prediction``)."""
+        return functional_prediction(previous, self.problem, self.counts)
 
     def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
         problem, nv = self.problem, self.n_vertices

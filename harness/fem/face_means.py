@@ -8,7 +8,7 @@ beside v_h(x) >= alpha(x) at the vertices of Gamma_C. In 2D the edge mean of the
 triangle the P2 mean is the average of the three edge-midpoint values (the vertex functions
 of the Lagrange basis integrate to 0 over T; docs/mathematics.md §6), and each midpoint belongs
 to two triangles, so these rows couple variables and stay general rows of a matrix B, solved by
-``solvers.general_constraints`` (and ``solvers.projected``): the 3D ``mean``. (The
+``solvers.general_constraints`` (and ``solvers.projected_multigrid``): the 3D ``mean``. (The
 edge-wise cone, ``mean-edges``, constrains edge means only, which do not control the trace
 inside the triangles: its H^1 rate stalls near 1/2.)
 """
@@ -22,6 +22,7 @@ import scipy.sparse as sp
 
 from .assembly import ContactTraceFunction, DiscreteProblem
 from .cones import GeneralRowsQP, contact_pressure, end_status, vertex_rows
+from .nested import face_mean_prediction
 
 CONTACT = "contact"
 
@@ -74,14 +75,9 @@ class FaceMeanQP(GeneralRowsQP):
     ``problem.trace.faces``), g the obstacle's values and means there (``face_mean_rows``)."""
 
     def predicted_active(self, previous: ContactTraceFunction | None) -> np.ndarray | None:
-        """Nested iteration: a fine vertex inherits the status of the coarse vertex it is (or, at
-        a coarse edge midpoint, of both ends of that edge: ``trace_function``), a fine triangle
-        that of the coarse triangle it lies in."""
-        if previous is None:
-            return None
-        trace = self.problem.trace
-        return np.concatenate([previous.vertex_status(trace.vertex_points),
-                               previous.face_status(trace.faces.corners(trace))])
+        """Nested iteration: the active set predicted by the previous level's trace
+        (``fem.nested.face_mean_prediction``)."""
+        return face_mean_prediction(previous, self.problem)
 
     def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
         problem, nv = self.problem, self.n_vertices

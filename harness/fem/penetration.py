@@ -7,7 +7,8 @@ import ngsolve as ngs
 import numpy as np
 
 from ..mesh.points import evaluate, in_elements
-from .assembly import ContactTraceFunction, barycentric_lattice
+from .assembly import ContactTraceFunction
+from .polynomials import barycentric_lattice
 
 PENETRATION_SAMPLES_PER_EDGE = 33
 

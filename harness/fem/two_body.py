@@ -96,7 +96,7 @@ class BoundQP:
     @cached_property
     def K(self) -> sp.csr_matrix:
         """K as one scipy matrix, made on first use (sparse Cholesky, the general-constraint
-        cross-check); the multigrid never makes it (``solvers.coupled_blocks``)."""
+        cross-check); the multigrid never makes it (``solvers.two_body_operator``)."""
         K = (csr_block_diag(self.blocks) + self.K_interface).tocsr()
         K.sort_indices()
         return K

@@ -20,8 +20,9 @@ import numpy as np
 from ..fem.assembly import DiscreteProblem, boundary_load_points
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
 from ..fem.element_quadrature import singular_vertices
-from ..solvers.active_set import Cholesky, MultigridSystem
-from ..solvers.multigrid import ContactEdges, nested_start
+from ..fem.nested import nested_start
+from ..fem.p1_embedding import ContactEdges
+from ..solvers.bound_constraints import Cholesky, MultigridSystem
 
 # relative to the load, as deep as the contact solves' linear systems
 TOLERANCE = 1e-11

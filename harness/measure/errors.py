@@ -17,7 +17,7 @@ from scipy.sparse.linalg import splu
 
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
 from ..fem.element_quadrature import ElementQuadrature
-from ..solvers.multigrid import p1_values
+from ..fem.nested import p1_values
 from .best_approximation import nested_ritz_start, ritz_projection
 
 

@@ -11,8 +11,8 @@ installed package's entry point or an object (``plugins``). Every one passes the
 """
 from __future__ import annotations
 
-from ..fem.contact_law import ContactLaw, GammaPoints, LawError
-from ..fem.laws import Nitsche, Penalty
+from ..fem.contact_laws.builtin import Nitsche, Penalty
+from ..fem.contact_laws.protocol import ContactLaw, GammaPoints, LawError
 from ..solvers.options import SolverOptions
 from .cones import BoundConstrained, CellMean
 from .method import (

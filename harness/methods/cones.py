@@ -12,11 +12,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fem.assembly import lobatto_points
 from ..fem.cones import ContactModel, contact_pressure, contact_qp
 from ..fem.face_means import face_mean_qp
-from ..solvers.active_set import solve_contact_qp
-from ..solvers.multigrid import nested_start
+from ..fem.nested import start_from
+from ..fem.polynomials import lobatto_points
+from ..solvers.bound_constraints import solve_contact_qp
 from .method import (
     BASELINE,
     DEGREES,
@@ -49,9 +49,7 @@ class BoundConstrained(Method):
         timed = timer(phases)
         with timed("setup"):
             qp = contact_qp(case, problem, self.cone, take_stiffness=take_stiffness)
-            start = None
-            if multilevel is not None and carry is not None:
-                start = nested_start(multilevel, carry.p1, problem)
+            start = start_from(carry, multilevel, problem)
             predicted = qp.predicted_active(None if carry is None else carry.trace)
         with timed("solve"):
             solution = solve_contact_qp(qp, predicted, multilevel=multilevel, start=start, options=self.solver)
@@ -67,7 +65,7 @@ class CellMean(BoundConstrained):
     local change of variables (``fem.cones``, the ``BoundConstrained`` path); in 3D a cell is a
     triangle, whose P2 mean is the average of its three edge-midpoint values, and the rows
     stay general (``face_means``): solved by the general-constraint active set method with the
-    constrained multigrid (``solvers.projected``), or by SuperLU without a hierarchy."""
+    constrained multigrid (``solvers.projected_multigrid``), or by SuperLU without a hierarchy."""
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         if problem.trace.faces is None:

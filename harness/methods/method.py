@@ -105,7 +105,7 @@ class SolveFields(Mapping):
 
     @classmethod
     def of_exact(cls, solution, max_penetration: float, pressure: np.ndarray, rows: int) -> "SolveFields":
-        """The fields of a QP solved exactly (``solvers.active_set.QPSolution`` or
+        """The fields of a QP solved exactly (``solvers.bound_constraints.QPSolution`` or
         ``solvers.general_constraints.GeneralQPSolution``) with ``rows`` constraints."""
         return cls(max_penetration=max_penetration, min_pressure=float(pressure.min()), kkt_residual=solution.kkt.residual,
                    status=solution.status, solver_iterations=solution.iterations,

@@ -12,15 +12,13 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..fem.cones import ContactModel, contact_pressure
-from ..fem.contact_law import predicted_active as nearest_status
 from ..fem.mortar import mortar_coupling
+from ..fem.nested import mortar_prediction, p1_values
 from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
-from ..mesh.points import evaluate
-from ..solvers.active_set import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix
-from ..solvers.coupled_blocks import CoupledBlocks
+from ..solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix
 from ..solvers.general_constraints import GeneralConstraintSolver
-from ..solvers.joint_multigrid import OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injected
-from ..solvers.multigrid import p1_values
+from ..solvers.two_body_multigrid import OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injected
+from ..solvers.two_body_operator import CoupledBlocks
 from .method import MESH_STUDY, REFERENCE, Expectation, LevelSolve, Method, MortarCarry, SolveFields, capped_expectation, timer
 
 
@@ -42,40 +40,6 @@ def row_points(problem: TwoBodyProblem) -> np.ndarray:
     return np.concatenate([points, trace.midpoints[:, 0]]) if problem.order == 2 else points
 
 
-def predicted_active(carry, points: np.ndarray, vertex_rows: int) -> np.ndarray | None:
-    """Nested iteration, by the one-body cones' rule (``fem.cones.ContactQP.predicted_active``,
-    ``fem.assembly.ContactTraceFunction.edge_status``): a vertex row (the first ``vertex_rows``
-    of ``points``) takes the status of the coarser level's row at its point (a coarse vertex, or
-    a coarse edge at its midpoint); one between two coarse rows (P1: a vertex new at a coarse
-    edge's midpoint) is active when both are; an edge row takes the status of the nearest coarse
-    edge row, its parent edge's. The nearest row of either kind gave the first edge past a
-    transition point the status of the vertex there (the edge's midpoint is as near to it as to
-    its parent's), which `mortar-mean` then corrected with two more active sets on every level
-    (2.0e6 dofs: 4 sets and 23 CG iterations, now 2 and 14)."""
-    if carry is None:
-        return None
-    edges_from = carry.vertex_rows
-    coarse_edges = slice(edges_from if edges_from < len(carry.points) else 0, None)
-    return np.concatenate([_vertex_status(carry.points, carry.active, points[:vertex_rows]),
-                           nearest_status(carry.points[coarse_edges, None], carry.active[coarse_edges],
-                                          points[vertex_rows:, None])])
-
-
-def _vertex_status(coarse_points: np.ndarray, coarse_active: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """Each point (on a line) takes the status of the coarse point it lies on, else is active
-    when the coarse points on both sides of it are (beyond the ends: the end's status)."""
-    order = np.argsort(coarse_points)
-    sorted_points, sorted_active = coarse_points[order], coarse_active[order]
-    position = np.searchsorted(sorted_points, points)
-    right = np.clip(position, 0, len(sorted_points) - 1)
-    left = np.clip(position - 1, 0, len(sorted_points) - 1)
-    scale = np.abs(sorted_points).max(initial=1.0)
-    on_right = np.abs(sorted_points[right] - points) <= 1e-12 * scale
-    on_left = np.abs(sorted_points[left] - points) <= 1e-12 * scale
-    between = sorted_active[left] & sorted_active[right]
-    return np.where(on_right, sorted_active[right], np.where(on_left, sorted_active[left], between))
-
-
 @dataclass(frozen=True)
 class Mortar(Method):
     """Mortar contact of two bodies: ``multipliers`` "dual" or "standard" (``fem.mortar``),
@@ -94,8 +58,8 @@ class Mortar(Method):
     def solve(self, case, problem: TwoBodyProblem, carry, multilevel, take_stiffness: bool = False, phases=None,
               general: bool = False) -> LevelSolve:
         """Dual multipliers: the bounds of ``fem.two_body.dual_bound_qp`` by the active set method
-        (``solvers.active_set``), on the two bodies' multigrid where ``multilevel`` is given
-        (``solvers.joint_multigrid``: uniform pairs), else on sparse Cholesky; standard ones, or
+        (``solvers.bound_constraints``), on the two bodies' multigrid where ``multilevel`` is given
+        (``solvers.two_body_multigrid``: uniform pairs), else on sparse Cholesky; standard ones, or
         ``general=True`` (the cross-check), the rows themselves by the general-constraint active
         set method on the saddle system (``solvers.general_constraints``)."""
         timed = timer(phases)
@@ -104,7 +68,7 @@ class Mortar(Method):
             coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, self.multipliers,
                                        self.edge_functional if general or not dual else "midpoint")
             points = row_points(problem)
-            predicted = predicted_active(carry, points, len(problem.upper.trace.vertex_points))
+            predicted = mortar_prediction(carry, points, len(problem.upper.trace.vertex_points))
             start = None
             if dual and not general:
                 qp = dual_bound_qp(problem, coupling, self.contact_weight(problem.order))
@@ -138,10 +102,10 @@ def joint_p1_values(problem: TwoBodyProblem, u: np.ndarray) -> np.ndarray:
 
 def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
     """(K, the linear system of the active set iteration, the start): the two bodies' coupled,
-    truncated multigrid in the dual variables (``joint_multigrid``), started from the coarser
+    truncated multigrid in the dual variables (``two_body_multigrid``), started from the coarser
     level's u_h prolongated, where ``multilevel`` is given and the QP has at least
     ``options.mortar_multigrid_from`` dofs, K the bodies' own matrices and the coupling
-    (``solvers.coupled_blocks.CoupledBlocks``); else sparse Cholesky from nothing, K one scipy matrix."""
+    (``solvers.two_body_operator.CoupledBlocks``); else sparse Cholesky from nothing, K one scipy matrix."""
     if multilevel is None or problem.ndof < options.mortar_multigrid_from:
         return qp.K, FactorisedSystem(qp.K, ngsolve_matrix(qp.K), qp.b, options.refactor_above), None
     # K = diag(A_1, A_2) + (K - A) on the bodies' own NGSolve matrices: not copied into one
@@ -149,7 +113,7 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
     E = mortar_injection(problem)
     coupling = mortar_coupling_matrix(problem, qp.S_rows(qp.C), qp.C, E)
     # a contact condition on u itself (scalar): opening variables on every level
-    # (``joint_multigrid.OpeningLevels``); in a rotated frame (elastic): each body's P1 levels
+    # (``two_body_multigrid.OpeningLevels``); in a rotated frame (elastic): each body's P1 levels
     # (the slave's trace follows a master hat on the finest level only)
     hierarchy = multilevel.coupled(coupling) if problem.upper.physics.rotated_frame \
         else OpeningLevels(multilevel, problem, coupling)
@@ -179,7 +143,7 @@ def max_penetration(case, problem: TwoBodyProblem, z: np.ndarray) -> float:
     x, values = opening(problem, z)
     if case.obstacle is None:
         return float((-values).max())
-    gap = evaluate(case.obstacle, problem.upper.mesh, np.stack([x, np.zeros_like(x)], axis=-1))
+    gap = problem.upper.values_at(case.obstacle, np.stack([x, np.zeros_like(x)], axis=-1))
     return float((2.0 * gap - values).max())
 
 

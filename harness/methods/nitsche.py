@@ -1,15 +1,15 @@
 """The Nitsche family: `nitsche` (P2), `nitsche-p1`, and `nitsche-p3`, `nitsche-p4`
 (``at_order``), each a ``protocol.ContactLawMethod`` (``methods``).
 
-`nitsche`: P2 with Nitsche's treatment of the contact condition, the law (N) of ``fem.laws``:
+`nitsche`: P2 with Nitsche's treatment of the contact condition, the law (N) of ``fem.contact_laws.builtin``:
 Chouly & Hild, SIAM J. Numer. Anal. 51 (2013) 1295-1307 (theta = 1, the scalar problem); the
 variants theta = 0, -1 of Chouly, Hild & Renard, Math. Comp. 84 (2015) 1089-1112, whose eq. (10)
 is (N) for elasticity (eps = gamma0 h_T). The same law runs on the scalar problem and on
-elasticity, in 2D and 3D (``fem.contact_law``: one law on the contact variable).
+elasticity, in 2D and 3D (``fem.contact_laws``: one law on the contact variable).
 
 Default theta = 1, gamma0 = 0.05. theta = 1 is coercive only while gamma0 C_h < 1, C_h the largest
 ratio of int (h/M) flux(v)^2 over Gamma_C to a(v, v) on X_h (CHR 2015 Theorem 3.4: "gamma0
-sufficiently small"; M = lambda + 2 mu in elasticity, ``fem.laws``): a discrete trace-inverse
+sufficiently small"; M = lambda + 2 mu in elasticity, ``fem.contact_laws.builtin``): a discrete trace-inverse
 constant of the order and the elements along Gamma_C, about 7 for P2 and 2 for P1 on the
 registered cases, scalar and elastic alike (tests/test_weak_contact.py checks that 0.05 keeps a
 factor 2.5 below the bound, also at lambda/mu = 49). The report's sweep shows the rest of the range.
@@ -22,7 +22,7 @@ measures one.
 """
 from dataclasses import replace
 
-from ..fem.laws import Nitsche
+from ..fem.contact_laws.builtin import Nitsche
 from .method import DEGREES, MESH_STUDY, SWEPT, Expectation, capped_expectation, no_result_below
 from .protocol import ContactLawMethod
 

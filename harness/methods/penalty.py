@@ -2,7 +2,7 @@
 (``at_order``), each a ``protocol.ContactLawMethod`` (``methods``).
 
 `penalty`: P2, u_h minimises 1/2 a(v,v) - L(v) + (1/2 eps) int_{Gamma_C} [alpha - c(v)]_+^2 over
-X_h, eps = eps0 h (the law (P) of ``fem.laws``, c the contact variable: u, or -u . n in
+X_h, eps = eps0 h (the law (P) of ``fem.contact_laws.builtin``, c the contact variable: u, or -u . n in
 elasticity, 2D and 3D); Chouly & Hild, Appl. Numer. Math. 65 (2013) 27-40.
 
 Default eps0 = 0.05, the scale of `nitsche`'s gamma0 (``python -m harness sweep`` shows others).
@@ -17,7 +17,7 @@ whatever the order of the elements (Gustafsson & Stenberg, J. Struct. Mech. 58 (
 """
 from dataclasses import replace
 
-from ..fem.laws import Penalty
+from ..fem.contact_laws.builtin import Penalty
 from .method import SWEPT, Expectation, capped_expectation, no_result_below
 from .protocol import ContactLawMethod
 

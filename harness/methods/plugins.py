@@ -26,7 +26,7 @@ from pathlib import Path
 
 from ..core.plugins import PluginError, entry_point_objects, load_spec
 from ..fem.assembly import ORDERS
-from ..fem.contact_law import ContactLaw
+from ..fem.contact_laws.protocol import ContactLaw
 from .method import Method, no_theory
 from .protocol import ContactLawMethod, OwnSolve
 

@@ -7,7 +7,7 @@ internals. Pick the level that fits what you bring:
    elastic);
 2. a **weak method** given by its contact law on Gamma_C (a pressure term and a flux term, and
    their derivative): ``ContactLawMethod`` below, solved by the harness's semismooth Newton
-   method, its residual recorded (``fem.contact_law`` has the law's protocol and checks);
+   method, its residual recorded (``fem.contact_laws.protocol`` has the law's protocol and checks);
 3. a **solve of your own**: ``OwnSolve`` below; the harness hands you the level
    (``LevelProblem``: stiffness, load, free dofs, Gamma_C's quadrature, the coarser level's
    solution interpolated, the multigrid hierarchy) and takes back ``OwnSolution`` (u_h, your
@@ -33,16 +33,16 @@ import scipy.sparse as sp
 
 from ..fem.assembly import ContactTraceFunction
 from ..fem.cones import contact_pressure
-from ..fem.contact_law import contact_data, law_system, predicted_active
+from ..fem.contact_laws.system import contact_data, law_system
 from ..fem.contact_quadrature import contact_quadrature
 from ..fem.edge_functionals import check_rules, edge_functional_qp
+from ..fem.nested import nearest_status, p1_values, start_from
+from ..fem.p1_embedding import ContactEdges
 from ..fem.penetration import max_penetration
-from ..mesh.points import evaluate
 from ..solvers.general_constraints import GeneralConstraintSolver
-from ..solvers.multigrid import ContactEdges, nested_start, p1_values
 from ..solvers.newton import solve_semismooth_newton
 from ..solvers.options import SolverOptions
-from ..solvers.projected import ProjectedMultigridSystem
+from ..solvers.projected_multigrid import ProjectedMultigridSystem
 from .method import Carry, ConeCarry, LawCarry, LevelSolve, Method, SolveFields, timer
 
 # Level 1: a cone given by its functionals
@@ -64,9 +64,7 @@ def solve_general_rows(case, problem, carry, multilevel, phases, make_qp,
     embedding = ContactEdges.of(problem, model=False)
     with timed("setup"):
         qp = make_qp()
-        start = None
-        if multilevel is not None and carry is not None:
-            start = nested_start(multilevel, carry.p1, problem, embedding)
+        start = start_from(carry, multilevel, problem, model=False)
         predicted = qp.predicted_active(None if carry is None else carry.trace)
     with timed("solve"):
         system = None if multilevel is None else ProjectedMultigridSystem(qp.K_ngs, multilevel, embedding, options)
@@ -109,7 +107,7 @@ class FunctionalCone(Method):
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         # two or more functionals per edge: with both ends active, an edge's rows outnumber its
         # three trace variables, the active rows are linearly dependent, and the projected CG
-        # (``solvers.projection``) stalls (oscillating-r34 with the quarter points);
+        # (``solvers.row_projection``) stalls (oscillating-r34 with the quarter points);
         # SuperLU's saddle solve takes dependent rows (KKT 1e-16 on the same levels)
         # (on P_k, k - 1 functionals per edge are independent rows: the projected CG serves them)
         hierarchy = multilevel if len(self.functionals) <= max(problem.order - 1, 1) else None
@@ -126,14 +124,14 @@ class FunctionalCone(Method):
 
 @dataclass(frozen=True)
 class ContactLawMethod(Method):
-    """A weak method given by its contact law (``fem.contact_law.ContactLaw``; the built-in
-    ``fem.laws.Nitsche`` and ``fem.laws.Penalty`` are such laws): F(u) = A u - b - int p c(v) +
+    """A weak method given by its contact law (``fem.contact_laws.protocol.ContactLaw``; the built-in
+    ``fem.contact_laws.builtin.Nitsche`` and ``fem.contact_laws.builtin.Penalty`` are such laws): F(u) = A u - b - int p c(v) +
     int f flux(v), in every physics (c and its flux: u and d_n u, or -u . n and -sigma_n(u)) and
     dimension, solved by semismooth Newton (nested iteration, multigrid CG when the law's
     Jacobian is symmetric and the case has a hierarchy, a factorisation else) to a relative
     residual <= 1e-10. The law's parameters, if it is a dataclass, are the method's
     (``nitsche:gamma0=0.1,theta=-1`` on the command line), checked by the law itself. A law with
-    a field ``degree`` left None (``fem.laws``) is told the method's order: the k its parameter
+    a field ``degree`` left None (``fem.contact_laws.builtin``) is told the method's order: the k its parameter
     is chosen for, which an hp mesh scales by (k / p)^2 in an element of degree p."""
 
     law: object = None
@@ -199,10 +197,8 @@ def nested_guess(system, carry, multilevel):
     interpolated, and the branch of its nearest Gauss points."""
     if carry is None:
         return None, None
-    start = None
-    if multilevel is not None:
-        start = nested_start(multilevel, carry.p1, system.problem, ContactEdges.of(system.problem, model=False))
-    return start, predicted_active(carry.points, carry.active, system.quadrature.points)
+    return (start_from(carry, multilevel, system.problem, model=False),
+            nearest_status(carry.points, carry.active, system.quadrature.points))
 
 
 # Level 3: a solve of your own
@@ -211,7 +207,7 @@ def nested_guess(system, carry, multilevel):
 @dataclass(frozen=True)
 class ContactPoints:
     """Gamma_C's Gauss points as a user's solve sees them, on the contact variable of the case's
-    physics (as a contact law does, ``fem.contact_law.GammaPoints``): ``T @ u`` is c(u_h) there
+    physics (as a contact law does, ``fem.contact_laws.protocol.GammaPoints``): ``T @ u`` is c(u_h) there
     (u_h, or -u_h . n in elasticity), ``N @ u`` its flux (d_n u_h, or -sigma_n(u_h)); the
     contact condition is T u >= gap, the pressure N u - load >= 0; ``weights`` integrate over
     Gamma_C. The same rows in 2D and 3D, P1 and P2."""
@@ -300,16 +296,13 @@ class OwnSolve(Method):
 def level_problem(case, problem, carry, multilevel) -> LevelProblem:
     """The level as ``OwnSolve`` hands it over, with the coarser level's u_h interpolated."""
     quadrature = contact_quadrature(problem)
-    mesh = problem.mesh
     contact = ContactPoints(quadrature.points, quadrature.weights, quadrature.h, quadrature.edge, quadrature.T,
                             quadrature.N, *contact_data(case, problem, quadrature), problem.physics.name, quadrature.normals,
                             problem.physics.modulus)
-    start = None
-    if carry is not None and multilevel is not None:
-        start = nested_start(multilevel, carry.p1, problem, ContactEdges.of(problem, model=False))
+    start = start_from(carry, multilevel, problem, model=False)
     gap = np.zeros(len(problem.vertex_dofs))
     if case.gap is not None:
-        gap = problem.physics.obstacle(evaluate(case.gap, mesh, problem.trace.vertex_points))
+        gap = problem.physics.obstacle(problem.values_at(case.gap, problem.trace.vertex_points))
     return LevelProblem(case, problem.A, problem.b, problem.free, problem.lift, problem.vertex_dofs, problem.edge_dofs, gap,
                         contact, start, multilevel)
 

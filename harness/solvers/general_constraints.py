@@ -18,15 +18,15 @@ d a regularisation at round-off (``SolverOptions.regularisation`` times the bloc
 linearly dependent -- the face means of the triangles at the boundary of Gamma_C whose midpoints
 are Dirichlet dofs, where lambda is not unique but z is -- and then sets
 A = {i : lambda_i + c (g - B z)_i > 0}. It stops on the KKT residual (relative, as the bound
-solver's ``active_set.KKT``), never on a repeated set alone; a set that repeats switches to
-flipping the first violated row only (Murty's least-index rule, as in ``active_set``): the
+solver's ``bound_constraints.KKT``), never on a repeated set alone; a set that repeats switches to
+flipping the first violated row only (Murty's least-index rule, as in ``bound_constraints``): the
 iteration is ``pdas.primal_dual_active_set``, this module gives it the rows.
 
 Linear algebra, one of two systems for the equality-constrained problem of a set:
 * ``SaddleSystem``: scipy's SuperLU of the saddle matrix, once per active set. The reference --
   exact, and cross-checked against Clarabel in tests/test_general_constraints.py -- for the
   sizes where a factorisation is affordable;
-* ``ProjectedMultigridSystem`` (``projected``): active rows with a single entry (a bound on one
+* ``ProjectedMultigridSystem`` (``projected_multigrid``): active rows with a single entry (a bound on one
   variable: the vertex conditions) become pins, the others are kept by projected CG whose
   V-cycle is truncated at their vertices; about a multigrid solve per set, the study's path.
 """
@@ -39,7 +39,7 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .active_set import row_norm
+from .bound_constraints import row_norm
 from .options import SolverOptions
 from .pdas import KKT, primal_dual_active_set, resolved
 
@@ -132,7 +132,7 @@ class GeneralConstraintSolver:
         iteration), by ``pdas.primal_dual_active_set``. It stops on the KKT residual
         (``KKT.converged``: <= tol, or feasible with the force parts at round-off), never on a
         repeated set alone. With an iterative system the steps are inexact as in
-        ``active_set.ActiveSetSolver.solve``: a new set is solved to ``options.forcing`` times
+        ``bound_constraints.ActiveSetSolver.solve``: a new set is solved to ``options.forcing`` times
         the current residual (the first to that of the start's stationarity; whenever that is
         shallower than the full depth, ``options.loose_gain_general``), the set such a solve
         leaves unchanged again to the full depth, and only sets judged on full-depth solves

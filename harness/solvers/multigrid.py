@@ -7,7 +7,7 @@ coarse spaces at the pins (Kornhuber, Numer. Math. 69 (1994); Graeser and Kornhu
 Math. 27 (2009)) keeps it bounded independently of h.
 
 The spaces, fine to coarse:
-  X_h in the contact model's variables z (P2; ``models``), then P1 on the finest mesh, then P1
+  X_h in the contact model's variables z (P2; ``fem.cones``), then P1 on the finest mesh, then P1
   on each coarser mesh of the hierarchy.
 The hierarchical P2 basis contains the P1 hat functions as its vertex functions, and the
 meshes are nested, so every coarse matrix (the P1 stiffness matrix of its mesh) is the exact
@@ -32,12 +32,11 @@ tests/test_elasticity.py's tilted case counts them.)
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
+from ..fem.p1_embedding import ContactEdges
 from ..fem.rotated_frame import RotatedFrame, rotate_in_place
 from ..fem.sparse import csr_block_diag, csr_view, free_dofs
 from ..mesh.trace import contact_trace
@@ -167,7 +166,7 @@ class Multilevel:
     def prolongation_matrix(self, level: int) -> sp.csr_matrix:
         """The prolongation from ``level`` - 1 to ``level`` as a sparse matrix, Q_f^T P Q_c in the
         variables of the levels (components blocked): for an algebraic Galerkin product (two
-        bodies' coupled coarse matrices, ``joint_multigrid``); made once per level (a level's
+        bodies' coupled coarse matrices, ``two_body_multigrid``); made once per level (a level's
         prolongation never changes)."""
         if level in self._prolongations:
             return self._prolongations[level]
@@ -201,7 +200,7 @@ class Multilevel:
 
 def truncated_pins(hierarchy, pinned: np.ndarray) -> list[np.ndarray]:
     """Pinned P1 dofs per level of ``hierarchy`` (a ``Multilevel``, or two bodies'
-    ``joint_multigrid.JointMultilevel``), coarse to fine, from those of the finest level: a
+    ``two_body_multigrid.JointMultilevel``), coarse to fine, from those of the finest level: a
     coarse hat is pinned when its prolongation touches a pinned finer dof (or it lies on
     Gamma_u). In a rotated frame, variable by variable (the module's note): the indicator is
     restricted by P^T alone, component block by component block."""
@@ -215,110 +214,15 @@ def truncated_pins(hierarchy, pinned: np.ndarray) -> list[np.ndarray]:
     return pins
 
 
-def nested_start(multilevel: Multilevel, coarse_values: np.ndarray, problem, edges=None) -> np.ndarray:
-    """A start for the finest level's CG: the coarser level's u_h at the vertices (in the P1
-    hierarchy's numbering and variables, ``p1_values``), interpolated by
-    the P1 prolongation, in the variables of ``edges`` (default: the contact model's; bubbles
-    zero)."""
-    fine = multilevel.matrices[-1].CreateColVector()
-    fine[:] = 0.0
-    fine.FV().NumPy()[: len(coarse_values)] = coarse_values
-    multilevel.prolongate(len(multilevel.matrices) - 1, fine)
-    z = np.zeros(problem.ndof)
-    (ContactEdges.of(problem) if edges is None else edges).prolongate(fine.FV().NumPy(), z)
-    return z
-
-
-def p1_values(problem, u: np.ndarray) -> np.ndarray:
-    """u's values at the vertices in the P1 hierarchy's numbering and variables:
-    what a level carries to the next one's ``nested_start``."""
-    return ContactEdges.of(problem, model=False).values(u, problem.mesh.nv * problem.physics.components)
-
-
 def _bits(mask: np.ndarray) -> ngs.BitArray:
     return ngs.BitArray(np.asarray(mask, dtype=bool).tolist())
 
 
 def smoother(matrix, mask: np.ndarray):
     """Gauss-Seidel of ``matrix`` over the dofs of ``mask``: the matrix's own where it has one
-    (``coupled_blocks.CoupledBlocks``, an operator, not one NGSolve matrix), else NGSolve's."""
+    (``two_body_operator.CoupledBlocks``, an operator, not one NGSolve matrix), else NGSolve's."""
     own = getattr(matrix, "smoother", None)
     return own(mask) if own is not None else matrix.CreateSmoother(_bits(mask))
-
-
-@dataclass(frozen=True)
-class ContactEdges:
-    """The finest P1 level inside the problem's variables z: z = E c for a P1 function c, and
-    the restriction E^T. E differs from the plain injection (vertex dofs, bubbles zero) where
-    the contact model's variables differ from NGSolve's hierarchical ones: the bubble of contact
-    edge k is replaced by a combination of its ends (u = S z, ``fem.cones``), so a P1 function
-    with vertex values c has z_e = (c_a + c_b)/2 there (``edge_dofs``, ``end_dofs``; none for
-    ``of(problem, model=False)``). A vector problem's P1 dofs are (vertex, component) at
-    k nv + v, its z NGSolve's component blocks (``p1_dofs``); both are in the same rotated frame
-    at the vertices of Gamma_C (``Multilevel``), so E does not rotate.
-
-    Scalar problems: vertex v's dof is v, so ``p1_dofs`` is None (the first n entries)."""
-
-    edge_dofs: np.ndarray                   # (m,) z's dof of each contact edge's variable
-    end_dofs: np.ndarray                    # (m, 2) the P1 dofs of its ends (their contact component)
-    p1_dofs: np.ndarray | None = None       # z's dof of each P1 dof (None: the same number)
-
-    @classmethod
-    def of(cls, problem, model: bool = True) -> "ContactEdges":
-        """From a ``fem.assembly.DiscreteProblem``, whose space must number vertex v's dof of
-        component k as k ndof/components + v (NGSolve's H1 and VectorH1 do); ``model``: with the
-        contact model's edge variables."""
-        mesh, ndof = problem.mesh, problem.ndof
-        nv, components = mesh.nv, problem.physics.components
-        block = ndof // components
-        numbering = tuple(nv - 1 + k * block for k in range(components))
-        contact_component = (components - 1) * block
-        if problem.fes.GetDofNrs(ngs.NodeId(ngs.VERTEX, nv - 1)) != numbering or \
-                not np.array_equal(problem.vertex_dofs, contact_component + problem.trace.vertices):
-            raise RuntimeError("the space does not number vertex dofs by vertex; the multigrid needs it")
-        has_edges = model and len(problem.edge_dofs)
-        ends = problem.end_dofs if has_edges else np.zeros((0, 2), dtype=np.int64)
-        edges = problem.edge_dofs if has_edges else np.zeros(0, np.int64)
-        # z's vertex dof k block + v is P1 dof k nv + v; one component: the same number (slices)
-        p1_dofs = np.concatenate([k * block + np.arange(nv) for k in range(components)])
-        same = p1_dofs[-1] == len(p1_dofs) - 1
-        return cls(edges, (ends // block) * nv + ends % block, None if same else p1_dofs)
-
-    @property
-    def identity(self) -> bool:
-        """Whether E is the identity (a P1 problem without changed variables)."""
-        return self.p1_dofs is None and not len(self.edge_dofs)
-
-    def _vertex_part(self, r: np.ndarray, n: int) -> np.ndarray:
-        return r[:n].copy() if self.p1_dofs is None else r[self.p1_dofs]
-
-    def prolongate(self, c: np.ndarray, z: np.ndarray) -> None:
-        """z += E c."""
-        if self.p1_dofs is None:
-            z[: len(c)] += c
-        else:
-            z[self.p1_dofs] += c
-        z[self.edge_dofs] += 0.5 * (c[self.end_dofs[:, 0]] + c[self.end_dofs[:, 1]])
-
-    def restrict(self, r: np.ndarray, n: int) -> np.ndarray:
-        """E^T r, of the finest P1 level's size ``n``."""
-        c = self._vertex_part(r, n)
-        half = 0.5 * r[self.edge_dofs]
-        np.add.at(c, self.end_dofs[:, 0], half)
-        np.add.at(c, self.end_dofs[:, 1], half)
-        return c
-
-    def touched(self, mask: np.ndarray, n: int) -> np.ndarray:
-        """The P1 dofs whose image E e_j reaches a dof of ``mask`` (bool over z): the hats a
-        truncated coarse space must drop when ``mask`` holds the pins."""
-        hit = self._vertex_part(mask, n).astype(bool)
-        hit[self.end_dofs[mask[self.edge_dofs]].ravel()] = True
-        return hit
-
-    def values(self, u: np.ndarray, n: int) -> np.ndarray:
-        """u's vertex values as a P1 function of ``n`` dofs (E's left inverse on P1 functions:
-        the model's edge variables do not enter)."""
-        return self._vertex_part(u, n)
 
 
 class TruncatedVCycle:
@@ -407,7 +311,7 @@ class TruncatedVCycle:
     def apply(self, r, out) -> None:
         """out = B r for NGSolve vectors (r vanishes on the pins; so does out): smoothing on K,
         the hooks of a subclass's exact subspace steps before and after the coarse correction
-        (none here; ``projected.ConstrainedVCycle``'s Gamma_C block), smoothing back."""
+        (none here; ``projected_multigrid.ConstrainedVCycle``'s Gamma_C block), smoothing back."""
         if self.fine_is_p1:
             self._apply_p1(r, out)
             return
@@ -468,10 +372,10 @@ def pcg(K_ngs, preconditioner: TruncatedVCycle, rhs: np.ndarray, z: np.ndarray, 
     entries stay), until max |residual| <= tol, checked on the true residual. All vector work is
     NGSolve's (multithreaded, and no BLAS threads competing with its task manager).
 
-    ``projection`` (``projection.RowProjection``, or None): CG on the affine space {B z = B z0}
+    ``row_projection`` (``row_projection.RowProjection``, or None): CG on the affine space {B z = B z0}
     of a start z0 that satisfies active general constraints B z = g (projected CG, Gould,
     Hribar & Nocedal, SIAM J. Sci. Comput. 23 (2001)). The preconditioner must map into the
-    kernel of B (``projected.ConstrainedVCycle``; then M = P M P, P the orthogonal projector);
+    kernel of B (``projected_multigrid.ConstrainedVCycle``; then M = P M P, P the orthogonal projector);
     its output is projected once more all the same, so that round-off never moves the iterate
     off the affine space (without it the drift stalled CG at 1e-9 relative on transition-line-3d).
     The residual that decides convergence is P r, the stationarity once the constraints'
@@ -553,9 +457,3 @@ class _PreconditionedCG:
             p.data = s + (rs_new / rs) * p
             rs = rs_new
         return True
-
-
-# No change of variables, scalar problems: penalty and Nitsche work in NGSolve's own hierarchical
-# variables, where a P1 function is its vertex values and zero bubbles (a vector problem's own:
-# ``ContactEdges.of(problem, model=False)``).
-HIERARCHICAL = ContactEdges(np.zeros(0, np.int64), np.zeros((0, 2), np.int64))

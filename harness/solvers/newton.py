@@ -1,5 +1,5 @@
 """Semismooth Newton for the systems F(u_h) = 0 of the weak methods, each a contact law
-(``fem.contact_law``; the built-in penalty and Nitsche laws are ``fem.laws``).
+(``fem.contact_laws``; the built-in penalty and Nitsche laws are ``fem.contact_laws.builtin``).
 
 F is piecewise affine: on each set of Gauss points where the bracket P(u) is positive it is
 the affine map J u - r. The generalised Newton step (Qi & Sun, Math. Program. 58 (1993); for
@@ -22,7 +22,7 @@ that every run of the report's sweeps that converges at all converges in the sam
 (the sweep's rows and their ``solver_iterations`` show it), while the others stop early.
 
 Linear solves: J is A with the rows of the elements along Gamma_C changed. Symmetric J
-(penalty; Nitsche with theta = 1) goes to the cones' multigrid CG (``active_set.MultigridSystem``:
+(penalty; Nitsche with theta = 1) goes to the cones' multigrid CG (``bound_constraints.MultigridSystem``:
 the V-cycle smooths with J itself; its P1 coarse spaces are A's -- vector P1 in the rotated frame
 for elasticity -- truncated at the Dirichlet dofs and at the Gamma_C vertices with an active
 contact term, which are nearly pins); a
@@ -40,8 +40,8 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from .active_set import MultigridSystem, row_norm
-from .multigrid import ContactEdges
+from ..fem.p1_embedding import ContactEdges
+from .bound_constraints import MultigridSystem, row_norm
 from .options import SolverOptions
 from .pdas import loose_depth
 
@@ -163,7 +163,7 @@ class _AffineSolves:
 
 def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=None,
                             predicted: np.ndarray | None = None, options: SolverOptions = _DEFAULT) -> NewtonSolution:
-    """F(u) = 0 for a ``fem.contact_law.LawSystem``, from ``start`` (Dirichlet values are
+    """F(u) = 0 for a ``fem.contact_laws.system.LawSystem``, from ``start`` (Dirichlet values are
     imposed on it), with multigrid CG when ``multilevel`` is given and J is symmetric.
     ``predicted``: the active Gauss points of the first step (nested iteration), instead of
     those of ``start``."""

@@ -27,15 +27,15 @@ class SolverOptions:
     # the general-constraint solver's gain: its iterative system's new set is solved to
     # ``forcing`` times the current residual whenever that is shallower than the full depth (the
     # bound solver asks 3 decades, ``loose_gain``): there a set costs an exact factorisation of
-    # Gamma_C's block (``projected``), and a full-depth solve of a set that then changes is
+    # Gamma_C's block (``projected_multigrid``), and a full-depth solve of a set that then changes is
     # wasted; both reach the same KKT point (``python -m harness bench --only 3d`` counts the sets
     # and CG iterations of `mean` on transition-line-3d)
     loose_gain_general: float = 1.0
-    # a pin set needing more new bordered columns is refactorised (``active_set.FactorisedSystem``):
+    # a pin set needing more new bordered columns is refactorised (``bound_constraints.FactorisedSystem``):
     # ~ the cost of a factorisation in solves, at 1e5-1e6 dofs
     refactor_above: int = 24
     # two bodies: the dual mortar QP of this many dofs (both bodies) or more is solved on their
-    # coupled multigrid (``joint_multigrid``), a smaller one on sparse Cholesky, which is as fast
+    # coupled multigrid (``two_body_multigrid``), a smaller one on sparse Cholesky, which is as fast
     # there (measured, 0.10.2: the same time at 8e3 dofs, multigrid 3 times faster at 3e4 and
     # 10 times at 2e6; ``python -m harness bench --only mortar`` times both)
     mortar_multigrid_from: int = 20_000
@@ -43,7 +43,7 @@ class SolverOptions:
     regularisation: float = 1e-14
     # steps of iterative refinement of each saddle solve (``general_constraints.SaddleSystem``)
     refinement_steps: int = 2
-    # the shift of B B^T and the refinement steps of its solves (``projection.RowProjection``)
+    # the shift of B B^T and the refinement steps of its solves (``row_projection.RowProjection``)
     projection_shift: float = 1e-10
     projection_refinements: int = 2
     # iteration caps: active sets of the bound solver, of the general-constraint solver, Newton

@@ -1,6 +1,6 @@
 """The primal-dual active set iteration (Hintermueller, Ito & Kunisch, SIAM J. Optim. 13 (2002)),
 once for every kind of inequality constraint: the bounds z_C >= alpha of the cones
-(``active_set``) and the general rows B z >= g (``general_constraints``).
+(``bound_constraints``) and the general rows B z >= g (``general_constraints``).
 
 The iteration -- guess the active set, solve the equality-constrained problem of the guess,
 update the guess from the signs of the multipliers and the slacks -- is the same for both; what

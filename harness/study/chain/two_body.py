@@ -24,7 +24,7 @@ small share of a uniform chain).
 
 No checkpoints: a killed two-body chain starts again from its first level. The mortar QP
 is solved on both bodies' multigrid on uniform pairs from ``solvers.options.SolverOptions.mortar_multigrid_from``
-dofs (``solvers.joint_multigrid``), else by sparse Cholesky; each body's R_h u by Cholesky.
+dofs (``solvers.two_body_multigrid``), else by sparse Cholesky; each body's R_h u by Cholesky.
 """
 from __future__ import annotations
 
@@ -42,8 +42,8 @@ from ...mesh.strategies import UNIFORM, element_budget, singular_lines, singular
 from ...mesh.two_body_levels import AdaptivePair, GradedPair, UniformPair
 from ...methods import methods_for
 from ...problem.bodies import lower_body
-from ...solvers.joint_multigrid import JointMultilevel
 from ...solvers.multigrid import Multilevel
+from ...solvers.two_body_multigrid import JointMultilevel
 from ..execution.threads import p2_size
 from .rows import ChainOutput, Phases, study_levels
 from .walk import ChainPlan, ChainWalk
@@ -90,7 +90,7 @@ class TwoBodies:
         return p2_size(*meshes)
 
     def multilevel(self, level: Level):
-        """Both bodies' P1 hierarchies as one (``solvers.joint_multigrid``) on uniform pairs, whose
+        """Both bodies' P1 hierarchies as one (``solvers.two_body_multigrid``) on uniform pairs, whose
         meshes are refined in place level by level; graded and adaptive pairs factorise."""
         if not (self.case.physics.multigrid and isinstance(self.sequence, UniformPair)):
             return None

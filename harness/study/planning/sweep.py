@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ...fem.laws import THETAS
+from ...fem.contact_laws.builtin import THETAS
 from ...measure.reference import REFERENCE_METHOD
 from ...methods import SWEPT, Method, methods_named, with_role
 from ..chain.rows import study_levels
@@ -22,7 +22,7 @@ SWEEP_VALUES = (1e-4, 1e-3, 1e-2, 0.05, 0.1, 0.3, 1.0, 3.0, 10.0)
 
 def swept_specs(methods) -> tuple[str, ...]:
     """What the report sweeps of ``methods``: each that declares the role SWEPT, and, for one
-    with a parameter theta, the same at each other theta of ``fem.laws.THETAS``."""
+    with a parameter theta, the same at each other theta of ``fem.contact_laws.builtin.THETAS``."""
     specs = []
     for method in with_role(SWEPT, methods):
         specs.append(method.name)
@@ -37,7 +37,7 @@ def swept_specs(methods) -> tuple[str, ...]:
 # (eps = value h): level 4 draws the same map, converged and failed at the same values but one
 # (corner-r12, Nitsche theta = 1, gamma0 = 10), at more than twice the cost. elastic-transition-r32:
 # the same map in plane strain (its level 3 has 3.8e3 dofs), where theta = 1's bound is that of
-# eps = gamma0 h / (lambda + 2 mu) (``fem.laws``).
+# eps = gamma0 h / (lambda + 2 mu) (``fem.contact_laws.builtin``).
 REPORT_SWEEP = {"cases": ("transition-r32", "corner-r12", "elastic-transition-r32"), "level": 3,
                 "methods": swept_specs(None), "values": SWEEP_VALUES, "reference": (REFERENCE_METHOD,)}
 SWEEP_COLUMNS = ["sweep_method", "sweep_parameter", "sweep_value"]

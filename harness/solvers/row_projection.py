@@ -11,7 +11,7 @@ edges are Dirichlet, a triangle's row sees only its three edge bubbles, each sha
 neighbour, so multipliers +1, -1 alternating between neighbours cancel on every bubble when the
 patch's triangles can be coloured that way (every inner vertex of even degree, as on structured
 meshes); nearly so otherwise (eigenvalues 1e-4 against 1.6 on transition-line-3d's level 1,
-``projected``). Then B x is orthogonal to the kernel of
+``projected_multigrid``). Then B x is orthogonal to the kernel of
 B B^T for every x, and the factorisation of B B^T + d I (d at 1e-10 of its diagonal) followed
 by two steps of iterative refinement gives the minimum-norm solution to round-off: d perturbs
 the other eigen-directions by d / lambda, which each refinement step squares away.

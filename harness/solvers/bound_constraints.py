@@ -1,6 +1,6 @@
 """Exact solution of the discrete contact problems (3.6) and (5.1).
 
-In the variables of its contact model (``models``: NGSolve's hierarchical P2 variables with
+In the variables of its contact model (``fem.cones``: NGSolve's hierarchical P2 variables with
 each contact-edge bubble replaced by the midpoint value or the edge mean) each problem is
 
     minimise 1/2 z^T K z - b^T z   subject to   z = u_D on Gamma_u,   z_i >= alpha_i for i in C,
@@ -43,7 +43,8 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
-from .multigrid import ContactEdges, TruncatedVCycle, max_abs, pcg
+from ..fem.p1_embedding import ContactEdges
+from .multigrid import TruncatedVCycle, max_abs, pcg
 from .options import SolverOptions
 from .pdas import KKT, primal_dual_active_set, resolved
 
@@ -219,7 +220,7 @@ class ActiveSetSolver:
 
     def __init__(self, K, b, free, C, alpha, K_ngs=None, lift=None, system=None, options: SolverOptions = _DEFAULT):
         # K: a scipy matrix, or an operator that multiplies NumPy vectors and knows its row norms
-        # (``coupled_blocks.CoupledBlocks``: a mortar QP's K, never made into one matrix)
+        # (``two_body_operator.CoupledBlocks``: a mortar QP's K, never made into one matrix)
         self.K = K if hasattr(K, "row_norm") else sp.csr_matrix(K)
         self.b = np.asarray(b, float)
         self.free = np.asarray(free, bool)

@@ -4,7 +4,7 @@
 
 for the 3D counterpart of K_h, whose rows are bounds at the vertices of Gamma_C and
 the means of its triangles. An active row with a single entry is a bound on one variable: it
-becomes a pin, as in the bound solver (``active_set``). The others -- the face means, each
+becomes a pin, as in the bound solver (``bound_constraints``). The others -- the face means, each
 coupling the three vertices and three edge bubbles of a triangle -- are kept by CG on the affine
 space {B_A z = g_A} (projected CG, ``multigrid.pcg``), with a V-cycle that maps into the kernel
 of B_A (``ConstrainedVCycle``).
@@ -18,7 +18,7 @@ The kernel of B_A is not spanned by local functions there, so no pointwise smoot
 respect it; a block that holds all of Gamma_C's dofs can: ``ConstrainedVCycle``.
 
 Multipliers: K z - b = B_A^T lambda on the free dofs, so the face rows' lambda are the least-
-squares multipliers of the residual (``projection``; exact up to the CG residual P r that the
+squares multipliers of the residual (``row_projection``; exact up to the CG residual P r that the
 solve drives below its tolerance), and a bound's is its pin's reaction minus what the face rows
 take.
 """
@@ -28,9 +28,10 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .multigrid import HIERARCHICAL, ContactEdges, TruncatedVCycle, pcg
+from ..fem.p1_embedding import HIERARCHICAL, ContactEdges
+from .multigrid import TruncatedVCycle, pcg
 from .options import SolverOptions
-from .projection import RowProjection
+from .row_projection import RowProjection
 
 _DEFAULT = SolverOptions()
 

@@ -31,9 +31,10 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
+from ..fem.p1_embedding import ContactEdges
 from ..fem.sparse import csr_block_diag, csr_view
-from .coupled_blocks import CoupledBlocks
-from .multigrid import ContactEdges, Multilevel, truncated_pins
+from .multigrid import Multilevel, truncated_pins
+from .two_body_operator import CoupledBlocks
 
 
 class JointMultilevel:
@@ -117,7 +118,7 @@ class JointMultilevel:
     def coupled(self, coupling: sp.csr_matrix) -> "JointMultilevel":
         """The same hierarchy with the matrices diag(A_1, A_2)_l + C_l, C_L = ``coupling`` on
         the finest level and C_{l-1} = P_l^T C_l P_l: the Galerkin products of the finest, each
-        the bodies' own level matrices and C_l (``coupled_blocks.CoupledBlocks``)."""
+        the bodies' own level matrices and C_l (``two_body_operator.CoupledBlocks``)."""
         view = copy.copy(self)
         view.matrices = [None] * len(self.free)
         C = coupling.tocsr()
@@ -197,7 +198,7 @@ class OpeningLevels:
         return drag
 
     def _levels(self, joint: JointMultilevel, C: sp.csr_matrix) -> list:
-        """Each level's matrix diag(A_1, A_2)_l + C_l (``coupled_blocks.CoupledBlocks``: the
+        """Each level's matrix diag(A_1, A_2)_l + C_l (``two_body_operator.CoupledBlocks``: the
         bodies' own level matrices), C_L = ``C`` (the mortar QP's P1 level minus the bodies',
         ``mortar_coupling_matrix``) and C_{l-1} such that A_{l-1} + C_{l-1} is the Galerkin
         product P^T (A_l + C_l) P. With P = diag(P_1, P_2) + Delta (Delta: the drag, slave rows

@@ -1,11 +1,11 @@
 """K = diag(A_1, A_2) + C as an NGSolve operator: each body's own NGSolve matrix, never copied,
 and a coupling C that is nonzero only in the rows and columns of a small set T of dofs near the
 interface (a mortar QP's K = S^T A S, ``fem.two_body.dual_bound_qp``; its P1 levels,
-``joint_multigrid``).
+``two_body_multigrid``).
 
 Why not one NGSolve matrix of K: K's pattern is A's plus cross entries between the bodies, so it
 does not fit in A's memory as one body's transformed matrix does (``fem.cones``), and copying
-it into NGSolve (``active_set.ngsolve_matrix``) cost 5.1 s for two P2 bodies at 2.0e6 dofs, four
+it into NGSolve (``bound_constraints.ngsolve_matrix``) cost 5.1 s for two P2 bodies at 2.0e6 dofs, four
 times one linear multigrid solve of both bodies.
 
 Gauss-Seidel on K without K: C vanishes off T x T, so every row of K outside T is A's row, with
@@ -23,7 +23,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from ..fem.sparse import csr_block_diag, csr_view
-from .active_set import ngsolve_matrix, row_sums
+from .bound_constraints import ngsolve_matrix, row_sums
 
 
 class CoupledBlocks(ngs.BaseMatrix):

@@ -1,0 +1,3 @@
+"""The weak methods' contact laws on Gamma_C: the law's protocol (``protocol``: ``GammaPoints``,
+``ContactLaw``, ``LawError``), its semismooth Newton system on one level (``system``:
+``law_system``, ``LawSystem``) and the built-in Nitsche and penalty laws (``builtin``)."""
