@@ -18,7 +18,7 @@ Hertz (Johnson, Contact Mechanics, 1985, Sect. 3.4 and 4.2; rigid indenter, E* =
     approach delta_H = a^2 / R   (``hertz``).
 
 Mesh. The coarse mesh is fine (``zone_h``) on the square (-zone, zone)^2 of Gamma_C around the
-contact disc (a glued box, ``geometry.zone_box``: flat faces, so the refined meshes nest), coarse
+contact disc (a glued box, ``harness.problem.geometry.zone_box``: flat faces, so the refined meshes nest), coarse
 (``maxh``) elsewhere. Uniform refinement multiplies 3D dofs by 8 per level: the fine profile
 studies two levels (h = a/4 on the zone) with the reference one level finer.
 

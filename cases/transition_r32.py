@@ -23,7 +23,7 @@ expected_log_exponent = 0.0
 geometry = contact_strip(breaks=[0.0])
 maxh = 0.25
 
-# u = -r^{3/2} sin(3 theta/2) with theta's branch cut outside the body (``functions.transition``):
+# u = -r^{3/2} sin(3 theta/2) with theta's branch cut outside the body (``harness.problem.functions.transition``):
 # written with atan2(y, x), a Gamma_C point with x < 0 that NGSolve's map of a bisected triangle
 # puts at y = -1e-17 would get theta = -pi, and u there the wrong sign (graded and adaptive
 # meshes make such points; uniform ones do not)

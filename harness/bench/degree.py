@@ -101,7 +101,7 @@ def run_degree_bench(sizes=None, progress=print) -> pd.DataFrame:
 
 
 def degree_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
-    """Issue 63's solver goal, with the measured figures: every k = 3 row at >= 1e6 dofs within
+    """The degree axis's solver goal, with the measured figures: every k = 3 row at >= 1e6 dofs within
     ``DEGREE_GOAL`` linear solves, every row exact."""
     big = frame[(frame.order == 3) & (frame.ndof >= 1_000_000)]
     figures = ", ".join(f"{m} {r:.2f} at {n:.2g} dofs" for m, r, n in zip(big.method, big.ratio_linear, big.ndof))

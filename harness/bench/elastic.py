@@ -14,7 +14,7 @@ import pandas as pd
 from .common import FAIR_COLUMNS, contact_goals, fastest, fresh_rows, timed
 from .three_d import solve_row
 
-# Poisson ratio 0.3 (the multigrid path; ``physics.Elasticity.multigrid``), plane strain and 3D
+# Poisson ratio 0.3 (the multigrid path; ``problem.physics.Elasticity.multigrid``), plane strain and 3D
 ELASTIC_CASE = "elastic-transition-r32"
 ELASTIC_CASE_3D = "elastic-transition-3d"
 
@@ -86,7 +86,7 @@ def _weak_row(method_name: str, size: tuple) -> dict:
     t_contact, solution = fastest(lambda: own_seconds(solve_semismooth_newton(system, start, multilevel, predicted=predicted)))
     problem = system.problem
     # the affine system of the solution's own set, J u_h = r, with the V-cycle of Newton's last step
-    # (its coarse spaces truncated where the contact term is active, ``multigrid.TruncatedVCycle``;
+    # (its coarse spaces truncated where the contact term is active, ``solvers.multigrid.TruncatedVCycle``;
     # without that hint CG needs many times the iterations)
     system.set_jacobian(solution.active)
     rhs, embedding = system.affine_rhs(solution.active), ContactEdges.of(problem, model=False)

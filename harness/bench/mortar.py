@@ -127,7 +127,7 @@ def _mortar_row(case, method, problem, carry, multilevel) -> dict:
            "ratio_linear": t_contact / t_linear, "iterations": fields["solver_iterations"],
            "cg_iterations": fields["linear_iterations"], "linear_cg_iterations": linear_iterations,
            "kkt_residual": fields["kkt_residual"]}
-    # the Cholesky columns: what the study ran below ``SolverOptions.mortar_multigrid_from``, up to
+    # the Cholesky columns: what the study ran below ``solvers.options.SolverOptions.mortar_multigrid_from``, up to
     # the size that fits in memory
     if problem.ndof >= CHOLESKY_UP_TO:
         return row | dict.fromkeys(["t_contact_cholesky", "t_linear_cholesky", "ratio_cholesky", "kkt_residual_cholesky"],

@@ -275,7 +275,7 @@ class ContactTraceFunction:
     face_points: np.ndarray | None = None   # 3D: (f, 3, 3) corners of the triangles of Gamma_C
     face_values: np.ndarray | None = None   # 3D: (f, 3) values at the corners
     face_bubbles: np.ndarray | None = None  # 3D: (f, 3) bubble coefficients of the sides
-    volumes: np.ndarray | None = None       # 2D: (m,) the triangles on the edges (``mesh.in_elements``)
+    volumes: np.ndarray | None = None       # 2D: (m,) the triangles on the edges (``mesh.points.in_elements``)
     face_active: np.ndarray | None = None   # 3D, face-mean cone: (f,) the triangle's mean constraint was active
     lobatto: np.ndarray | None = None       # P_k with k >= 3: (m, k + 1) values at ``lobatto_points(k)`` of each edge
     face_lattice: np.ndarray | None = None  # 3D, P_k with k >= 3: (f, (k + 1)(k + 2)/2) values at ``barycentric_lattice(k)``

@@ -52,7 +52,7 @@ class ContactQuadrature:
     # of basis and each point's volume element (not the problem: the problem's caches hold
     # quadratures, and a cycle would keep its matrices alive until a full garbage collection)
     _flux: tuple | None = field(default=None, repr=False, compare=False)
-    degree: np.ndarray | None = None     # (q,) the degree of each point's cell (``DiscreteProblem.edge_degrees``)
+    degree: np.ndarray | None = None     # (q,) the degree of each point's cell (``fem.assembly.DiscreteProblem.edge_degrees``)
 
     @cached_property
     def N(self) -> sp.csr_matrix:

@@ -66,8 +66,8 @@ class TraceElements:
     left: np.ndarray        # (m,)
     right: np.ndarray       # (m,)
     dofs: np.ndarray        # (m, 2 or 3)
-    vertex_index: np.ndarray  # (m, 2): position of the left and right end in ``problem.trace.vertices``
-    edge_index: np.ndarray    # (m,): position of the edge in ``problem.trace`` (its order)
+    vertex_index: np.ndarray  # (m, 2): position of the left and right end in ``mesh.trace.ContactTrace.vertices``
+    edge_index: np.ndarray    # (m,): position of the edge in ``mesh.trace.ContactTrace`` (its order)
 
     @classmethod
     def of(cls, problem: DiscreteProblem) -> "TraceElements":

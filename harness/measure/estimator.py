@@ -32,7 +32,7 @@ Comp. 78 (2009)), Krause, Veeser & Walloth, and, for quadratic elements, the ada
 method of arXiv 2209.04906 (element and jump residuals, the flux mismatch on Gamma_C, the
 penetration, the complementarity): the penetration term is the one
 the P2 cones need, as their nodal or mean constraints let u_h dip below alpha between nodes.
-These papers were not read beyond their abstracts: the weights above are the
+The weights above (docs/theory/references.md says what of these papers was read) are the
 standard scalings (h for flux terms, h^-1 for the H^1/2-like penetration), not a quotation of
 one paper's definition, and no constant is claimed. What the harness measures instead is the
 effectivity eta / ||u - u_h||_a on the exact cases (``study.chain``).

@@ -11,7 +11,7 @@ The terms are those of the 2D estimator (``estimator``'s docstring) with faces F
 and the Gamma_C terms of ``estimator.ResidualEstimator`` on the triangles of Gamma_C: the terms
 of the residual estimators cited there (Hild & Nicaise, Numer. Math. 101 (2005), scalar; M2AN 41
 (2007), elasticity; and others), carried from edges to faces. Whether those papers' analyses
-cover 3D was not checked here (their texts were not read), and no constant is claimed. The
+cover 3D is not claimed (docs/theory/references.md says what was read), and no constant is claimed. The
 weights are NGSolve's ``ngsolve.specialcf.mesh_size``, as in 2D (checked numerically):
 
     h_T = (6 |T|)^(1/3) = |det J|^(1/3)           in the volume,

@@ -67,7 +67,7 @@ from .errors import DiscretePressure, contact_error_points
 class LevelNumbering:
     """What the exact prolongation needs of one level: its new vertices' parents (the two
     coarse vertices of the edge a new vertex halves; for a vertex of the coarser mesh -1, or
-    what netgen keeps from an earlier refinement: not read) and the P2 edge dofs by vertex pair."""
+    what netgen keeps from an earlier refinement: left as it is) and the P2 edge dofs by vertex pair."""
 
     nv: int
     parents: np.ndarray       # (nv, 2)
@@ -325,7 +325,7 @@ class ReferenceErrors:
 
     def __init__(self, studied: dict[str, int], orders: dict[str, int], reference: str, reference_level: int,
                  phases=None):
-        self.phases = phases            # ``study.Phases``: this measurement's set-up counts as "errors"
+        self.phases = phases            # ``study.chain.rows.Phases``: this measurement's set-up counts as "errors"
         self.studied = dict(studied)
         self.orders = dict(orders)
         self.reference, self.reference_level = reference, reference_level

@@ -29,7 +29,7 @@ standard terms of the residual estimators for two-body contact with mortar multi
 Wohlmuth's estimators for contact on non-matching meshes (mortar multipliers, element and edge
 residuals, the multiplier against each side's normal flux) and the two-body setting of Krause,
 Veeser & Walloth (Numer. Math. 130 (2015)), whose discrete contact force lambda_h the harness
-uses; the texts were not read here: the weights are the one-body estimator's standard scalings,
+uses (docs/theory/references.md says what was read): the weights are the one-body estimator's standard scalings,
 not a quotation, and no reliability or efficiency constant is claimed. What the harness
 measures is the effectivity eta / ||u - u_h||_a on the exact two-body cases.
 

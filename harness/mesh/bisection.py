@@ -211,7 +211,7 @@ class GradedRefinement:
 
     def levels(self, count: int) -> Iterator[Level]:
         """Levels 0..count-1, but none past the uniform level count - 1's number of elements
-        (2^d times the coarse mesh's per level): the study's budget (``study.one_body``), which
+        (2^d times the coarse mesh's per level): the study's budget (``study.chain.one_body``), which
         would drop such a level; its bisection stops as soon as it has more (in 3D, where mu < 1/3
         makes N ~ H^(-1/mu), the level past the budget could be ten times it)."""
         refiner = bisection(self.case)
@@ -248,7 +248,7 @@ class AdaptiveRefinement:
         self.element_limit = np.inf
 
     def limit_elements(self, limit: float) -> None:
-        """The study's budget of elements (``study.one_body``): a level it would drop is not made."""
+        """The study's budget of elements (``study.chain.one_body``): a level it would drop is not made."""
         self.element_limit = limit
 
     def observe(self, indicators: np.ndarray) -> None:

@@ -6,9 +6,9 @@ corner, a junction, a contact/separation transition), geometric meshes with a li
 degree give ||u - u_hp||_1 <= C exp(-b N^{1/(d+1)}): Babuska and Guo's hp theory of the 1980s,
 and for C^0 elements on shape-regular simplicial meshes refined geometrically toward the singular
 points the paper Numer. Math. (2020), doi:10.1007/s00211-019-01085-z (its introduction states the
-bound; the theorem itself was not read). The layers of elements at a singular point shrink by a
+bound). How much of each work was read: docs/theory/references.md. The layers of elements at a singular point shrink by a
 factor sigma, elements j layers away from it have degree about k + mu j. For contact, Dörsek &
-Melenk (2009, as issue 63 cites them; not read) report exponential convergence of hp refinement.
+Melenk (2009) report exponential convergence of hp refinement.
 No theorem covers Signorini's problem with a free boundary point: the strategy declares no rate,
 the study measures one and fits the exponential law (``measure.exponential``).
 
@@ -117,7 +117,7 @@ def degrees_of(depth: np.ndarray, layers: int, order: int, mu: float, max_degree
 
 def uniform_equivalent(coarse_elements: int, order: int, levels: int, mu: float = DEFAULT_MU) -> int:
     """The uniform P2 levels whose finest has about the dofs of the finest of ``levels`` hp levels
-    (the study's memory and time plan, ``study.engines.plan``, is written for uniform levels): the
+    (the study's memory and time plan, ``study.execution.engines.plan``, is written for uniform levels): the
     coarse elements, and about six per layer at each singular point, each with about p^2 / 2
     dofs at the largest degree p."""
     p = order + mu * (LAYERS_START + levels)

@@ -1,5 +1,5 @@
 """The meshes of a two-body chain: each body's mesh refined on its own, so that the two stay
-non-matching on Gamma_C, a level being the pair of them (``study.two_body``; the mortar coupling
+non-matching on Gamma_C, a level being the pair of them (``study.chain.two_body``; the mortar coupling
 of each level is assembled anew on the level's two meshes by the method's solve,
 ``fem.mortar.mortar_coupling``).
 

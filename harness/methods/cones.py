@@ -161,8 +161,8 @@ nodal = BoundConstrained(
 # * F. Ben Belgacem, SIAM J. Numer. Anal. 37 (2000) 1198-1216, the paper's reference [3], which
 #   its Section 1 cites for the quasi-optimal analysis of linear elements; the paper (Section 2,
 #   after Remark 2.2) adds that affine elements cannot profit from regularity beyond H^2 ("the
-#   effective useful regularity is that of H^2"): the rate stops at 1. (Ben Belgacem 2000 itself
-#   was not read: its exact statements and regime assumptions are taken from the paper's summary.)
+#   effective useful regularity is that of H^2"): the rate stops at 1. (Its statements and regime
+#   assumptions are taken from the paper's summary: docs/theory/references.md.)
 # * G. Drouet and P. Hild, SIAM J. Numer. Anal. 53 (2015) 1488-1507: optimal H^1 estimates for
 #   linear (and quadratic) elements, 2D and 3D, "with the only standard Sobolev regularity" and
 #   no assumption on the contact set -- in particular order h for u in H^2 with P1, without the

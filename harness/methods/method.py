@@ -162,7 +162,7 @@ class LevelSolve:
 
 
 def timer(phases):
-    """``phases`` (``study.rows.Phases``: ``with phases("setup"): ...`` times a phase of the level),
+    """``phases`` (``study.chain.rows.Phases``: ``with phases("setup"): ...`` times a phase of the level),
     or, when the solve is not timed, a timer that times nothing."""
     return phases or (lambda phase: nullcontext())
 
@@ -203,7 +203,7 @@ class Method:
     # roles: what it is to the report (``ROLES``), and (name, roles) as declared (the role rule)
     roles: frozenset = frozenset()
     roles_of: tuple | None = field(default=None, repr=False, compare=False)
-    # scheduling: how its solve's time is estimated (``study.budget``): "active-set" (an exact QP
+    # scheduling: how its solve's time is estimated (``study.execution.budget``): "active-set" (an exact QP
     # solve by an active set method), "newton" (semismooth Newton), or a number, its seconds per dof
     cost_model: str | float = "active-set"
     # identity: the file that defines a method from outside the package (``plugins``): what its
@@ -286,7 +286,7 @@ class Method:
         """Solve on ``problem`` (a ``fem.assembly.DiscreteProblem`` of this method's order) from
         ``carry`` (what the coarser level's solve left, or None), on ``multilevel``'s hierarchy.
         ``take_stiffness``: this is the level's last method of its order and may take the
-        stiffness matrix's memory. ``phases`` (``study.rows.Phases``) times set-up and solve."""
+        stiffness matrix's memory. ``phases`` (``study.chain.rows.Phases``) times set-up and solve."""
         raise NotImplementedError
 
 

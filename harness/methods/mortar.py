@@ -113,7 +113,7 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
     E = mortar_injection(problem)
     coupling = mortar_coupling_matrix(problem, qp.S_rows(qp.C), qp.C, E)
     # a contact condition on u itself (scalar): opening variables on every level
-    # (``two_body_multigrid.OpeningLevels``); in a rotated frame (elastic): each body's P1 levels
+    # (``solvers.two_body_multigrid.OpeningLevels``); in a rotated frame (elastic): each body's P1 levels
     # (the slave's trace follows a master hat on the finest level only)
     hierarchy = multilevel.coupled(coupling) if problem.upper.physics.rotated_frame \
         else OpeningLevels(multilevel, problem, coupling)

@@ -33,8 +33,7 @@ GAMMA0 = 0.05
 # k >= 3: the theorem above is stated for k <= 2; Gustafsson & Stenberg's abstract calls the method
 # optimally convergent, and a third-party summary of arXiv 2505.21776 (sciencestack.ai) gives their
 # estimate as ||u - u_h||_E <= C h^{s-1} ||u||_s for 1 <= s <= p + 1 at every degree p, with an
-# edgewise penalty scaling; the paper's own statement and theorem number were not read (the stored
-# copy gives its first page only)
+# edgewise penalty scaling (what of it was read: docs/theory/references.md)
 REFERENCE_HIGH_ORDER = "Gustafsson & Stenberg 2025 (J. Struct. Mech. 58; abstract); CHR 2015 Thm 3.8 for k <= 2"
 
 

@@ -73,7 +73,7 @@ def _checked(objects: list, where: str) -> list[Method]:
 
 def _with_source(methods: list[Method], source: Path | None) -> list[Method]:
     """The methods, each knowing the file that defines it (its checkpoints and cached results
-    are then those of that file's content: ``study.checkpoint``)."""
+    are then those of that file's content: ``study.storage.checkpoint``)."""
     return methods if source is None else [replace(m, source=str(source)) for m in methods]
 
 

@@ -46,7 +46,7 @@ _GIVEN: dict[str, Method] = {}
 
 def with_role(role: str, methods=None) -> list[Method]:
     """Those of ``methods`` (default: the registered ones, in registry order) that declare
-    ``role`` (``base.ROLES``: PAPER, BASELINE, REFERENCE, SWEPT, MESH_STUDY), in their order.
+    ``role`` (``method.ROLES``: PAPER, BASELINE, REFERENCE, SWEPT, MESH_STUDY), in their order.
     Nothing outside ``methods/`` names a method: it asks for a role, which a method of your own
     may declare too (``Method.roles``)."""
     methods = METHODS.values() if methods is None else methods

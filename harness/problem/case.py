@@ -52,7 +52,7 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     asymptotic_levels      optional int >= 3: the number of P2 levels by which the case's fits are
                            asymptotic (one level more moves no fitted rate by more than
                            0.01: ``--levels`` one higher shows it); the default report stops there instead of at its
-                           profile's levels (``study.cache.case_settings``), ``--levels`` and
+                           profile's levels (``study.planning.cache.case_settings``), ``--levels`` and
                            the fine profile do not
     asymptotic_levels_p1   optional int >= 3: the same for the P1 methods (order 1), which a
                            study otherwise runs one level past P2, to P2's finest number of

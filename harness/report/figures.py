@@ -50,7 +50,7 @@ def convergence(case, results, folder: Path) -> dict[str, Path]:
     return save(fig, folder, f"{case.name}_convergence")
 
 
-# What the contact figure draws, by physics (``harness.physics``): the contact variable minus its
+# What the contact figure draws, by physics (``problem.physics``): the contact variable minus its
 # obstacle (the gap left open), of the exact and the discrete solution, and the exact pressure.
 CONTACT_LABELS = {
     "scalar": (r"$u-\alpha$", r"$u_h-\alpha$", r"$\partial_n u - g_C$"),

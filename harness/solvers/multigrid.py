@@ -17,7 +17,7 @@ is dropped, so every coarse correction vanishes on the pins and the coarse space
 of {z: z_P = 0}. P1 prolongations have non-negative weights, so restricting the indicator of the
 pins finds exactly those hats.
 
-Elasticity (issue 33): the same cycle on the vector spaces, in the frame of the problem. Each
+Elasticity: the same cycle on the vector spaces, in the frame of the problem. Each
 level is vector P1 of its mesh (the physics' own order-1 space and form), written, like the
 problem (``fem.rotated_frame.RotatedFrame``), in the rotated frame (t, c) = (u . tau, -u . n) at the
 vertices of its Gamma_C: A_l <- Q_l^T A_l Q_l and the prolongation Q_f^T P Q_c, so the coarse

@@ -1,4 +1,4 @@
-"""The study's module paths of 0.10 (``harness.study.cache``, ``harness.study.engines``, ...),
+"""The study's module paths of 0.10 (`harness.study.cache`, `harness.study.engines`, ...),
 each the module of its subpackage under its old name, with a DeprecationWarning on import
 (CHANGELOG 0.11.0): a finder on ``sys.meta_path`` that answers for these names only."""
 from __future__ import annotations

@@ -48,7 +48,7 @@ class GammaPoints:
     load: np.ndarray    # g_C, the contact load (the pressure is dn - load; zero in the paper), or -g_n
     h: np.ndarray       # the size of the point's contact cell (edge in 2D, triangle in 3D)
     x: np.ndarray       # (q, dim) the points
-    physics: str = "scalar"     # ``problem.physics.name``: "scalar" or "elasticity"
+    physics: str = "scalar"     # ``problem.physics.Scalar.name``: "scalar" or "elasticity"
     # the stiffness scale of the flux: 1 for the scalar problem, lambda + 2 mu in elasticity
     # (``physics.modulus``); a weak method's eps ~ h / modulus keeps its parameter's range
     # independent of the material (``fem.contact_laws.builtin``)

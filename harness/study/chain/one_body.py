@@ -54,7 +54,7 @@ class OneBody:
                 if budget_elements is None:
                     budget_elements = element_budget(self.case, self.budget_levels, self.extra_levels)
                     # a sequence that can tell a level past the budget before making it
-                    # (``bisection.AdaptiveRefinement``) is told the budget
+                    # (``mesh.bisection.AdaptiveRefinement``) is told the budget
                     if hasattr(self.sequence, "limit_elements"):
                         self.sequence.limit_elements(budget_elements)
                 if index and step.mesh.ne > budget_elements:

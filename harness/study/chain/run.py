@@ -27,10 +27,10 @@ PROFILES = {
     # the 3D cases (8 times the dofs per level): 1.3e5 P2 dofs
     # the mesh study (graded and adaptive meshes, ``mesh_study``): the budget of uniform level
     # mesh_levels - 1, 9.2e3 P2 dofs on corner-r12
-    # a case that declares ``asymptotic_levels`` stops there (``cache.case_settings``): six for
+    # a case that declares ``asymptotic_levels`` stops there (``study.planning.cache.case_settings``): six for
     # the cases whose seventh level moves no fitted rate by more than 0.01
     # two bodies (about twice a one-body level's dofs, ``two_body``): at most 6 levels (5.1e5 dofs; see "fine")
-    # the 3D mesh study, in the fine profile only (``mesh_study.PLAN``): the budget of uniform level
+    # the 3D mesh study, in the fine profile only (``study.planning.mesh_study.PLAN``): the budget of uniform level
     # mesh_levels_3d - 1, 1.0e6 P2 dofs on transition-line-3d at 4 (3 here: the same rule)
     # the weak methods (contact laws) on 3D cases in the fine profile only: at the default's three
     # 3D levels they would add the 3D error integration of four more methods to every 3D case

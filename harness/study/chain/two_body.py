@@ -190,7 +190,7 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, o
 
 
 # an adaptive two-body chain stops at the budget of elements, or after this many levels (as
-# one-body ones, ``chain.MAX_ADAPTIVE_LEVELS``)
+# one-body ones, ``study.chain.run.MAX_ADAPTIVE_LEVELS``)
 MAX_ADAPTIVE_LEVELS = 60
 
 

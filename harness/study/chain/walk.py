@@ -58,7 +58,7 @@ class Discretisation(Protocol):
         """At most ``count`` levels, coarse to fine."""
 
     def size(self, mesh) -> int:
-        """The level's scalar P2 dofs, for its threads (``threads.p2_size``)."""
+        """The level's scalar P2 dofs, for its threads (``study.execution.threads.p2_size``)."""
 
     def multilevel(self, level: Level):
         """The multigrid hierarchy up to the ``level``'s mesh (None: the solves factorise)."""

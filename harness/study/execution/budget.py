@@ -48,7 +48,7 @@ PEAK_PER_DOF_BY_KIND = {(3, "elasticity"): 1150.0, (2, "elasticity"): 400.0}
 # (one thread) and on 4.
 SHARED_SECONDS_PER_ELEMENT = {(2, "scalar"): 6.2e-6, (2, "elasticity"): 1.8e-5, (3, "scalar"): 1.2e-5,
                               (3, "elasticity"): 1.1e-4}
-# Keyed by the cost model a method declares (``Method.cost_model``: "active-set", the cones' and
+# Keyed by the cost model a method declares (``methods.Method.cost_model``: "active-set", the cones' and
 # the mortar methods' exact QP solves; "newton", penalty and Nitsche), physics and dimension; a
 # method that declares a number is its own seconds per dof.
 SOLVE_SECONDS_PER_DOF = {("active-set", "scalar", 2): 1.4e-6, ("newton", "scalar", 2): 2.2e-6,

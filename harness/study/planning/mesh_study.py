@@ -35,7 +35,7 @@ PLAN = {
     # estimator on tetrahedra). At the default budget (1.3e5 dofs) its adaptive P2 is still
     # pre-asymptotic, for work the default report has not to spare
     "fine_cases": ("transition-line-3d",),
-    # the methods that declare these roles (``Method.roles``): a cone of each order and Nitsche
+    # the methods that declare these roles (``methods.Method.roles``): a cone of each order and Nitsche
     "roles": (MESH_STUDY,),
     "meshes": ("graded", "adaptive"),
 }

@@ -68,7 +68,7 @@ def sweep_plan(specs, values, reference=(REFERENCE_METHOD,)) -> tuple[list, list
 
 
 def sweep_weights(case, specs, values, level: int, reference=(REFERENCE_METHOD,)) -> dict:
-    """The progress bar's weights of a sweep (``budget.solve_weights``)."""
+    """The progress bar's weights of a sweep (``study.execution.budget.solve_weights``)."""
     return solve_weights(case, sweep_plan(specs, values, reference)[1], level + 1)
 
 

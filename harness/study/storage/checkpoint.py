@@ -1,5 +1,5 @@
 """Durable level chains: after every finished level, each (case, method) chain's state
-(``walk.ChainState``) is written atomically to its own file, so that a study killed at any
+(``study.chain.walk.ChainState``) is written atomically to its own file, so that a study killed at any
 moment -- the process, or a Dask worker mid-job -- continues from the last finished level.
 
 A checkpoint is valid only for the code, the case file and the settings that wrote it (a
