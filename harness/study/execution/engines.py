@@ -164,7 +164,7 @@ class InProcess:
         return usable_cpus() if remaining else 0
 
     def run(self, jobs: list[Job], progress=None):
-        """(job, ``rows.ChainOutput``) for each job, as they finish."""
+        """(job, ``study.chain.rows.ChainOutput``) for each job, as they finish."""
         for job in jobs:
             view = Scoped(progress, job.scope) if progress is not None and job.scope else progress
             with thread_policy.using(self.threads):
