@@ -266,7 +266,7 @@ def tidy(outputs, cases, methods, meshes=(UNIFORM,)) -> pd.DataFrame:
 
 def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=None, progress=None,
               engine=None, checkpoints: Path | None = None, check_memory: bool = True, meshes=(UNIFORM,)) -> pd.DataFrame:
-    """Every case x method x level; one tidy row each (columns ``rows.COLUMNS``). ``levels``
+    """Every case x method x level; one tidy row each (columns ``study.chain.rows.COLUMNS``). ``levels``
     counts the P2 levels (P1 runs one more: ``rows.study_levels``). ``engine``: where the jobs
     run (default ``InProcess()``). ``checkpoints``: a folder that makes every finished level
     durable; a study started again with the same folder continues where it stopped.
