@@ -267,7 +267,7 @@ def tidy(outputs, cases, methods, meshes=(UNIFORM,)) -> pd.DataFrame:
 def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=None, progress=None,
               engine=None, checkpoints: Path | None = None, check_memory: bool = True, meshes=(UNIFORM,)) -> pd.DataFrame:
     """Every case x method x level; one tidy row each (columns ``study.chain.rows.COLUMNS``). ``levels``
-    counts the P2 levels (P1 runs one more: ``rows.study_levels``). ``engine``: where the jobs
+    counts the P2 levels (P1 runs one more: ``study.chain.rows.study_levels``). ``engine``: where the jobs
     run (default ``InProcess()``). ``checkpoints``: a folder that makes every finished level
     durable; a study started again with the same folder continues where it stopped.
     ``progress``: a bar shared with a larger run (else one is made). The frame's attrs: wall
@@ -397,7 +397,7 @@ def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: 
 
 def run_jobs(cases, methods, levels: int, engine=None, progress=None, on_level=None, checkpoints: Path | None = None,
              check_memory: bool = True, meshes=(UNIFORM,)):
-    """(job, ``rows.ChainOutput``) of every job of a study, as they finish: validated and
+    """(job, ``study.chain.rows.ChainOutput``) of every job of a study, as they finish: validated and
     checked against the memory first (``study_jobs``), then run on ``engine`` (default: this process)."""
     engine = engine or InProcess()
     yield from engine.run(study_jobs(cases, methods, levels, engine, on_level, checkpoints, check_memory, meshes), progress)

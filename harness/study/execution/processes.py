@@ -72,7 +72,7 @@ class LocalProcesses:
         return min(remaining, self.workers) * self.threads
 
     def run(self, jobs: list[Job], progress=None):
-        """(job, ``rows.ChainOutput``) for each job, as they finish."""
+        """(job, ``study.chain.rows.ChainOutput``) for each job, as they finish."""
         context = multiprocessing.get_context("spawn")
         messages = context.Queue()
         pool = ProcessPoolExecutor(min(self.workers, max(1, len(jobs))), mp_context=context,
