@@ -117,7 +117,7 @@ def test_run_takes_one_method_object_and_warns_of_a_method_no_case_needs():
 
     nodal = harness.METHODS["nodal"]
     assert harness.run("transition-r32", methods=nodal, levels=1, show_progress=False).method.tolist() == ["nodal"]
-    with pytest.warns(harness.StudyWarning, match="mortar-nodal skipped: it discretises"):
+    with pytest.warns(harness.StudyWarning, match="mortar-nodal skipped: it couples 2 bodies, not 1"):
         rows = harness.run("transition-r32", methods=["nodal", "mortar-nodal"], levels=1, show_progress=False)
     assert rows.method.tolist() == ["nodal"]
 

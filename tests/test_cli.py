@@ -59,8 +59,7 @@ def test_a_named_method_that_serves_none_of_the_cases_is_named_in_one_line(tmp_p
                    "--out", str(tmp_path), "--quiet")
     assert done.returncode == 0, done.stderr
     assert done.stderr.strip().splitlines() == [
-        "harness: mortar-nodal skipped: it discretises scalar and elasticity problems in 2D with 2 bodies, "
-        "which none of the cases is"]
+        "harness: mortar-nodal skipped: it couples 2 bodies, not 1"]
     assert set(pd.read_csv(tmp_path / "results.csv").method) == {"nodal"}
 
 
@@ -332,3 +331,23 @@ def test_an_on_level_hook_of_another_signature_is_refused_naming_the_expected_on
         pass
     with pytest.raises(ValueError, match=r"on_level must take \(case, method, level, problem, solve\); .*old_hook"):
         harness.run("transition-r32", "nodal", 1, on_level=old_hook, show_progress=False)
+
+
+def test_more_hp_levels_than_round_off_allows_are_refused_before_the_first_solve(tmp_path):
+    """corner-r12's hp layers (sigma = 0.15) reach below 1e-13 of the coordinates past 14 levels
+    (``mesh.hp.SMALLEST_RELATIVE_EDGE``): 30 levels are refused in one line, exit 2, nothing written."""
+    done = harness_here("run", "--case", "corner-r12", "--method", "nitsche", "--mesh", "hp", "--levels", "30",
+                        "--out", str(tmp_path))
+    assert done.returncode == 2
+    assert "--mesh hp: case corner-r12: hp meshes with sigma=0.15 reach at most 14 levels" in _one_line(done.stderr)
+    assert not (tmp_path / "results.csv").exists()
+
+
+def test_a_method_that_discretises_some_of_the_cases_only_is_named_in_the_summary():
+    """nodal-p3 needs an exact solution: on a group with a reference-solution case the study
+    says which case it left out and why (``attrs['left_out']``), and runs the others."""
+    import harness
+    rows = harness.run(["transition-r32", "smooth-obstacle"], methods=["nodal", "nodal-p3"], levels=1, show_progress=False)
+    assert "nodal-p3 not run on smooth-obstacle: P3 needs the case's exact solution (a reference solution is P2)" \
+        in rows.attrs["left_out"]
+    assert set(rows[rows.case == "transition-r32"].method) == {"nodal", "nodal-p3"}

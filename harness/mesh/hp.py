@@ -156,16 +156,25 @@ class HpRefinement:
         layers = int(np.floor(np.log(SMALLEST_RELATIVE_EDGE / ratio) / np.log(self.sigma))) if 0.0 < self.sigma < 1.0 else 0
         return max(0, layers - LAYERS_START + 1)
 
+    def level_refusal(self, count: int) -> str | None:
+        """Why ``count`` levels cannot be made (their layers would reach below round-off:
+        ``largest_count``), or None; the study asks before its first solve."""
+        mesh = coarse_mesh(self.case)
+        largest = self.largest_count(TriangleMesh.of(mesh), vertices_at(mesh, self.points))
+        if 0.0 < self.sigma < 1.0 and count > largest:
+            return (f"case {self.case.name}: hp meshes with sigma={self.sigma:g} reach at most {largest} levels "
+                    f"(their layers at the singular points would go below round-off), not {count}")
+        return None
+
     def levels(self, count: int) -> Iterator[Level]:
-        """The ``count`` levels; a ValueError before the first if their layers would reach below
-        round-off (``largest_count``)."""
+        """The ``count`` levels; a ValueError before the first if they cannot be made
+        (``level_refusal``)."""
+        refused = self.level_refusal(count)
+        if refused:
+            raise ValueError(refused)
         mesh = coarse_mesh(self.case)
         coarse = TriangleMesh.of(mesh)
         vertices = vertices_at(mesh, self.points)
-        largest = self.largest_count(coarse, vertices)
-        if 0.0 < self.sigma < 1.0 and count > largest:
-            raise ValueError(f"case {self.case.name}: hp meshes with sigma={self.sigma:g} reach at most {largest} levels "
-                             f"(their layers at the singular points would go below round-off), not {count}")
         for index in range(count):
             arrays, depth = coarse, np.zeros(coarse.ne, dtype=np.int64)
             layers = LAYERS_START + index

@@ -93,10 +93,26 @@ class MeshStrategy:
         return f"{self.name}:{','.join(changed)}" if changed else self.name
 
     def serves(self, method) -> bool:
-        """Whether the strategy's meshes can carry ``method``: on hp meshes, one whose space may
-        vary in degree from element to element (``methods.method.Method.variable_degree``: the
-        contact laws, the cones of functionals given per degree)."""
-        return self.name != "hp" or getattr(method, "variable_degree", False)
+        """Whether the strategy's meshes can carry ``method`` (``carries``)."""
+        return self.carries(method) is None
+
+    def carries(self, method) -> str | None:
+        """Why the strategy's meshes cannot carry ``method`` (one clause), or None: hp meshes
+        carry only a method whose space may vary in degree from element to element
+        (``methods.method.Method.variable_degree``: the contact laws, the cones of functionals
+        given per degree)."""
+        if self.name == "hp" and not getattr(method, "variable_degree", False):
+            return ("hp meshes vary the degree from element to element, and its space is of one degree (only a method "
+                    "with variable_degree runs on them: the contact laws, the cones given per degree)")
+        return None
+
+    def level_refusal(self, case, levels: int) -> str | None:
+        """Why the strategy cannot make ``levels`` levels of ``case`` (one line), or None: hp
+        meshes stop where their layers would reach below round-off (``mesh.hp.HpRefinement.
+        level_refusal``); the study asks before its first solve."""
+        if self.name != "hp" or self.applies_to(case) is not None:
+            return None
+        return self.sequence(case, 2).level_refusal(levels)
 
     def applies_to(self, case) -> str | None:
         """None if the strategy can mesh ``case``, else why not (one clause)."""

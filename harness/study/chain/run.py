@@ -138,7 +138,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
         if sequence is not None:
             raise ValueError(f"case {case.name}: two bodies take a mesh strategy, not one body's level sequence")
         return run_two_body_chain(case, methods, levels, progress, phases, on_level, mesh)
-    own = methods_for(case, methods)        # the weak methods are scalar and 2D only
+    own = methods_for(case, methods)        # those that discretise its physics, dimension and bodies
     requested = {m.name for m in own}
     sequence = sequence or mesh.sequence(case, max(m.order for m in own))
     per_level = per_level_reference(case, sequence)

@@ -30,6 +30,7 @@ from typing import Protocol, runtime_checkable
 import pandas as pd
 
 from ...mesh.strategies import UNIFORM, MeshStrategy, refusal, serves
+from ...methods import left_out as left_out_of
 from ...methods import methods_for
 from ...problem.case import load_case
 from ...problem.validate import validate_case
@@ -293,10 +294,11 @@ def run_study(cases, methods, levels: int, show_progress: bool = True, on_level=
 
 
 def check_methods(case, methods) -> None:
-    """ValueError in one line if none of ``methods`` discretises ``case`` (its physics, dimension)."""
+    """ValueError in one line if none of ``methods`` discretises ``case``, saying why
+    (``methods.left_out``)."""
     if not methods_for(case, methods):
-        raise ValueError(f"case {case.name} ({case.physics.name}): none of the methods {', '.join(m.name for m in methods)} "
-                         f"discretises it")
+        reasons = "; ".join(f"{name}: {why}" for name, why in left_out_of(case, methods))
+        raise ValueError(f"case {case.name} ({case.physics.name}): none of the methods discretises it ({reasons})")
 
 
 def skipped_meshes(cases, meshes) -> list[str]:
@@ -307,25 +309,27 @@ def skipped_meshes(cases, meshes) -> list[str]:
 
 
 def skipped_methods(cases, methods) -> list[str]:
-    """One line per method of ``methods`` that discretises none of ``cases`` (their physics,
-    dimension or number of bodies: ``methods.method.Method.supports``), which a study would leave without a
-    row; a method that serves some of them is the run's mix, not a mistake."""
+    """One line per method of ``methods`` that discretises none of ``cases`` (its reasons,
+    ``methods.method.Method.refusal``), which a study would leave without a row; then one per
+    (method, case) of a method that discretises some of them only (the run's mix, named in the
+    summary, not warned about)."""
     lines = []
     for method in methods:
-        if cases and not any(method.supports(case) for case in cases):
-            bodies = " or ".join(map(str, method.bodies))
-            lines.append(f"{method.name} skipped: it discretises {' and '.join(method.physics)} problems in "
-                         f"{' or '.join(f'{d}D' for d in method.dimensions)} with {bodies} bod"
-                         f"{'y' if method.bodies == (1,) else 'ies'}, which none of the cases is")
+        reasons = {case.name: why for case in cases for _, why in left_out_of(case, [method])}
+        if cases and len(reasons) == len(cases):
+            lines.append(f"{method.name} skipped: " + "; ".join(dict.fromkeys(reasons.values())))
+    for method in methods:
+        reasons = {case.name: why for case in cases for _, why in left_out_of(case, [method])}
+        if 0 < len(reasons) < len(cases):
+            lines += [f"{method.name} not run on {name}: {why}" for name, why in reasons.items()]
     return lines
 
 
 def unserved(mesh, method) -> str:
-    """Why ``mesh``'s meshes cannot carry ``method`` (``mesh.strategies.serves`` said no), in one clause."""
-    if getattr(mesh, "name", None) == "hp":
-        return ("hp meshes vary the degree from element to element, and its space is of one degree (only a method "
-                "with variable_degree runs on them: the contact laws, the cones given per degree)")
-    return f"the strategy {mesh.label} does not carry it (its serves())"
+    """Why ``mesh``'s meshes cannot carry ``method`` (``mesh.strategies.serves`` said no), in one
+    clause: the strategy's own (``MeshStrategy.carries``), else its ``serves``' verdict."""
+    reason = getattr(mesh, "carries", lambda _: None)(method)
+    return reason or f"the strategy {getattr(mesh, 'label', mesh)} does not carry it (its serves())"
 
 
 def skipped_on_meshes(cases, methods, meshes) -> list[str]:
@@ -347,7 +351,8 @@ def check_runs(cases, methods, meshes) -> None:
 
 def left_out(cases, methods, meshes) -> list[str]:
     """What a study leaves out and why, one line each: the cases a strategy cannot mesh, the
-    methods that discretise none of the cases, the methods a strategy's meshes cannot carry."""
+    methods that discretise none of the cases (or some only), the methods a strategy's meshes
+    cannot carry."""
     return skipped_meshes(cases, meshes) + skipped_methods(cases, methods) + skipped_on_meshes(cases, methods, meshes)
 
 
@@ -370,12 +375,17 @@ def check_hook(on_level) -> None:
         raise ValueError(f"on_level must take ({', '.join(HOOK_ARGUMENTS)}); {name}{signature} does not") from None
 
 
-def check_meshes(cases, meshes) -> None:
-    """ValueError in one line if a mesh strategy applies to none of ``cases``."""
+def check_meshes(cases, meshes, levels: int | None = None) -> None:
+    """ValueError in one line if a mesh strategy applies to none of ``cases``, or cannot make
+    ``levels`` levels of one of them (``MeshStrategy.level_refusal``: hp layers below round-off)."""
     for mesh in meshes:
         reasons = [refusal(mesh, case) for case in cases]
         if cases and all(reasons):
             raise ValueError(f"--mesh {mesh.label}: {reasons[0]} ({', '.join(c.name for c in cases)})")
+        for case in cases if levels else ():
+            limit = getattr(mesh, "level_refusal", lambda *_: None)(case, levels)
+            if limit:
+                raise ValueError(f"--mesh {mesh.label}: {limit}")
 
 
 def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: Path | None = None,
@@ -389,7 +399,7 @@ def study_jobs(cases, methods, levels: int, engine, on_level=None, checkpoints: 
         validate_case(case)
     for case in cases:
         check_methods(case, methods)
-    check_meshes(cases, meshes)
+    check_meshes(cases, meshes, levels)
     check_runs(cases, methods, meshes)
     check_hook(on_level)
     return plan(chains(cases, methods, levels, on_level, checkpoints, meshes=meshes), engine, check_memory)
