@@ -1,9 +1,9 @@
 """The tables of docs/guide/levels.md, from the code that decides how many levels a study runs:
 the report profiles (``harness.study.chain.PROFILES``), the levels each order runs past P2's
-(``harness.methods.base.EXTRA_LEVELS``) and the level counts the cases declare."""
+(``harness.methods.method.EXTRA_LEVELS``) and the level counts the cases declare."""
 import pandas as pd
 
-# what each key of a profile means (the keys ``harness.study.cache.case_settings``, the mesh study
+# what each key of a profile means (the keys ``harness.study.planning.cache.case_settings``, the mesh study
 # and the degree study read)
 PROFILE_MEANINGS = {
     "levels": "P2 levels of a 2D one-body case (levels 0 .. L−1)",
@@ -29,7 +29,7 @@ def profiles_table() -> pd.DataFrame:
 
 
 def extra_levels_table() -> pd.DataFrame:
-    from harness.methods.base import EXTRA_LEVELS
+    from harness.methods.method import EXTRA_LEVELS
     return pd.DataFrame({"order": list(EXTRA_LEVELS), "levels past P2's": [f"{n:+d}" for n in EXTRA_LEVELS.values()]})
 
 
