@@ -3,6 +3,7 @@ import os
 from pathlib import Path
 
 from bench_page import performance_page
+from layout_table import modules_table, stages_table
 from levels_tables import case_levels_table, extra_levels_table, profiles_table
 from results_page import results_page
 from tables import columns_table, markdown_table
@@ -22,7 +23,7 @@ def write_generated(folder: Path) -> None:
              "efficiency_columns.md": columns_table(EFFICIENCY), "quantities_columns.md": columns_table(QUANTITIES),
              "quantity_efficiency_columns.md": columns_table(QUANTITY_EFFICIENCY),
              "profiles.md": profiles_table(), "extra_levels.md": extra_levels_table(),
-             "case_levels.md": case_levels_table()}
+             "case_levels.md": case_levels_table(), "stages.md": stages_table(), "modules.md": modules_table()}
     texts = {name: markdown_table(frame) for name, frame in pages.items()}
     texts["results.md"] = results_page(Path(os.environ.get("HARNESS_RESULTS", folder.parent.parent / "results")))
     texts["performance.md"] = performance_page(Path(os.environ.get("HARNESS_RESULTS", folder.parent.parent / "results")))

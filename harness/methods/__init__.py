@@ -1,5 +1,5 @@
-"""Discretisations as plug-ins: one module per method family in this folder (``registry.
-FAMILIES``: ``cones``, ``nitsche``, ``penalty``, ``mortar``), each declaring its variants of every
+"""Discretisations as plug-ins: one module per method family in this folder
+(``registry.FAMILIES``: ``cones``, ``nitsche``, ``penalty``, ``mortar``), each declaring its variants of every
 degree in a ``methods`` list, and methods from outside the package: a file, a dotted name, an
 installed package's entry point or an object (``plugins``). Every one passes the same checks
 (``plugins.check_method``). What a method is: ``method``; the protocol's three levels:
