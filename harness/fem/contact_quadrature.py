@@ -25,8 +25,10 @@ from functools import cached_property
 import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
+from scipy.spatial import cKDTree
 
 from ..mesh.points import evaluate, in_elements
+from .polynomials import barycentric_lattice
 
 # Gauss points per contact edge: exact for polynomials of degree 7 (the P2 contact terms are of
 # degree <= 4 where the bracket [.]_+ does not switch); the few edges where it switches, at a
@@ -68,6 +70,53 @@ class ContactQuadrature:
         n_edges = self.edge.max() + 1 if len(self.edge) else 0
         integral = np.bincount(self.edge, weights=self.weights * values, minlength=n_edges)
         return integral / np.bincount(self.edge, weights=self.weights, minlength=n_edges)
+
+
+@dataclass(frozen=True)
+class ContactNodes:
+    """The Lagrange nodes of the trace of X_h on Gamma_C and the map to the contact variable's
+    values there: ``L @ u`` is c(u_h) at ``x`` (u_h in 2D scalar problems, -u_h . n in
+    elasticity), whatever NGSolve's hierarchical basis (its edge dofs are bubble coefficients,
+    not values). The vertices of Gamma_C come first, in ``trace.vertices``' order, then the
+    nodes inside its cells, cell by cell."""
+
+    x: np.ndarray               # (n, dim) the nodes
+    L: sp.csr_matrix            # (n, ndof) the contact variable's value of every basis function there
+    vertices: int               # the first ``vertices`` nodes are Gamma_C's vertices
+
+
+def lagrange_nodes(problem) -> ContactNodes:
+    """The nodes (i / k) of every cell of Gamma_C (edges in 2D, triangles in 3D; k the cell's
+    degree) once each, and the basis evaluated there (``trace_rows``) in the element holding the
+    cell."""
+    trace = problem.trace
+    if trace.faces is None:
+        corners = np.stack([trace.a, trace.b], axis=1)
+        cells, volumes, normals, degrees = len(trace.a), trace.volumes, trace.normals, problem.edge_degrees
+        lattice = {k: np.column_stack([1.0 - t, t]) for k in set(degrees.tolist()) for t in [np.arange(k + 1) / k]}
+    else:
+        faces = trace.faces
+        corners, cells, volumes, normals = faces.corners(trace), len(faces.vertices), faces.volumes, faces.normals
+        degrees = np.full(cells, problem.order)
+        lattice = {problem.order: barycentric_lattice(problem.order)}
+    cell = np.concatenate([np.full(len(lattice[k]), c) for c, k in enumerate(degrees.tolist())]).astype(np.int64)
+    weights = np.concatenate([lattice[k] for k in degrees.tolist()]) if cells else np.zeros((0, 2))
+    points = np.einsum("nc,ncd->nd", weights, corners[cell])
+    # one node per point: the vertices of Gamma_C first (a lattice point at a corner), each
+    # evaluated in the first cell that holds it
+    key = np.round(points / max(np.abs(points).max(initial=0.0), 1.0), 12)
+    _, first = np.unique(key, axis=0, return_index=True)
+    corner = (weights == 1.0).any(axis=1)[first]
+    chosen = np.concatenate([first[corner][np.argsort(_vertex_rank(trace, points[first[corner]]))],
+                             np.sort(first[~corner])])
+    T = trace_rows(problem.fes, problem.physics, problem.basis, volumes[cell[chosen]], points[chosen],
+                   normals[cell[chosen]])
+    return ContactNodes(points[chosen], T, int(corner.sum()))
+
+
+def _vertex_rank(trace, points: np.ndarray) -> np.ndarray:
+    """Each of ``points`` (vertices of Gamma_C) by its position in ``trace.vertices``' order."""
+    return cKDTree(trace.vertex_points).query(points)[1]
 
 
 def gauss(points: int) -> tuple[np.ndarray, np.ndarray]:

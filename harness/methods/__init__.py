@@ -39,6 +39,7 @@ from .mortar import Mortar
 from .plugins import MethodError, check_method, installed_methods, load_external
 from .protocol import (
     ContactLawMethod,
+    ContactNodes,
     ContactPoints,
     FunctionalCone,
     LevelProblem,
@@ -63,7 +64,7 @@ from .registry import (
 
 __all__ = ["METHODS", "GROUPS", "FAMILIES", "BASELINE", "DEGREES", "MESH_STUDY", "PAPER", "REFERENCE", "ROLES", "SWEPT",
            "EXTRA_LEVELS", "known", "names_with_role", "role_names", "with_role", "BoundConstrained", "CellMean", "Mortar",
-           "ContactLaw", "ContactLawMethod", "ContactPoints", "GammaPoints", "LawError", "LevelProblem", "SolverOptions",
+           "ContactLaw", "ContactLawMethod", "ContactNodes", "ContactPoints", "GammaPoints", "LawError", "LevelProblem", "SolverOptions",
            "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Carry", "ConeCarry", "LawCarry", "MortarCarry", "Expectation",
            "SolveFields", "timer", "no_theory", "FunctionalCone", "LevelSolve", "Method", "MethodError", "check_method",
            "get_method", "installed_methods", "left_out", "load_external", "method_choices", "methods_for", "methods_named",

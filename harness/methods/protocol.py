@@ -34,7 +34,7 @@ import scipy.sparse as sp
 from ..fem.assembly import ContactTraceFunction
 from ..fem.cones import contact_pressure
 from ..fem.contact_laws.system import contact_data, law_system
-from ..fem.contact_quadrature import contact_quadrature
+from ..fem.contact_quadrature import ContactNodes, contact_quadrature, lagrange_nodes
 from ..fem.edge_functionals import check_rules, edge_functional_qp
 from ..fem.nested import nearest_status, p1_values, start_from
 from ..fem.p1_embedding import ContactEdges
@@ -243,6 +243,9 @@ class LevelProblem:
     contact: ContactPoints
     start: np.ndarray | None    # the coarser level's u_h interpolated (nested iteration), or None
     hierarchy: object = None    # the multigrid hierarchy (``solvers.multigrid.Multilevel``), or None
+    # Gamma_C's Lagrange nodes and the values of the contact variable there (``nodes.L @ u``):
+    # ``edge_dofs`` are NGSolve's hierarchical bubble coefficients, not values at nodes
+    nodes: ContactNodes | None = None
 
     @property
     def ndof(self) -> int:
@@ -304,7 +307,7 @@ def level_problem(case, problem, carry, multilevel) -> LevelProblem:
     if case.gap is not None:
         gap = problem.physics.obstacle(problem.values_at(case.gap, problem.trace.vertex_points))
     return LevelProblem(case, problem.A, problem.b, problem.free, problem.lift, problem.vertex_dofs, problem.edge_dofs, gap,
-                        contact, start, multilevel)
+                        contact, start, multilevel, lagrange_nodes(problem))
 
 
 def checked_solution(name: str, solution, level: LevelProblem) -> np.ndarray:
