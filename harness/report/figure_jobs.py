@@ -23,7 +23,6 @@ from collections import deque
 from concurrent.futures import Future, ProcessPoolExecutor, ThreadPoolExecutor
 from pathlib import Path
 
-
 from . import figure_cache
 
 FIGURE_WORKERS = 2
