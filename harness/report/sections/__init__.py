@@ -4,7 +4,7 @@ A section module holds everything of its part of the report but what it computes
 tables, ``write(doc, plan)`` (from the plan, ``report.plan.ReportPlan``; a section the study does
 not call for writes nothing), and, where it has figures, their jobs,
 ``queue_figures(pool, plan, known, results_dir)`` (``report.figure_jobs.FigurePool.job``: which
-function draws what, in a worker; its figures come back in ``plan.figs``, under the section's
+function draws what, in a worker; its figures come back in the plan's ``figs``, under the section's
 ``GROUP`` if it declares one). What a section shows is computed by the study's planning
 (``study.planning``: ``mesh_study`` for ``meshes``, ``degree_study`` for ``degrees``, ``sweep``
 for ``sweeps``, ``cache`` for every case's rows), which each module names; the report imports
