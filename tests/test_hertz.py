@@ -88,7 +88,7 @@ def write_scaled(path: Path, size: float, delta: float) -> Path:
 
 def test_the_report_sets_every_row_against_hertz_at_its_own_force(two_levels, tmp_path):
     from harness.report.document import Document
-    from harness.report.prediction_section import add_prediction_section, deviations
+    from harness.report.sections.prediction import add_prediction_section, deviations
     case = registered_cases()["hertz-line"]
     rows = two_levels
     table = deviations(case, rows)

@@ -8,7 +8,7 @@ from harness.mesh.trace import contact_trace
 from harness.methods import methods_for, methods_named
 from harness.problem.case import load_case, registered_cases
 from harness.report.figures import plt
-from harness.report.mesh_figures import adaptive_mesh
+from harness.report.sections.meshes import adaptive_mesh
 from harness.study.chain import PROFILES, run_chain
 from harness.study.planning.mesh_study import (
     PICTURE_METHOD,

@@ -84,8 +84,9 @@ def test_figures_wait_for_the_cores_the_study_leaves_free_and_all_are_drawn_at_c
     import time
 
     from harness.problem.case import load_case
-    from harness.report.figure_jobs import FigurePool
-    with FigurePool(["nodal"], tmp_path, workers=2, store=tmp_path) as pool:
+    from harness.report.sections import figure_pool
+    from harness.report.sections.summary import summary_figures
+    with figure_pool(["nodal"], tmp_path, workers=2, store=tmp_path) as pool:
         pool.pool = executor = _RecordingExecutor()
         pool.case_stored(load_case("corner-r12"))         # the study still uses every core
         pool.case_stored(load_case("transition-r32"))
@@ -95,13 +96,13 @@ def test_figures_wait_for_the_cores_the_study_leaves_free_and_all_are_drawn_at_c
         deadline = time.monotonic() + 5
         while len(executor.drawn) < 2 and time.monotonic() < deadline:
             time.sleep(0.01)
-        assert executor.drawn == ["_case_figures", "_case_figures"]
+        assert executor.drawn == ["case_figures", "case_figures"]
         pool.cores_free(0)
-        pool.summary(pd.DataFrame())
+        pool.job("summary", summary_figures, pd.DataFrame())
         time.sleep(0.2)
         assert len(executor.drawn) == 2
         figs, seconds = pool.collect()                    # the study is done: every worker draws
-    assert executor.drawn[-1] == "_summary"
+    assert executor.drawn[-1] == "summary_figures"
     assert set(figs) == {"corner-r12", "transition-r32", "summary", "sweeps", "meshes", "degree_study"} and set(seconds) == set(figs)
 
 

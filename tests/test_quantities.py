@@ -150,7 +150,7 @@ def test_a_pressure_unbounded_at_a_junction_has_an_infinite_peak():
 
 def test_the_report_section_states_the_coverage_and_lists_every_chain(transition_rows, tmp_path):
     from harness.report.document import Document
-    from harness.report.quantity_section import add_quantity_section
+    from harness.report.sections.quantities import add_quantity_section
     table = quantity_table(transition_rows)
     doc = Document("t")
     add_quantity_section(doc, table)

@@ -153,7 +153,8 @@ def test_the_case_cache_the_checkpoints_and_the_figures_share_one_digest(tmp_pat
 
 def test_a_figure_is_drawn_again_when_its_rows_its_files_or_the_styles_change(tmp_path):
     from harness.report import figure_cache
-    from harness.report.figure_jobs import _case_figures, _summary
+    from harness.report.sections.cases import case_figures as _case_figures
+    from harness.report.sections.summary import summary_figures as _summary
     frame = pd.DataFrame({"case": ["a"], "err_h1": [0.1]})
     rows = tmp_path / "a.csv"
     rows.write_text("level\n0\n")

@@ -46,7 +46,7 @@ def cost_section(efficiency: pd.DataFrame) -> list[str]:
 
 def mesh_section(results: pd.DataFrame, meshes: pd.DataFrame) -> list[str]:
     from harness.measure.rates import rate_table
-    from harness.report.mesh_section import effectivity_view, mesh_rows, ndof_rates_view
+    from harness.report.sections.meshes import effectivity_view, mesh_rows, ndof_rates_view
     if meshes.empty:
         return []
     frame = mesh_rows(results, meshes)
@@ -71,7 +71,7 @@ def regularity_section(rates: pd.DataFrame, results: pd.DataFrame) -> list[str]:
 
 
 def quantity_section(quantities: pd.DataFrame) -> list[str]:
-    from harness.report.quantity_section import coverage_misses, coverage_sentence, miss_reason
+    from harness.report.sections.quantities import coverage_misses, coverage_sentence, miss_reason
     if quantities.empty:
         return []
     misses = coverage_misses(quantities)

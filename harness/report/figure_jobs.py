@@ -1,4 +1,5 @@
-"""The report's figures, drawn in worker processes on the cores the study leaves free.
+"""The report's figures, drawn in worker processes on the cores the study leaves free (what each
+section draws, its jobs, is the section's: ``report.sections``).
 
 matplotlib draws on one core, and the report has dozens of figures (each in PNG and PDF);
 each needs only its case's stored rows and snapshots, so two processes draw them side by side.
@@ -22,8 +23,6 @@ from collections import deque
 from concurrent.futures import Future, ProcessPoolExecutor, ThreadPoolExecutor
 from pathlib import Path
 
-import pandas as pd
-
 from . import figure_cache
 
 FIGURE_WORKERS = 2
@@ -34,53 +33,6 @@ def _timed(draw, styles, *args) -> tuple[dict, float]:
     clock = time.perf_counter()
     figures.register_methods(styles)
     return draw(*args), time.perf_counter() - clock
-
-
-def _case_figures(source: str, store: str, folder: str) -> dict:
-    """The figures of one case from its stored rows (``report_cache``) and snapshots."""
-    from ..measure.efficiency import efficiency_table
-    from ..problem.case import load_case
-    from ..study.chain.snapshots import load_snapshots
-    from . import figures
-    case, store, folder = load_case(source), Path(store), Path(folder)
-    frame = pd.read_csv(store / f"{case.name}.csv")
-    contact, domain = load_snapshots(store / f"{case.name}.npz")
-    return {
-        "convergence": figures.convergence(case, frame, folder),
-        "contact": figures.contact(case, contact, folder),
-        "solution": figures.domain(case, {k: v for k, v in domain.items() if k != "interface"}, folder),
-        "interface": figures.interface(case, domain.get("interface"), folder),
-        "efficiency": figures.efficiency(case, frame, efficiency_table(frame).target_err_h1.iloc[0], folder),
-    }
-
-
-def _mesh_figures(source: str, frame: pd.DataFrame, mesh_file: str, method: str, folder: str) -> dict:
-    """The mesh study's figures of one case (``report.mesh_figures``)."""
-    from ..problem.case import load_case
-    from ..study.planning.mesh_study import load_finest_mesh
-    from . import mesh_figures
-    case, folder = load_case(source), Path(folder)
-    finest = load_finest_mesh(Path(mesh_file))
-    return {"errors": mesh_figures.error_against_ndof(case, frame, folder),
-            "mesh": mesh_figures.adaptive_mesh(case, *finest, folder, method) if finest is not None else None}
-
-
-def _degree_figures(source: str, frame: pd.DataFrame, folder: str) -> dict:
-    """The degree study's figure of one case (``report.mesh_figures.degree_errors``)."""
-    from ..problem.case import load_case
-    from . import mesh_figures
-    return {"errors": mesh_figures.degree_errors(load_case(source), frame, Path(folder))}
-
-
-def _summary(rates: pd.DataFrame, folder: str) -> dict:
-    from . import figures
-    return figures.summary(rates, Path(folder))
-
-
-def _sweep(source: str, frame: pd.DataFrame, folder: str) -> dict:
-    from ..problem.case import load_case
-    from . import figures
-    return figures.sweep(load_case(source), frame, Path(folder))
 
 
 def figure_executor(workers: int):
@@ -98,20 +50,22 @@ def figure_executor(workers: int):
 class FigurePool:
     """Figures drawn in ``workers`` processes, at most ``cores_free(n)`` at once (none until told:
     the study may still use every core); ``collect`` lets all workers draw, waits, and gives them
-    by name (a case's name, "summary", "sweeps") with the seconds each took in its worker. It is
-    the listener of ``study.planning.cache.compute``: a stored case's figures are queued at once.
-    ``methods``: the study's methods (Method objects or names), or their styles
-    (``plots.method_styles``)."""
+    by name (a case's name, "summary") or by group and name (``groups``: "sweeps", "meshes", ...,
+    each given even when empty) with the seconds each took in its worker. What is drawn, each
+    job's function and arguments, the report's sections declare (``report.sections``: ``job``).
+    It is the listener of ``study.planning.cache.compute``: a stored case's figures are queued at
+    once (``on_stored(pool, case, store)``). ``methods``: the study's methods (Method objects or
+    names), or their styles (``plots.method_styles``)."""
 
-    def __init__(self, methods, folder: Path, workers: int = FIGURE_WORKERS, store: Path | None = None):
+    def __init__(self, methods, folder: Path, workers: int = FIGURE_WORKERS, store: Path | None = None,
+                 groups=(), on_stored=None):
         from .plots import method_styles
         self.styles = dict(methods) if isinstance(methods, dict) else method_styles(methods)
         self.folder, self.workers, self.store = str(folder), workers, store
+        self.on_stored = on_stored
         self.pool = figure_executor(workers)
         self.futures: dict[str, Future] = {}
-        self.sweeps: dict[str, Future] = {}
-        self.meshes: dict[str, Future] = {}
-        self.degrees: dict[str, Future] = {}
+        self.groups: dict[str, dict[str, Future]] = {group: {} for group in groups}
         # the queue of figures not yet handed to the pool; a dispatcher thread hands them over
         # while fewer than ``slots`` are drawing (a done-callback must not submit: it runs in the
         # pool's own management thread)
@@ -140,8 +94,10 @@ class FigurePool:
             self._changed.notify_all()
 
     def case_stored(self, case) -> None:
-        """``study.planning.cache.compute``'s listener: the case is in ``store``, its figures can be drawn."""
-        self.case(case, self.store)
+        """``study.planning.cache.compute``'s listener: the case is in ``store``, its figures can be
+        drawn (``on_stored(pool, case, store)`` queues them)."""
+        if self.on_stored is not None:
+            self.on_stored(self, case, self.store)
 
     def _dispatch(self) -> None:
         while True:
@@ -180,36 +136,22 @@ class FigurePool:
             self._changed.notify_all()
         return outer
 
-    def case(self, case, store: Path) -> None:
-        stored = tuple(Path(store) / f"{case.name}.{kind}" for kind in ("csv", "npz"))
-        self.futures[case.name] = self._submit(case.name, _case_figures, str(case.source), str(store), inputs=stored)
-
-    def summary(self, rates: pd.DataFrame) -> None:
-        self.futures["summary"] = self._submit("summary", _summary, rates)
-
-    def sweep(self, case, frame: pd.DataFrame) -> None:
-        self.sweeps[case.name] = self._submit(f"sweep-{case.name}", _sweep, str(case.source), frame)
-
-    def meshes_of(self, case, frame: pd.DataFrame, mesh_file: Path, method: str) -> None:
-        self.meshes[case.name] = self._submit(f"meshes-{case.name}", _mesh_figures, str(case.source), frame, str(mesh_file), method)
-
-    def degrees_of(self, case, frame: pd.DataFrame) -> None:
-        self.degrees[case.name] = self._submit(f"degrees-{case.name}", _degree_figures, str(case.source), frame)
+    def job(self, name: str, draw, *args, group: str | None = None, key: str | None = None, inputs: tuple = ()) -> None:
+        """Queue ``draw(*args, folder)`` (a module-level function: it is sent to a worker), the
+        figures it returns to be collected under ``key`` (default ``name``), in ``group`` if
+        given; ``name``: its key's name in ``figure_cache``, ``inputs``: the files it reads."""
+        future = self._submit(name, draw, *args, inputs=inputs)
+        (self.futures if group is None else self.groups.setdefault(group, {}))[key or name] = future
 
     def collect(self) -> tuple[dict, dict]:
-        """(figures by name, the sweeps' under "sweeps"; worker seconds by name), every worker
-        drawing from now on."""
+        """(figures by name, those of a group under its name, by name; worker seconds by name and
+        by group), every worker drawing from now on."""
         self.cores_free(self.workers)
         figs, seconds = {}, {}
         for name, future in self.futures.items():
             figs[name], seconds[name] = future.result()
-        done = {name: future.result() for name, future in self.sweeps.items()}
-        figs["sweeps"] = {name: paths for name, (paths, _) in done.items()}
-        seconds["sweeps"] = sum(s for _, s in done.values())
-        drawn = {name: future.result() for name, future in self.meshes.items()}
-        figs["meshes"] = {name: paths for name, (paths, _) in drawn.items()}
-        seconds["meshes"] = sum(s for _, s in drawn.values())
-        by_degree = {name: future.result() for name, future in self.degrees.items()}
-        figs["degree_study"] = {name: paths for name, (paths, _) in by_degree.items()}
-        seconds["degree_study"] = sum(s for _, s in by_degree.values())
+        for group, futures in self.groups.items():
+            done = {name: future.result() for name, future in futures.items()}
+            figs[group] = {name: paths for name, (paths, _) in done.items()}
+            seconds[group] = sum(s for _, s in done.values())
         return figs, seconds

@@ -3,7 +3,7 @@ and the nodal cone (the paper's K~_h, at the Gauss-Lobatto points for k >= 3) of
 k = 1 ... 4, on a case limited by its transition point (transition-r32: uniform meshes saturate
 every degree at h^{3/2}, adaptive ones recover N^{-k/2}), a smooth one (smooth-quintic: h^k up
 to k = 4) and an elastic one, and Nitsche of base degree k on hp meshes (``mesh.hp``); stored per (case, mesh) under ``results/degree_study`` and reused while
-code, case file and settings are unchanged, as the mesh study is (``mesh_study``).
+code, case file and settings are unchanged, as the mesh study is (``mesh_study``). Its section of the report: ``report.sections.degrees``.
 """
 from __future__ import annotations
 

@@ -5,7 +5,8 @@ adaptive meshes (``mesh.strategies``), beside the uniform rows of the main study
 
 The methods are those that declare the role MESH_STUDY (the fine profile adds the PAPER, BASELINE
 and SWEPT ones: ``methods.method.Method.roles``). The finest adaptive mesh of ``PICTURE_METHOD`` (the reference
-method, ``measure.reference``) is kept (``FinestMesh``) for the report's picture.
+method, ``measure.reference``) is kept (``FinestMesh``) for the report's picture. Its section of the report,
+text, tables and figures: ``report.sections.meshes``.
 """
 from __future__ import annotations
 

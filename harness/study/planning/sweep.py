@@ -2,7 +2,7 @@
 gamma0, the scale of eps = gamma0 h) on one case, at one level, beside a cone method (the
 reference method, ``measure.reference``) as the reference -- where each is robust, where penalty
 locks or loses accuracy, where Nitsche with theta = 1 loses coercivity. The report sweeps the
-methods that declare the role SWEPT (``Method.roles``)."""
+methods that declare the role SWEPT (``Method.roles``); its section: ``report.sections.sweeps``."""
 from __future__ import annotations
 
 import numpy as np

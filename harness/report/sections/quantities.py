@@ -1,12 +1,15 @@
-"""The report's section on quantities of interest: each chain's finest value with its grid
-convergence index, and on the cases with u, how often the band holds the exact value."""
+"""The report's section on quantities of interest (``measure.quantities``): each chain's finest
+value with its grid convergence index (``measure.richardson``), and on the cases with u, how often
+the band holds the exact value."""
 from __future__ import annotations
 
 import numpy as np
 import pandas as pd
 
-from ..measure.quantities import QUANTITY_COLUMNS, QUANTITY_MEANINGS
-from ..measure.richardson import ORDER_AGREEMENT, coverage
+from ...measure.quantities import QUANTITY_COLUMNS, QUANTITY_MEANINGS
+from ...measure.richardson import ORDER_AGREEMENT, coverage
+from ..document import Document
+from ..plan import ReportPlan
 
 QUANTITY_NOTE = (
     "What an engineer reads off a contact computation, for every method and level (results.csv `qoi_*`): "
@@ -24,7 +27,15 @@ QUANTITY_NOTE = (
 COMPARED = ("force", "peak_pressure", "energy")
 
 
+def write(doc: Document, plan: ReportPlan) -> None:
+    """The section, where the report's plan has the quantities' table."""
+    if plan.quantities is not None:
+        add_quantity_section(doc, plan.quantities, plan.quantity_costs)
+
+
 def add_quantity_section(doc, table: pd.DataFrame, costs: pd.DataFrame | None = None) -> None:
+    """The section from the quantities' table (``measure.richardson.quantity_table``) and their
+    costs (``measure.efficiency.quantity_efficiency_table``); nothing if the table is empty."""
     if table.empty:
         return
     doc.heading("Quantities of interest with error bars (Richardson, GCI)")

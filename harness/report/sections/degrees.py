@@ -1,15 +1,25 @@
-"""The report's section "Is P2 the sweet spot?": the degree study's rows (``study.planning.degree_study``),
-their rates in h and in N against each method's theory, the cost at equal accuracy across the
-degree, per case and mesh strategy, and the error against dofs and against seconds."""
+"""The report's section "Is P2 the sweet spot?": the degree study's rows, their rates in h and in
+N against each method's theory, the cost at equal accuracy across the degree, per case and mesh
+strategy, and its figure (``queue_figures``: the error against dofs and against seconds,
+``degree_errors``). What the degree study runs (its cases, mesh strategies, methods and levels)
+and how its rows are stored is planned by ``study.planning.degree_study``, run by
+``study.planning.cache``; which methods it studies, ``report.build.make_report``."""
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from ..measure.efficiency import efficiency_table
-from ..measure.rates import is_hp, rate_table
-from ..methods import REFERENCE, role_names
-from .tables import _fmt, efficiency_view
+from ...measure.efficiency import efficiency_table
+from ...measure.rates import is_hp, rate_table
+from ...methods import REFERENCE, role_names
+from ..document import Document
+from ..plan import ReportPlan
+from ..tables import _fmt, efficiency_view
+from .meshes import LINESTYLE
+
+GROUP = "degree_study"      # the figures' group (``report.figure_jobs.FigurePool``)
 
 DEGREE_NOTE = (
     "The paper asks whether quadratic elements are worth it for Signorini's problem; the next "
@@ -51,14 +61,21 @@ def degree_rates_view(rates: pd.DataFrame) -> pd.DataFrame:
     })
 
 
+def write(doc: Document, plan: ReportPlan) -> None:
+    """The section, where the report ran a degree study."""
+    if plan.degrees is not None:
+        add_degree_section(doc, plan.degrees, plan.figs)
+
+
 def add_degree_section(doc, degrees: pd.DataFrame, figs: dict) -> None:
+    """The section from the degree study's rows and figures (nothing if it ran none)."""
     if degrees.empty:
         return
     doc.heading("Is P2 the sweet spot? The degree k = 1 … 4")
     doc.paragraph(DEGREE_NOTE)
     doc.table(degree_rates_view(rate_table(degrees)))
     for case in dict.fromkeys(degrees.case):
-        pictures = figs.get("degree_study", {}).get(case, {})
+        pictures = figs.get(GROUP, {}).get(case, {})
         if "errors" in pictures:
             doc.figures([(pictures["errors"]["png"], f"{case}: H¹ error against the dofs N (left) and against the "
                           "seconds spent up to each level (right), each degree in its colour; dotted uniform, solid "
@@ -105,3 +122,49 @@ def adaptive_at(frame: pd.DataFrame, ndof: float) -> float:
             value = float(np.exp(np.interp(np.log(ndof), np.log(chain.ndof), np.log(chain.err_h1))))
             best = value if np.isnan(best) else min(best, value)
     return best
+
+
+def queue_figures(pool, plan: ReportPlan, known: dict, results_dir: Path) -> None:
+    """One figure per case of the degree study."""
+    degrees = plan.degrees
+    if degrees is None or degrees.empty:
+        return
+    for name in dict.fromkeys(degrees.case):
+        case = known[name]
+        pool.job(f"degrees-{case.name}", degree_figures, str(case.source), degrees[degrees.case == name],
+                 group=GROUP, key=case.name)
+
+
+def degree_figures(source: str, frame: pd.DataFrame, folder: str) -> dict:
+    """The job: the degree study's figure of the case in file ``source``, in a worker."""
+    from ...problem.case import load_case
+    return {"errors": degree_errors(load_case(source), frame, Path(folder))}
+
+
+def degree_errors(case, frame: pd.DataFrame, folder: Path) -> dict[str, Path]:
+    """The degree study's figure of one case: the H^1 error against N and against the seconds
+    spent up to each level (the rows' total_seconds, summed along each chain), every method on
+    every mesh strategy."""
+    from ..figures import plt, save, style
+    chains = frame.groupby(["mesh", "method"], sort=False)
+    rows = -(-chains.ngroups // 4)          # the legend's rows below the panels, four chains a row
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2 + 0.16 * rows))
+    for (mesh, method), g in chains:
+        g = g.sort_values("level")
+        kind = str(mesh).split(":")[0]
+        s = style(method)
+        line = dict(color=s["color"], linestyle=LINESTYLE.get(kind, "-."), lw=1.2, marker=s["marker"], ms=3)
+        label = f"{method} (k = {int(g.order.iloc[0])}), {mesh}"
+        left.loglog(g.ndof, g.err_h1, **line, label=label)
+        # a level of an hp chain is made anew from the coarse mesh: its own seconds, not a sum
+        seconds = g.total_seconds if kind == "hp" else g.total_seconds.cumsum()
+        right.loglog(seconds, g.err_h1, **line)
+    left.set_xlabel("ndof N")
+    left.set_ylabel("H¹ error")
+    left.set_title(f"{case.name}: error against N")
+    right.set_xlabel("seconds up to the level")
+    right.set_title("error against time")
+    # below the panels, not over the curves (hp's fall where a corner legend sits)
+    fig.legend(*left.get_legend_handles_labels(), fontsize=6.5, ncol=4, loc="lower center", frameon=False)
+    fig.subplots_adjust(bottom=0.12 + 0.16 * rows / (4.2 + 0.16 * rows), wspace=0.22)
+    return save(fig, folder, f"{case.name}-degrees")

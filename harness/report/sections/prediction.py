@@ -1,13 +1,15 @@
 """The report's section on cases read against a closed-form theory (``Case.prediction``,
-Hertz's for hertz-line): every row's quantities of interest set against the theory's at the
+Hertz's for hertz-line; the theory's quantities, ``Case.predicted_quantities``): every row's quantities of interest set against the theory's at the
 row's own contact force, and the dofs each method needs to come within 1 % of it."""
 from __future__ import annotations
 
 import numpy as np
 import pandas as pd
 
-from ..measure.efficiency import at_target
-from ..measure.quantities import QUANTITY_MEANINGS
+from ...measure.efficiency import at_target
+from ...measure.quantities import QUANTITY_MEANINGS
+from ..document import Document
+from ..plan import ReportPlan
 
 # the deviation from the theory that the dofs table asks each method to reach
 WITHIN = 0.01
@@ -57,7 +59,13 @@ def dofs_view(case, rows: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(out)
 
 
+def write(doc: Document, plan: ReportPlan) -> None:
+    """A section per case of the report read against a closed-form theory."""
+    add_prediction_section(doc, plan.cases, plan.results)
+
+
 def add_prediction_section(doc, cases, results: pd.DataFrame) -> None:
+    """The sections of those of ``cases`` that declare a theory (``Case.prediction``) and have rows."""
     predicted = [case for case in cases if case.predicted_quantities is not None and (results.case == case.name).any()]
     for case in predicted:
         rows = results[(results.case == case.name) & (results["mesh"] == "uniform" if "mesh" in results else True)]
