@@ -115,7 +115,7 @@ def _warn_left_out(cases, methods, meshes, asked) -> None:
 def _summary(frame, cases, methods, meshes):
     """``frame`` with what the study left out and why (``attrs["left_out"]``: one line each)."""
     from .study.execution.engines import left_out
-    frame.attrs["left_out"] = left_out(cases, methods, meshes)
+    frame.attrs["left_out"] = left_out(cases, methods, meshes, partial=True)
     return frame
 
 

@@ -77,7 +77,7 @@ class ContactNodes:
     """The Lagrange nodes of the trace of X_h on Gamma_C and the map to the contact variable's
     values there: ``L @ u`` is c(u_h) at ``x`` (u_h in 2D scalar problems, -u_h . n in
     elasticity), whatever NGSolve's hierarchical basis (its edge dofs are bubble coefficients,
-    not values). The vertices of Gamma_C come first, in ``trace.vertices``' order, then the
+    not values). The vertices of Gamma_C come first, in ``mesh.trace.ContactTrace.vertices``' order, then the
     nodes inside its cells, cell by cell."""
 
     x: np.ndarray               # (n, dim) the nodes
@@ -115,7 +115,7 @@ def lagrange_nodes(problem) -> ContactNodes:
 
 
 def _vertex_rank(trace, points: np.ndarray) -> np.ndarray:
-    """Each of ``points`` (vertices of Gamma_C) by its position in ``trace.vertices``' order."""
+    """Each of ``points`` (vertices of Gamma_C) by its position in ``mesh.trace.ContactTrace.vertices``' order."""
     return cKDTree(trace.vertex_points).query(points)[1]
 
 

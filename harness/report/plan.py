@@ -46,7 +46,7 @@ class ReportPlan:
 
     @property
     def methods(self) -> list:
-        """The report's methods (``methods.base.Method``), in the report's order."""
+        """The report's methods (``methods.method.Method``), in the report's order."""
         return methods_named(self.settings["methods"])
 
     def completed(self, meta: dict, figs: dict) -> "ReportPlan":

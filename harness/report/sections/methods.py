@@ -1,5 +1,5 @@
 """The report's section "Problem and methods": the problem, and each method studied with its
-order, contact condition, parameters and reference (``methods.base.Method``), and where a method
+order, contact condition, parameters and reference (``methods.method.Method``), and where a method
 of your own comes from."""
 from __future__ import annotations
 

@@ -308,17 +308,17 @@ def skipped_meshes(cases, meshes) -> list[str]:
             if (reason := refusal(mesh, case)) is not None]
 
 
-def skipped_methods(cases, methods) -> list[str]:
+def skipped_methods(cases, methods, partial: bool = False) -> list[str]:
     """One line per method of ``methods`` that discretises none of ``cases`` (its reasons,
-    ``methods.method.Method.refusal``), which a study would leave without a row; then one per
-    (method, case) of a method that discretises some of them only (the run's mix, named in the
-    summary, not warned about)."""
+    ``methods.method.Method.refusal``), which a study would leave without a row; with
+    ``partial``, then one per (method, case) of a method that discretises some of them only (the
+    run's mix: named in the summary, not warned about)."""
     lines = []
     for method in methods:
         reasons = {case.name: why for case in cases for _, why in left_out_of(case, [method])}
         if cases and len(reasons) == len(cases):
             lines.append(f"{method.name} skipped: " + "; ".join(dict.fromkeys(reasons.values())))
-    for method in methods:
+    for method in methods if partial else ():
         reasons = {case.name: why for case in cases for _, why in left_out_of(case, [method])}
         if 0 < len(reasons) < len(cases):
             lines += [f"{method.name} not run on {name}: {why}" for name, why in reasons.items()]
@@ -349,11 +349,12 @@ def check_runs(cases, methods, meshes) -> None:
         raise ValueError("nothing to run: " + "; ".join(skipped_on_meshes(cases, methods, meshes)))
 
 
-def left_out(cases, methods, meshes) -> list[str]:
+def left_out(cases, methods, meshes, partial: bool = False) -> list[str]:
     """What a study leaves out and why, one line each: the cases a strategy cannot mesh, the
-    methods that discretise none of the cases (or some only), the methods a strategy's meshes
-    cannot carry."""
-    return skipped_meshes(cases, meshes) + skipped_methods(cases, methods) + skipped_on_meshes(cases, methods, meshes)
+    methods that discretise none of the cases (with ``partial``, also those cases a method that
+    discretises others leaves out), the methods a strategy's meshes cannot carry."""
+    return skipped_meshes(cases, meshes) + skipped_methods(cases, methods, partial) + \
+        skipped_on_meshes(cases, methods, meshes)
 
 
 HOOK_ARGUMENTS = ("case", "method", "level", "problem", "solve")
