@@ -21,7 +21,8 @@ from harness.fem.assembly import discretise
 from harness.mesh.levels import mesh_hierarchy
 from harness.methods import METHODS, methods_for, methods_named
 from harness.problem.case import load_case, registered_cases
-from harness.study import DaskEngine, InProcess, LocalProcesses, budget, run_study
+from harness.study import DaskEngine, InProcess, LocalProcesses, run_study
+from harness.study.execution import budget
 from harness.study.execution.budget import BudgetError, LevelSizes, estimate
 from harness.study.execution.engines import chains, study_weights
 from harness.study.execution.progress import StudyProgress
