@@ -101,3 +101,36 @@ def test_specs_and_names_are_read_one_way():
     assert look_up({"a": 1}, "a", "thing") == 1
     with pytest.raises(KeyError, match="unknown thing 'b'; known things: a"):
         look_up({"a": 1}, "b", "thing", KeyError)
+
+
+def test_a_method_file_is_loaded_without_entering_a_lower_stage():
+    """``--method path.py``: from ``methods_named`` to the registry the loader calls the methods
+    stage and the foundation (``core.plugins``) only, never a function of mesh/, problem/ or
+    solvers/, and of fem/ only the cone's own check of its functionals
+    (``fem.edge_functionals.check_rules``, run when the record is made, here when the loader
+    stamps its source on it). What the user's file itself calls while it runs is its own."""
+    from harness.methods import methods_named
+    path = Path(__file__).parents[1] / "examples" / "methods" / "quarter_points.py"
+    called = set()
+
+    def by_the_file(frame) -> bool:
+        while frame is not None:
+            if frame.f_code.co_filename == str(path):
+                return True
+            frame = frame.f_back
+        return False
+
+    def profile(frame, event, arg):
+        module = frame.f_globals.get("__name__", "")
+        if event == "call" and module.startswith("harness.") and frame.f_code.co_name != "<module>" \
+                and not by_the_file(frame):
+            caller = frame
+            while caller is not None and caller.f_code.co_name != "check_rules":
+                caller = caller.f_back
+            called.add("fem.check_rules" if caller is not None else module.split(".")[1])
+    sys.setprofile(profile)
+    try:
+        loaded = methods_named(str(path))
+    finally:
+        sys.setprofile(None)
+    assert [m.name for m in loaded] == ["quarter-points"] and called <= {"core", "methods", "fem.check_rules"}, called
