@@ -17,7 +17,7 @@ from ..execution import threads
 from .one_body import OneBody
 from .rows import ChainOutput, Phases, study_levels
 from .two_body import run_two_body_chain
-from .walk import ChainPlan, ChainWalk
+from .walk import MAX_ADAPTIVE_LEVELS, ChainPlan, ChainWalk
 
 ngs.ngsglobals.msg_level = 0
 
@@ -95,10 +95,6 @@ class BothHooks:
         self.second(case, method, level, problem, solve)
         return kept
 
-
-# an adaptive chain stops when its mesh has more elements than the uniform level it replaces
-# (the same budget of dofs as the uniform chain), or after this many levels
-MAX_ADAPTIVE_LEVELS = 60
 
 
 def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_level=None,

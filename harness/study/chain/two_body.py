@@ -46,7 +46,7 @@ from ...solvers.multigrid import Multilevel
 from ...solvers.two_body_multigrid import JointMultilevel
 from ..execution.threads import p2_size
 from .rows import ChainOutput, Phases, study_levels
-from .walk import ChainPlan, ChainWalk
+from .walk import MAX_ADAPTIVE_LEVELS, ChainPlan, ChainWalk
 
 # the error columns combined over the bodies as the root of the sum of squares
 COMBINED = ("err_h1", "err_h1_semi", "err_l2", "err_energy", "err_best_h1", "err_best_h1_semi", "err_best_energy",
@@ -188,10 +188,6 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, o
     return ChainWalk(case, methods, ChainPlan(studied, studied), TwoBodies(case, bodies, sequence, budget), measure,
                      mesh.label, phases, progress, on_level).run()
 
-
-# an adaptive two-body chain stops at the budget of elements, or after this many levels (as
-# one-body ones, ``study.chain.run.MAX_ADAPTIVE_LEVELS``)
-MAX_ADAPTIVE_LEVELS = 60
 
 
 def pair_sequence(mesh, bodies: tuple, order: int, budget: float):

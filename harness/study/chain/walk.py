@@ -19,6 +19,10 @@ from ...mesh.levels import Level
 from ..execution import threads
 from .rows import ChainOutput, Phases, keep, level_row
 
+# an adaptive chain, of one body or two, stops when its mesh has more elements than the uniform
+# level it replaces (the same budget of dofs as the uniform chain), or after this many levels
+MAX_ADAPTIVE_LEVELS = 60
+
 
 @dataclass
 class ChainState:
