@@ -105,7 +105,7 @@ def _warn_left_out(cases, methods, meshes, asked) -> None:
     (not through a group) that discretises none of the cases or that a strategy's meshes cannot
     carry."""
     from .methods import GROUPS, Method
-    from .study.execution.engines import left_out
+    from .study.execution.refusals import left_out
     asked = [asked] if isinstance(asked, (str, Method)) else list(asked)
     named = {a if isinstance(a, str) else a.name for a in asked if not (isinstance(a, str) and (a == "all" or a in GROUPS))}
     for line in left_out(cases, [m for m in methods if m.name in named], meshes):
@@ -114,7 +114,7 @@ def _warn_left_out(cases, methods, meshes, asked) -> None:
 
 def _summary(frame, cases, methods, meshes):
     """``frame`` with what the study left out and why (``attrs["left_out"]``: one line each)."""
-    from .study.execution.engines import left_out
+    from .study.execution.refusals import left_out
     frame.attrs["left_out"] = left_out(cases, methods, meshes, partial=True)
     return frame
 

@@ -31,8 +31,9 @@ from ..chain.rows import PHASES
 from ..chain.run import BothHooks
 from ..chain.snapshots import SnapshotHook, save_snapshots
 from ..execution.budget import SWEEP_SECONDS_PER_DOF, solve_weights
-from ..execution.engines import InProcess, Job, chains, check_methods, mesh_scope, plan, study_weights, tidy
+from ..execution.engines import InProcess, Job, chains, mesh_scope, plan, study_weights, tidy
 from ..execution.progress import StudyProgress, scoped
+from ..execution.refusals import check_methods
 from ..execution.threads import usable_cpus
 from ..storage.checkpoint import CheckpointStore
 from ..storage.digest import code_hash
