@@ -19,7 +19,7 @@ from harness.methods import METHODS, methods_named
 from harness.problem.bodies import lower_body
 from harness.problem.case import registered_cases
 from harness.study.chain import run_chain
-from harness.study.execution.engines import skipped_meshes
+from harness.study.execution.refusals import skipped_meshes
 
 MORTAR = [name for name, method in METHODS.items() if 2 in method.bodies]
 MESHES = ["graded", "adaptive"]
