@@ -12,6 +12,7 @@ _PUBLIC = {
     "polar": "functions", "transition": "functions", "transition_gradient": "functions",
     "roller_free_mode": "functions", "roller_free_series": "functions", "bracketed_root": "functions",
     "Elasticity": "physics", "Scalar": "physics", "MirrorBody": "bodies",
+    "Tresca": "friction", "FRICTIONLESS": "friction",
 }
 __all__ = list(_PUBLIC)
 __getattr__, __dir__ = lazy(__name__, _PUBLIC)

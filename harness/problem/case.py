@@ -76,6 +76,10 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
                            two-body case (Section 6), the declared data being the upper body's
                            and the lower body its mirror image across Gamma_C, meshed on its
                            own (``problem.bodies``); 2D, exact u, solved by the mortar methods
+    friction               optional friction law on Gamma_C (``harness.problem.friction``):
+                           ``Tresca(threshold=s)`` replaces the Signorini conditions by Tresca's
+                           (scalar: |d_n u - g_C| <= s; elasticity: u . n = 0 and
+                           |sigma_t| <= s), which validation checks. Default: frictionless
     groups                 optional list of group names the case belongs to beyond those derived
                            from what it is (``DERIVED_GROUPS``), e.g. ["paper"]: ``--case
                            GROUP`` runs every case of a group (``expand_groups``)
@@ -140,6 +144,7 @@ from .contract import (  # noqa: F401
     reference_levels,
 )
 from .geometry import geometry_dimension
+from .friction import FRICTIONLESS
 from .physics import SCALAR, gradient
 
 
@@ -194,6 +199,7 @@ class Case:
     predicted_pressure: object = None                  # (s along Gamma_C, force) -> pressure
     second_body: object = None                         # ``bodies.MirrorBody``: a two-body case
     declared_groups: tuple = ()                        # the module's groups (``Case.groups``)
+    friction: object = FRICTIONLESS                    # ``friction.Tresca``: the friction law on Gamma_C
 
     @property
     def bodies(self) -> int:
@@ -206,8 +212,13 @@ class Case:
         dimension, physics, bodies, and "reference" without a closed-form u), then those it
         declares."""
         derived = (f"{self.dimension}d", self.physics.name, "two-body" if self.bodies == 2 else "",
-                   "" if self.exact else "reference")
+                   "" if self.exact else "reference", "friction" if self.frictional else "")
         return tuple(group for group in derived if group) + self.declared_groups
+
+    @property
+    def frictional(self) -> bool:
+        """A friction law other than frictionless holds on Gamma_C (``friction``)."""
+        return self.friction.name != FRICTIONLESS.name
 
     @property
     def exact(self) -> bool:
@@ -411,7 +422,7 @@ def registered_cases(dimension: int | None = None) -> dict[str, Case]:
 
 
 # the groups every case is sorted into by what it is (``Case.groups``); "all" holds every case
-DERIVED_GROUPS = ("all", "2d", "3d", "scalar", "elasticity", "two-body", "reference")
+DERIVED_GROUPS = ("all", "2d", "3d", "scalar", "elasticity", "two-body", "reference", "friction")
 
 
 def case_groups(cases: dict[str, Case] | None = None) -> dict[str, list[str]]:

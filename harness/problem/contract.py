@@ -59,6 +59,21 @@ def check_declared(module, source: str) -> None:
     _check_coefficients(module, source)
     check_singular_sets(module, source)
     check_derivative_jumps(module, source)
+    check_friction(module, source)
+
+
+def check_friction(module, source: str) -> None:
+    """``friction``, if declared: a friction law of ``problem.friction``; Tresca's bilateral
+    normal contact in elasticity is u . n = 0 (no gap); one body."""
+    from .friction import FRICTIONLESS, Frictionless, Tresca
+    law = getattr(module, "friction", FRICTIONLESS)
+    if not isinstance(law, (Frictionless, Tresca)):
+        raise CaseError(f"case {source}: friction must be harness.problem.Tresca(threshold=...) or "
+                        f"harness.problem.FRICTIONLESS, got {law!r}")
+    if isinstance(law, Tresca) and getattr(module, "second_body", None) is not None:
+        raise CaseError(f"case {source}: Tresca friction between two bodies is not implemented (one body only)")
+    if isinstance(law, Tresca) and getattr(module, "physics", "scalar") == "elasticity" and getattr(module, "gap", None) is not None:
+        raise CaseError(f"case {source}: Tresca's bilateral normal contact is u . n = 0 on Gamma_C: declare no gap")
 
 
 def _check_strings(module, source: str) -> None:
@@ -216,7 +231,7 @@ def optional_fields(module) -> dict:
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
                 "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile", "second_body",
                 "singular_lines", "report_levels", "prediction", "predicted_quantities", "predicted_pressure",
-                "derivative_jumps"):
+                "derivative_jumps", "friction"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):

@@ -292,6 +292,13 @@ class Elasticity:
         (-n_y, n_x) in 2D, its length in 3D."""
         return self._exact_forces(case, mesh, points, normals)[1]
 
+    def tangential_traction(self, case, mesh, points, normals) -> np.ndarray:
+        """sigma_t(u) - g_t as a vector (..., dim): the traction sigma(u) n - g_C less its normal
+        part (Tresca's friction force, ``problem.friction``)."""
+        grad = _gradient_at(case.grad_u, mesh, points, self.dim)
+        traction = np.einsum("...ij,...j->...i", self.flux_array(grad), normals) - _contact_load(case, mesh, points, self.dim)
+        return traction - (traction * normals).sum(axis=-1)[..., None] * normals
+
     def obstacle(self, gap):
         return None if gap is None else -gap
 

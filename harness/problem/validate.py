@@ -156,6 +156,15 @@ def validate_case(case) -> None:
     if not (np.all(np.isfinite(excess)) and np.all(np.isfinite(flux))):
         bad = points[~(np.isfinite(excess) & np.isfinite(flux))][0]
         raise CaseError(f"case {case.name!r}: u or its flux is not finite on Gamma_C at {format_point(bad)}")
+    if case.frictional:
+        check_tresca(case, mesh, points, excess, flux, normals)
+        return
+    check_signorini(case, mesh, points, excess, flux, normals)
+
+
+def check_signorini(case, mesh, points, excess, flux, normals) -> None:
+    """The Signorini conditions (2.4) of the contact variable, and frictionless elasticity's
+    sigma_t(u) = g_t, at the samples of Gamma_C."""
     # the scale of u - gap: its own, or, where u = gap on all of Gamma_C (its round-off is then
     # all there is), the flux times Gamma_C's extent
     extent = float(np.ptp(points, axis=0).max())
@@ -177,6 +186,43 @@ def validate_case(case) -> None:
                 f"case {case.name!r} violates the Signorini condition {condition} on Gamma_C "
                 f"at {format_point(points[k])}: value {value[k]:.3e} ({int(violated.sum())} of {len(points)} samples)"
             )
+
+
+# Tresca's conditions in words (``problem.friction``), by physics
+TRESCA_CONDITIONS = {
+    "scalar": ("|du/dn - g_C| <= s", "du/dn - g_C = -s u/|u| where u != 0"),
+    "elasticity": ("|sigma_t| <= s", "sigma_t = -s u_t/|u_t| where u_t != 0", "u.n = 0 (bilateral)"),
+}
+
+
+def check_tresca(case, mesh, points, excess, flux, normals) -> None:
+    """Tresca's conditions (``problem.friction``) at the samples of Gamma_C: the friction force
+    (the flux d_n u - g_C, or the tangential traction sigma_t(u) - g_t, a vector in 3D) lies in
+    the disc of radius s, and equals -s times the slip direction where u (u_t) does not vanish;
+    in elasticity u . n = 0 (bilateral)."""
+    s = evaluate(case.friction.threshold_function, mesh, points)
+    if case.physics.name == "scalar":
+        force, slip = flux[:, None], excess[:, None]
+    else:
+        force = case.physics.tangential_traction(case, mesh, points, normals)
+        u = evaluate(case.u, mesh, points).reshape(points.shape)
+        slip = u - (u * normals).sum(axis=-1)[:, None] * normals
+    extent = float(np.ptp(points, axis=0).max())
+    tol_force = RELATIVE_TOLERANCE * max(np.abs(s).max(), np.abs(force).max(), 1e-300)
+    tol_u = RELATIVE_TOLERANCE * max(np.abs(slip).max(), np.abs(excess).max(), tol_force / RELATIVE_TOLERANCE * extent, 1e-300)
+    length = np.linalg.norm(slip, axis=-1)
+    direction = slip / np.where(length > 0, length, 1.0)[:, None]
+    names = TRESCA_CONDITIONS[case.physics.name]
+    checks = [(names[0], np.linalg.norm(force, axis=-1) - s > tol_force, np.linalg.norm(force, axis=-1) - s),
+              (names[1], (length > tol_u) & (np.linalg.norm(force + s[:, None] * direction, axis=-1) > tol_force),
+               np.linalg.norm(force + s[:, None] * direction, axis=-1))]
+    if case.physics.name != "scalar":
+        checks.append((names[2], np.abs(excess) > tol_u, excess))
+    for condition, violated, value in checks:
+        if violated.any():
+            k = int(np.argmax(violated))
+            raise CaseError(f"case {case.name!r} violates the Tresca condition {condition} on Gamma_C at "
+                            f"{format_point(points[k])}: value {value[k]:.3e} ({int(violated.sum())} of {len(points)} samples)")
 
 
 def check_two_bodies(case) -> None:
