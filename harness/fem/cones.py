@@ -91,9 +91,14 @@ class ContactModel:
         """Dofs carrying the constrained variables in z: Gamma_C vertices, then Gamma_C edges."""
         return np.concatenate([problem.vertex_dofs, problem.edge_dofs])
 
-    def transform(self, problem: DiscreteProblem) -> sp.csr_matrix:
-        """S with u = S z: identity except the rows of the contact-edge bubbles."""
-        n, edge, ends = problem.ndof, problem.edge_dofs, problem.end_dofs
+    def transform(self, problem: DiscreteProblem, edge: np.ndarray | None = None,
+                  ends: np.ndarray | None = None) -> sp.csr_matrix:
+        """S with u = S z: identity except the rows of the contact-edge bubbles (``edge``, each
+        between the vertex dofs ``ends``; default the contact variable's: ``problem.edge_dofs``,
+        ``problem.end_dofs``)."""
+        n = problem.ndof
+        edge = problem.edge_dofs if edge is None else edge
+        ends = problem.end_dofs if ends is None else ends
         if not len(edge):
             return sp.identity(n, format="csr")
         w = self.weight
@@ -200,7 +205,7 @@ class ContactQP(ProblemQP):
         return ContactTraceFunction.of(problem, u, end_active, edge_active)
 
 
-def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix, take: bool = False):
+def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix, take: bool = False, rows: np.ndarray | None = None):
     """K = S^T A S, as a scipy view and its NGSolve matrix.
 
     With S = I + D, D nonzero only in the rows E of the contact-edge bubbles,
@@ -210,7 +215,7 @@ def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix, take: bool = 
     conversion. K goes into a copy of A, or, with ``take``, into A's own memory
     (``DiscreteProblem.take_stiffness``).
     """
-    A, E = problem.A, problem.edge_dofs
+    A, E = problem.A, problem.edge_dofs if rows is None else rows
     P, Q = congruence_terms(A, S[E], E)
     rows = np.concatenate([P.row, P.col, Q.row]).astype(np.int64)
     cols = np.concatenate([P.col, P.row, Q.col]).astype(np.int64)

@@ -162,6 +162,17 @@ def nearest_status(coarse_points: np.ndarray, coarse_active: np.ndarray, points:
     return coarse_active[cKDTree(coarse_points).query(points)[1]]
 
 
+def friction_prediction(carry, points: np.ndarray) -> np.ndarray | None:
+    """The Tresca rows (``solvers.friction``: slip+ rows, then slip- rows) at the nodes
+    ``points``: each node takes the branch of the nearest node of the coarser level's solution
+    (``carry``: its nodes and their (slip+, slip-) flags), or None on the first level."""
+    if carry is None or carry.points is None:
+        return None
+    m = len(carry.points)
+    return np.concatenate([nearest_status(carry.points, carry.active[:m], points),
+                           nearest_status(carry.points, carry.active[m:], points)])
+
+
 def mortar_prediction(carry, points: np.ndarray, vertex_rows: int) -> np.ndarray | None:
     """The mortar rows of two bodies (their slave nodes at ``points``, on a line), by the one-body
     cones' rule (``cone_prediction``, ``edge_status``): a vertex row (the first ``vertex_rows``

@@ -44,10 +44,19 @@ class ContactEdges:
         has_edges = model and len(problem.edge_dofs)
         ends = problem.end_dofs if has_edges else np.zeros((0, 2), dtype=np.int64)
         edges = problem.edge_dofs if has_edges else np.zeros(0, np.int64)
+        return cls.of_edges(problem, edges, ends)
+
+    @classmethod
+    def of_edges(cls, problem, edges: np.ndarray, ends: np.ndarray) -> "ContactEdges":
+        """The embedding whose changed variables are the dofs ``edges`` (each the value of a
+        contact edge's function between its two ``ends``, dofs of z): the contact component's
+        (``of``), or others too (a tangential component under friction, ``fem.friction``)."""
+        nv, components = problem.mesh.nv, problem.physics.components
+        block = problem.ndof // components
         # z's vertex dof k block + v is P1 dof k nv + v; one component: the same number (slices)
         p1_dofs = np.concatenate([k * block + np.arange(nv) for k in range(components)])
         same = p1_dofs[-1] == len(p1_dofs) - 1
-        return cls(edges, (ends // block) * nv + ends % block, None if same else p1_dofs)
+        return cls(np.asarray(edges, np.int64), (ends // block) * nv + ends % block, None if same else p1_dofs)
 
     @property
     def identity(self) -> bool:

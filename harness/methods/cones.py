@@ -12,11 +12,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fem.cones import ContactModel, contact_pressure, contact_qp
+from ..fem.assembly import ContactTraceFunction
+from ..fem.cones import ContactModel, contact_pressure, contact_qp, end_status
 from ..fem.face_means import face_mean_qp
-from ..fem.nested import start_from
+from ..fem.friction import friction_qp
+from ..fem.nested import friction_prediction, nested_start, p1_values, start_from
+from ..fem.penetration import max_penetration
 from ..fem.polynomials import lobatto_points
 from ..solvers.bound_constraints import solve_contact_qp
+from ..solvers.friction import solve_friction_qp
 from .method import (
     BASELINE,
     DEGREES,
@@ -24,8 +28,10 @@ from .method import (
     PAPER,
     REFERENCE,
     Expectation,
+    LawCarry,
     LevelSolve,
     Method,
+    SolveFields,
     capped_expectation,
     no_result_below,
     timer,
@@ -45,7 +51,15 @@ class BoundConstrained(Method):
     # in 3D the same cones, edge by edge on the triangles of Gamma_C (``fem.cones``)
     dimensions: tuple = (2, 3)
 
+    def refusal(self, case) -> str | None:
+        """Also: Tresca's elastic slip in 3D is a 2-vector whose set is a disc, not two bounds."""
+        if case.frictional and case.physics.rotated_frame and case.dimension == 3 and case.friction.name in self.friction:
+            return "its Tresca rows are bounds; the 3D elastic slip is a 2-vector in a disc (a contact law solves it)"
+        return super().refusal(case)
+
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
+        if case.frictional:
+            return solve_tresca(case, problem, self.cone, carry, multilevel, phases, self.solver)
         timed = timer(phases)
         with timed("setup"):
             qp = contact_qp(case, problem, self.cone, take_stiffness=take_stiffness)
@@ -58,6 +72,35 @@ class BoundConstrained(Method):
         return exact_level(case, problem, u, trace_u, contact_pressure(problem, solution.multipliers), solution)
 
 
+def solve_tresca(case, problem, model: ContactModel, carry, multilevel, phases, options) -> LevelSolve:
+    """A level of a Tresca case (``problem.friction``) with the cone's quadrature of j(v)
+    (``fem.friction``: the nodal or mean analogue, or P1), solved exactly by the active set
+    method on the bound-constrained dual (``solvers.friction``), nested from ``carry``. The row's
+    pressure is the discrete flux on Gamma_C (scalar: the friction force itself; elasticity: the
+    normal reaction of the bilateral contact); its penetration is NaN in the scalar model, which
+    has no unilateral condition."""
+    timed = timer(phases)
+    with timed("setup"):
+        qp = friction_qp(case, problem, model)
+        start = None if carry is None or multilevel is None else nested_start(multilevel, carry.p1, problem, qp.edges)
+        predicted = friction_prediction(carry, qp.points)
+    with timed("solve"):
+        solution = solve_friction_qp(qp, predicted, multilevel=multilevel, start=start, options=options)
+    u = qp.to_u(solution.z)
+    m = len(qp.F)
+    stick = ~(solution.active[:m] | solution.active[m:])
+    nv = len(problem.vertex_dofs)
+    edge_stick = stick[nv:] if len(problem.edge_dofs) else np.zeros(len(problem.trace.edges), bool)
+    trace_u = ContactTraceFunction.of(problem, u, end_status(problem, stick[:nv]), edge_stick)
+    if problem.physics.rotated_frame:
+        reaction = (qp.K @ solution.z - qp.b)[qp.normal]
+        pressure, penetration = contact_pressure(problem, reaction), max_penetration(case, problem.mesh, trace_u)
+    else:
+        pressure, penetration = contact_pressure(problem, solution.multipliers), float("nan")
+    fields = SolveFields.of_exact(solution, penetration, pressure, 2 * m)
+    return LevelSolve(fields, u, trace_u, pressure, LawCarry(p1_values(problem, u), points=qp.points, active=solution.active))
+
+
 @dataclass(frozen=True)
 class CellMean(BoundConstrained):
     """The paper's K_h on the cells of Gamma_C: v_h >= alpha at its vertices and the mean of
@@ -66,6 +109,12 @@ class CellMean(BoundConstrained):
     triangle, whose P2 mean is the average of its three edge-midpoint values, and the rows
     stay general (``face_means``): solved by the general-constraint active set method with the
     constrained multigrid (``solvers.projected_multigrid``), or by SuperLU without a hierarchy."""
+
+    def refusal(self, case) -> str | None:
+        """Also: Tresca on the 3D triangle means (general rows) is not implemented."""
+        if case.frictional and case.dimension == 3 and case.friction.name in self.friction:
+            return "its 3D triangle means are general rows, on which Tresca friction is not implemented"
+        return super().refusal(case)
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         if problem.trace.faces is None:
@@ -119,6 +168,7 @@ mean = CellMean(
     sharper_theory=drouet_hild_for(2),
     cone=ContactModel(edge_functional="edge-mean"),
     roles=frozenset({PAPER}),
+    friction=("frictionless", "tresca"),
 )
 
 # `mean-edges`: the counterexample -- K_h extended to 3D edge by edge: v_h >= 0 at the vertices
@@ -151,6 +201,7 @@ nodal = BoundConstrained(
     sharper_theory=drouet_hild_for(2),
     cone=ContactModel(edge_functional="midpoint"),
     roles=frozenset({PAPER, REFERENCE, MESH_STUDY, DEGREES}),
+    friction=("frictionless", "tresca"),
 )
 
 # `p1`: conforming P1 with v_h(x_i) >= 0 at the vertices of Gamma_C -- the classical linear
@@ -184,6 +235,7 @@ p1 = BoundConstrained(
     sharper_theory=drouet_hild_for(1),
     cone=ContactModel(edge_functional=None),
     roles=frozenset({BASELINE, MESH_STUDY, DEGREES}),
+    friction=("frictionless", "tresca"),
 )
 
 

@@ -176,8 +176,8 @@ class Method:
       (``reference``), the rate its theory predicts for a case (``expected``: case ->
       ``Expectation``, or None: no theory) and a second theory's (``sharper_theory``), and, for a
       method from outside the package, the file that defines it (``source``);
-    - applicability: the ``physics``, ``dimensions`` and ``bodies`` it discretises (``refusal``
-      says why a case is not among them);
+    - applicability: the ``physics``, ``dimensions``, ``bodies`` and ``friction`` laws it
+      discretises (``refusal`` says why a case is not among them);
     - scheduling: its levels past a study's P2 levels (``study_extra_levels``), its cost model
       (``cost_model``) and its solver settings (``solver``: ``solvers.options.SolverOptions``);
     - roles: what it is to the report (``roles``, the rule above ``ROLES``).
@@ -198,6 +198,7 @@ class Method:
     physics: tuple = ("scalar",)                  # the physics it discretises (``problem.physics``)
     dimensions: tuple = (2,)                      # the space dimensions it discretises
     bodies: tuple = (1,)                          # the number of bodies it couples (``Case.bodies``)
+    friction: tuple = ("frictionless",)           # the friction laws it discretises (``problem.friction``)
     # scheduling: its levels past a study's P2 levels, if not ``EXTRA_LEVELS`` (``with_extra_levels``)
     study_extra_levels: int | None = None
     # roles: what it is to the report (``ROLES``), and (name, roles) as declared (the role rule)
@@ -243,6 +244,8 @@ class Method:
             return f"it discretises {' and '.join(self.physics)}, not {case.physics.name}"
         if case.dimension not in self.dimensions:
             return f"it runs in {' and '.join(f'{d}D' for d in self.dimensions)}, not {case.dimension}D"
+        if case.friction.name not in self.friction:
+            return f"it discretises {' and '.join(self.friction)} contact, not {case.friction.name} friction"
         if case.bodies not in self.bodies:
             return f"it couples {' or '.join(map(str, self.bodies))} bod{'y' if self.bodies == (1,) else 'ies'}, not {case.bodies}"
         return None

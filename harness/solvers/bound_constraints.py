@@ -120,6 +120,19 @@ class FactorisedSystem:
         y0[free] = cholesky.solve(np.where(free, self.b - self.K @ y0, 0.0))[free]
         return _Factored(pinned=pinned, free=free, cholesky=cholesky, y0=y0)
 
+    def set_load(self, b: np.ndarray) -> None:
+        """Solve with the load ``b`` from now on (a friction set's slip forces move into it,
+        ``solvers.friction``): the factorisation and its bordered columns depend on K alone;
+        only the factorised set's solution y0 is solved again (one solve)."""
+        if np.array_equal(b, self.b):
+            return
+        self.b = b
+        fac = self._factored
+        if fac is not None:
+            y0 = np.where(fac.pinned, fac.y0, 0.0)
+            y0[fac.free] = fac.cholesky.solve(np.where(fac.free, b - self.K @ y0, 0.0))[fac.free]
+            fac.y0 = y0
+
     def _column(self, fac: _Factored, key, rhs_of) -> np.ndarray:
         if key not in fac.columns:
             fac.columns[key] = np.where(fac.free, fac.cholesky.solve(np.where(fac.free, rhs_of(), 0.0)), 0.0)
@@ -190,6 +203,10 @@ class MultigridSystem:
         self.cg_iterations = 0
         self.preconditioners = 0
         self._last = None           # (pins, V-cycle) of the last solve
+
+    def set_load(self, b: np.ndarray) -> None:
+        """Solve with the load ``b`` from now on (``solvers.friction``)."""
+        self.b = b
 
     def solve(self, pinned: np.ndarray, values: np.ndarray, start=None, tol: float = 0.0) -> np.ndarray:
         """The same to max |K z - b| <= tol off the pins, from ``start`` (else zero)."""
