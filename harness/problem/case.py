@@ -143,8 +143,8 @@ from .contract import (  # noqa: F401
     physics_of,
     reference_levels,
 )
-from .geometry import geometry_dimension
 from .friction import FRICTIONLESS
+from .geometry import geometry_dimension
 from .physics import SCALAR, gradient
 
 
