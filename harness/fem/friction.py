@@ -124,7 +124,7 @@ def friction_variables(problem: DiscreteProblem) -> tuple[np.ndarray, np.ndarray
     rotated frame the component before the contact one, ``fem.rotated_frame``)."""
     if not problem.physics.rotated_frame:
         return problem.vertex_dofs, problem.edge_dofs, problem.end_dofs[:len(problem.edge_dofs)]
-    if problem.physics.components != 2:
+    if problem.mesh.dim != 2:
         raise ValueError("Tresca friction on the nodal cones is 2D in elasticity: in 3D the slip is a 2-vector and "
                          "its set a disc (use a contact law: Nitsche or penalty)")
     block = problem.ndof // problem.physics.components
