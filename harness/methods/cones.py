@@ -123,9 +123,19 @@ class CellMean(BoundConstrained):
                                   lambda: face_mean_qp(case, problem, take_stiffness=take_stiffness), self.solver)
 
 
+# Tresca friction (``problem.friction``): no error analysis of the P2 models' friction analogues
+# (the nodal quadrature of j, the edge means) was available to read here; a Tresca case declares
+# the rate of the paper's theorems for its regularity, the best approximation's, read as a
+# conjecture the verdicts test
+FRICTION_CONJECTURE = "conjecture: the paper's rate for the same regularity (no theorem for the friction analogues)"
+
+
 def paper_theorem(case) -> Expectation:
     """The rate the case declares from the paper's theorems (Theorems 4.1, 4.2, 5.1, 5.2,
-    Remark 4.9): the same for both P2 models."""
+    Remark 4.9): the same for both P2 models; on a Tresca case a conjecture
+    (``FRICTION_CONJECTURE``)."""
+    if case.frictional:
+        return Expectation(case.expected_rate, case.expected_log_exponent, FRICTION_CONJECTURE)
     return Expectation(case.expected_rate, case.expected_log_exponent,
                        f"Belhachmi & Ben Belgacem 2003, {_theorem_label(case.theorem)}")
 
@@ -149,6 +159,8 @@ def drouet_hild_for(order: int):
     the H^{3/2 + m}, m > 0, of the whole literature, not checked against their statements. For
     nu <= 3/2 it says nothing (NaN)."""
     def drouet_hild(case) -> Expectation:
+        if case.frictional:
+            return Expectation(math.nan, 0.0, f"{DROUET_HILD}: frictionless contact only")
         return capped_expectation(case.nu, DROUET_HILD_CAP[order], DROUET_HILD, 1.5, no_result_below(DROUET_HILD))
     return drouet_hild
 
@@ -222,8 +234,14 @@ nodal = BoundConstrained(
 P1_REFERENCE = "Drouet & Hild 2015 (SINUM 53); Ben Belgacem 2000 (SINUM 37)"
 
 
+# P1 for Tresca: h^{min(nu - 1, 1)}, the best approximation's rate in H^1 (the P1 analyses of
+# Tresca's problem, Nitsche's of Chouly 2014 and the penalty's of Dione 2019, were read from their
+# abstracts only: h^{1/2 + nu} for u in H^{3/2 + nu}, 0 < nu <= 1/2)
+P1_TRESCA = "P1 for Tresca: the best approximation's h^min(ν−1, 1) (Chouly 2014, Dione 2019: abstracts only)"
+
+
 def p1_expected(case) -> Expectation:
-    return capped_expectation(case.nu, 1.0, P1_REFERENCE)
+    return capped_expectation(case.nu, 1.0, P1_TRESCA if case.frictional else P1_REFERENCE)
 
 
 p1 = BoundConstrained(
