@@ -12,15 +12,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fem.assembly import ContactTraceFunction
-from ..fem.cones import ContactModel, contact_pressure, contact_qp, end_status
+from ..fem.cones import ContactModel, contact_pressure, contact_qp
 from ..fem.face_means import face_mean_qp
 from ..fem.friction import friction_qp
-from ..fem.nested import friction_prediction, nested_start, p1_values, start_from
-from ..fem.penetration import max_penetration
+from ..fem.nested import start_from
 from ..fem.polynomials import lobatto_points
 from ..solvers.bound_constraints import solve_contact_qp
-from ..solvers.friction import solve_friction_qp
 from .method import (
     BASELINE,
     DEGREES,
@@ -28,15 +25,13 @@ from .method import (
     PAPER,
     REFERENCE,
     Expectation,
-    LawCarry,
     LevelSolve,
     Method,
-    SolveFields,
     capped_expectation,
     no_result_below,
     timer,
 )
-from .protocol import FunctionalCone, exact_level, solve_general_rows
+from .protocol import FunctionalCone, exact_level, solve_general_rows, solve_tresca
 
 
 @dataclass(frozen=True)
@@ -59,7 +54,8 @@ class BoundConstrained(Method):
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         if case.frictional:
-            return solve_tresca(case, problem, self.cone, carry, multilevel, phases, self.solver)
+            return solve_tresca(case, problem, lambda: friction_qp(case, problem, self.cone), carry, multilevel, phases,
+                                self.solver)
         timed = timer(phases)
         with timed("setup"):
             qp = contact_qp(case, problem, self.cone, take_stiffness=take_stiffness)
@@ -70,35 +66,6 @@ class BoundConstrained(Method):
         u = qp.to_u(solution.z)
         trace_u = qp.trace_function(u, solution.active)
         return exact_level(case, problem, u, trace_u, contact_pressure(problem, solution.multipliers), solution)
-
-
-def solve_tresca(case, problem, model: ContactModel, carry, multilevel, phases, options) -> LevelSolve:
-    """A level of a Tresca case (``problem.friction``) with the cone's quadrature of j(v)
-    (``fem.friction``: the nodal or mean analogue, or P1), solved exactly by the active set
-    method on the bound-constrained dual (``solvers.friction``), nested from ``carry``. The row's
-    pressure is the discrete flux on Gamma_C (scalar: the friction force itself; elasticity: the
-    normal reaction of the bilateral contact); its penetration is NaN in the scalar model, which
-    has no unilateral condition."""
-    timed = timer(phases)
-    with timed("setup"):
-        qp = friction_qp(case, problem, model)
-        start = None if carry is None or multilevel is None else nested_start(multilevel, carry.p1, problem, qp.edges)
-        predicted = friction_prediction(carry, qp.points)
-    with timed("solve"):
-        solution = solve_friction_qp(qp, predicted, multilevel=multilevel, start=start, options=options)
-    u = qp.to_u(solution.z)
-    m = len(qp.F)
-    stick = ~(solution.active[:m] | solution.active[m:])
-    nv = len(problem.vertex_dofs)
-    edge_stick = stick[nv:] if len(problem.edge_dofs) else np.zeros(len(problem.trace.edges), bool)
-    trace_u = ContactTraceFunction.of(problem, u, end_status(problem, stick[:nv]), edge_stick)
-    if problem.physics.rotated_frame:
-        reaction = (qp.K @ solution.z - qp.b)[qp.normal]
-        pressure, penetration = contact_pressure(problem, reaction), max_penetration(case, problem.mesh, trace_u)
-    else:
-        pressure, penetration = contact_pressure(problem, solution.multipliers), float("nan")
-    fields = SolveFields.of_exact(solution, penetration, pressure, 2 * m)
-    return LevelSolve(fields, u, trace_u, pressure, LawCarry(p1_values(problem, u), points=qp.points, active=solution.active))
 
 
 @dataclass(frozen=True)
@@ -301,6 +268,7 @@ def nodal_at_order(order: int) -> FunctionalCone:
         expected=conjectured_for(order),
         functionals_of=lobatto_rules,
         physics=("scalar", "elasticity"),
+        friction=("frictionless", "tresca"),
         roles=frozenset({DEGREES}),
     )
 
@@ -341,6 +309,7 @@ def mean_at_order(order: int) -> FunctionalCone:
         expected=conjectured_for(order),
         functionals_of=sub_edge_means,
         physics=("scalar", "elasticity"),
+        friction=("frictionless", "tresca"),
     )
 
 
