@@ -25,7 +25,7 @@ On a friction case (``problem.friction``; the friction force lambda_h and the sl
 * ``slip_measure``: the length (3D: area) of the slip zone, by the device of the contact measure:
   Tresca's law in Chouly & Hild's form, lambda = P_s(lambda - u_t / eps) with P_s the projection
   onto [-s, s] (3D: the disc of radius s) and eps = h / E (the Nitsche form of the law of
-  Chouly, J. Math. Anal. Appl. 411 (2014), as MATH.md §11 states it; the paper not read here), and the zone is where
+  Chouly, J. Math. Anal. Appl. 411 (2014), as issue 74's notes state it; the paper not read here), and the zone is where
   the projection's argument lies outside the set, |lambda - (E / h) u_t| > s. For u it is exactly
   where u_t != 0: there lambda = -s u_t / |u_t|, so the argument has length s + (E / h)|u_t| > s;
   where u_t = 0, |lambda| <= s. The set {|lambda| = s} would be wrong: a stick point may carry the
