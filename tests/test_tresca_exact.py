@@ -50,21 +50,21 @@ def polar_stresses(ur, ut, mu, kappa):
     return la * (err + ett) + 2 * mu * err, la * (err + ett) + 2 * mu * ett, 2 * mu * ert
 
 
-def williams(l):
+def williams(ell):
     """Williams' four-parameter ansatz r^l (u_r, u_theta) and its coefficients (A, B, C, D)."""
     A, B, C, D = sp.symbols("A B C D")
-    c1, s1, cm, sm = sp.cos((l + 1) * t), sp.sin((l + 1) * t), sp.cos((l - 1) * t), sp.sin((l - 1) * t)
-    ur = r**l * (A * c1 + B * s1 + C * (kappa_ - l) * cm - D * (kappa_ - l) * sm)
-    ut = r**l * (-A * s1 + B * c1 + C * (kappa_ + l) * sm + D * (kappa_ + l) * cm)
+    c1, s1, cm, sm = sp.cos((ell + 1) * t), sp.sin((ell + 1) * t), sp.cos((ell - 1) * t), sp.sin((ell - 1) * t)
+    ur = r**ell * (A * c1 + B * s1 + C * (kappa_ - ell) * cm - D * (kappa_ - ell) * sm)
+    ut = r**ell * (-A * s1 + B * c1 + C * (kappa_ + ell) * sm + D * (kappa_ + ell) * cm)
     return ur, ut, (A, B, C, D)
 
 
-def face_matrix(l, omega):
+def face_matrix(ell, omega):
     """The 4 x 4 system of the faces: theta = 0 roller (u_theta = sigma_rt = 0), theta = omega
     clamped (u_r = u_theta = 0), each divided by its power of r."""
-    ur, ut, unknowns = williams(l)
+    ur, ut, unknowns = williams(ell)
     _, _, srt = polar_stresses(ur, ut, mu_, kappa_)
-    rows = [ut.subs(t, 0) / r**l, srt.subs(t, 0) * r / r**l, ur.subs(t, omega) / r**l, ut.subs(t, omega) / r**l]
+    rows = [ut.subs(t, 0) / r**ell, srt.subs(t, 0) * r / r**ell, ur.subs(t, omega) / r**ell, ut.subs(t, omega) / r**ell]
     return sp.Matrix([[sp.diff(row, v) for v in unknowns] for row in rows]).applyfunc(sp.simplify), (ur, ut, unknowns)
 
 
@@ -100,20 +100,20 @@ def test_stick_slip_modes_alternate_in_sign(k):
     u_x(theta = 0) = 2 kappa / (kappa + l) A r^l and sigma_xy(theta = pi) =
     (-1)^k 2 mu (kappa + 1) l / (kappa + l) A r^{l-1}: slip and stick-side shear of opposite
     signs (admissible as the leading term) exactly for k odd, l = 3/2, 7/2."""
-    l = k + HALF
-    matrix, (ur, ut, unknowns) = face_matrix(l, sp.pi)
+    ell = k + HALF
+    matrix, (ur, ut, unknowns) = face_matrix(ell, sp.pi)
     null = matrix.nullspace()
     assert len(null) == 1
     v = null[0] / null[0][0]
     A, B, C, D = unknowns
-    assert [sp.simplify(e) for e in v] == [1, 0, sp.simplify(1 / (kappa_ + l)), 0]
+    assert [sp.simplify(e) for e in v] == [1, 0, sp.simplify(1 / (kappa_ + ell)), 0]
     sub = dict(zip(unknowns, v))
     ur, ut = ur.subs(sub), ut.subs(sub)
     _, stt, srt = polar_stresses(ur, ut, mu_, kappa_)
-    slip = sp.simplify(ur.subs(t, 0) / r**l)                          # u_x on theta = 0
-    shear = sp.simplify(srt.subs(t, sp.pi) / r**(l - 1))              # sigma_xy on theta = pi
-    assert sp.simplify(slip - 2 * kappa_ / (kappa_ + l)) == 0
-    assert sp.simplify(shear - (-1) ** k * 2 * mu_ * (kappa_ + 1) * l / (kappa_ + l)) == 0
+    slip = sp.simplify(ur.subs(t, 0) / r**ell)                          # u_x on theta = 0
+    shear = sp.simplify(srt.subs(t, sp.pi) / r**(ell - 1))              # sigma_xy on theta = pi
+    assert sp.simplify(slip - 2 * kappa_ / (kappa_ + ell)) == 0
+    assert sp.simplify(shear - (-1) ** k * 2 * mu_ * (kappa_ + 1) * ell / (kappa_ + ell)) == 0
     # the face conditions themselves
     assert sp.simplify(ut.subs(t, 0)) == 0 and sp.simplify(srt.subs(t, 0)) == 0
     assert sp.simplify(ur.subs(t, sp.pi)) == 0 and sp.simplify(ut.subs(t, sp.pi)) == 0
@@ -130,10 +130,10 @@ KAPPA = 3 - 4 * NU
 def stick_slip_mode_xy():
     """functions.stick_slip_series (l = 3/2): u_x + i u_y = r^l (A e^{-i l t} + C kappa e^{i l t}
     - C l e^{i (2 - l) t}), A = (kappa + l) / (2 mu (kappa + 1)), C = A / (kappa + l)."""
-    l = sp.Rational(3, 2)
-    A = (KAPPA + l) / (2 * MU * (KAPPA + 1))
-    C = A / (KAPPA + l)
-    U = r**l * (A * sp.exp(-sp.I * l * t) + C * KAPPA * sp.exp(sp.I * l * t) - C * l * sp.exp(sp.I * (2 - l) * t))
+    ell = sp.Rational(3, 2)
+    A = (KAPPA + ell) / (2 * MU * (KAPPA + 1))
+    C = A / (KAPPA + ell)
+    U = r**ell * (A * sp.exp(-sp.I * ell * t) + C * KAPPA * sp.exp(sp.I * ell * t) - C * ell * sp.exp(sp.I * (2 - ell) * t))
     U = sp.expand_complex(U)
     return sp.re(U), sp.im(U)
 
