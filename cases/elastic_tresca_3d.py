@@ -41,8 +41,7 @@ along x = 0, so every mesh has edges along the stick-slip line.
 """
 from ngsolve import CF, cos, sin, sqrt, y, z
 
-from harness.problem import Elasticity, Tresca, contact_box, polar
-from harness.problem.functions import stick_slip_mode
+from harness.problem import Elasticity, Tresca, contact_box, polar, stick_slip_mode
 
 name = "elastic-tresca-3d"
 description = "3D elastic Tresca friction: stick-slip along the line x = 0 of Gamma_C, slip direction turning along it"

@@ -49,8 +49,7 @@ field (Navier, every Tresca condition on both sides) with SymPy.
 """
 from ngsolve import CF, y
 
-from harness.problem import Elasticity, Tresca, contact_strip
-from harness.problem.functions import stick_slip_mode
+from harness.problem import Elasticity, Tresca, contact_strip, stick_slip_mode
 
 name = "elastic-tresca-r32"
 description = "elastic Tresca friction, s y/mu e_x + r^{3/2} stick-slip mode: stick-slip point at the middle of Gamma_C"
