@@ -43,7 +43,7 @@ REFERENCE_HIGH_ORDER = "Gustafsson & Stenberg 2025 (J. Struct. Mech. 58; abstrac
 
 
 # Tresca friction (``fem.contact_laws.tresca.NitscheTresca``): F. Chouly, J. Math. Anal. Appl. 411
-# (2014) 329-339, whose statement was not available to read here; MATH.md §11 and the issue give it
+# (2014) 329-339, whose statement was not available to read here; the issue (74) gives it
 # as h^{1/2+nu} for u in H^{3/2+nu}, as for contact, capped here as the contact rate is
 TRESCA_REFERENCE = "Chouly 2014 (statement not read here): h^{1/2+nu} for u in H^{3/2+nu}"
 

@@ -134,7 +134,13 @@ class ContactLawMethod(Method):
     residual <= 1e-10. The law's parameters, if it is a dataclass, are the method's
     (``nitsche:gamma0=0.1,theta=-1`` on the command line), checked by the law itself. A law with
     a field ``degree`` left None (``fem.contact_laws.builtin``) is told the method's order: the k its parameter
-    is chosen for, which an hp mesh scales by (k / p)^2 in an element of degree p."""
+    is chosen for, which an hp mesh scales by (k / p)^2 in an element of degree p.
+
+    Friction: on a case with a friction law (``problem.friction``) among the method's
+    ``friction``, the law is replaced by its friction law (``fem.contact_laws.tresca.law_for``:
+    the built-in Nitsche and penalty laws carry their parameters over; a law of your own gives
+    ``for_friction``, or is itself a ``fem.contact_laws.protocol.FrictionLaw``), solved by the same Newton
+    method on the channels of ``fem.contact_laws.channels``."""
 
     law: object = None
     physics: tuple = ("scalar", "elasticity")

@@ -8,6 +8,11 @@ the current set exactly, so the method stops -- with the exact discrete solution
 linear solver's tolerance -- as soon as the set no longer changes: like the active set method
 of the cones, whose nested iteration (a start interpolated from the coarser level) it shares.
 
+A friction law (``fem.contact_laws.channels.FrictionSystem``) has integer branch codes and, where
+its terms are not affine on a branch (Tresca's disc in 3D: the slip branch s x/|x|), ``affine``
+False: then every step is linearised at its iterate (J_S(u), r_S = J_S(u) u - F_S(u)) and damped
+by the line search below, and Newton converges superlinearly rather than in finitely many steps.
+
 Stopping test: the relative residual max |F(u)| / max |b - A u_D| over the free dofs <= 1e-10
 (``SolverOptions.tolerance``; the stationarity part of the cones' KKT residual; F = 0 is the
 whole discrete problem), or, once u solved the affine system of its own set, the normwise
@@ -51,7 +56,7 @@ _DEFAULT = SolverOptions()
 @dataclass
 class NewtonSolution:
     u: np.ndarray
-    active: np.ndarray          # bool at the Gauss points: P(u) > 0
+    active: np.ndarray          # the branch at the Gauss points: bool (P(u) > 0), or a friction law's codes
     residual: float             # max |F(u)| / max |b - A u_D| on the free dofs
     iterations: int
     linear_iterations: int      # CG iterations (multigrid), or LU factorisations

@@ -18,8 +18,8 @@ is not affine, and Newton relinearises at every step (``solvers.newton``).
 
 Nitsche (F. Chouly, J. Math. Anal. Appl. 411 (2014) 329-339, for the scalar model; its statement
 was not available to read here: the form below is the frictionless theta-family of
-``fem.contact_laws.builtin`` with the projection onto [0, inf) replaced by P_s, as MATH.md §11
-and the issue describe it). Write v_t = theta gamma flux_t(v) - P_theta(v) and put (*) in the
+``fem.contact_laws.builtin`` with the projection onto [0, inf) replaced by P_s, as issue 74
+describes it). Write v_t = theta gamma flux_t(v) - P_theta(v) and put (*) in the
 first term only:
 
     a(u, v) - L(v) - theta int gamma lambda_t(u) . flux_t(v)
