@@ -57,7 +57,7 @@ def test_friction_quantities_are_tabulated_when_the_rows_have_them():
                          "err_friction_l2": 0.3 * h ** 2})
     view = friction.friction_quantity_view(rows)
     assert list(view.columns) == ["case", "method", "qoi_slip_measure", "err_friction_l2"]
-    assert "(p 1.50)" in view.qoi_slip_measure[0] and "error 1.2e-01" in view.qoi_slip_measure[0]
+    assert "(p 1.50)" in view.qoi_slip_measure[0] and "error 4.4e-02" in view.qoi_slip_measure[0]
     assert "(rate 2.00)" in view.err_friction_l2[0]
     assert friction.friction_quantity_view(rows.drop(columns=["qoi_slip_measure", "err_friction_l2"])).empty
 

@@ -17,7 +17,7 @@ from ..plan import ReportPlan
 from ..plots import theorem_label
 from ..prose import belief_finding, reference_sentence, which_bound
 from ..tables import gamma_c_view, level_table, normalised_view, summary_table
-from .friction import STICK_SLIP_CAPTION
+from .friction import stick_slip_caption
 from .glance import verdict_counts
 
 
@@ -81,7 +81,7 @@ def case_figures_of(doc: Document, case: Case, f: dict) -> None:
 def contact_caption(case: Case) -> str:
     """What the contact figure of ``case`` shows, by its bodies, dimension and friction."""
     if case.frictional and case.dimension == 2 and not case.physics.elastic:
-        return "Stick and slip, " + STICK_SLIP_CAPTION
+        return "Stick and slip, " + stick_slip_caption(case)
     if case.bodies == 2:
         return ("Finest level along Γ_C: the opening [u_h] - 2α of the interface (sampled on the intersection of the two "
                 "trace meshes) and the mortar pressure per slave edge; shaded: exact contact zone.")

@@ -54,8 +54,8 @@ def write(doc: Document, plan: ReportPlan) -> None:
     doc.table(friction_rates_view(plan.rates[plan.rates.case.isin(names)], plan.results), verdict_column="verdict")
     absent = left_out_view(cases, plan.methods)
     if not absent.empty:
-        doc.paragraph("Methods of the report left out of the friction cases (not applicable: n/a in the matrix above), "
-                      "each with its own reason:")
+        doc.paragraph("Methods of the report left out of the friction cases, each with its own reason (n/a in the "
+                      "matrix above where the method ran on another case):")
         doc.table(absent)
     quantities = friction_quantity_view(plan.results[plan.results.case.isin(names)])
     if not quantities.empty:
@@ -64,7 +64,7 @@ def write(doc: Document, plan: ReportPlan) -> None:
                       "fitted rate over the last three levels. "
                       + "; ".join(f"`{name}`: {meaning}" for name, (meaning, _) in FRICTION_QUANTITIES.items()) + ".")
         doc.table(quantities)
-    figures = [(plan.figs[case.name]["contact"]["png"], f"{case.name}: {STICK_SLIP_CAPTION}")
+    figures = [(plan.figs[case.name]["contact"]["png"], f"{case.name}: {stick_slip_caption(case)}")
                for case in cases if plan.figs.get(case.name, {}).get("contact") is not None]
     if figures:
         doc.figures(figures, wide=True)
@@ -129,10 +129,14 @@ def quantity_text(group: pd.DataFrame, column: str, kind: str) -> str:
     return text + (f"; error {exact['error']:.1e}" if np.isfinite(exact["error"]) else "")
 
 
-STICK_SLIP_CAPTION = (
-    "finest level of each method along Γ_C. Top: the slip u_h (the friction variable's trace; the exact u dashed); "
-    "bottom: the friction force λ_h = g_C − ∂ₙu_h (the discrete multiplier per edge; the exact one dashed) between "
-    "the threshold ±s (grey). Shaded: the exact stick zone (u = 0). Right: zoomed on the first exact stick-slip point.")
+def stick_slip_caption(case) -> str:
+    """What ``stick_slip`` shows of ``case`` (with or without a closed-form solution)."""
+    exact = case.u is not None
+    return ("finest level of each method along Γ_C. Top: the slip u_h (the friction variable's trace"
+            + ("; the exact u dashed" if exact else "") + "); bottom: the friction force λ_h = g_C − ∂ₙu_h (the "
+            "discrete multiplier per edge" + ("; the exact one dashed" if exact else "") + ") between the threshold "
+            "±s (dotted). Shaded: " + ("the exact stick zone (u = 0)" if exact else "the first method's stick zone, where "
+            "|λ_h| < s (no closed-form solution)") + ". Right: zoomed on the first stick-slip point.")
 
 
 def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
@@ -148,19 +152,20 @@ def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
     if fields is None:
         return None
     fig, axes = plt.subplots(2, 2, figsize=(11, 5.6), sharex="col", gridspec_kw={"width_ratios": (1.6, 1)})
-    stick = np.abs(first[fields["exact_slip"]]) <= 1e-12 * max(1.0, np.nanmax(np.abs(first[fields["exact_slip"]])))
+    exact = bool(np.isfinite(first[fields["exact_slip"]]).all())       # a reference case has no exact u
+    threshold = threshold_along(case, first["s"])
+    stick = stick_zone(first, fields, exact, threshold)
     for column, window in enumerate((None, zoom_window(first["s"], stick, first["edge_lengths"]))):
         top, bottom = axes[:, column]
-        # the exact ones on top (zorder): the finest levels lie on them
-        top.plot(first["s"], first[fields["exact_slip"]], "k--", lw=1.0, label="exact u", zorder=5)
-        bottom.plot(first["s"], fields["sign"] * first[fields["exact_force"]], "k--", lw=1.0, label="exact λ", zorder=5)
+        if exact:       # the exact ones on top (zorder): the finest levels lie on them
+            top.plot(first["s"], first[fields["exact_slip"]], "k--", lw=1.0, label="exact u", zorder=5)
+            bottom.plot(first["s"], fields["sign"] * first[fields["exact_force"]], "k--", lw=1.0, label="exact λ", zorder=5)
         for method, snap in snapshots.items():
             colour = style(method)["color"]
             top.plot(snap["s"], snap[fields["slip"]], color=colour, lw=1.1, label=f"{method}: $u_h$")
             bottom.step(snap["edge_s"], snap[fields["force"]], where="mid", color=colour, lw=1.1, label=f"{method}: $\\lambda_h$")
-        if case.friction.constant:
-            for bound in (case.friction.threshold, -case.friction.threshold):
-                bottom.axhline(bound, color="0.5", lw=1.2, ls=":")
+        for bound in (threshold, -threshold) if threshold is not None else ():
+            bottom.plot(first["s"], bound, color="0.5", lw=1.2, ls=":")
         for ax in (top, bottom):
             ax.fill_between(first["s"], 0, 1, where=stick, transform=ax.get_xaxis_transform(), color="0.85", alpha=0.6, lw=0)
             ax.grid(True, alpha=0.25)
@@ -171,20 +176,61 @@ def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
             _fit_limits(top, [snap[fields["slip"]][(snap["s"] >= window[0]) & (snap["s"] <= window[1])]
                               for snap in snapshots.values()] + [first[fields["exact_slip"]][inside]])
             _fit_limits(bottom, [snap[fields["force"]][(snap["edge_s"] >= window[0]) & (snap["edge_s"] <= window[1])]
-                                 for snap in snapshots.values()] + [fields["sign"] * first[fields["exact_force"]][inside]])
+                                 for snap in snapshots.values()] + ([fields["sign"] * first[fields["exact_force"]][inside]] if exact else []))
     axes[0, 0].set_ylabel("slip $u_h$ on $\\Gamma_C$")
     axes[1, 0].set_ylabel("friction force $\\lambda_h$")
     axes[0, 0].legend(fontsize=7, loc="best")
     axes[1, 0].legend(fontsize=7, loc="best")
-    axes[1, 0].set_xlabel("coordinate along $\\Gamma_C$; shaded: exact stick zone; dotted: ±s")
+    axes[1, 0].set_xlabel("coordinate along $\\Gamma_C$; shaded: " + ("exact" if exact else f"{next(iter(snapshots))}'s")
+                          + " stick zone; dotted: ±s")
     axes[1, 1].set_xlabel("zoom on the stick-slip point")
     axes[0, 0].set_title(f"{case.name}: stick and slip, finest level of each method", fontsize=10)
     return save(fig, folder, f"{case.name}_stick_slip")
 
 
+def stick_zone(snapshot: dict, fields: dict, exact: bool, threshold: np.ndarray | None) -> np.ndarray:
+    """Where along Gamma_C (at the snapshot's points) it sticks: the exact solution's zeros, or
+    without one the edges of the snapshot's method whose friction force is inside the threshold
+    (a mean-analogue u_h is not pointwise 0 where it sticks: only its vertex values and edge
+    means are)."""
+    if exact or threshold is None:
+        slip = snapshot[fields["exact_slip"] if exact else fields["slip"]]
+        return np.abs(slip) <= 1e-12 * max(1.0, np.abs(slip).max())
+    bound = np.interp(snapshot["edge_s"], snapshot["s"], threshold)
+    inside = np.abs(snapshot[fields["force"]]) < (1 - 1e-8) * bound
+    return np.interp(snapshot["s"], snapshot["edge_s"], inside.astype(float)) > 0.5
+
+
+def threshold_along(case, s: np.ndarray) -> np.ndarray | None:
+    """The threshold s at the snapshot's coordinates along Gamma_C: a constant as it is; a
+    function evaluated on Gamma_C's edges of the case's coarse mesh, matched by their coordinate
+    along Gamma_C (``study.chain.snapshots.contact_snapshot``'s: along the direction from its first
+    to its last vertex); None where that fails."""
+    if case.friction.constant:
+        return np.full(len(s), float(case.friction.threshold))
+    from ...mesh.levels import coarse_mesh
+    from ...mesh.points import evaluate
+    from ...mesh.trace import CONTACT
+    mesh = coarse_mesh(case)
+    ends = np.array([[mesh.vertices[v.nr].point for v in el.vertices] for el in mesh.Boundaries(CONTACT).Elements()])
+    if ends.shape[-1] != 2:
+        return None
+    start, end = ends.reshape(-1, 2).min(axis=0), ends.reshape(-1, 2).max(axis=0)
+    direction = (end - start) / np.linalg.norm(end - start)
+    along = ends @ direction                                          # (edges, 2)
+    lo, hi = along.min(axis=1), along.max(axis=1)
+    edge = np.argmax((s[:, None] >= lo - 1e-12) & (s[:, None] <= hi + 1e-12), axis=1)     # the edge holding each s
+    k = ((s - along[edge, 0]) / (along[edge, 1] - along[edge, 0]))[:, None]
+    points = ends[edge, 0] * (1 - k) + ends[edge, 1] * k
+    return evaluate(case.friction.threshold_function, mesh, points)
+
+
 def _fit_limits(ax, values: list) -> None:
     """``ax``'s y-range to the values shown in its window, padded by 5%."""
     shown = np.concatenate(values)
+    shown = shown[np.isfinite(shown)]            # a reference case's exact values are NaN
+    if not len(shown):
+        return
     pad = 0.05 * np.ptp(shown) + 1e-12
     ax.set_ylim(shown.min() - pad, shown.max() + pad)
 

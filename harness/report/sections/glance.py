@@ -20,7 +20,7 @@ def write(doc: Document, plan: ReportPlan) -> None:
     doc.paragraph(MATRIX_NOTE + " " + verdict_counts(plan.rates) + ".")
     doc.matrix(cells, cells.attrs["verdicts"])
     if reasons:
-        doc.paragraph("n/a: the method does not discretise the case (its own reason, ``Method.refusal``): "
+        doc.paragraph("n/a: the method does not discretise the case, for its own reason: "
                       + "; ".join(f"{method} on {', '.join(cases)}: {why}" for (method, why), cases in reasons.items()) + ".")
     with doc.details("The same as a figure (report/figures/verdict_matrix.pdf, for a paper)", "verdict-matrix-figure"):
         doc.figures([(plan.figs["summary"]["matrix"]["png"], "Fitted / expected H¹ rate, coloured by verdict.")], wide=True)
