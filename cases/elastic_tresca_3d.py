@@ -82,3 +82,7 @@ grad_u = CF((0.0, s / mu * z * de_x, s / mu * e_x,
 f = CF((-(s * z * dde_x + (lam + mu) * b * v_x),
         -(lam + 2 * mu) * s * z * dde_y / mu,
         -(lam + mu) * (s * de_y / mu + b * v_z)))
+
+# only the contact laws (Nitsche, penalty) solve the 3D disc, and the default report runs no
+# weak method on 3D cases (``study.chain.run.PROFILES``, "weak_3d"): the fine profile's case
+report_profile = "fine"
