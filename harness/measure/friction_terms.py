@@ -1,0 +1,94 @@
+"""The Gamma_C terms of the residual estimator (``estimator.ResidualEstimator``) on a Tresca case
+(``problem.friction``): the friction law replaces the Signorini conditions, so the tension,
+penetration and contact complementarity give way to the friction ones, per point of Gamma_C
+(integrated over the contact cells by the estimator):
+
+scalar (Stadler's simplified friction: |lambda| <= s, lambda = -s u/|u| where u != 0,
+lambda = d_n u - g_C):
+
+    h_E (lambda_h - lambda(u_h))^2          flux against the discrete friction force
+  + h_E (|lambda_h| - s)_+^2                 excess over the threshold
+  + (s |u_h| + lambda_h u_h)_+               complementarity of the friction law
+
+elasticity with bilateral normal contact (u . n = 0; |sigma_t| <= s, sigma_t = -s u_t/|u_t|
+where u_t != 0, sigma_t the tangential traction less g_t, a vector):
+
+    h_E (lambda_h - p(u_h))^2                normal flux against the discrete normal reaction
+  + h_E^-1 (c(u_h) - obstacle)^2             the bilateral condition's residual, both signs
+  + h_E (|sigma_t(u_h)| - s)_+^2             excess of the tangential traction
+  + (s |u_h,t| + sigma_t(u_h) . u_h,t)_+     complementarity of the friction law
+
+Every term vanishes at the exact solution: |lambda| <= s makes s|u| + lambda u >= 0 with
+equality exactly where lambda = -s sign(u) or u = 0, so its positive part is zero there, and the
+others are residuals of equations u satisfies. The tangential force of elasticity is the
+pointwise traction of u_h (no discrete tangential multiplier is formed), so it has no "flux
+against the multiplier" term.
+
+These are not a quotation of a published residual estimator for Tresca friction: none was
+found whose text could be read here. The a posteriori analyses seen (abstracts only) are
+equilibrated-stress or constitutive-relation ones: Fontana & Di Pietro, arXiv 2401.02944
+(Tresca and Coulomb, unilateral contact); Coorevits, Hild & Hjiaj (Coulomb, error in the
+constitutive relation). The terms above follow the pattern of the Signorini estimator's
+(``estimator``'s docstring): residuals of the equations, h-weighted for forces, h^-1 for the
+displacement constraint, and the complementarity unsquared (it is linear in the error as the
+Signorini one is). As there, P_k with k >= 3 leave the complementarity out (``gap_density``
+of the estimator says why). No reliability constant is claimed; the harness measures the
+effectivity on the exact cases.
+"""
+from __future__ import annotations
+
+import ngsolve as ngs
+import numpy as np
+
+from ..mesh.points import evaluate
+
+
+def scalar_density(lam_h, force, u_h, s, h, complementarity: bool = True) -> dict:
+    """The scalar terms at points (arrays of one shape): ``lam_h`` the discrete friction force,
+    ``force`` lambda(u_h) = d_n u_h - g_C, ``u_h`` the trace, ``s`` the threshold, ``h`` the
+    cell size. A dict term name -> density."""
+    terms = {"flux": h * (lam_h - force) ** 2, "excess": h * np.maximum(np.abs(lam_h) - s, 0.0) ** 2}
+    terms["complementarity"] = np.maximum(s * np.abs(u_h) + lam_h * u_h, 0.0) if complementarity else 0.0 * h
+    return terms
+
+
+def elastic_density(lam_h, pressure, normal_residual, traction_t, u_t, s, h, complementarity: bool = True) -> dict:
+    """The elastic terms at q points: ``lam_h`` the discrete normal reaction, ``pressure``
+    p(u_h), ``normal_residual`` c(u_h) - obstacle (q,), ``traction_t`` sigma_t(u_h) - g_t and
+    ``u_t`` the tangential trace (q, dim), ``s`` and ``h`` (q,)."""
+    excess = np.maximum(np.linalg.norm(traction_t, axis=-1) - s, 0.0)
+    terms = {"flux": h * (lam_h - pressure) ** 2, "normal": normal_residual**2 / h, "excess": h * excess**2}
+    work = s * np.linalg.norm(u_t, axis=-1) + (traction_t * u_t).sum(axis=-1)
+    terms["complementarity"] = np.maximum(work, 0.0) if complementarity else 0.0 * h
+    return terms
+
+
+class FrictionTerms:
+    """The friction terms of one discrete problem at the estimator's contact points ``q``
+    (``fem.contact_quadrature``): ``density(lam_h, u, gfu)`` per point, summed over the terms;
+    ``terms(...)`` gives them apart."""
+
+    def __init__(self, case, problem, q, load, obstacle):
+        self.case, self.problem, self.q, self.load = case, problem, q, load
+        self.obstacle = 0.0 if obstacle is None else obstacle
+        self.s = evaluate(case.friction.threshold_function, problem.mesh, q.points)
+        # the complementarity is left out for P_k, k >= 3, as in the Signorini terms
+        self.complementarity = problem.order <= 2
+
+    def terms(self, lam_h: np.ndarray, u: np.ndarray, gfu) -> dict:
+        q, physics, mesh = self.q, self.case.physics, self.problem.mesh
+        gradients = evaluate(ngs.grad(gfu), mesh, q.points).reshape(len(q.h), physics.components, -1)
+        flux = physics.flux_array(gradients)
+        if physics.components == 1:
+            force = physics.contact_forces(flux, q.normals, self.load)[0]
+            return scalar_density(lam_h, force, q.T @ u, self.s, q.h, self.complementarity)
+        traction = np.einsum("qij,qj->qi", flux, q.normals) - self.load
+        normal = (traction * q.normals).sum(axis=-1)
+        traction_t = traction - normal[:, None] * q.normals
+        values = evaluate(gfu, mesh, q.points).reshape(q.normals.shape)
+        u_t = values - (values * q.normals).sum(axis=-1)[:, None] * q.normals
+        return elastic_density(lam_h, -normal, q.T @ u - self.obstacle, traction_t, u_t, self.s, q.h,
+                               self.complementarity)
+
+    def density(self, lam_h: np.ndarray, u: np.ndarray, gfu) -> np.ndarray:
+        return sum(self.terms(lam_h, u, gfu).values())
