@@ -76,18 +76,20 @@ class FrictionTerms:
         self.complementarity = problem.order <= 2
 
     def terms(self, lam_h: np.ndarray, u: np.ndarray, gfu) -> dict:
+        """The densities of ``scalar_density`` or ``elastic_density`` at the contact points, of
+        the solution u (its GridFunction ``gfu``) and its discrete force ``lam_h`` there."""
         q, physics, mesh = self.q, self.case.physics, self.problem.mesh
         gradients = evaluate(ngs.grad(gfu), mesh, q.points).reshape(len(q.h), physics.components, -1)
         flux = physics.flux_array(gradients)
-        if physics.components == 1:
-            force = physics.contact_forces(flux, q.normals, self.load)[0]
+        force, tangential = physics.contact_forces(flux, q.normals, self.load)
+        if tangential is None:          # the physics has no tangential force: the scalar model
             return scalar_density(lam_h, force, q.T @ u, self.s, q.h, self.complementarity)
         traction = np.einsum("qij,qj->qi", flux, q.normals) - self.load
         normal = (traction * q.normals).sum(axis=-1)
         traction_t = traction - normal[:, None] * q.normals
         values = evaluate(gfu, mesh, q.points).reshape(q.normals.shape)
         u_t = values - (values * q.normals).sum(axis=-1)[:, None] * q.normals
-        return elastic_density(lam_h, -normal, q.T @ u - self.obstacle, traction_t, u_t, self.s, q.h,
+        return elastic_density(lam_h, force, q.T @ u - self.obstacle, traction_t, u_t, self.s, q.h,
                                self.complementarity)
 
     def density(self, lam_h: np.ndarray, u: np.ndarray, gfu) -> np.ndarray:
