@@ -20,18 +20,15 @@ holds every measured value with a margin; the nodal and P1 ones are also asympto
 constant (ratio max/min over the last levels near 1), what an estimator that is both reliable
 and efficient up to constants shows.
 """
-import types
-
 import numpy as np
 import pytest
 from conftest import problem_at
 
 import harness
 from harness.measure.estimator import ResidualEstimator
-from harness.measure.friction_terms import FrictionTerms, elastic_density, scalar_density
+from harness.measure.friction_terms import elastic_density, scalar_density
 from harness.measure.rates import fit_ndof_rate
 from harness.mesh.points import evaluate
-from harness.problem import Tresca
 from harness.problem.case import load_case
 
 slow = pytest.mark.slow
@@ -62,6 +59,23 @@ def test_each_friction_term_vanishes_at_the_exact_solution(case_name):
         assert np.abs(density).max() <= 1e-13, term
 
 
+def test_each_elastic_friction_term_vanishes_at_the_exact_solution():
+    """elastic-tresca-r32 at the estimator's contact points: u . n = 0, the exact traction as
+    both the discrete and the pointwise friction force, the exact slip: every term zero."""
+    case, problem = load_case("elastic-tresca-r32"), problem_at("elastic-tresca-r32", 1, 2)
+    estimator = ResidualEstimator(case, problem)
+    q, mesh, physics = estimator.q, problem.mesh, case.physics
+    p = physics.pressure(case, mesh, q.points, q.normals)
+    traction_t = physics.tangential_traction(case, mesh, q.points, q.normals)
+    u = evaluate(case.u, mesh, q.points).reshape(q.normals.shape)
+    u_t = u - (u * q.normals).sum(axis=-1)[:, None] * q.normals
+    normal = physics.contact_value(case, mesh, q.points, q.normals) - estimator.friction.obstacle
+    assert (np.linalg.norm(u_t, axis=-1) > 1e-3).any() and (np.linalg.norm(u_t, axis=-1) < 1e-14).any()
+    s = evaluate(case.friction.threshold_function, mesh, q.points)
+    for term, density in elastic_density(p, p, normal, traction_t, traction_t, u_t, s, q.h).items():
+        assert np.abs(density).max() <= 1e-12, term
+
+
 @pytest.mark.parametrize("case_name", TRESCA_CASES)
 @pytest.mark.parametrize("violation, term", [("flip", "complementarity"), ("exceed", "excess"), ("shift", "flux")])
 def test_each_friction_term_sees_its_violation(case_name, violation, term):
@@ -84,8 +98,9 @@ def test_each_friction_term_sees_its_violation(case_name, violation, term):
 @pytest.mark.parametrize("dim", [2, 3])
 def test_the_elastic_friction_terms_vanish_on_stick_and_slip_and_see_violations(dim, rng):
     """Elasticity, bilateral contact: sigma_t in the disc of radius s on stick points (u_t = 0),
-    sigma_t = -s u_t / |u_t| on slip points, u . n = 0: every term zero; a tangential traction
-    along the slip, beyond s, or a normal gap each turn their term positive."""
+    sigma_t = -s u_t / |u_t| on slip points, u . n = 0: every term zero; a tangential force
+    along the slip, beyond s, other than the traction of u_h, or a normal gap each turn their
+    term positive."""
     m = 50
     s, h = np.full(2 * m, 0.7), np.full(2 * m, 0.1)
     u_t = np.zeros((2 * m, dim))
@@ -94,27 +109,13 @@ def test_the_elastic_friction_terms_vanish_on_stick_and_slip_and_see_violations(
     traction[:m, :-1] = rng.uniform(-0.4, 0.4, (m, dim - 1)) / np.sqrt(dim - 1)
     traction[m:] = -s[m:, None] * u_t[m:] / np.linalg.norm(u_t[m:], axis=-1)[:, None]
     p = rng.standard_normal(2 * m)
-    exact = elastic_density(p, p, np.zeros(2 * m), traction, u_t, s, h)
+    exact = elastic_density(p, p, np.zeros(2 * m), traction, traction, u_t, s, h)
     for term, density in exact.items():
         assert np.abs(density).max() <= 1e-14, term
-    assert elastic_density(p, p, np.zeros(2 * m), -traction, u_t, s, h)["complementarity"].sum() > 1e-3
-    assert elastic_density(p, p, np.zeros(2 * m), 2 * traction, u_t, s, h)["excess"].sum() > 1e-3
-    assert elastic_density(p, p, np.full(2 * m, 1e-3), traction, u_t, s, h)["normal"].sum() > 1e-6
-
-
-def test_the_elastic_path_of_the_friction_terms_evaluates_on_a_mesh():
-    """``FrictionTerms.terms`` of an elastic P2 problem (an elastic case given Tresca's law):
-    one finite, non-negative density per contact point and term."""
-    case, problem = load_case("elastic-transition-r32"), problem_at("elastic-transition-r32", 0, 2)
-    estimator = ResidualEstimator(case, problem)
-    tresca = types.SimpleNamespace(friction=Tresca(threshold=0.5), physics=case.physics)
-    terms = FrictionTerms(tresca, problem, estimator.q, estimator.load, estimator.obstacle)
-    u = np.random.default_rng(1).standard_normal(problem.ndof) * 1e-2
-    lam_h = estimator.T_contact @ estimator.pressure.coefficients(u)
-    out = terms.terms(lam_h, u, problem.gridfunction(u))
-    assert set(out) == {"flux", "normal", "excess", "complementarity"}
-    for density in out.values():
-        assert density.shape == estimator.q.h.shape and np.isfinite(density).all() and density.min() >= 0
+    assert elastic_density(p, p, np.zeros(2 * m), -traction, -traction, u_t, s, h)["complementarity"].sum() > 1e-3
+    assert elastic_density(p, p, np.zeros(2 * m), 2 * traction, 2 * traction, u_t, s, h)["excess"].sum() > 1e-3
+    assert elastic_density(p, p, np.zeros(2 * m), 0.5 * traction, traction, u_t, s, h)["flux"].sum() > 1e-6
+    assert elastic_density(p, p, np.full(2 * m, 1e-3), traction, traction, u_t, s, h)["normal"].sum() > 1e-6
 
 
 def study(case_name: str, methods: list, meshes: str, levels: int):
@@ -122,7 +123,8 @@ def study(case_name: str, methods: list, meshes: str, levels: int):
 
 
 @pytest.mark.parametrize("case_name, method, rate", [
-    ("tresca-r32", "nodal", 1.5), ("tresca-r32", "p1", 1.0), ("tresca-r72", "nodal", 2.0), ("tresca-r72", "p1", 1.0)])
+    ("tresca-r32", "nodal", 1.5), ("tresca-r32", "p1", 1.0), ("tresca-r72", "nodal", 2.0), ("tresca-r72", "p1", 1.0),
+    ("elastic-tresca-r32", "nodal", 1.5), ("elastic-tresca-r32", "p1", 1.0)])
 def test_the_estimator_converges_at_the_error_rate_under_uniform_refinement(case_name, method, rate):
     """eta's fitted rate in h over levels 2-4 is the error's (P2 h^1.5 on the r^{3/2} point,
     h^2 on the H^{7/2-eps} one; P1 h): the friction terms do not stagnate (the Signorini tension

@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import ngsolve as ngs
 import numpy as np
+from scipy.sparse.linalg import splu
 
 from ..mesh.points import evaluate
 
@@ -52,13 +53,15 @@ def scalar_density(lam_h, force, u_h, s, h, complementarity: bool = True) -> dic
     return terms
 
 
-def elastic_density(lam_h, pressure, normal_residual, traction_t, u_t, s, h, complementarity: bool = True) -> dict:
+def elastic_density(lam_h, pressure, normal_residual, force_t, traction_t, u_t, s, h,
+                    complementarity: bool = True) -> dict:
     """The elastic terms at q points: ``lam_h`` the discrete normal reaction, ``pressure``
-    p(u_h), ``normal_residual`` c(u_h) - obstacle (q,), ``traction_t`` sigma_t(u_h) - g_t and
-    ``u_t`` the tangential trace (q, dim), ``s`` and ``h`` (q,)."""
-    excess = np.maximum(np.linalg.norm(traction_t, axis=-1) - s, 0.0)
-    terms = {"flux": h * (lam_h - pressure) ** 2, "normal": normal_residual**2 / h, "excess": h * excess**2}
-    work = s * np.linalg.norm(u_t, axis=-1) + (traction_t * u_t).sum(axis=-1)
+    p(u_h), ``normal_residual`` c(u_h) - obstacle (q,); ``force_t`` the discrete friction force,
+    ``traction_t`` sigma_t(u_h) - g_t and ``u_t`` the tangential trace (q, dim); ``s``, ``h`` (q,)."""
+    flux = (lam_h - pressure) ** 2 + ((force_t - traction_t) ** 2).sum(axis=-1)
+    excess = np.maximum(np.linalg.norm(force_t, axis=-1) - s, 0.0)
+    terms = {"flux": h * flux, "normal": normal_residual**2 / h, "excess": h * excess**2}
+    work = s * np.linalg.norm(u_t, axis=-1) + (force_t * u_t).sum(axis=-1)
     terms["complementarity"] = np.maximum(work, 0.0) if complementarity else 0.0 * h
     return terms
 
@@ -66,7 +69,14 @@ def elastic_density(lam_h, pressure, normal_residual, traction_t, u_t, s, h, com
 class FrictionTerms:
     """The friction terms of one discrete problem at the estimator's contact points ``q``
     (``fem.contact_quadrature``): ``density(lam_h, u, gfu)`` per point, summed over the terms;
-    ``terms(...)`` gives them apart."""
+    ``terms(...)`` gives them apart.
+
+    The discrete friction force of 2D elasticity is made as the scalar one (``errors.DiscretePressure``):
+    the representative in the trace space of a(u_h, w tau) - L(w tau), the residual's rows of
+    the tangential dofs of the rotated frame (``fem.rotated_frame``: the component before the
+    contact one, tau = (-n_y, n_x)), kept here before a solve takes the stiffness matrix. In 3D
+    (and without a rotated frame) the pointwise traction sigma_t(u_h) stands in for it, and the
+    complementarity is then linear in the traction's error on the slip zone."""
 
     def __init__(self, case, problem, q, load, obstacle):
         self.case, self.problem, self.q, self.load = case, problem, q, load
@@ -74,6 +84,20 @@ class FrictionTerms:
         self.s = evaluate(case.friction.threshold_function, problem.mesh, q.points)
         # the complementarity is left out for P_k, k >= 3, as in the Signorini terms
         self.complementarity = problem.order <= 2
+        self.tangential = None
+        if problem.physics.rotated_frame and problem.mesh.dim == 2:
+            rows = problem.contact_dofs - problem.ndof // problem.physics.components
+            T = q.T[:, problem.contact_dofs].tocsc()     # the scalar trace basis on Gamma_C
+            mass = splu((T.T @ T.multiply(q.weights[:, None])).tocsc())
+            self.tangential = (problem.A[rows].copy(), problem.b[rows], T.tocsr(), mass)
+
+    def friction_force(self, u: np.ndarray, traction_t: np.ndarray) -> np.ndarray:
+        """The discrete friction force (q, dim) of an elastic u (``traction_t`` without one)."""
+        if self.tangential is None:
+            return traction_t
+        rows, b, T, mass = self.tangential
+        normals = self.q.normals
+        return (T @ mass.solve(rows @ u - b))[:, None] * np.stack([-normals[:, 1], normals[:, 0]], axis=-1)
 
     def terms(self, lam_h: np.ndarray, u: np.ndarray, gfu) -> dict:
         """The densities of ``scalar_density`` or ``elastic_density`` at the contact points, of
@@ -85,12 +109,11 @@ class FrictionTerms:
         if tangential is None:          # the physics has no tangential force: the scalar model
             return scalar_density(lam_h, force, q.T @ u, self.s, q.h, self.complementarity)
         traction = np.einsum("qij,qj->qi", flux, q.normals) - self.load
-        normal = (traction * q.normals).sum(axis=-1)
-        traction_t = traction - normal[:, None] * q.normals
+        traction_t = traction - (traction * q.normals).sum(axis=-1)[:, None] * q.normals
         values = evaluate(gfu, mesh, q.points).reshape(q.normals.shape)
         u_t = values - (values * q.normals).sum(axis=-1)[:, None] * q.normals
-        return elastic_density(lam_h, force, q.T @ u - self.obstacle, traction_t, u_t, self.s, q.h,
-                               self.complementarity)
+        return elastic_density(lam_h, force, q.T @ u - self.obstacle, self.friction_force(u, traction_t), traction_t,
+                               u_t, self.s, q.h, self.complementarity)
 
     def density(self, lam_h: np.ndarray, u: np.ndarray, gfu) -> np.ndarray:
         return sum(self.terms(lam_h, u, gfu).values())
