@@ -1,10 +1,10 @@
 """Two bodies with Tresca friction between them, non-matching meshes: tresca-r32's stick-slip
-point on the interface (harness.problem.bodies, harness.problem.friction).
+point on the interface (``harness.problem.bodies``, ``harness.problem.friction``).
 
 Upper body (-1, 1) x (0, 1), lower body its mirror image, Gamma_C = {y = 0} between them,
 Gamma_u the outer horizontal sides, Gamma_g the vertical ones. Upper: u = s y + c r^{3/2}
 cos(3 theta/2) (cases/tresca_r32.py, s = c = 1); lower: its mirror image, whose scalar variable
-is -u_2 (``problem.bodies``). Friction acts on the jump [u] = u_1 - u_2 = 2 u on Gamma_C:
+is -u_2 (``harness.problem.bodies``). Friction acts on the jump [u] = u_1 - u_2 = 2 u on Gamma_C:
 j(v) = int s |[v]|. The jump vanishes for x < 0 (stick, |d_n u| <= s on both sides) and is
 2 x^{3/2} > 0 for x > 0 (slip, d_n u = -s on both): each body's flux is tresca-r32's, and the
 friction force balances across Gamma_C. u in H^{5/2 - eps} on each body: the one-body rate

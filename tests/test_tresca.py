@@ -87,7 +87,7 @@ def test_functionals_whose_quadrature_has_a_negative_weight_are_refused():
 
 
 def test_a_frictionless_method_is_left_out_of_a_tresca_case_with_its_reason():
-    assert "frictionless contact, not tresca friction" in get_method("mortar-nodal").refusal(load_case("tresca-r32"))
+    assert "frictionless contact, not tresca friction" in get_method("mortar-standard").refusal(load_case("tresca-r32"))
 
 
 def test_the_nodal_cone_given_by_its_functional_is_the_nodal_model():

@@ -33,7 +33,9 @@ import scipy.sparse as sp
 
 from ..fem.assembly import ContactTraceFunction
 from ..fem.cones import contact_pressure, end_status
+from ..fem.contact_laws.channels import friction_system
 from ..fem.contact_laws.system import contact_data, law_system
+from ..fem.contact_laws.tresca import law_for
 from ..fem.contact_quadrature import ContactNodes, contact_quadrature, lagrange_nodes
 from ..fem.edge_functionals import check_rules, edge_functional_qp
 from ..fem.friction import rules_friction_qp
@@ -172,7 +174,13 @@ class ContactLawMethod(Method):
     residual <= 1e-10. The law's parameters, if it is a dataclass, are the method's
     (``nitsche:gamma0=0.1,theta=-1`` on the command line), checked by the law itself. A law with
     a field ``degree`` left None (``fem.contact_laws.builtin``) is told the method's order: the k its parameter
-    is chosen for, which an hp mesh scales by (k / p)^2 in an element of degree p."""
+    is chosen for, which an hp mesh scales by (k / p)^2 in an element of degree p.
+
+    Friction: on a case with a friction law (``problem.friction``) among the method's
+    ``friction``, the law is replaced by its friction law (``fem.contact_laws.tresca.law_for``:
+    the built-in Nitsche and penalty laws carry their parameters over; a law of your own gives
+    ``for_friction``, or is itself a ``fem.contact_laws.protocol.FrictionLaw``), solved by the same Newton
+    method on the channels of ``fem.contact_laws.channels``."""
 
     law: object = None
     physics: tuple = ("scalar", "elasticity")
@@ -180,6 +188,12 @@ class ContactLawMethod(Method):
     cost_model: str | float = "newton"
 
     def system(self, case, problem, take_stiffness: bool = False):
+        """The law's system on ``problem``; on a case with friction (``problem.friction``) the
+        system of the friction law that carries the law's idea and parameters
+        (``fem.contact_laws.tresca.law_for``): the method is the discretisation, the friction
+        law the case's physics."""
+        if case.frictional:
+            return friction_system(case, problem, law_for(self.calibrated_law, case.friction), take_stiffness)
         return law_system(case, problem, self.calibrated_law, take_stiffness)
 
     @property
@@ -224,9 +238,12 @@ class ContactLawMethod(Method):
         u = solution.u
         trace_u = ContactTraceFunction.of(problem, u)
         pressure = system.quadrature.edge_means(system.pressure(u))
-        fields = SolveFields(max_penetration(case, problem.mesh, trace_u), float(pressure.min()), solution.residual,
+        # the scalar Tresca model has no unilateral condition: no penetration (as the cones')
+        penetration = float("nan") if case.frictional and not problem.physics.rotated_frame else \
+            max_penetration(case, problem.mesh, trace_u)
+        fields = SolveFields(penetration, float(pressure.min()), solution.residual,
                              solution.status, solution.iterations, solution.linear_iterations,
-                             active_constraints=int(solution.active.sum()), backward_error=solution.backward,
+                             active_constraints=int(np.count_nonzero(solution.active)), backward_error=solution.backward,
                              solve_seconds=solution.seconds)
         return LevelSolve(fields, u, trace_u, pressure,
                           LawCarry(p1_values(problem, u), points=system.quadrature.points, active=solution.active))
