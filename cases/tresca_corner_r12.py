@@ -50,3 +50,8 @@ f = 0
 singular_points = [(0.0, 0.0), (0.5, 0.0)]   # the junction, the stick-slip point
 # g_C takes the flux r0^{-1/2}/2 of u_s on all of Gamma_C (x > 0 there)
 contact_load = IfPos(x, 0.5 * x ** (-0.5), 0.0)
+
+# the default report holds one scalar and one elastic Tresca case (tresca-r32,
+# elastic-tresca-r32) within its time goal; this one is the fine profile's (``report --case``
+# runs it alone)
+report_profile = "fine"

@@ -22,8 +22,11 @@ regime = "2 < nu <= 5/2"
 theorem = "friction analogue of 4.1 ii, 5.1 ii"
 nu = 2.5
 expected_rate = 1.5
-# the sixth and seventh levels move no fitted H^1 rate (nodal, mean, p1) by more than 0.003
+# Asymptotic by five P2 levels: the sixth and seventh move no fitted H^1 rate by more than 0.003
+# (nodal, mean, p1, nitsche, nitsche-p1, penalty-p1), except the P2 penalty's, which falls
+# towards 1 from above (1.047, 1.025, 1.012 at five, six, seven levels; its verdict the same)
 asymptotic_levels = 5
+asymptotic_levels_p1 = 5
 
 s, c = 1.0, 1.0
 friction = Tresca(threshold=s)

@@ -37,3 +37,8 @@ dirichlet = 0
 neumann = 0
 singular_points = []            # the stick-slip point is unknown; the data are smooth everywhere
 reference_levels = 2
+
+# the default report holds one scalar and one elastic Tresca case (tresca-r32,
+# elastic-tresca-r32) within its time goal; this one is the fine profile's (``report --case``
+# runs it alone)
+report_profile = "fine"

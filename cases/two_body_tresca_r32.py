@@ -35,3 +35,8 @@ u = s * (r * sin(theta)) + c * r ** 1.5 * cos(1.5 * theta)
 grad_u = (1.5 * c * sqrt(r) * cos(theta / 2), s - 1.5 * c * sqrt(r) * sin(theta / 2))
 f = 0
 singular_points = [(0.0, 0.0)]
+
+# the default report holds one scalar and one elastic Tresca case (tresca-r32,
+# elastic-tresca-r32) within its time goal; this one is the fine profile's (``report --case``
+# runs it alone)
+report_profile = "fine"
