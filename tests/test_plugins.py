@@ -205,3 +205,18 @@ def test_a_variant_takes_none_of_the_roles_of_the_method_it_varies():
     assert nitsche.with_extra_levels(1).roles == nitsche.roles
     with pytest.raises(ValueError, match="unknown role"):
         nitsche.with_roles("favourite")
+
+
+@pytest.mark.parametrize("case", ["tresca-r32", "elastic-tresca-r32"])
+def test_a_friction_law_from_a_file_outside_the_repository_runs_on_the_scalar_and_the_elastic_case(outside, case):
+    """``examples/methods/tresca_law.py`` (Nitsche-Tresca with theta = 1/2, a ``FrictionLaw`` of
+    its own), from a folder outside the repository: every row converged beside the built-in
+    cone, its errors within a few per cent of the cone's (both converge to the same u)."""
+    done = harness_cli("run", "--case", case, "--method", "tresca_law.py", "--method", "nodal", "--levels", "3",
+                       "--out", "out", "--quiet", cwd=outside)
+    assert done.returncode == 0, done.stderr
+    rows = rows_of(outside / "out")
+    assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
+    errors = rows.pivot(index="level", columns="method", values="err_h1")
+    mine = [name for name in errors.columns if name != "nodal"]
+    assert len(mine) == 1 and (abs(errors[mine[0]] / errors["nodal"] - 1.0) < 0.2).all(), errors
