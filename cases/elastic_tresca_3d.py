@@ -84,5 +84,5 @@ f = CF((-(s * z * dde_x + (lam + mu) * b * v_x),
         -(lam + mu) * (s * de_y / mu + b * v_z)))
 
 # only the contact laws (Nitsche, penalty) solve the 3D disc, and the default report runs no
-# weak method on 3D cases (``study.chain.run.PROFILES``, "weak_3d"): the fine profile's case
+# weak method on 3D cases (``harness.study.chain.run.PROFILES``, "weak_3d"): the fine profile's case
 report_profile = "fine"

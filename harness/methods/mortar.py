@@ -60,9 +60,13 @@ class Mortar(Method):
         return ContactModel(self.edge_functional).weight if order == 2 else None
 
     def refusal(self, case) -> str | None:
-        """Also: Tresca between two bodies on the dual multipliers only (their rows are bounds)."""
+        """Also: Tresca between two bodies on the dual multipliers only (their rows are bounds),
+        and in the scalar model only (in elasticity its rows are the normal opening's, not the
+        tangential slip's)."""
         if case.frictional and self.multipliers != "dual" and case.friction.name in self.friction:
             return "its multipliers are not dual: Tresca's rows would not be bounds"
+        if case.frictional and case.physics.rotated_frame and case.friction.name in self.friction:
+            return "its Tresca rows are the scalar model's; the elastic tangential slip between two bodies is not implemented"
         return super().refusal(case)
 
     def solve(self, case, problem: TwoBodyProblem, carry, multilevel, take_stiffness: bool = False, phases=None,

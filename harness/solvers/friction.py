@@ -8,11 +8,12 @@ lambda = (b - K z)_F lies in c * d|z_F| (the subdifferential), row by row one of
     stick:  z_i = 0,   |lambda_i| <= c_i;     slip+:  z_i >= 0, lambda_i = c_i;
     slip-:  z_i <= 0,  lambda_i = -c_i.
 
-This is the bound-constrained dual of Stadler (SIAM J. Optim. 15 (2004), the simplified
-friction problem (P) and its dual (P*)): two constraints per row, lambda_i <= c_i (active:
-slip+) and -lambda_i <= c_i (active: slip-), with multipliers z_i >= 0 and -z_i >= 0. The
-primal-dual active set method on it is the semismooth Newton method of Stadler's Section 3
-(Hintermueller, Ito & Kunisch 2002), and each set's problem is linear: a stick row is a pin
+These are the optimality conditions of a bound-constrained dual (derived here from the
+subdifferential of |.|; Stadler, SIAM J. Optim. 15 (2004), poses the simplified friction problem
+and solves its dual by semismooth Newton: only his abstract and the start of his Section 1 were
+read): two constraints per row, lambda_i <= c_i (active: slip+) and -lambda_i <= c_i (active:
+slip-), with multipliers z_i >= 0 and -z_i >= 0. The primal-dual active set method on them is a
+semismooth Newton method (Hintermueller, Ito & Kunisch 2002), and each set's problem is linear: a stick row is a pin
 z_i = 0, a slip row a Neumann row with the force c_i moved into the load. So a set costs one
 solve with some dofs pinned, by the same systems as the cones' (``bound_constraints``:
 the truncated multigrid CG, or Cholesky reused across sets), and the iteration is

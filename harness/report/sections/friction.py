@@ -26,8 +26,9 @@ FRICTION_NOTE = (
     "The cones carry the paper's two ideas over to j(v) = ∫ s|v_t|: `nodal` by the quadrature of s|v| at Γ_C's P2 "
     "nodes (Simpson's weights: a two-sided bound per node on the multiplier), `mean` by the edge means (a P0 "
     "multiplier, |λ_e| ≤ s_e), `p1` by the trapezoidal rule; each discrete problem is solved exactly, as the "
-    "bound-constrained dual, by the primal-dual active set method. No theorem for P2 Tresca was read: the expected "
-    "rates are the contact theorems' read for friction (h^{min(ν−1, k−1/2)} for u ∈ H^ν), which the rows test.")
+    "bound-constrained dual, by the primal-dual active set method. No theorem for P2 Tresca was read: each case "
+    "declares the rate its regularity allows the best approximation (h^{min(ν−1, k)}, capped by the method's own "
+    "theory where it has one), a conjecture the rows test.")
 
 # the friction quantities (results.csv columns) the section tabulates where the rows have them:
 # what each is, and whether it is an error (fitted for its rate) or a value (its GCI band)
