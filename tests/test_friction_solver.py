@@ -155,19 +155,23 @@ def nested_sets(case_name: str, method_name: str, levels: int) -> list[int]:
     return sets
 
 
-# The measured sets per fine level (levels 2-5, tresca-r32 and tresca-r72): a set is solved
-# loosely first and its final set again to the full depth, so a right prediction costs 2
-# iterations; nodal mispredicts at most the one node next to the stick-slip point (3), p1 none
-# past level 2, mean its edges next to stick-zone vertices (whose weightless rows carry the
-# sign of round-off: see ``fem.nested.friction_prediction``). A cold start takes 5-9.
-NESTED_BOUND = {"nodal": 3, "p1": 3, "mean": 4}
+# The measured active set iterations per level (levels 0-5) with the nested prediction:
+#   tresca-r32: nodal 6 2 2 2 2 2, mean 5 2 2 2 2 2, p1 3 2 2 2 2 2;
+#   tresca-r72: nodal 9 2 2 2 3 4, mean 7 3 3 4 4 4, p1 4 2 2 2 2 2.
+# Two is the least: the first set is solved loosely (``pdas.loose_depth``) and, unchanged, again
+# to the full depth. On tresca-r72 the stick-slip point is flat (u ~ x^{5/2}): its discrete
+# transition moves by a node or two between levels, which the iteration corrects (a set each).
+# The bound is what was measured, on levels >= 2.
+NESTED_BOUND = {"nodal": 4, "mean": 4, "p1": 2}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case_name", CASE_NAMES)
 @pytest.mark.parametrize("method_name", MODEL_NAMES)
 def test_nested_prediction_leaves_few_sets_on_fine_levels(method_name, case_name):
-    sets = nested_sets(case_name, method_name, 5)
+    sets = nested_sets(case_name, method_name, 6)
     assert max(sets[2:]) <= NESTED_BOUND[method_name], sets
+    assert sets[0] > 2                  # the cold start of level 0 takes more: the prediction is why
 
 
 @pytest.mark.parametrize("method_name", MODEL_NAMES)
