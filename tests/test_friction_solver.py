@@ -165,7 +165,6 @@ def nested_sets(case_name: str, method_name: str, levels: int) -> list[int]:
 NESTED_BOUND = {"nodal": 4, "mean": 4, "p1": 2}
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("case_name", CASE_NAMES)
 @pytest.mark.parametrize("method_name", MODEL_NAMES)
 def test_nested_prediction_leaves_few_sets_on_fine_levels(method_name, case_name):
