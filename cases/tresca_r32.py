@@ -22,6 +22,8 @@ regime = "2 < nu <= 5/2"
 theorem = "friction analogue of 4.1 ii, 5.1 ii"
 nu = 2.5
 expected_rate = 1.5
+# the sixth and seventh levels move no fitted H^1 rate (nodal, mean, p1) by more than 0.003
+asymptotic_levels = 5
 
 s, c = 1.0, 1.0
 friction = Tresca(threshold=s)

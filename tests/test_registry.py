@@ -13,6 +13,7 @@ import pytest
 
 from harness.core.names import assignments, look_up, split_spec
 from harness.methods import FAMILIES, GROUPS, METHODS, Method, OwnSolution, OwnSolve, get_method, left_out, methods_for
+from harness.problem.friction import FRICTIONLESS
 
 PACKAGE = Path(__file__).resolve().parent.parent / "harness"
 
@@ -70,7 +71,8 @@ def test_an_unknown_role_is_refused_in_one_line():
 
 
 def _case(physics="scalar", dimension=2, bodies=1, exact=True):
-    return SimpleNamespace(physics=SimpleNamespace(name=physics), dimension=dimension, bodies=bodies, exact=exact)
+    return SimpleNamespace(physics=SimpleNamespace(name=physics), dimension=dimension, bodies=bodies, exact=exact,
+                           friction=FRICTIONLESS, frictional=False)
 
 
 def _own(**declared):

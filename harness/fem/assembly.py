@@ -69,6 +69,7 @@ class DiscreteProblem:
     quadrature: ElementQuadrature
     physics: object                             # the case's (``problem.physics``)
     contact_rows: sp.csr_matrix | None = None   # A's rows of ``contact_dofs``, kept after A is taken
+    tangential_rows: sp.csr_matrix | None = None  # A's rows of ``tangential_dofs`` (elastic friction cases), kept too
     basis: sp.csr_matrix | None = None          # Q: NGSolve's (Cartesian) coefficients = Q @ ours; None: Q = I
     # what later stages make once per problem and share (the errors' discrete pressure), by kind
     cache: dict = field(default_factory=dict, repr=False, compare=False)
@@ -88,6 +89,15 @@ class DiscreteProblem:
     def contact_dofs(self) -> np.ndarray:
         """The dofs whose basis functions have a trace on Gamma_C: its vertices, then its edges."""
         return np.concatenate([self.vertex_dofs, self.edge_dofs])
+
+    @property
+    def tangential_dofs(self) -> np.ndarray:
+        """(d - 1, len(contact_dofs)) the tangential dofs of each contact dof's node in the rotated
+        frame (the component blocks before the contact variable's, ``RotatedFrame``); empty for
+        the scalar problem."""
+        components = self.physics.components if self.physics.rotated_frame else 1
+        block = self.ndof // components
+        return self.contact_dofs[None, :] - block * np.arange(components - 1, 0, -1)[:, None]
 
     def contact_residual(self, u: np.ndarray) -> np.ndarray:
         """a(u, phi_i) - L(phi_i) for the dofs i of ``contact_dofs``: the discrete contact force."""
@@ -225,6 +235,8 @@ def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadratu
         vertex_dofs=np.array([_contact_dofs(fes, ngs.NodeId(ngs.VERTEX, int(v)), components)[0] for v in trace.vertices]),
     )
     problem.contact_rows = problem.A[problem.contact_dofs].copy()
+    if physics.rotated_frame and getattr(case, "frictional", False):    # the friction force (``measure.errors.DiscreteTraction``)
+        problem.tangential_rows = problem.A[problem.tangential_dofs.ravel()].copy()
     if case.contact_load is not None and not physics.traction_load:
         problem.b += contact_load_vector(case, problem)
     return problem

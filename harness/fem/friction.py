@@ -30,10 +30,12 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from ..mesh.points import evaluate
 from .assembly import DiscreteProblem
 from .cones import _GL_T, _GL_W, ContactModel, ProblemQP, transformed_matrix
+from .edge_functionals import edge_functional_rows, rules_per_edge
 from .p1_embedding import ContactEdges
 
 # the quadrature weights of a cell's vertices and edges (fractions of its size), by model and
@@ -80,12 +82,12 @@ def thresholds(case, problem: DiscreteProblem, model: ContactModel) -> tuple[np.
 @dataclass
 class FrictionQP(ProblemQP):
     """min 1/2 z'Kz - b'z + sum_i c_i |z[F_i]| over z = lift where not ``free``, in the model's
-    variables (u = S z): ``F`` the friction variables (Gamma_C's vertices, then its edges, in
-    the order of ``problem.vertex_dofs`` and ``problem.edge_dofs``), ``c`` their weights
-    (quadrature weight times s). In elasticity the normal dofs of Gamma_C are pinned at 0
-    (bilateral contact, u . n = 0) and ``normal`` holds them."""
+    variables (u = S z): ``F`` the friction variables (Gamma_C's vertices, then its edges' in
+    the order of ``problem.edge_dofs``), ``c`` their weights (quadrature weight times s),
+    ``points`` their nodes, ``edge_of_row`` the contact edge of each edge variable. In
+    elasticity the normal dofs of Gamma_C are pinned at 0 (bilateral contact, u . n = 0) and
+    ``normal`` holds them."""
 
-    model: ContactModel
     problem: DiscreteProblem
     S: sp.csr_matrix
     K: sp.csr_matrix
@@ -95,6 +97,8 @@ class FrictionQP(ProblemQP):
     c: np.ndarray
     edges: ContactEdges          # the P1 embedding in these variables (multigrid, nested start)
     normal: np.ndarray           # the pinned normal dofs (elasticity), else empty
+    points: np.ndarray           # (len(F), dim) the node of each friction variable
+    edge_of_row: np.ndarray      # the contact edge of each edge variable (F's rows past the vertices)
 
     @property
     def free(self) -> np.ndarray:
@@ -111,12 +115,6 @@ class FrictionQP(ProblemQP):
     def to_u(self, z: np.ndarray) -> np.ndarray:
         return self.S @ z
 
-    @property
-    def points(self) -> np.ndarray:
-        """The friction variables' nodes: Gamma_C's vertices, then its edges' midpoints."""
-        trace = self.problem.trace
-        return np.concatenate([trace.vertex_points, trace.midpoints[:len(self.problem.edge_dofs)]])
-
 
 def friction_variables(problem: DiscreteProblem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(the friction dofs at Gamma_C's vertices, at its edges, the ends of each edge): the
@@ -124,7 +122,7 @@ def friction_variables(problem: DiscreteProblem) -> tuple[np.ndarray, np.ndarray
     rotated frame the component before the contact one, ``fem.rotated_frame``)."""
     if not problem.physics.rotated_frame:
         return problem.vertex_dofs, problem.edge_dofs, problem.end_dofs[:len(problem.edge_dofs)]
-    if problem.physics.components != 2:
+    if problem.mesh.dim != 2:
         raise ValueError("Tresca friction on the nodal cones is 2D in elasticity: in 3D the slip is a 2-vector and "
                          "its set a disc (use a contact law: Nitsche or penalty)")
     block = problem.ndof // problem.physics.components
@@ -135,12 +133,99 @@ def friction_qp(case, problem: DiscreteProblem, model: ContactModel) -> Friction
     """The model's friction problem on ``problem`` (the case's ``friction`` a ``Tresca``)."""
     model._check(problem)
     vertices, edges, ends = friction_variables(problem)
-    normal = np.concatenate([problem.vertex_dofs, problem.edge_dofs]) if problem.physics.rotated_frame else np.zeros(0, np.int64)
-    changed = np.concatenate([edges, problem.edge_dofs]) if problem.physics.rotated_frame else edges
-    changed_ends = np.concatenate([ends, problem.end_dofs[:len(problem.edge_dofs)]]) if problem.physics.rotated_frame else ends
-    S = model.transform(problem, changed, changed_ends)
-    K, K_ngs = transformed_matrix(problem, S, rows=changed)
+    S = model.transform(problem, edges, ends)
     weights = np.concatenate(friction_weights(problem, model))
     c = weights * np.concatenate(thresholds(case, problem, model))
-    return FrictionQP(model, problem, S, K, K_ngs, S.T @ problem.b, np.concatenate([vertices, edges]).astype(np.int64), c,
-                      ContactEdges.of_edges(problem, changed, changed_ends), normal.astype(np.int64))
+    trace = problem.trace
+    points = np.concatenate([trace.vertex_points, trace.midpoints[:len(edges)]])
+    return _qp(problem, S, edges, vertices, c, ContactEdges.of_edges(problem, edges, ends), points, np.arange(len(edges)))
+
+
+def _qp(problem, S, changed, vertices, c, embedding, points, edge_of_row) -> FrictionQP:
+    """The QP of the change of variables ``S`` (the identity off the dofs ``changed``)."""
+    K, K_ngs = transformed_matrix(problem, S, rows=changed)
+    # bilateral contact: the contact variable's dofs on Gamma_C pinned at 0 (in NGSolve's own
+    # variables: its trace then vanishes on all of Gamma_C)
+    normal = np.concatenate([problem.vertex_dofs, problem.edge_dofs]) if problem.physics.rotated_frame else np.zeros(0)
+    return FrictionQP(problem, S, K, K_ngs, S.T @ problem.b, np.concatenate([vertices, changed]).astype(np.int64), c,
+                      embedding, normal.astype(np.int64), points, np.asarray(edge_of_row, np.int64))
+
+
+def rules_friction_qp(case, problem: DiscreteProblem, rules) -> FrictionQP:
+    """P_k (2D) with the friction variables of a cone of edge functionals (``fem.edge_functionals``,
+    k - 1 per edge of degree k): the vertex values and, on each edge, its functionals of v_t (the
+    values at the k - 1 interior Gauss-Lobatto points: the nodal analogue at degree k; the means
+    over k - 1 sub-edges: the mean analogue), in place of the edge's k - 1 dofs (u = S z, S
+    block by block per edge). j_h weighs each variable by the interpolatory rule of these k + 1
+    functionals (exact on P_k: ``interpolatory_weights``) times s."""
+    if problem.trace.faces is not None:
+        raise ValueError("friction on a cone of edge functionals is 2D")
+    vertices, edges, ends = friction_variables(problem)
+    rows = edge_functional_rows(problem, rules)
+    if problem.physics.rotated_frame:
+        rows = _shifted_columns(rows, edges[0] - problem.edge_dofs[0] if len(edges) else 0)
+    block = rows[:, edges].tocsc()
+    if block.shape[0] != block.shape[1]:
+        raise ValueError("friction on a cone of edge functionals needs k - 1 functionals per contact edge of degree k")
+    inverse = spla.inv(block) if block.shape[0] else block
+    selection = sp.csr_matrix((np.ones(len(edges)), (np.arange(len(edges)), edges)), shape=(len(edges), problem.ndof))
+    keep = np.ones(problem.ndof)
+    keep[edges] = 0.0
+    S_rows = inverse @ (selection - rows @ sp.diags(keep))
+    scatter = sp.csr_matrix((np.ones(len(edges)), (edges, np.arange(len(edges)))), shape=(problem.ndof, len(edges)))
+    S = (sp.diags(keep) + scatter @ S_rows).tocsr()
+    c, points, end_weights, edge_of_row = _functional_quadrature(case, problem, rules)
+    embedding = ContactEdges.of_edges(problem, edges, ends[edge_of_row] if len(edges) else ends, end_weights)
+    return _qp(problem, S, edges, vertices, c, embedding, points, edge_of_row)
+
+
+def _shifted_columns(rows: sp.csr_matrix, shift: int) -> sp.csr_matrix:
+    """``rows`` with every column moved by ``shift`` (the contact component's rows read on the
+    tangential component: in the rotated frame the two share one scalar basis on Gamma_C)."""
+    rows = rows.tocsr(copy=True)
+    rows.indices = rows.indices + shift
+    return rows
+
+
+def interpolatory_weights(rule_set: tuple) -> np.ndarray:
+    """The weights (w_a, w_b, w_1, ..., w_m) of the rule w_a v(0) + w_b v(1) + sum_j w_j l_j(v)
+    exact for the polynomials of degree m + 1 on [0, 1] (the moments int t^p = 1/(p + 1)), for
+    the functionals ``rule_set`` (each ((t, w), ...)). The Gauss-Lobatto points give the
+    Gauss-Lobatto weights, the sub-edge means 0 at the ends and 1/m each. A negative weight
+    would make j_h non-convex: refused."""
+    columns = [lambda p: 0.0 ** p, lambda p: 1.0] + [
+        (lambda p, rule=rule: sum(w * t ** p for t, w in rule)) for rule in rule_set]
+    n = len(columns)
+    moments = np.array([[column(p) for column in columns] for p in range(n)])
+    weights = np.linalg.solve(moments, 1.0 / np.arange(1, n + 1))
+    if (weights < -1e-12).any():
+        raise ValueError(f"the functionals {rule_set} give a quadrature with negative weights {weights}: j_h would not be convex")
+    return np.maximum(weights, 0.0)
+
+
+def _functional_quadrature(case, problem: DiscreteProblem, rules):
+    """(c: the weight times s of every friction variable, vertices first; their nodes; the
+    weights of its edge's two ends in each edge variable for a linear function,
+    (sum w (1 - t), sum w t); the edge of each edge variable)."""
+    trace, mesh = problem.trace, problem.mesh
+    per_edge = rules_per_edge(problem, rules)
+    s = case.friction.threshold_function
+    vertex_c = np.zeros(len(trace.vertices))
+    edge_c, points, end_weights, edge_of_row = [], [], [], []
+    ends = np.searchsorted(trace.vertices, trace.edge_vertices)
+    length = trace.lengths
+    for e, rule_set in enumerate(per_edge):
+        weights = interpolatory_weights(rule_set)
+        np.add.at(vertex_c, ends[e], length[e] * weights[:2])
+        for j, rule in enumerate(rule_set):
+            t, w = np.array([p for p, _ in rule]), np.array([q for _, q in rule])
+            along = trace.a[e] + t[:, None] * (trace.b[e] - trace.a[e])
+            # s where the functional sits: l_j(s) / l_j(1)
+            edge_c.append(length[e] * weights[2 + j] * float(evaluate(s, mesh, along) @ w / w.sum()))
+            end_weights.append((float(w @ (1.0 - t)), float(w @ t)))
+            points.append(trace.a[e] + (w @ t / w.sum()) * (trace.b[e] - trace.a[e]))
+            edge_of_row.append(e)
+    vertex_c *= evaluate(s, mesh, trace.vertex_points)
+    dim = trace.a.shape[1]
+    return (np.concatenate([vertex_c, edge_c]), np.concatenate([trace.vertex_points, np.reshape(points, (-1, dim))]),
+            np.reshape(end_weights, (-1, 2)), np.array(edge_of_row, np.int64))

@@ -27,6 +27,10 @@ class ContactEdges:
     edge_dofs: np.ndarray                   # (m,) z's dof of each contact edge's variable
     end_dofs: np.ndarray                    # (m, 2) the P1 dofs of its ends (their contact component)
     p1_dofs: np.ndarray | None = None       # z's dof of each P1 dof (None: the same number)
+    # (m, 2) the weights of the two ends in each edge variable's value for a P1 function: 1/2 and
+    # 1/2 for the midpoint value and the edge mean (None), 1 - t and t for the value at the point
+    # t of the edge (the Gauss-Lobatto points of P_k's nodal variables, ``fem.friction``)
+    end_weights: np.ndarray | None = None
 
     @classmethod
     def of(cls, problem, model: bool = True) -> "ContactEdges":
@@ -47,7 +51,7 @@ class ContactEdges:
         return cls.of_edges(problem, edges, ends)
 
     @classmethod
-    def of_edges(cls, problem, edges: np.ndarray, ends: np.ndarray) -> "ContactEdges":
+    def of_edges(cls, problem, edges: np.ndarray, ends: np.ndarray, end_weights: np.ndarray | None = None) -> "ContactEdges":
         """The embedding whose changed variables are the dofs ``edges`` (each the value of a
         contact edge's function between its two ``ends``, dofs of z): the contact component's
         (``of``), or others too (a tangential component under friction, ``fem.friction``)."""
@@ -56,7 +60,11 @@ class ContactEdges:
         # z's vertex dof k block + v is P1 dof k nv + v; one component: the same number (slices)
         p1_dofs = np.concatenate([k * block + np.arange(nv) for k in range(components)])
         same = p1_dofs[-1] == len(p1_dofs) - 1
-        return cls(np.asarray(edges, np.int64), (ends // block) * nv + ends % block, None if same else p1_dofs)
+        return cls(np.asarray(edges, np.int64), (ends // block) * nv + ends % block, None if same else p1_dofs, end_weights)
+
+    @property
+    def weights(self) -> np.ndarray:
+        return np.full((len(self.edge_dofs), 2), 0.5) if self.end_weights is None else self.end_weights
 
     @property
     def identity(self) -> bool:
@@ -72,14 +80,15 @@ class ContactEdges:
             z[: len(c)] += c
         else:
             z[self.p1_dofs] += c
-        z[self.edge_dofs] += 0.5 * (c[self.end_dofs[:, 0]] + c[self.end_dofs[:, 1]])
+        w = self.weights
+        z[self.edge_dofs] += w[:, 0] * c[self.end_dofs[:, 0]] + w[:, 1] * c[self.end_dofs[:, 1]]
 
     def restrict(self, r: np.ndarray, n: int) -> np.ndarray:
         """E^T r, of the finest P1 level's size ``n``."""
         c = self._vertex_part(r, n)
-        half = 0.5 * r[self.edge_dofs]
-        np.add.at(c, self.end_dofs[:, 0], half)
-        np.add.at(c, self.end_dofs[:, 1], half)
+        w, at_edges = self.weights, r[self.edge_dofs]
+        np.add.at(c, self.end_dofs[:, 0], w[:, 0] * at_edges)
+        np.add.at(c, self.end_dofs[:, 1], w[:, 1] * at_edges)
         return c
 
     def touched(self, mask: np.ndarray, n: int) -> np.ndarray:

@@ -18,6 +18,8 @@ from scipy.sparse.linalg import splu
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
 from ..fem.element_quadrature import ElementQuadrature
 from ..fem.nested import p1_values
+from ..fem.rotated_frame import RotatedFrame
+from ..mesh.points import evaluate
 from .best_approximation import nested_ritz_start, ritz_projection
 
 
@@ -109,13 +111,79 @@ class DiscretePressure:
         return float(max(0.0, -self.at_points(coefficients).min()))
 
 
+class DiscreteTraction:
+    """The discrete friction force of u_h on one problem (a Tresca case, ``problem.friction``),
+    beside its slip, at the pressure's Gauss points (``DiscretePressure.quadrature``):
+
+    * scalar model: the friction force is the flux itself, lambda_h of ``DiscretePressure`` (the
+      same numbers, not a second computation), and the slip is u_h;
+    * elasticity: sigma_t,h, the Riesz representative in W_h^{d-1} of the residual's tangential
+      part, built as ``DiscretePressure`` builds the normal one: int sigma_t,h . tau_j w =
+      a(u_h, w tau_j) - L(w tau_j) for the basis functions w tau_j of the rotated frame's
+      tangential dofs on Gamma_C (``fem.rotated_frame.RotatedFrame``). Green's formula gives
+      int (sigma(u) n - g_C) . w tau_j for the exact u, i.e. sigma_t(u) - g_t, so it is the same
+      functional for every method. On a flat piece of Gamma_C w tau_j's tangential trace is w,
+      so the trace mass matrix is the pressure's own (one factorisation). The slip is u_h . tau_j.
+
+    Both come as (q, d - 1) arrays: component j along tau_j (2D: tau = (-n_y, n_x))."""
+
+    @classmethod
+    def of(cls, problem) -> "DiscreteTraction":
+        if cls not in problem.cache:
+            problem.cache[cls] = cls(problem)
+        return problem.cache[cls]
+
+    def __init__(self, problem):
+        self._problem = weakref.ref(problem)
+        self.pressure = DiscretePressure.of(problem)
+        self.quadrature = self.pressure.quadrature
+        self.elastic = problem.physics.rotated_frame
+        if self.elastic and problem.tangential_rows is None:
+            raise ValueError("the problem keeps no tangential rows of A: it was not discretised for a friction case")
+
+    def at_points(self, u_h: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(friction force, slip) of ``u_h`` at the points, each (q, d - 1)."""
+        own = self.pressure
+        if not self.elastic:
+            force = own.at_points(own.coefficients(u_h))
+            return force[:, None], (self.quadrature.T @ u_h)[:, None]
+        problem = self._problem()
+        dofs = problem.tangential_dofs
+        residual = (problem.tangential_rows @ u_h - problem.b[dofs.ravel()]).reshape(dofs.shape)
+        force = np.column_stack([own.at_points(own._mass.solve(r)) for r in residual])
+        slip = np.column_stack([own.T @ u_h[d] for d in dofs])
+        return force, slip
+
+
+def point_tangents(normals: np.ndarray) -> np.ndarray:
+    """(q, d - 1, d) the rotated frame's tangents at points with outward ``normals``."""
+    return RotatedFrame(np.zeros((len(normals), 1), np.int64), normals).tangents()
+
+
+def exact_friction(case, problem, q) -> tuple[np.ndarray, np.ndarray]:
+    """(friction force, slip) of the exact u at the points of the rule ``q``, each (q, d - 1) as
+    ``DiscreteTraction.at_points``: lambda = d_n u - g_C and u (scalar); (sigma_t(u) - g_t) . tau_j and
+    u . tau_j (elasticity)."""
+    physics, mesh = case.physics, problem.mesh
+    if not physics.rotated_frame:
+        return (physics.pressure(case, mesh, q.points, q.normals)[:, None],
+                physics.contact_value(case, mesh, q.points, q.normals)[:, None])
+    tangents = point_tangents(q.normals)
+    traction = physics.tangential_traction(case, mesh, q.points, q.normals)
+    displacement = evaluate(case.u, mesh, q.points)
+    return np.einsum("qjd,qd->qj", tangents, traction), np.einsum("qjd,qd->qj", tangents, displacement)
+
+
 class ContactErrors:
     """Errors on Gamma_C of the solutions on one discrete problem, against the exact u:
 
     * trace: ||u - u_h||_{L^2(Gamma_C)};
     * pressure: lambda_h (``DiscretePressure``) against lambda = d_n u - g_C in L^2(Gamma_C) and
       in the mesh-dependent norm ||h^{1/2} (lambda - lambda_h)||_{L^2(Gamma_C)};
-    * tension: max over Gamma_C of -lambda_h, the flux counterpart of max_penetration.
+    * tension: max over Gamma_C of -lambda_h, the flux counterpart of max_penetration;
+    * friction (Tresca cases): the friction force of ``DiscreteTraction`` against the exact one in
+      L^2(Gamma_C), ``err_friction_l2``: in the scalar model the pressure's error itself (its
+      lambda is the friction force), in elasticity |sigma_t(u) - sigma_t,h|.
     """
 
     def __init__(self, case, problem):
@@ -125,18 +193,28 @@ class ContactErrors:
         self.u = case.physics.contact_value(case, problem.mesh, q.points, q.normals)
         self.pressure = exact_pressure(case, problem, q)
         self._full_T = q.T
+        self.friction = None
+        if case.frictional and problem.physics.rotated_frame:
+            self.friction = (DiscreteTraction.of(problem), exact_friction(case, problem, q)[0])
+        self.frictional = case.frictional
 
     def __call__(self, u_h: np.ndarray) -> dict:
         w = self.weights
         trace = self._full_T @ u_h - self.u
         coefficients = self.own.coefficients(u_h)
         difference = self.pressure - self.own.at_points(coefficients)
-        return {
+        errors = {
             "err_trace_l2": float(np.sqrt(w @ trace**2)),
             "err_pressure_l2": float(np.sqrt(w @ difference**2)),
             "err_pressure_h12": float(np.sqrt((w * self.h) @ difference**2)),
             "max_tension": self.own.max_tension(coefficients),
         }
+        if self.friction is not None:
+            traction, exact = self.friction
+            errors["err_friction_l2"] = float(np.sqrt(w @ ((exact - traction.at_points(u_h)[0]) ** 2).sum(axis=1)))
+        elif self.frictional:
+            errors["err_friction_l2"] = errors["err_pressure_l2"]       # the scalar model's lambda is the friction force
+        return errors
 
 
 class ExactErrors:

@@ -16,7 +16,11 @@ lambda = -(sigma_n(u) - g_n)):
                                           + int_E (lambda_h)_+ (c(u_h) - obstacle)_+    complementarity (P1, P2)
                                           + h_E ||sigma_t(u_h) - g_t||_E^2 )            elasticity: friction-free
 
-and eta^2 = sum_T eta_T^2. Every term vanishes for u_h = u (with lambda_h = lambda). The
+and eta^2 = sum_T eta_T^2. Every term vanishes for u_h = u (with lambda_h = lambda). On a
+Tresca case (``problem.friction``) the friction law replaces the contact conditions, and the
+Gamma_C terms are those of ``friction_terms``: the flux against the discrete friction force,
+its excess over the threshold s and the friction law's complementarity (elasticity: the
+tangential traction's, and the bilateral condition's residual u_h . n). The
 elastic terms are those of Hild & Nicaise's residual estimator for contact problems in
 elasticity (2007; volume and pages not verified here) (frictionless unilateral contact: the element
 residual, the traction jumps, the Neumann residual, and on Gamma_C the normal terms and the
@@ -51,6 +55,7 @@ from ..mesh.sides import SIDE_ENDS, MeshSides
 from .errors import DiscretePressure, contact_error_points
 from .estimator_3d import TetrahedronTerms
 from .facets import element_bits, neumann_facets
+from .friction_terms import FrictionTerms
 
 # Gauss order of the volume moments f_T and ||f - f_T||_T^2 on the elements away from singular
 # points (``ElementQuadrature``: graded on the elements touching one, where f may be singular,
@@ -228,6 +233,8 @@ class ResidualEstimator:
         self.T_contact = q.T[:, problem.contact_dofs].tocsr()
         self.obstacle = case.physics.obstacle(at_points(case.gap, mesh, q))
         self.load = 0.0 if case.contact_load is None else evaluate(case.contact_load, mesh, q.points)
+        # a Tresca case: the friction terms replace the Signorini ones (``friction_terms``)
+        self.friction = FrictionTerms(case, problem, q, self.load, self.obstacle) if case.frictional else None
         faces = problem.trace.faces
         self.element_of_edge = problem.trace.volumes if faces is None else faces.volumes
 
@@ -254,7 +261,10 @@ class ResidualEstimator:
         two-body interface's complementarity uses each side's)."""
         self.pressure_coefficients = self.pressure.coefficients(u)
         lam_h = self.T_contact @ self.pressure_coefficients
-        density = self.flux_density(lam_h, gfu) + self.gap_density(lam_h, u)
+        if self.friction is not None:
+            density = self.friction.density(lam_h, u, gfu)
+        else:
+            density = self.flux_density(lam_h, gfu) + self.gap_density(lam_h, u)
         q = self.q
         return np.bincount(q.edge, weights=q.weights * density, minlength=len(self.element_of_edge))
 

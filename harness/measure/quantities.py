@@ -18,9 +18,36 @@ computation, measured for every method from u_h alone (so for cases with and wit
 * ``penetration``: max over Gamma_C of (alpha - u_h)_+, the rows' ``max_penetration``
   (exact value 0 on every case: u is feasible).
 
+On a friction case (``problem.friction``; the friction force lambda_h and the slip u_t,h of
+``errors.DiscreteTraction``: u_h itself in the scalar model, u_h . tau in 2D elasticity, the
+2-vector u_t in 3D), two more:
+
+* ``slip_measure``: the length (3D: area) of the slip zone, by the device of the contact measure:
+  Tresca's law in Chouly & Hild's form, lambda = P_s(lambda - u_t / eps) with P_s the projection
+  onto [-s, s] (3D: the disc of radius s) and eps = h / E (the Nitsche form of the law of
+  Chouly, J. Math. Anal. Appl. 411 (2014), as issue 74's notes state it; the paper not read here), and the zone is where
+  the projection's argument lies outside the set, |lambda - (E / h) u_t| > s. For u it is exactly
+  where u_t != 0: there lambda = -s u_t / |u_t|, so the argument has length s + (E / h)|u_t| > s;
+  where u_t = 0, |lambda| <= s. The set {|lambda| = s} would be wrong: a stick point may carry the
+  threshold force (tresca-r72's lambda = -s + |x|^3 reaches -s at the stick-slip point). For
+  u_h it needs no threshold on u_h;
+* ``stick_slip_point`` (2D): the position of the first stick-slip point from Gamma_C's start,
+  found as the first change of state between consecutive Gauss points ordered along a flat
+  Gamma_C (their midpoint: within O(h) of the transition); the position is the coordinate
+  along tau = (-n_y, n_x), the x of a horizontal Gamma_C below the body, whose start is its
+  left end. NaN where Gamma_C is all stick or all slip, or not flat.
+
+The frictionless quantities on a friction case: ``force`` is the total flux int lambda_h, the
+total friction force in the scalar model and the total normal reaction of the bilateral
+contact in elasticity; ``energy`` is unchanged. The scalar model has no unilateral condition, so
+its ``contact_measure``, ``peak_pressure`` (and the method's ``max_penetration``) are NaN, not
+numbers of a contact that is not there; a bilateral elastic body is in contact on all of
+Gamma_C by its condition, so its ``contact_measure`` is NaN, while the normal reaction's
+largest value stays its ``peak_pressure``.
+
 For a case with u the rows also carry each quantity's exact value (``exact_quantities``), from
 the declared u on the level's mesh with rules far finer than the discrete ones (the graded rule
-at singular points): the rates stage fits each quantity's error and judges the Richardson
+at singular points; the slip zone's and the stick-slip point's from the same rule): the rates stage fits each quantity's error and judges the Richardson
 bands against it (``richardson``). The contact measure's and the peak pressure's exact values are
 2D only (in 3D the transition curves cross the triangles and the largest pressure lies between
 the points of any rule of the level's mesh: no rule of it resolves them to the accuracy an exact
@@ -34,18 +61,24 @@ import numpy as np
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
 from ..fem.element_quadrature import singular_vertices
 from ..mesh.points import evaluate
-from .errors import CONTACT_ERROR_POINTS, DiscretePressure
+from .errors import CONTACT_ERROR_POINTS, DiscretePressure, DiscreteTraction, exact_friction, point_tangents
 
 # quantity -> its column in results.csv (the penetration column predates the quantities)
 QUANTITY_COLUMNS = {"force": "qoi_force", "contact_measure": "qoi_contact_measure", "peak_pressure": "qoi_peak_pressure",
-                    "energy": "qoi_energy", "penetration": "max_penetration"}
+                    "energy": "qoi_energy", "penetration": "max_penetration",
+                    "slip_measure": "qoi_slip_measure", "stick_slip_point": "qoi_stick_slip_point"}
 QUANTITY_MEANINGS = {
     "force": "the total contact force ∫_{Γ_C} λ_h",
     "contact_measure": "the length (3D: area) of the contact zone",
     "peak_pressure": "the largest contact pressure max λ_h",
     "energy": "the strain energy a(u_h, u_h)/2",
     "penetration": "the largest penetration max (α − u_h)_+ (exact: 0)",
+    "slip_measure": "the length (3D: area) of the slip zone (friction cases)",
+    "stick_slip_point": "the position along Γ_C of its first stick–slip point (2D friction cases)",
 }
+# the quantities a friction case's model leaves without meaning (module docstring): the scalar
+# model has no unilateral condition, a bilateral elastic body no contact zone of its own
+MEANINGLESS = {False: ("qoi_contact_measure", "qoi_peak_pressure"), True: ("qoi_contact_measure",)}
 # The exact pressure is unbounded where its largest value on the graded rule (down to 2^-30 h
 # from a singular point) exceeds this many times its largest at the pressure's Gauss points: r^{-1/2} at a
 # contact/Neumann junction gives 2^15 and more, a bounded pressure about 1
@@ -68,10 +101,51 @@ def quantities(case, problem, u: np.ndarray) -> dict:
     vertices = coefficients[:len(problem.vertex_dofs)]          # vertex dofs are nodal values
     q = pressure.quadrature
     gap = q.T @ u - obstacle_at(case, problem, q.points)
-    return {"qoi_force": float(q.weights @ at_points),
-            "qoi_contact_measure": contact_measure(problem.physics, q, at_points, gap),
-            "qoi_peak_pressure": float(max(at_points.max(initial=-np.inf), vertices.max(initial=-np.inf))),
-            "qoi_energy": strain_energy(problem, u)}
+    columns = {"qoi_force": float(q.weights @ at_points),
+               "qoi_contact_measure": contact_measure(problem.physics, q, at_points, gap),
+               "qoi_peak_pressure": float(max(at_points.max(initial=-np.inf), vertices.max(initial=-np.inf))),
+               "qoi_energy": strain_energy(problem, u)}
+    if not case.frictional:
+        return columns
+    force, slip = DiscreteTraction.of(problem).at_points(u)
+    return columns | friction_quantities(case, problem, q, force, slip) | meaningless(problem.physics)
+
+
+def meaningless(physics, exact: bool = False) -> dict:
+    """NaN for the frictionless quantities without meaning on a friction case (``MEANINGLESS``)."""
+    return {exact_column(c) if exact else c: float("nan") for c in MEANINGLESS[physics.rotated_frame]}
+
+
+def friction_quantities(case, problem, q, force: np.ndarray, slip: np.ndarray, exact: bool = False) -> dict:
+    """The slip zone's measure and the first stick-slip point of a friction force ``force`` and a
+    slip ``slip`` ((q, d - 1) at the points of the rule ``q``): the module docstring's."""
+    zone = slip_zone(problem.physics, q, force, slip, evaluate(case.friction.threshold_function, problem.mesh, q.points))
+    two_d = problem.trace.faces is None
+    columns = {"qoi_slip_measure": float(q.weights @ zone),
+               "qoi_stick_slip_point": first_transition(q, zone) if two_d else float("nan")}
+    return {exact_column(c): v for c, v in columns.items()} if exact else columns
+
+
+def slip_zone(physics, q, force: np.ndarray, slip: np.ndarray, threshold: np.ndarray) -> np.ndarray:
+    """At each point of ``q``: does Tresca's projection P_s(lambda - (E / h) u_t) act, i.e.
+    |lambda - (E / h) u_t| > s (the module docstring)?"""
+    argument = force - (physics.modulus / q.h)[:, None] * slip
+    return np.linalg.norm(argument, axis=1) > threshold
+
+
+def first_transition(q, zone: np.ndarray) -> float:
+    """The midpoint of the first two consecutive points of ``q`` (ordered along a flat 2D
+    Gamma_C, by the coordinate along tau = (-n_y, n_x)) whose states ``zone`` differ; NaN
+    where none do or Gamma_C is not flat."""
+    if not len(zone) or np.abs(q.normals - q.normals[0]).max() > 1e-12:
+        return float("nan")
+    position = q.points @ point_tangents(q.normals[:1])[0, 0]
+    order = np.argsort(position, kind="stable")
+    changes = np.flatnonzero(zone[order][1:] != zone[order][:-1])
+    if not len(changes):
+        return float("nan")
+    i = changes[0]
+    return float(0.5 * (position[order[i]] + position[order[i + 1]]))
 
 
 def strain_energy(problem, u: np.ndarray) -> float:
@@ -101,9 +175,15 @@ def exact_quantities(case, problem) -> dict:
          else DiscretePressure.of(problem).quadrature)
     pressure = exact_pressure(case, problem, q)
     gap = case.physics.contact_value(case, problem.mesh, q.points, q.normals) - obstacle_at(case, problem, q.points)
-    return {exact_column("qoi_force"): float(q.weights @ pressure),
-            exact_column("qoi_contact_measure"): contact_measure(case.physics, q, pressure, gap) if two_d else float("nan"),
-            exact_column("qoi_peak_pressure"): exact_peak(case, problem, pressure) if two_d else float("nan")}
+    columns = {exact_column("qoi_force"): float(q.weights @ pressure),
+               exact_column("qoi_contact_measure"): contact_measure(case.physics, q, pressure, gap) if two_d else float("nan"),
+               exact_column("qoi_peak_pressure"): exact_peak(case, problem, pressure) if two_d else float("nan")}
+    if not case.frictional:
+        return columns
+    friction = friction_quantities(case, problem, q, *exact_friction(case, problem, q), exact=True)
+    if not two_d:       # the slip zone's border crosses the triangles: no rule of the mesh resolves it
+        friction = dict.fromkeys(friction, float("nan"))
+    return columns | friction | meaningless(case.physics, exact=True)
 
 
 def exact_peak(case, problem, graded: np.ndarray) -> float:

@@ -12,7 +12,7 @@ installed package's entry point or an object (``plugins``). Every one passes the
 from __future__ import annotations
 
 from ..fem.contact_laws.builtin import Nitsche, Penalty
-from ..fem.contact_laws.protocol import ContactLaw, GammaPoints, LawError
+from ..fem.contact_laws.protocol import ContactLaw, FrictionLaw, FrictionPoints, GammaPoints, LawError
 from ..solvers.options import SolverOptions
 from .cones import BoundConstrained, CellMean
 from .method import (
@@ -64,7 +64,7 @@ from .registry import (
 
 __all__ = ["METHODS", "GROUPS", "FAMILIES", "BASELINE", "DEGREES", "MESH_STUDY", "PAPER", "REFERENCE", "ROLES", "SWEPT",
            "EXTRA_LEVELS", "known", "names_with_role", "role_names", "with_role", "BoundConstrained", "CellMean", "Mortar",
-           "ContactLaw", "ContactLawMethod", "ContactNodes", "ContactPoints", "GammaPoints", "LawError", "LevelProblem", "SolverOptions",
+           "ContactLaw", "FrictionLaw", "FrictionPoints", "ContactLawMethod", "ContactNodes", "ContactPoints", "GammaPoints", "LawError", "LevelProblem", "SolverOptions",
            "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Carry", "ConeCarry", "LawCarry", "MortarCarry", "Expectation",
            "SolveFields", "timer", "no_theory", "FunctionalCone", "LevelSolve", "Method", "MethodError", "check_method",
            "get_method", "installed_methods", "left_out", "load_external", "method_choices", "methods_for", "methods_named",

@@ -12,15 +12,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fem.assembly import ContactTraceFunction
-from ..fem.cones import ContactModel, contact_pressure, contact_qp, end_status
+from ..fem.cones import ContactModel, contact_pressure, contact_qp
 from ..fem.face_means import face_mean_qp
 from ..fem.friction import friction_qp
-from ..fem.nested import friction_prediction, nested_start, p1_values, start_from
-from ..fem.penetration import max_penetration
+from ..fem.nested import start_from
 from ..fem.polynomials import lobatto_points
 from ..solvers.bound_constraints import solve_contact_qp
-from ..solvers.friction import solve_friction_qp
 from .method import (
     BASELINE,
     DEGREES,
@@ -28,15 +25,13 @@ from .method import (
     PAPER,
     REFERENCE,
     Expectation,
-    LawCarry,
     LevelSolve,
     Method,
-    SolveFields,
     capped_expectation,
     no_result_below,
     timer,
 )
-from .protocol import FunctionalCone, exact_level, solve_general_rows
+from .protocol import FunctionalCone, exact_level, solve_general_rows, solve_tresca
 
 
 @dataclass(frozen=True)
@@ -59,7 +54,8 @@ class BoundConstrained(Method):
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
         if case.frictional:
-            return solve_tresca(case, problem, self.cone, carry, multilevel, phases, self.solver)
+            return solve_tresca(case, problem, lambda: friction_qp(case, problem, self.cone), carry, multilevel, phases,
+                                self.solver)
         timed = timer(phases)
         with timed("setup"):
             qp = contact_qp(case, problem, self.cone, take_stiffness=take_stiffness)
@@ -70,35 +66,6 @@ class BoundConstrained(Method):
         u = qp.to_u(solution.z)
         trace_u = qp.trace_function(u, solution.active)
         return exact_level(case, problem, u, trace_u, contact_pressure(problem, solution.multipliers), solution)
-
-
-def solve_tresca(case, problem, model: ContactModel, carry, multilevel, phases, options) -> LevelSolve:
-    """A level of a Tresca case (``problem.friction``) with the cone's quadrature of j(v)
-    (``fem.friction``: the nodal or mean analogue, or P1), solved exactly by the active set
-    method on the bound-constrained dual (``solvers.friction``), nested from ``carry``. The row's
-    pressure is the discrete flux on Gamma_C (scalar: the friction force itself; elasticity: the
-    normal reaction of the bilateral contact); its penetration is NaN in the scalar model, which
-    has no unilateral condition."""
-    timed = timer(phases)
-    with timed("setup"):
-        qp = friction_qp(case, problem, model)
-        start = None if carry is None or multilevel is None else nested_start(multilevel, carry.p1, problem, qp.edges)
-        predicted = friction_prediction(carry, qp.points)
-    with timed("solve"):
-        solution = solve_friction_qp(qp, predicted, multilevel=multilevel, start=start, options=options)
-    u = qp.to_u(solution.z)
-    m = len(qp.F)
-    stick = ~(solution.active[:m] | solution.active[m:])
-    nv = len(problem.vertex_dofs)
-    edge_stick = stick[nv:] if len(problem.edge_dofs) else np.zeros(len(problem.trace.edges), bool)
-    trace_u = ContactTraceFunction.of(problem, u, end_status(problem, stick[:nv]), edge_stick)
-    if problem.physics.rotated_frame:
-        reaction = (qp.K @ solution.z - qp.b)[qp.normal]
-        pressure, penetration = contact_pressure(problem, reaction), max_penetration(case, problem.mesh, trace_u)
-    else:
-        pressure, penetration = contact_pressure(problem, solution.multipliers), float("nan")
-    fields = SolveFields.of_exact(solution, penetration, pressure, 2 * m)
-    return LevelSolve(fields, u, trace_u, pressure, LawCarry(p1_values(problem, u), points=qp.points, active=solution.active))
 
 
 @dataclass(frozen=True)
@@ -123,9 +90,19 @@ class CellMean(BoundConstrained):
                                   lambda: face_mean_qp(case, problem, take_stiffness=take_stiffness), self.solver)
 
 
+# Tresca friction (``problem.friction``): no error analysis of the P2 models' friction analogues
+# (the nodal quadrature of j, the edge means) was available to read here; a Tresca case declares
+# the rate of the paper's theorems for its regularity, the best approximation's, read as a
+# conjecture the verdicts test
+FRICTION_CONJECTURE = "conjecture: the paper's rate for the same regularity (no theorem for the friction analogues)"
+
+
 def paper_theorem(case) -> Expectation:
     """The rate the case declares from the paper's theorems (Theorems 4.1, 4.2, 5.1, 5.2,
-    Remark 4.9): the same for both P2 models."""
+    Remark 4.9): the same for both P2 models; on a Tresca case a conjecture
+    (``FRICTION_CONJECTURE``)."""
+    if case.frictional:
+        return Expectation(case.expected_rate, case.expected_log_exponent, FRICTION_CONJECTURE)
     return Expectation(case.expected_rate, case.expected_log_exponent,
                        f"Belhachmi & Ben Belgacem 2003, {_theorem_label(case.theorem)}")
 
@@ -149,6 +126,8 @@ def drouet_hild_for(order: int):
     the H^{3/2 + m}, m > 0, of the whole literature, not checked against their statements. For
     nu <= 3/2 it says nothing (NaN)."""
     def drouet_hild(case) -> Expectation:
+        if case.frictional:
+            return Expectation(math.nan, 0.0, f"{DROUET_HILD}: frictionless contact only")
         return capped_expectation(case.nu, DROUET_HILD_CAP[order], DROUET_HILD, 1.5, no_result_below(DROUET_HILD))
     return drouet_hild
 
@@ -222,8 +201,14 @@ nodal = BoundConstrained(
 P1_REFERENCE = "Drouet & Hild 2015 (SINUM 53); Ben Belgacem 2000 (SINUM 37)"
 
 
+# P1 for Tresca: h^{min(nu - 1, 1)}, the best approximation's rate in H^1 (the P1 analyses of
+# Tresca's problem, Nitsche's of Chouly 2014 and the penalty's of Dione 2019, were read from their
+# abstracts only: h^{1/2 + nu} for u in H^{3/2 + nu}, 0 < nu <= 1/2)
+P1_TRESCA = "P1 for Tresca: the best approximation's h^min(ν−1, 1) (Chouly 2014, Dione 2019: abstracts only)"
+
+
 def p1_expected(case) -> Expectation:
-    return capped_expectation(case.nu, 1.0, P1_REFERENCE)
+    return capped_expectation(case.nu, 1.0, P1_TRESCA if case.frictional else P1_REFERENCE)
 
 
 p1 = BoundConstrained(
@@ -283,6 +268,7 @@ def nodal_at_order(order: int) -> FunctionalCone:
         expected=conjectured_for(order),
         functionals_of=lobatto_rules,
         physics=("scalar", "elasticity"),
+        friction=("frictionless", "tresca"),
         roles=frozenset({DEGREES}),
     )
 
@@ -323,6 +309,7 @@ def mean_at_order(order: int) -> FunctionalCone:
         expected=conjectured_for(order),
         functionals_of=sub_edge_means,
         physics=("scalar", "elasticity"),
+        friction=("frictionless", "tresca"),
     )
 
 

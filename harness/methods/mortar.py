@@ -13,9 +13,10 @@ import scipy.sparse as sp
 
 from ..fem.cones import ContactModel, contact_pressure
 from ..fem.mortar import mortar_coupling
-from ..fem.nested import mortar_prediction, p1_values
+from ..fem.nested import friction_prediction, mortar_prediction, p1_values
 from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
 from ..solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix
+from ..solvers.friction import solve_friction
 from ..solvers.general_constraints import GeneralConstraintSolver
 from ..solvers.two_body_multigrid import OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injected
 from ..solvers.two_body_operator import CoupledBlocks
@@ -28,7 +29,10 @@ def one_body_rate(case, order: int) -> Expectation:
     2015 for P1) and the dual mortar condition reduces to on matching meshes. On non-matching
     meshes it is the rate the mortar analyses aim at (Ben Belgacem, Hild & Laborde 1999 for P1;
     Hild & Laborde 2002 for P2); only their abstracts were read, not their exact statements,
-    so the harness holds the methods to the one-body rate and the report says so."""
+    so the harness holds the methods to the one-body rate and the report says so. With Tresca
+    friction between the bodies no analysis was read at all: the same rate, a conjecture."""
+    if case.frictional:
+        return capped_expectation(case.nu, float(order), "conjecture: the one-body rate min(nu - 1, k) (Tresca on mortar)")
     return capped_expectation(case.nu, float(order),
                               "one-body rate min(nu - 1, k) (mortar: Ben Belgacem, Hild & Laborde 1999; Hild & Laborde 2002)")
 
@@ -55,6 +59,12 @@ class Mortar(Method):
         """The weight w of the P2 edge variables (``fem.two_body.dual_bound_qp``): the one-body cones'."""
         return ContactModel(self.edge_functional).weight if order == 2 else None
 
+    def refusal(self, case) -> str | None:
+        """Also: Tresca between two bodies on the dual multipliers only (their rows are bounds)."""
+        if case.frictional and self.multipliers != "dual" and case.friction.name in self.friction:
+            return "its multipliers are not dual: Tresca's rows would not be bounds"
+        return super().refusal(case)
+
     def solve(self, case, problem: TwoBodyProblem, carry, multilevel, take_stiffness: bool = False, phases=None,
               general: bool = False) -> LevelSolve:
         """Dual multipliers: the bounds of ``fem.two_body.dual_bound_qp`` by the active set method
@@ -62,6 +72,8 @@ class Mortar(Method):
         (``solvers.two_body_multigrid``: uniform pairs), else on sparse Cholesky; standard ones, or
         ``general=True`` (the cross-check), the rows themselves by the general-constraint active
         set method on the saddle system (``solvers.general_constraints``)."""
+        if case.frictional:
+            return self.solve_tresca(case, problem, carry, multilevel, phases)
         timed = timer(phases)
         with timed("setup"):
             dual = self.multipliers == "dual"
@@ -93,6 +105,43 @@ class Mortar(Method):
         return LevelSolve(fields, u, None, pressure, MortarCarry(joint_p1_values(problem, u), points=points,
                                                                  active=solution.active,
                                                                  vertex_rows=len(problem.upper.trace.vertex_points)))
+
+
+    def solve_tresca(self, case, problem: TwoBodyProblem, carry, multilevel, phases) -> LevelSolve:
+        """Tresca between the bodies (scalar): j(v) = int s |[v]| on the slave's dual mortar
+        projection of the jump, j_h = sum_i D_i s(x_i) |pi_i| (D_i = int psi_i: Simpson's weights
+        on a P2 slave edge, the nodal analogue; `mortar-mean`: |e| s |mean of pi on e| per slave
+        edge, its vertices weightless), solved exactly on the bounds' variables of
+        ``fem.two_body.dual_bound_qp`` by ``solvers.friction.solve_friction`` (the dual of
+        Hueeber, Stadler & Wohlmuth's friction rows, SISC 30 (2008), with Tresca's given threshold)."""
+        timed = timer(phases)
+        with timed("setup"):
+            coupling = mortar_coupling(problem.upper, problem.lower, None, "dual", "midpoint")
+            qp = dual_bound_qp(problem, coupling, self.contact_weight(problem.order))
+            K, system, start = bound_system(qp, problem, carry, multilevel, self.solver)
+            points = row_points(problem)
+            c = mortar_friction_weights(case, problem, coupling.D, self.edge_functional)
+            predicted = friction_prediction(carry, points[:, None])
+        with timed("solve"):
+            solution = solve_friction(K, qp.b, qp.free, qp.C, c, qp.lift, system, self.solver, predicted, start)
+        u = qp.to_u(solution.z)
+        pressure = contact_pressure(problem.upper, solution.multipliers)
+        fields = SolveFields.of_exact(solution, float("nan"), pressure, 2 * len(qp.C))
+        return LevelSolve(fields, u, None, pressure, MortarCarry(joint_p1_values(problem, u), points=points[:, None],
+                                                                 active=solution.active,
+                                                                 vertex_rows=len(problem.upper.trace.vertex_points)))
+
+
+def mortar_friction_weights(case, problem: TwoBodyProblem, D: np.ndarray, edge_functional: str) -> np.ndarray:
+    """The weights of j_h on the dual rows (the slave's vertices, then its edges): D_i s(x_i),
+    or for the edge means (`mortar-mean`) 0 at the vertices and |e| s(midpoint) on each edge."""
+    trace = problem.upper.trace
+    nodes = np.concatenate([trace.vertex_points, trace.midpoints[:len(problem.upper.edge_dofs)]])
+    s = problem.upper.values_at(case.friction.threshold_function, nodes)
+    if edge_functional == "edge-mean" and problem.order == 2:
+        nv = len(trace.vertex_points)
+        return np.concatenate([np.zeros(nv), trace.lengths * s[nv:]])
+    return D * s
 
 
 def joint_p1_values(problem: TwoBodyProblem, u: np.ndarray) -> np.ndarray:
@@ -159,6 +208,7 @@ mortar_mean = Mortar(
     reference="Belhachmi & Ben Belgacem 2003 (K_h) on Wohlmuth's dual mortar projection",
     expected=partial(one_body_rate, order=2),
     multipliers="dual",
+    friction=("frictionless", "tresca"),
     edge_functional="edge-mean",
 )
 
@@ -174,6 +224,7 @@ mortar_nodal = Mortar(
     reference="Wohlmuth 2000; Hüeber & Wohlmuth 2005; Hild & Laborde 2002 (quadratic mortar)",
     expected=partial(one_body_rate, order=2),
     multipliers="dual",
+    friction=("frictionless", "tresca"),
     roles=frozenset({REFERENCE, MESH_STUDY}),     # of the two-body cases (and their picture)
 )
 
@@ -205,6 +256,7 @@ mortar_p1 = Mortar(
     reference="Ben Belgacem, Hild & Laborde 1999; Wohlmuth 2000",
     expected=partial(one_body_rate, order=1),
     multipliers="dual",
+    friction=("frictionless", "tresca"),
     roles=frozenset({MESH_STUDY}),
 )
 

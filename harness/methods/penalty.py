@@ -7,6 +7,10 @@ elasticity, 2D and 3D); Chouly & Hild, Appl. Numer. Math. 65 (2013) 27-40.
 
 Default eps0 = 0.05, the scale of `nitsche`'s gamma0 (``python -m harness sweep`` shows others).
 
+Tresca friction (``problem.friction``): the Tresca law of the same eps
+(``fem.contact_laws.tresca.PenaltyTresca``: P_s(-u_t/eps), a Huber-regularised |u_t|; in elasticity
+the penalty of u . n = 0), expected h^{min(nu - 1, 1)} as below (``TRESCA_REFERENCE``).
+
 Expected H^1 rate: h^{min(nu - 1, 1)} for nu > 3/2, for P1 and P2. Chouly & Hild (abstract): with
 eps = h the error estimates are "the same as in the case of the constrained problem"; their
 analysis covers u in H^{3/2 + m}, 0 < m <= 1/2 (the abstract was read; the range is recalled,
@@ -25,8 +29,14 @@ REFERENCE = "Chouly & Hild 2013 (Appl. Numer. Math. 65), eps = eps0 h"
 EPS0 = 0.05
 
 
+# Tresca friction (``fem.contact_laws.tresca.PenaltyTresca``): J. Dione, JMAA 2019, read from its
+# abstract only: O(h^{1/2+nu} + eps^{1/2+nu}) in P1; with eps ~ h, nu <= 1/2, the same cap at h
+TRESCA_REFERENCE = "Dione 2019 (abstract read): O(h^{1/2+nu} + eps^{1/2+nu}) for P1, eps = eps0 h"
+
+
 def expected(case) -> Expectation:
-    return capped_expectation(case.nu, 1.0, REFERENCE, 1.5, no_result_below(REFERENCE))
+    cited = TRESCA_REFERENCE if case.frictional else REFERENCE
+    return capped_expectation(case.nu, 1.0, cited, 1.5, no_result_below(cited))
 
 
 def at_order(order: int) -> ContactLawMethod:
@@ -44,6 +54,7 @@ method = ContactLawMethod(
     expected=expected,
     law=Penalty(epsilon0=EPS0),
     roles=frozenset({SWEPT}),
+    friction=("frictionless", "tresca"),
 )
 
 # `penalty-p1`: the `penalty` method on P1 (same default eps0, same expected rate)

@@ -32,13 +32,17 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..fem.assembly import ContactTraceFunction
-from ..fem.cones import contact_pressure
+from ..fem.cones import contact_pressure, end_status
+from ..fem.contact_laws.channels import friction_system
 from ..fem.contact_laws.system import contact_data, law_system
+from ..fem.contact_laws.tresca import law_for
 from ..fem.contact_quadrature import ContactNodes, contact_quadrature, lagrange_nodes
 from ..fem.edge_functionals import check_rules, edge_functional_qp
-from ..fem.nested import nearest_status, p1_values, start_from
+from ..fem.friction import rules_friction_qp
+from ..fem.nested import friction_prediction, nearest_status, nested_start, p1_values, start_from
 from ..fem.p1_embedding import ContactEdges
 from ..fem.penetration import max_penetration
+from ..solvers.friction import solve_friction_qp
 from ..solvers.general_constraints import GeneralConstraintSolver
 from ..solvers.newton import solve_semismooth_newton
 from ..solvers.options import SolverOptions
@@ -74,6 +78,39 @@ def solve_general_rows(case, problem, carry, multilevel, phases, make_qp,
     return exact_level(case, problem, solution.z, trace_u, qp.pressure(solution.multipliers), solution)
 
 
+def solve_tresca(case, problem, make_qp, carry, multilevel, phases, options) -> LevelSolve:
+    """A level of a Tresca case (``problem.friction``) with the cone's quadrature of j(v)
+    (``make_qp()``, a ``fem.friction.FrictionQP``: the nodal or mean analogue, P1, or the P_k
+    functionals of a ``protocol.FunctionalCone``), solved exactly by the active set
+    method on the bound-constrained dual (``solvers.friction``), nested from ``carry``. The row's
+    pressure is the discrete flux on Gamma_C (scalar: the friction force itself; elasticity: the
+    normal reaction of the bilateral contact); its penetration is NaN in the scalar model, which
+    has no unilateral condition."""
+    timed = timer(phases)
+    with timed("setup"):
+        qp = make_qp()
+        start = None if carry is None or multilevel is None else nested_start(multilevel, carry.p1, problem, qp.edges)
+        predicted = friction_prediction(carry, qp.points)
+    with timed("solve"):
+        solution = solve_friction_qp(qp, predicted, multilevel=multilevel, start=start, options=options)
+    u = qp.to_u(solution.z)
+    m = len(qp.F)
+    stick = ~(solution.active[:m] | solution.active[m:])
+    nv = len(problem.vertex_dofs)
+    # an edge sticks when all its variables do (P1: when both its ends do, as for the cones)
+    edge_stick = np.bincount(qp.edge_of_row, weights=~stick[nv:], minlength=len(problem.trace.edges)) == 0
+    if not len(qp.edge_of_row):
+        edge_stick = end_status(problem, stick[:nv]).all(axis=1)
+    trace_u = ContactTraceFunction.of(problem, u, end_status(problem, stick[:nv]), edge_stick)
+    if problem.physics.rotated_frame:
+        reaction = (qp.K @ solution.z - qp.b)[qp.normal]
+        pressure, penetration = contact_pressure(problem, reaction), max_penetration(case, problem.mesh, trace_u)
+    else:
+        pressure, penetration = contact_pressure(problem, solution.multipliers), float("nan")
+    fields = SolveFields.of_exact(solution, penetration, pressure, 2 * m)
+    return LevelSolve(fields, u, trace_u, pressure, LawCarry(p1_values(problem, u), points=qp.points, active=solution.active))
+
+
 @dataclass(frozen=True)
 class FunctionalCone(Method):
     """A cone given only by its constraint functionals on the contact edges (2D;
@@ -82,7 +119,9 @@ class FunctionalCone(Method):
     along the edge). Solved exactly (KKT residual <= 1e-10) by the general-constraint active set
     method with the projected multigrid, nested from level to level, as the 3D ``mean``. The
     paper's ``nodal`` is ``functionals=(((0.5, 1.0),),)``; "v_h >= alpha at the points 1/4 and
-    3/4 of each edge" is ``(((0.25, 1.0),), ((0.75, 1.0),))``. Known limit: where Gamma_C is
+    3/4 of each edge" is ``(((0.25, 1.0),), ((0.75, 1.0),))``. On a Tresca case (if it declares
+    ``friction=("frictionless", "tresca")``) with k - 1 functionals per edge of degree k, they are
+    the friction variables of j_h (``fem.friction.rules_friction_qp``). Known limit: where Gamma_C is
     wholly in contact at a zero gap (elastic-wedge), the general-constraint solver's relative
     primal residual divides round-off by round-off and the rows read "stalled" though the
     solution is the paper cones' (tests/test_functional_cone.py, a strict xfail)."""
@@ -105,6 +144,9 @@ class FunctionalCone(Method):
         return self.functionals_of is not None
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
+        if case.frictional:
+            return solve_tresca(case, problem, lambda: rules_friction_qp(case, problem, self.functionals_of or self.functionals),
+                                carry, multilevel, phases, self.solver)
         # two or more functionals per edge: with both ends active, an edge's rows outnumber its
         # three trace variables, the active rows are linearly dependent, and the projected CG
         # (``solvers.row_projection``) stalls (oscillating-r34 with the quarter points);
@@ -132,7 +174,13 @@ class ContactLawMethod(Method):
     residual <= 1e-10. The law's parameters, if it is a dataclass, are the method's
     (``nitsche:gamma0=0.1,theta=-1`` on the command line), checked by the law itself. A law with
     a field ``degree`` left None (``fem.contact_laws.builtin``) is told the method's order: the k its parameter
-    is chosen for, which an hp mesh scales by (k / p)^2 in an element of degree p."""
+    is chosen for, which an hp mesh scales by (k / p)^2 in an element of degree p.
+
+    Friction: on a case with a friction law (``problem.friction``) among the method's
+    ``friction``, the law is replaced by its friction law (``fem.contact_laws.tresca.law_for``:
+    the built-in Nitsche and penalty laws carry their parameters over; a law of your own gives
+    ``for_friction``, or is itself a ``fem.contact_laws.protocol.FrictionLaw``), solved by the same Newton
+    method on the channels of ``fem.contact_laws.channels``."""
 
     law: object = None
     physics: tuple = ("scalar", "elasticity")
@@ -140,6 +188,12 @@ class ContactLawMethod(Method):
     cost_model: str | float = "newton"
 
     def system(self, case, problem, take_stiffness: bool = False):
+        """The law's system on ``problem``; on a case with friction (``problem.friction``) the
+        system of the friction law that carries the law's idea and parameters
+        (``fem.contact_laws.tresca.law_for``): the method is the discretisation, the friction
+        law the case's physics."""
+        if case.frictional:
+            return friction_system(case, problem, law_for(self.calibrated_law, case.friction), take_stiffness)
         return law_system(case, problem, self.calibrated_law, take_stiffness)
 
     @property
@@ -184,9 +238,12 @@ class ContactLawMethod(Method):
         u = solution.u
         trace_u = ContactTraceFunction.of(problem, u)
         pressure = system.quadrature.edge_means(system.pressure(u))
-        fields = SolveFields(max_penetration(case, problem.mesh, trace_u), float(pressure.min()), solution.residual,
+        # the scalar Tresca model has no unilateral condition: no penetration (as the cones')
+        penetration = float("nan") if case.frictional and not problem.physics.rotated_frame else \
+            max_penetration(case, problem.mesh, trace_u)
+        fields = SolveFields(penetration, float(pressure.min()), solution.residual,
                              solution.status, solution.iterations, solution.linear_iterations,
-                             active_constraints=int(solution.active.sum()), backward_error=solution.backward,
+                             active_constraints=int(np.count_nonzero(solution.active)), backward_error=solution.backward,
                              solve_seconds=solution.seconds)
         return LevelSolve(fields, u, trace_u, pressure,
                           LawCarry(p1_values(problem, u), points=system.quadrature.points, active=solution.active))

@@ -11,6 +11,7 @@ _PUBLIC = {
     "disc_box": "geometry", "zone_box": "geometry",
     "polar": "functions", "transition": "functions", "transition_gradient": "functions",
     "roller_free_mode": "functions", "roller_free_series": "functions", "bracketed_root": "functions",
+    "stick_slip_mode": "functions", "stick_slip_series": "functions",
     "Elasticity": "physics", "Scalar": "physics", "MirrorBody": "bodies",
     "Tresca": "friction", "FRICTIONLESS": "friction",
 }

@@ -63,17 +63,19 @@ def check_declared(module, source: str) -> None:
 
 
 def check_friction(module, source: str) -> None:
-    """``friction``, if declared: a friction law of ``problem.friction``; Tresca's bilateral
-    normal contact in elasticity is u . n = 0 (no gap); one body."""
+    """``friction``, if declared: a friction law of ``problem.friction``; Tresca has no gap (its
+    bilateral normal contact in elasticity is u . n = 0); two bodies scalar only."""
     from .friction import FRICTIONLESS, Frictionless, Tresca
     law = getattr(module, "friction", FRICTIONLESS)
     if not isinstance(law, (Frictionless, Tresca)):
         raise CaseError(f"case {source}: friction must be harness.problem.Tresca(threshold=...) or "
                         f"harness.problem.FRICTIONLESS, got {law!r}")
-    if isinstance(law, Tresca) and getattr(module, "second_body", None) is not None:
-        raise CaseError(f"case {source}: Tresca friction between two bodies is not implemented (one body only)")
-    if isinstance(law, Tresca) and getattr(module, "physics", "scalar") == "elasticity" and getattr(module, "gap", None) is not None:
-        raise CaseError(f"case {source}: Tresca's bilateral normal contact is u . n = 0 on Gamma_C: declare no gap")
+    if isinstance(law, Tresca) and getattr(module, "second_body", None) is not None \
+            and getattr(module, "physics", "scalar") != "scalar":
+        raise CaseError(f"case {source}: Tresca friction between two elastic bodies is not implemented (scalar only)")
+    if isinstance(law, Tresca) and getattr(module, "gap", None) is not None:
+        raise CaseError(f"case {source}: Tresca friction has no gap (scalar: no unilateral condition; elasticity: "
+                        f"bilateral u . n = 0 on Gamma_C)")
 
 
 def _check_strings(module, source: str) -> None:

@@ -21,7 +21,7 @@
     in 3D u_t is a 2-vector and the admissible set of sigma_t a disc of radius s, not a box.
 
 A case declares ``friction = Tresca(threshold=...)`` (``harness.problem.Tresca``); a method
-declares the friction laws it discretises (``methods.method.Method.friction``) and a study
+declares the friction laws it discretises (``harness.methods.method.Method.friction``) and a study
 leaves it out of the cases of the others, saying why.
 """
 from __future__ import annotations
@@ -78,5 +78,5 @@ class Tresca:
 # friction is the next step: the contact and friction rows of one active set)
 NORMAL_CONDITIONS = ("bilateral",)
 FRICTIONLESS = Frictionless()
-# the friction laws, by name (``Method.friction`` names them)
+# the friction laws, by name (``harness.methods.method.Method.friction`` names them)
 FRICTION_LAWS = ("frictionless", "tresca")

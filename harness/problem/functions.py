@@ -147,6 +147,59 @@ def roller_free_series(exponent: float, omega: float, material) -> "PolarSeries"
     return PolarSeries(((material.kappa * a / two_mu, l, l), (-a * l / two_mu, l, 2 - l), (-b / two_mu, l, -l)))
 
 
+def stick_slip_series(material, exponent: float = 1.5) -> "PolarSeries":
+    """u_x + i u_y of the plane-strain Williams mode at a Tresca stick-slip point, about 0 on the
+    half plane theta in [0, pi]: roller (u_y = 0, sigma_xy = 0) on theta = 0 (the slip side, its
+    constant shear carried by a smooth field) and clamped (u = 0, stick with bilateral contact) on
+    theta = pi. In polar components u = r^l (A cos((l+1) theta) + C (kappa - l) cos((l-1) theta),
+    -A sin((l+1) theta) + C (kappa + l) sin((l-1) theta)), i.e.
+
+        u_x + i u_y = r^l (A e^{-i l theta} + C kappa e^{i l theta} - C l e^{i (2 - l) theta}),
+
+    a Kolosov-Muskhelishvili field (phi = 2 mu C z^l, psi = -2 mu A z^l). The four face conditions
+    have the determinant 2 l mu (kappa + 1)(kappa sin(2 l omega) - l sin(2 omega)) on the wedge
+    of angle omega, at omega = pi 2 l mu kappa (kappa + 1) sin(2 pi l), whose roots are
+    l = 1/2, 1, 3/2, ... for every Poisson ratio
+    (tests/test_tresca_exact.py). A half-integer l has the null vector C = A / (kappa + l); with
+    A = (kappa + l) / (2 mu (kappa + 1)),
+
+        u_x = kappa / (mu (kappa + 1)) r^l on theta = 0,   sigma_xy = (-1)^(l - 1/2) l r^(l-1) on theta = pi:
+
+    the slip and the stick-side shear have opposite signs for l = 3/2, 7/2, ... (admissible as the
+    leading term of a Tresca solution) and equal signs for l = 1/2, 5/2, ... (elastic-tresca-r32).
+    """
+    l = float(exponent)
+    if abs(l - round(l - 0.5) - 0.5) > 1e-12 or l <= 0:
+        raise ValueError(f"stick_slip_series: the exponent must be a positive half-integer, got {exponent}")
+    mu, kappa = material.mu, material.kappa
+    A = (kappa + l) / (2 * mu * (kappa + 1))
+    C = A / (kappa + l)
+    return PolarSeries(((C * kappa, l, l), (-C * l, l, 2 - l), (A, l, -l)))
+
+
+def stick_slip_mode(material, coordinates: str = "xy", with_gradient: bool = False):
+    """The plane-strain displacement of ``stick_slip_series`` (l = 3/2) about 0: u_y = 0 and
+    sigma_xy = 0 on x > 0 (y = 0), u = 0 on x < 0; sigma_xy = -(3/2) |x|^{1/2} on x < 0 and
+    u_x = kappa / (mu (kappa + 1)) x^{3/2} on x > 0. ``coordinates``: "xy", or "xz" for the 3D
+    field (u_x, 0, u_z) of the same displacement in the (x, z) plane (``roller_free_mode``).
+    ``with_gradient``: (u, grad u), the Jacobian (row i = grad u_i) in closed form."""
+    from ngsolve import CF
+    from ngsolve import x as X
+    from ngsolve import y as Y
+
+    if coordinates not in ("xy", "xz"):
+        raise ValueError(f"coordinates must be 'xy' or 'xz', got {coordinates!r}")
+    series = stick_slip_series(material)
+    at = polar(0.0, False, X, z if coordinates == "xz" else Y)
+    u = _in_frame(series.real_imag(*at), 0.0, coordinates)
+    if not with_gradient:
+        return u
+    (a, c), (b, d) = series.diff("x").real_imag(*at), series.diff("y").real_imag(*at)
+    if coordinates == "xz":
+        return u, CF((a, 0.0, b, 0.0, 0.0, 0.0, c, 0.0, d), dims=(3, 3))
+    return u, CF((a, b, c, d), dims=(2, 2))
+
+
 @dataclass(frozen=True)
 class PolarSeries:
     """A complex function sum_k c_k r^{m_k} e^{i q_k theta} of the plane (z = r e^{i theta}),

@@ -53,7 +53,9 @@ class FrictionBounds:
         self._pinned_rows = np.flatnonzero(~self.free)
         # the scale of the forces: the loads, the friction forces, the lift's
         self.load_scale = max(max_abs(self._gradient(self.lift)), float(self.c.max(initial=0.0)), np.finfo(float).tiny)
-        self.K_norm = row_norm(self.K, self.free)
+        # K: a scipy matrix, or an operator that knows its row norms (two bodies:
+        # ``two_body_operator.CoupledBlocks``)
+        self.K_norm = self.K.row_norm(self.free) if hasattr(self.K, "row_norm") else row_norm(self.K, self.free)
         self.b_norm = float(np.abs(self.b[self.free]).max(initial=0.0))
 
     def _gradient(self, z: np.ndarray) -> np.ndarray:
@@ -139,22 +141,27 @@ def solve_friction_qp(qp, predicted=None, multilevel=None, start=None, textbook:
     else:
         K_ngs = qp.K_ngs if qp.K_ngs is not None else ngsolve_matrix(qp.K)
         system = FactorisedSystem(qp.K, K_ngs, qp.b, 0 if textbook else options.refactor_above)
+    return solve_friction(qp.K, qp.b, qp.free, qp.F, qp.c, qp.lift, system, options,
+                          None if textbook else predicted, None if textbook else start)
+
+
+def solve_friction(K, b, free, F, c, lift, system, options: SolverOptions = _DEFAULT, predicted=None,
+                   start=None) -> QPSolution:
+    """min 1/2 z'Kz - b'z + sum c_i |z[F_i]| (z = lift off ``free``) on ``system``'s solves, from
+    ``predicted`` (slip+, slip- flags of every row of F) and ``start``. The returned branches
+    (``active``) and forces (``multipliers``: lambda = (b - K z)[F]) cover every row of F."""
     # a row of weight 0 (the vertices of the mean analogue and of 3D P2) carries no friction: it
     # is a free dof, not a row (as a row each of its branches would be degenerate: lambda = 0)
-    rows = qp.c > 0
-    solver = FrictionBounds(qp.K, qp.b, qp.free, qp.F[rows], qp.c[rows], qp.lift, system, options)
-    if predicted is not None and not textbook:
+    rows = np.asarray(c) > 0
+    solver = FrictionBounds(K, b, free, F[rows], c[rows], lift, system, options)
+    if predicted is not None:
         predicted = np.concatenate([predicted[:len(rows)][rows], predicted[len(rows):][rows]])
-    solution = solver.solve(None if textbook else predicted, None if textbook else start)
-    return _all_rows(solution, qp, rows)
-
-
-def _all_rows(solution: QPSolution, qp, rows: np.ndarray) -> QPSolution:
-    """The solution's branches and forces on every friction variable of ``qp``, a weightless one
-    slipping with the sign of its value (its force is 0 up to the solve's residual)."""
-    slip = solution.z[qp.F]
+    solution = solver.solve(predicted, start)
+    # every row's branch, a weightless one slipping with the sign of its value (its force is 0
+    # up to the solve's residual)
+    slip = solution.z[F]
     plus, minus = slip > 0, slip < 0
     plus[rows], minus[rows] = solution.active[:rows.sum()], solution.active[rows.sum():]
     solution.active = np.concatenate([plus, minus])
-    solution.multipliers = -(qp.K @ solution.z - qp.b)[qp.F]
+    solution.multipliers = -(K @ solution.z - np.asarray(b, float))[F]
     return solution

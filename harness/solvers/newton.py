@@ -8,6 +8,11 @@ the current set exactly, so the method stops -- with the exact discrete solution
 linear solver's tolerance -- as soon as the set no longer changes: like the active set method
 of the cones, whose nested iteration (a start interpolated from the coarser level) it shares.
 
+A friction law (``fem.contact_laws.channels.FrictionSystem``) has integer branch codes and, where
+its terms are not affine on a branch (Tresca's disc in 3D: the slip branch s x/|x|), ``affine``
+False: then every step is linearised at its iterate (J_S(u), r_S = J_S(u) u - F_S(u)) and damped
+by the line search below, and Newton converges superlinearly rather than in finitely many steps.
+
 Stopping test: the relative residual max |F(u)| / max |b - A u_D| over the free dofs <= 1e-10
 (``SolverOptions.tolerance``; the stationarity part of the cones' KKT residual; F = 0 is the
 whole discrete problem), or, once u solved the affine system of its own set, the normwise
@@ -51,7 +56,7 @@ _DEFAULT = SolverOptions()
 @dataclass
 class NewtonSolution:
     u: np.ndarray
-    active: np.ndarray          # bool at the Gauss points: P(u) > 0
+    active: np.ndarray          # the branch at the Gauss points: bool (P(u) > 0), or a friction law's codes
     residual: float             # max |F(u)| / max |b - A u_D| on the free dofs
     iterations: int
     linear_iterations: int      # CG iterations (multigrid), or LU factorisations
@@ -123,11 +128,12 @@ class _AffineSolves:
         self.rhs, self.step_set = None, None
         self.iterations = 0
 
-    def new_set(self, step_set: np.ndarray) -> None:
+    def new_set(self, step_set: np.ndarray, u: np.ndarray | None = None) -> None:
         """The Newton step as the affine system of this set, J u_new = r (= J u - F(u) for the
-        set of u); the linear solver starts from u."""
-        self.system.set_jacobian(step_set)
-        self.rhs = self.system.affine_rhs(step_set)
+        set of u), linearised at ``u`` where the terms are not affine on a branch; the linear
+        solver starts from u."""
+        self.system.set_jacobian(step_set, u)
+        self.rhs = self.system.affine_rhs(step_set, u)
         self.linear, self.step_set = None, step_set
 
     def solve(self, u: np.ndarray, tol: float, direct_tol: float) -> np.ndarray:
@@ -177,7 +183,9 @@ def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=
     for iteration in range(options.newton_iterations + 1):
         F = system.residual(u)
         residual = float(np.abs(F).max(initial=0.0) / scale)
-        active = system.bracket(u) > 0
+        # the branch of every point: bool (a contact law: in contact) or integer codes (a
+        # friction law, ``fem.contact_laws.channels``; 0 the stick branch)
+        active = system.branch(u)
         # a stall is what is left after the convergence and divergence tests
         stopped = _stopped(system, u, F, residual, active, steps.last_set, options) or stall.stalled(residual, iteration)
         if stopped:
@@ -245,15 +253,18 @@ class _NewtonSteps:
         full steps: from then on every step is damped."""
         options, full, solves = self.options, self.full, self.solves
         key = step_set.tobytes()
-        self.damped = self.damped or key in self.seen
+        affine = getattr(self.system, "affine", True)
+        # not affine on a branch (the disc of 3D Tresca): the same set comes again as the
+        # iterates converge, so every step is damped (a monotone line search on max |F|)
+        self.damped = self.damped or key in self.seen or not affine
         new_set = self.last_set is None or not np.array_equal(step_set, self.last_set)
         loose = new_set and not (solves.direct or self.damped)
         depth = loose_depth(residual, full, options.forcing, options.loose_gain) if loose else full
         if depth <= full:
             self.seen.add(key)      # sets of full-depth steps only: a loose one is solved again
         self.last_set = step_set
-        if new_set:
-            solves.new_set(step_set)
+        if new_set or not affine:
+            solves.new_set(step_set, u)
         candidate = solves.solve(u, depth * self.scale, full * self.scale)
         if self.damped:
             candidate = _damped(self.system, u, candidate, residual * self.scale)

@@ -95,3 +95,80 @@ class ContactLaw(Protocol):
 
 class LawError(ValueError):
     """A contact law that breaks its protocol, in one line."""
+
+
+# Friction laws: the same protocol on more than one variable per point
+
+
+@dataclass(frozen=True)
+class FrictionPoints:
+    """The state a friction law sees at the Gauss points of Gamma_C (``problem.friction``): m
+    *channels* per point, each a variable c_j(u_h) with its flux, its load and so its force
+    lambda_j = flux_j - load_j, written as the frictionless contact variable is (``GammaPoints``),
+    so that Green's formula reads a(u, v) - L(v) = sum_j int_{Gamma_C} lambda_j(u) c_j(v). The
+    first ``tangential`` channels are the slip and the friction force:
+
+    * scalar model: the slip u_h itself and lambda = d_n u_h - g_C (one channel, no normal one);
+    * 2D elasticity: u_h . tau and sigma_t(u_h) = tau . sigma(u_h) n - tau . g_C, tau = (-n_y, n_x),
+      then the normal channel of ``GammaPoints`` (-u_h . n, -sigma_n(u_h), obstacle -g, load -g_n);
+    * 3D elasticity: the 2-vector (u_h . tau_1, u_h . tau_2) and its traction on an orthonormal
+      tangent frame of each point (``fem.contact_laws.channels.tangent_frames``), then the normal
+      channel.
+
+    Tresca's conditions on the friction force lambda_t (a vector of the ``tangential`` first
+    channels): |lambda_t| <= s, lambda_t = -s u_t / |u_t| where u_t != 0."""
+
+    u: np.ndarray           # (q, m) the channels' variables
+    dn: np.ndarray          # (q, m) their fluxes
+    gap: np.ndarray         # (q,) the normal channel's obstacle (-g; zeros without a normal channel)
+    load: np.ndarray        # (q, m) the channels' loads
+    threshold: np.ndarray   # (q,) Tresca's s
+    h: np.ndarray           # (q,) the size of the point's contact cell
+    x: np.ndarray           # (q, dim) the points
+    tangential: int = 1     # the slip's components (1, or 2 in 3D elasticity)
+    physics: str = "scalar"
+    modulus: float = 1.0    # the flux's stiffness scale (``GammaPoints.modulus``)
+    degree: np.ndarray | None = None    # (q,) the degree of each point's cell, or None
+
+    @property
+    def slip(self) -> np.ndarray:
+        """(q, tangential) u_t: the slip (the scalar model's u_h)."""
+        return self.u[:, :self.tangential]
+
+    @property
+    def friction_force(self) -> np.ndarray:
+        """(q, tangential) lambda_t = flux - load of the slip channels (d_n u - g_C; sigma_t - g_t)."""
+        return self.dn[:, :self.tangential] - self.load[:, :self.tangential]
+
+    @property
+    def normal(self) -> GammaPoints | None:
+        """The normal channel as a frictionless law sees it (``GammaPoints``), or None (scalar
+        model): what a normal condition -- bilateral here, unilateral with Coulomb's threshold
+        mu_F [-sigma_n]_+ next -- is written on."""
+        if self.u.shape[1] == self.tangential:
+            return None
+        return GammaPoints(self.u[:, -1], self.dn[:, -1], self.gap, self.load[:, -1], self.h, self.x, self.physics,
+                           self.modulus, self.degree)
+
+
+@runtime_checkable
+class FrictionLaw(Protocol):
+    """A friction law (``FrictionPoints``): any number of branches per point, each an integer
+    code of ``branches`` (0: the stiff one, "stick", by convention), and on each branch a
+    pressure p and a flux term f per channel, entering F(u) = A u - b - sum_j int p_j c_j(v) +
+    sum_j int f_j flux_j(v). Its terms need not be affine on a branch (the projection onto the
+    disc is not); ``derivative`` is their derivative at the state, with respect to every channel.
+    ``friction`` names the law of ``problem.friction`` it discretises ("tresca")."""
+
+    friction: str
+    branches: tuple
+
+    def branch(self, at: FrictionPoints) -> np.ndarray:
+        """(q,) int: the branch code of the state ``at`` at each point."""
+
+    def term(self, at: FrictionPoints, branch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(p, f), each (q, m): the formula of ``branch`` evaluated at ``at`` (whether or not
+        ``at`` lies in it)."""
+
+    def derivative(self, at: FrictionPoints, branch: np.ndarray) -> tuple:
+        """(p_u, p_dn, f_u, f_dn), each (q, m, m): d p_j / d u_k and so on, of ``branch`` at ``at``."""

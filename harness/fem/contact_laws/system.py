@@ -80,6 +80,7 @@ class LawSystem(BoundaryTerms):
     positions: np.ndarray
     obstacle_force: float
     symmetric: bool
+    affine = True               # its terms are affine on each branch: J_S is one matrix per set
 
     def at(self, u: np.ndarray) -> GammaPoints:
         q = self.quadrature
@@ -115,12 +116,13 @@ class LawSystem(BoundaryTerms):
         p, f = self.terms(self.at(u), branch)
         return self.J @ u - self.delta @ u - self.rhs - T.T @ (W * p) + N.T @ (W * f)      # A u = J u - delta u
 
-    def affine_rhs(self, active: np.ndarray) -> np.ndarray:
-        """r_S = -F_S(0): F_S(v) = J_S v - r_S on the branch set ``active``."""
+    def affine_rhs(self, active: np.ndarray, u: np.ndarray | None = None) -> np.ndarray:
+        """r_S = -F_S(0): F_S(v) = J_S v - r_S on the branch set ``active`` (whatever ``u``: affine)."""
         return -self._F(np.zeros(self.problem.ndof), active)
 
-    def set_jacobian(self, active: np.ndarray) -> None:
-        """J_S = A - T^T W (p_u T + p_dn N) + N^T W (f_u T + f_dn N), into J's memory."""
+    def set_jacobian(self, active: np.ndarray, u: np.ndarray | None = None) -> None:
+        """J_S = A - T^T W (p_u T + p_dn N) + N^T W (f_u T + f_dn N), into J's memory (the same
+        at every ``u``: the terms are affine on a branch)."""
         W, T, N = self.quadrature.weights, self.quadrature.T, self.quadrature.N
         p_u, p_dn, f_u, f_dn = self.derivatives(active)
         self.write_terms(-(T.T @ sp.diags(W * p_u) @ T) - T.T @ sp.diags(W * p_dn) @ N

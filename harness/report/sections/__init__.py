@@ -20,6 +20,7 @@ from . import (
     degrees,
     efficiency,
     elasticity,
+    friction,
     glance,
     meshes,
     methods,
@@ -35,9 +36,9 @@ from . import (
 # the document's order: what was run, the verdicts at a glance, the problem and methods, the
 # rates against the theorems, then the sections a study's cases call for (the cost at equal
 # accuracy, quantities, closed-form theories, parameter sweeps, meshes, the degree, elasticity,
-# two bodies, 3D), and each case in full
+# two bodies, 3D, friction), and each case in full
 SECTIONS = (provenance, glance, methods, summary, efficiency, quantities, prediction, sweeps, meshes, degrees,
-            elasticity, two_bodies, three_d, cases)
+            elasticity, two_bodies, three_d, friction, cases)
 
 
 def figure_groups() -> tuple[str, ...]:

@@ -17,6 +17,7 @@ from ..plan import ReportPlan
 from ..plots import theorem_label
 from ..prose import belief_finding, reference_sentence, which_bound
 from ..tables import gamma_c_view, level_table, normalised_view, summary_table
+from .friction import stick_slip_caption
 from .glance import verdict_counts
 
 
@@ -78,13 +79,24 @@ def case_figures_of(doc: Document, case: Case, f: dict) -> None:
 
 
 def contact_caption(case: Case) -> str:
-    """What the contact figure of ``case`` shows, by its bodies and dimension."""
+    """What the contact figure of ``case`` shows, by its bodies, dimension and friction."""
+    if case.frictional and case.dimension == 2 and not case.physics.elastic:
+        return "Stick and slip, " + stick_slip_caption(case)
     if case.bodies == 2:
         return ("Finest level along Γ_C: the opening [u_h] - 2α of the interface (sampled on the intersection of the two "
                 "trace meshes) and the mortar pressure per slave edge; shaded: exact contact zone.")
     if case.dimension == 2:
         return "Finest level along Γ_C: u_h - α and the discrete contact pressure; shaded: exact contact zone."
     return "Γ_C from below, finest level: u_h - α and the discrete pressure per triangle."
+
+
+def contact_figure(case: Case, contact: dict, folder: Path) -> dict:
+    """The contact figure: a friction case's stick/slip picture (``friction.stick_slip``) where
+    its snapshots hold the slip, else u_h and the pressure along Gamma_C (``figures.contact``)."""
+    from .. import figures
+    from .friction import stick_slip
+    drawn = stick_slip(case, contact, folder) if case.frictional else None
+    return drawn if drawn is not None else figures.contact(case, contact, folder)
 
 
 def queue_case_figures(pool, case: Case, store: Path) -> None:
@@ -105,7 +117,7 @@ def case_figures(source: str, store: str, folder: str) -> dict:
     contact, domain = load_snapshots(store / f"{case.name}.npz")
     return {
         "convergence": figures.convergence(case, frame, folder),
-        "contact": figures.contact(case, contact, folder),
+        "contact": contact_figure(case, contact, folder),
         "solution": figures.domain(case, {k: v for k, v in domain.items() if k != "interface"}, folder),
         "interface": figures.interface(case, domain.get("interface"), folder),
         "efficiency": figures.efficiency(case, frame, efficiency_table(frame).target_err_h1.iloc[0], folder),

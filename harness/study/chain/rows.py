@@ -30,6 +30,8 @@ COLUMNS = [
     # what `rates` needs to fit a results file on its own: the case and the method's theories
     "nu", "expected_rate", "expected_log_exponent", "reference",
     "sharper_rate", "sharper_log_exponent", "sharper_reference", "case_source",
+    # friction cases (``measure.quantities``, ``measure.errors.DiscreteTraction``)
+    "qoi_slip_measure", "qoi_stick_slip_point", "qoi_slip_measure_exact", "qoi_stick_slip_point_exact", "err_friction_l2",
 ]
 
 # What each column of results.csv means (the docs' table of results.csv is generated from this)
@@ -76,6 +78,13 @@ COLUMN_MEANINGS = {
     "expected_log_exponent": "the power of |log h| in that bound", "reference": "the theorem it comes from",
     "sharper_rate": "a second theory's rate", "sharper_log_exponent": "its log power", "sharper_reference": "its theorem",
     "case_source": "the case file",
+    "qoi_slip_measure": "friction cases: the length (3D: area) of the slip zone, where |λ_h − (E/h) u_t,h| > s "
+    "(Tresca's projection acts)", "qoi_stick_slip_point": "2D friction cases: the position along Γ_C (x of a horizontal Γ_C) "
+    "of its first stick–slip point, to O(h); NaN where there is none",
+    "qoi_slip_measure_exact": "the exact slip zone's measure (2D friction cases with u)",
+    "qoi_stick_slip_point_exact": "the exact first stick–slip point (2D friction cases with u)",
+    "err_friction_l2": "friction cases with u: ‖σ_t − σ_t,h‖ in L²(Γ_C), σ_t,h the Riesz representative of the residual's "
+    "tangential part (scalar model: λ − λ_h, equal to err_pressure_l2)",
 }
 
 # The phases of a study, in the order of the data flow; ``Phases`` sums the wall time of each.
