@@ -17,6 +17,7 @@ def _tables() -> list[tuple]:
     from .adaptive import adaptive_goals, run_adaptive_bench
     from .degree import degree_goals, run_degree_bench
     from .elastic import elastic_goals, run_elastic_bench
+    from .friction import friction_goals, run_friction_bench
     from .load import load_goals, run_load_bench
     from .mortar import mortar_goals, run_mortar_bench
     from .study import measure_study, study_goals
@@ -36,6 +37,9 @@ def _tables() -> list[tuple]:
             (run_degree_bench, "_degree",
              "degree k = 3, 4 (transition-r32): contact solve against one linear solve of the same stiffness:",
              degree_goals),
+            (run_friction_bench, "_friction",
+             "Tresca friction (tresca-r32): exact friction solve against one linear solve without friction rows, "
+             "same start (multigrid CG):", friction_goals),
             (run_load_bench, "_load",
              "a study beside one busy process (`run`, wall seconds; threads: auto = the default policy):", load_goals)]
 
