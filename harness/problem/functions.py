@@ -179,7 +179,7 @@ def stick_slip_series(material, exponent: float = 1.5) -> "PolarSeries":
 
 def stick_slip_mode(material, coordinates: str = "xy", with_gradient: bool = False):
     """The plane-strain displacement of ``stick_slip_series`` (l = 3/2) about 0: u_y = 0 and
-    sigma_xy = 0 on x > 0 (y = 0), u = 0 on x < 0; sigma_xy = -(3/2) |x|^{1/2} on x < 0 and
+    sigma_xy = 0 on x > 0 (y = 0), u = 0 on x < 0; sigma_xy = -(3/2) abs(x)^{1/2} on x < 0 and
     u_x = kappa / (mu (kappa + 1)) x^{3/2} on x > 0. ``coordinates``: "xy", or "xz" for the 3D
     field (u_x, 0, u_z) of the same displacement in the (x, z) plane (``roller_free_mode``).
     ``with_gradient``: (u, grad u), the Jacobian (row i = grad u_i) in closed form."""
