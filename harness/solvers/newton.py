@@ -18,8 +18,16 @@ Stopping test: the relative residual max |F(u)| / max |b - A u_D| over the free 
 whole discrete problem), or, once u solved the affine system of its own set, the normwise
 backward error of that system at round-off (<= 1e-13, ``SolverOptions.roundoff_backward_error``:
 the relative residual's floor grows like eps cond(J) on fine meshes; ``pdas.KKT.converged``).
-No silent failure: a status "converged" or why not. A repeated set without convergence
-switches to damped steps (halving on max |F|), which ends cycling of the full steps; a run
+No silent failure: a status "converged" or why not. A repeated set without convergence, or for
+a friction law a full step that did not lower max |F| below its best (``UNDAMPED_STEPS``), switch to damped steps (halving on max |F|), which ends
+cycling of the full steps (a repeat is seen only among the full-depth steps: a multigrid step
+on a new set is loose, and sets that alternate A, B, A, ... are each new). Without the second
+test Tresca's sets need not repeat to cycle: where the contact load is singular
+(tresca-corner-r12, g_C ~ x^{-1/2} at the end of a stick zone) the discrete friction force
+swings between -s and s from one Gauss point to the next, a full step sends a point from one
+slip branch straight to the other (the stick slab |u| <~ gamma s is thin), every such flip
+leaves 2 s times a vertex hat's integral (~ s h) in F, and the stick set drifts, one or two
+points a step, without coming back; a run
 whose max |F| has not fallen below its best for ``SolverOptions.stall_steps`` steps stops as
 "stalled" (past Nitsche's coercivity bound, theta = 1, J is indefinite and the discrete problem
 may have no solution: such runs would wander for all their steps). The stall count is chosen so
@@ -51,6 +59,11 @@ from .options import SolverOptions
 from .pdas import loose_depth
 
 _DEFAULT = SolverOptions()
+# a friction law's full steps without a new lowest max |F| before its steps are damped (the
+# module's note). Friction laws only: frictionless Nitsche past its coercivity bound (corner-r12,
+# gamma0 = 0.3, tests/test_weak_contact.py) converges undamped after up to 9 such steps, and
+# damping stalls it
+UNDAMPED_STEPS = 1
 
 
 @dataclass
@@ -241,6 +254,7 @@ class _NewtonSteps:
         self.solves = _AffineSolves(system, multilevel, options)
         self.seen, self.damped = set(), False
         self.last_set = None        # the set of the last step
+        self.best, self.since_best = np.inf, 0      # the lowest max |F| so far, and the steps since
 
     def step(self, u: np.ndarray, residual: float, step_set: np.ndarray) -> np.ndarray:
         """The next iterate from u (of max |F| ``residual``, relative) by the step on ``step_set``.
@@ -249,14 +263,19 @@ class _NewtonSteps:
         residual when that is much shallower (``pdas.loose_depth``; inexact semismooth Newton:
         such a step decides the next set); a set a step leaves unchanged is solved to the full
         depth (``options.linear_depth`` of the tolerance), which decides convergence, keeping
-        J, r and the V-cycle. A set solved to full depth before, met again, means cycling of the
-        full steps: from then on every step is damped."""
+        J, r and the V-cycle. A set solved to full depth before, met again, or ``UNDAMPED_STEPS``
+        steps without a new lowest max |F|, mean cycling of the full steps: from then on every step is damped."""
         options, full, solves = self.options, self.full, self.solves
         key = step_set.tobytes()
         affine = getattr(self.system, "affine", True)
         # not affine on a branch (the disc of 3D Tresca): the same set comes again as the
         # iterates converge, so every step is damped (a monotone line search on max |F|)
-        self.damped = self.damped or key in self.seen or not affine
+        # full steps that have not lowered max |F| below its best for ``UNDAMPED_STEPS`` steps (the
+        # module's note: Tresca's slip branches cycle through sets that never repeat): from then
+        # on every step is damped
+        self.best, self.since_best = (residual, 0) if residual < self.best else (self.best, self.since_best + 1)
+        friction = step_set.dtype != bool       # a friction law's integer branch codes
+        self.damped = self.damped or key in self.seen or not affine or (friction and self.since_best >= UNDAMPED_STEPS)
         new_set = self.last_set is None or not np.array_equal(step_set, self.last_set)
         loose = new_set and not (solves.direct or self.damped)
         depth = loose_depth(residual, full, options.forcing, options.loose_gain) if loose else full
