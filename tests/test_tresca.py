@@ -121,3 +121,22 @@ def test_threshold_may_vary_along_gamma_c(tmp_path):
     rows = run(case, methods=["nodal"], levels=2, show_progress=False)
     constant = run("tresca-r72", methods=["nodal"], levels=2, show_progress=False)
     assert np.allclose(rows.err_h1.to_numpy(), constant.err_h1.to_numpy(), rtol=1e-12)
+
+
+P2_CONES, WEAK = ["mean", "nodal", "p1"], ["nitsche", "penalty", "nitsche-p1", "penalty-p1"]
+DEGREES = ["mean-p3", "nitsche-p3", "nodal-p3", "penalty-p3", "mean-p4", "nitsche-p4", "nodal-p4", "penalty-p4"]
+
+
+@pytest.mark.parametrize("case_name, expected", [
+    ("tresca-r32", P2_CONES + WEAK + DEGREES), ("elastic-tresca-r32", P2_CONES + WEAK + DEGREES),
+    ("tresca-reference", P2_CONES + WEAK),            # a reference solution is P2: no P_k, k >= 3
+    # 3D: the triangle means are general rows (no mean); the elastic slip's disc is the laws' alone
+    ("tresca-line-3d", ["nodal", "p1"] + WEAK + ["nitsche-p3", "penalty-p3", "nitsche-p4", "penalty-p4"]),
+    ("elastic-tresca-3d", WEAK + ["nitsche-p3", "penalty-p3", "nitsche-p4", "penalty-p4"]),
+    ("two-body-tresca-r32", ["mortar-mean", "mortar-nodal", "mortar-p1"])])
+def test_every_friction_case_gets_the_methods_that_discretise_tresca(case_name, expected):
+    from harness.methods import METHODS
+    case = load_case(case_name)
+    assert [m.name for m in METHODS.values() if m.supports(case)] == expected
+    # the others are left out with a reason of their own
+    assert all(m.refusal(case) for m in METHODS.values() if m.name not in expected)

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..fem.assembly import DiscreteProblem, boundary_load_points
+from ..fem.contact_laws.channels import slip_rows, tangent_frames
 from ..fem.contact_quadrature import contact_quadrature, exact_pressure
 from ..fem.element_quadrature import singular_vertices
 from ..fem.nested import nested_start
@@ -38,7 +39,21 @@ def contact_flux_load(case, problem: DiscreteProblem) -> np.ndarray:
     above a method's error in |.|_1, which a best approximation cannot be); the rule is graded on
     the edges at singular points."""
     quadrature = contact_quadrature(problem, boundary_load_points(problem.order, FLUX_POINTS), graded_at=singular_vertices(case, problem.mesh))
-    return quadrature.T.T @ (quadrature.weights * exact_pressure(case, problem, quadrature))
+    load = quadrature.T.T @ (quadrature.weights * exact_pressure(case, problem, quadrature))
+    if case.frictional and problem.physics.rotated_frame:
+        load += tangential_flux_load(case, problem, quadrature)
+    return load
+
+
+def tangential_flux_load(case, problem: DiscreteProblem, quadrature) -> np.ndarray:
+    """int_{Gamma_C} (sigma_t(u) - g_t) . v_t for every basis function v: under Tresca friction
+    the tangential traction is the friction force, not zero as in frictionless contact
+    (``problem.friction``), and it loads the Ritz projection as the pressure does."""
+    rows, _ = slip_rows(problem, quadrature)
+    traction = case.physics.tangential_traction(case, problem.mesh, quadrature.points, quadrature.normals)
+    frames = tangent_frames(quadrature.normals)
+    return sum(T.T @ (quadrature.weights * np.einsum("qd,qd->q", traction, frames[:, j]))
+               for j, T in enumerate(rows))
 
 
 def ritz_projection(case, problem: DiscreteProblem, multilevel=None, start: np.ndarray | None = None) -> np.ndarray:

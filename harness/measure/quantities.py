@@ -76,6 +76,8 @@ QUANTITY_MEANINGS = {
     "slip_measure": "the length (3D: area) of the slip zone (friction cases)",
     "stick_slip_point": "the position along Γ_C of its first stick–slip point (2D friction cases)",
 }
+# the quantities of friction cases only (NaN on a frictionless one)
+FRICTION_QUANTITIES = ("slip_measure", "stick_slip_point")
 # the quantities a friction case's model leaves without meaning (module docstring): the scalar
 # model has no unilateral condition, a bilateral elastic body no contact zone of its own
 MEANINGLESS = {False: ("qoi_contact_measure", "qoi_peak_pressure"), True: ("qoi_contact_measure",)}

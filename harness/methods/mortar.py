@@ -129,7 +129,8 @@ class Mortar(Method):
         with timed("solve"):
             solution = solve_friction(K, qp.b, qp.free, qp.C, c, qp.lift, system, self.solver, predicted, start)
         u = qp.to_u(solution.z)
-        pressure = contact_pressure(problem.upper, solution.multipliers)
+        # the flux's convention (the friction force d_n u - g_C): the solver's lambda = b - K z is its opposite
+        pressure = contact_pressure(problem.upper, -solution.multipliers)
         fields = SolveFields.of_exact(solution, float("nan"), pressure, 2 * len(qp.C))
         return LevelSolve(fields, u, None, pressure, MortarCarry(joint_p1_values(problem, u), points=points[:, None],
                                                                  active=solution.active,

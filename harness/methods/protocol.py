@@ -83,8 +83,8 @@ def solve_tresca(case, problem, make_qp, carry, multilevel, phases, options) -> 
     (``make_qp()``, a ``fem.friction.FrictionQP``: the nodal or mean analogue, P1, or the P_k
     functionals of a ``protocol.FunctionalCone``), solved exactly by the active set
     method on the bound-constrained dual (``solvers.friction``), nested from ``carry``. The row's
-    pressure is the discrete flux on Gamma_C (scalar: the friction force itself; elasticity: the
-    normal reaction of the bilateral contact); its penetration is NaN in the scalar model, which
+    pressure is the discrete flux on Gamma_C, as for the cones (scalar: the friction force
+    d_n u_h - g_C in [-s, s] itself; elasticity: the normal reaction of the bilateral contact); its penetration is NaN in the scalar model, which
     has no unilateral condition."""
     timed = timer(phases)
     with timed("setup"):
@@ -106,7 +106,9 @@ def solve_tresca(case, problem, make_qp, carry, multilevel, phases, options) -> 
         reaction = (qp.K @ solution.z - qp.b)[qp.normal]
         pressure, penetration = contact_pressure(problem, reaction), max_penetration(case, problem.mesh, trace_u)
     else:
-        pressure, penetration = contact_pressure(problem, solution.multipliers), float("nan")
+        # the flux d_n u_h - g_C (the case's friction force, ``problem.friction``): the solver's
+        # lambda = b - K z is its opposite
+        pressure, penetration = contact_pressure(problem, -solution.multipliers), float("nan")
     fields = SolveFields.of_exact(solution, penetration, pressure, 2 * m)
     return LevelSolve(fields, u, trace_u, pressure, LawCarry(p1_values(problem, u), points=qp.points, active=solution.active))
 

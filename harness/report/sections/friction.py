@@ -238,8 +238,8 @@ def _fit_limits(ax, values: list) -> None:
 
 def slip_fields(case, snapshot: dict) -> dict | None:
     """Which snapshot fields hold the slip and the friction force (and their exact values), and
-    the sign that turns the exact flux into the multiplier's convention (λ = g_C − ∂ₙu, the
-    solver's: ``fem.friction``); None where the snapshot has neither (see ``stick_slip``)."""
+    the sign that turns the exact one into the discrete one's convention (both the flux
+    λ = ∂ₙu − g_C, ``problem.friction``); None where the snapshot has neither (see ``stick_slip``)."""
     if "faces" in snapshot:
         return None
     if "slip" in snapshot and "friction_force" in snapshot:
@@ -247,9 +247,9 @@ def slip_fields(case, snapshot: dict) -> dict | None:
                 "exact_force": "exact_friction_force", "sign": 1.0}
     if case.physics.elastic:
         return None
-    # scalar: the contact variable is the slip, the discrete "pressure" the friction force; the
-    # exact "pressure" is ∂ₙu − g_C, the opposite of the multiplier
-    return {"slip": "u_h", "force": "pressure", "exact_slip": "u", "exact_force": "exact_pressure", "sign": -1.0}
+    # scalar: the contact variable is the slip, the discrete "pressure" the friction force, as
+    # the exact "pressure" ∂ₙu − g_C
+    return {"slip": "u_h", "force": "pressure", "exact_slip": "u", "exact_force": "exact_pressure", "sign": 1.0}
 
 
 def zoom_window(s: np.ndarray, stick: np.ndarray, edge_lengths: np.ndarray) -> tuple[float, float] | None:
