@@ -89,7 +89,8 @@ def relative_gap(z, reference) -> float:
     return float(np.abs(z - reference).max() / np.abs(reference).max())
 
 
-@pytest.mark.parametrize("level", [1, 2])
+# level 2 (four times the rows of level 1) in `make test-full`
+@pytest.mark.parametrize("level", [1, pytest.param(2, marks=pytest.mark.slow)])
 @pytest.mark.parametrize("case_name", CASE_NAMES)
 @pytest.mark.parametrize("method_name", MODEL_NAMES)
 def test_tresca_solution_is_clarabels(method_name, case_name, level):

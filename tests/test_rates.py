@@ -12,7 +12,8 @@ from harness.problem.case import registered_cases
 RATE_LEVELS = 6
 # one body (3D: tests/test_three_d.py; two bodies, whose 6-level chains would double this
 # module's slow study: tests/test_two_body.py)
-CASES = {name: case for name, case in registered_cases(dimension=2).items() if case.bodies == 1}
+# frictionless: the Tresca cases' rates and solves are tests/test_tresca*.py's and test_friction_solver's
+CASES = {name: case for name, case in registered_cases(dimension=2).items() if case.bodies == 1 and not case.frictional}
 EXACT_CASES = [name for name, case in CASES.items() if case.exact]   # those with a best approximation
 
 

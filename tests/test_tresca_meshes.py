@@ -125,9 +125,11 @@ def study(case_name: str, methods: list, meshes: str, levels: int):
     return harness.run(case_name, methods=methods, meshes=meshes, levels=levels, show_progress=False)
 
 
+# tresca-r32 in `make test`, the others in `make test-full`
 @pytest.mark.parametrize("case_name, method, rate", [
-    ("tresca-r32", "nodal", 1.5), ("tresca-r32", "p1", 1.0), ("tresca-r72", "nodal", 2.0), ("tresca-r72", "p1", 1.0),
-    ("elastic-tresca-r32", "nodal", 1.5), ("elastic-tresca-r32", "p1", 1.0)])
+    ("tresca-r32", "nodal", 1.5), ("tresca-r32", "p1", 1.0),
+    *(pytest.param(*row, marks=slow) for row in [("tresca-r72", "nodal", 2.0), ("tresca-r72", "p1", 1.0),
+                                                  ("elastic-tresca-r32", "nodal", 1.5), ("elastic-tresca-r32", "p1", 1.0)])])
 def test_the_estimator_converges_at_the_error_rate_under_uniform_refinement(case_name, method, rate):
     """eta's fitted rate in h over levels 2-4 is the error's (P2 h^1.5 on the r^{3/2} point,
     h^2 on the H^{7/2-eps} one; P1 h): the friction terms do not stagnate (the Signorini tension
@@ -142,7 +144,7 @@ def test_the_estimator_converges_at_the_error_rate_under_uniform_refinement(case
     assert tail.effectivity.max() / tail.effectivity.min() <= 1.05
 
 
-@pytest.mark.parametrize("case_name", TRESCA_CASES)
+@pytest.mark.parametrize("case_name", [TRESCA_CASES[0], *(pytest.param(c, marks=slow) for c in TRESCA_CASES[1:])])
 def test_graded_meshes_run_the_friction_methods_at_the_optimal_n_rate(case_name):
     """Graded meshes (toward the stick-slip point) with nodal, mean and p1: every row converged,
     H1 N-rate over the last 3 levels near k/2 (0.9 for P2, 0.45 for P1)."""
