@@ -99,6 +99,21 @@ class FrictionQP(ProblemQP):
     normal: np.ndarray           # the pinned normal dofs (elasticity), else empty
     points: np.ndarray           # (len(F), dim) the node of each friction variable
     edge_of_row: np.ndarray      # the contact edge of each edge variable (F's rows past the vertices)
+    # elasticity: the cone variables of the pinned contact variable (u = S_n z_n on its dofs), in
+    # which its reaction is the cones' multiplier (``normal_reaction``); None: its vertex hats'
+    normal_model: ContactModel | None = None
+
+    def normal_reaction(self, u: np.ndarray) -> np.ndarray:
+        """The bilateral contact's reaction on the contact variable's rows (Gamma_C's vertices,
+        then its edges): the residual a(u_h, .) - L(.) in the variables of ``normal_model``'s
+        cone (the vertex values and the midpoint values or edge means: the multipliers a
+        frictionless cone of the model has, ``fem.cones.contact_pressure`` reads them), or, for
+        the P_k functionals, on the vertex hats only (as for a solve of one's own)."""
+        problem = self.problem
+        residual = problem.A @ u - problem.b
+        if self.normal_model is None:
+            return np.concatenate([residual[problem.vertex_dofs], np.zeros(len(problem.trace.edges))])
+        return (self.normal_model.transform(problem).T @ residual)[self.normal]
 
     @property
     def free(self) -> np.ndarray:
@@ -138,7 +153,9 @@ def friction_qp(case, problem: DiscreteProblem, model: ContactModel) -> Friction
     c = weights * np.concatenate(thresholds(case, problem, model))
     trace = problem.trace
     points = np.concatenate([trace.vertex_points, trace.midpoints[:len(edges)]])
-    return _qp(problem, S, edges, vertices, c, ContactEdges.of_edges(problem, edges, ends), points, np.arange(len(edges)))
+    qp = _qp(problem, S, edges, vertices, c, ContactEdges.of_edges(problem, edges, ends), points, np.arange(len(edges)))
+    qp.normal_model = model
+    return qp
 
 
 def _qp(problem, S, changed, vertices, c, embedding, points, edge_of_row) -> FrictionQP:

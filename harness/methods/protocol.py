@@ -103,8 +103,7 @@ def solve_tresca(case, problem, make_qp, carry, multilevel, phases, options) -> 
         edge_stick = end_status(problem, stick[:nv]).all(axis=1)
     trace_u = ContactTraceFunction.of(problem, u, end_status(problem, stick[:nv]), edge_stick)
     if problem.physics.rotated_frame:
-        reaction = (qp.K @ solution.z - qp.b)[qp.normal]
-        pressure, penetration = contact_pressure(problem, reaction), max_penetration(case, problem.mesh, trace_u)
+        pressure, penetration = contact_pressure(problem, qp.normal_reaction(u)), max_penetration(case, problem.mesh, trace_u)
     else:
         # the flux d_n u_h - g_C (the case's friction force, ``problem.friction``): the solver's
         # lambda = b - K z is its opposite

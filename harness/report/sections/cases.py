@@ -17,7 +17,7 @@ from ..plan import ReportPlan
 from ..plots import theorem_label
 from ..prose import belief_finding, reference_sentence, which_bound
 from ..tables import gamma_c_view, level_table, normalised_view, summary_table
-from .friction import stick_slip_caption
+from .friction import draws_stick_slip, stick_slip_caption
 from .glance import verdict_counts
 
 
@@ -33,14 +33,26 @@ def write(doc: Document, plan: ReportPlan) -> None:
             case_section(doc, case, plan.results, rates, plan.figs)
 
 
+def expectation_sentence(case: Case) -> str:
+    """What bounds the case's P2 H^1 error: the paper's theorem, the authors' belief (Remark 4.3),
+    or, with friction, the paper's rate for the same regularity read as a conjecture (no theorem
+    covers the friction analogues)."""
+    if case.frictional:
+        return f"no theorem covers friction: the P2 H¹ error is expected (a conjecture) to behave like {case.expected_bound}."
+    if case.conjectured:
+        return f"the authors believe (no theorem) the P2 H¹ error behaves like {case.expected_bound}."
+    return f"the paper bounds the P2 H¹ error by C {case.expected_bound}."
+
+
 def case_section(doc: Document, case: Case, results: pd.DataFrame, rates: pd.DataFrame, figs: dict) -> None:
     """One case's part of the report."""
     if case.physics.elastic:
         doc.paragraph(f"Physics: {case.physics.describe()}.")
+    if case.frictional:
+        doc.paragraph(f"Friction: {case.friction.describe()} (section Tresca friction).")
     doc.paragraph(f"{case.description}. Regime {case.regime or '-'}, "
                   + (f"ν = {fraction(case.nu)}; " if np.isfinite(case.nu) else "ν not declared; ")
-                  + (f"the authors believe (no theorem) the P2 H¹ error behaves like {case.expected_bound}."
-                     if case.conjectured else f"the paper bounds the P2 H¹ error by C {case.expected_bound}."))
+                  + expectation_sentence(case))
     against = reference_sentence(case, results)
     if against:
         doc.paragraph(against)
@@ -80,7 +92,7 @@ def case_figures_of(doc: Document, case: Case, f: dict) -> None:
 
 def contact_caption(case: Case) -> str:
     """What the contact figure of ``case`` shows, by its bodies, dimension and friction."""
-    if case.frictional and case.dimension == 2 and not case.physics.elastic:
+    if draws_stick_slip(case):
         return "Stick and slip, " + stick_slip_caption(case)
     if case.bodies == 2:
         return ("Finest level along Γ_C: the opening [u_h] - 2α of the interface (sampled on the intersection of the two "
@@ -95,7 +107,7 @@ def contact_figure(case: Case, contact: dict, folder: Path) -> dict:
     its snapshots hold the slip, else u_h and the pressure along Gamma_C (``figures.contact``)."""
     from .. import figures
     from .friction import stick_slip
-    drawn = stick_slip(case, contact, folder) if case.frictional else None
+    drawn = stick_slip(case, contact, folder) if draws_stick_slip(case) else None
     return drawn if drawn is not None else figures.contact(case, contact, folder)
 
 

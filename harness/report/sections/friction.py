@@ -52,7 +52,8 @@ def write(doc: Document, plan: ReportPlan) -> None:
     names = [case.name for case in cases]
     doc.heading("Tresca friction")
     doc.paragraph(FRICTION_NOTE)
-    doc.table(friction_rates_view(plan.rates[plan.rates.case.isin(names)], plan.results), verdict_column="verdict")
+    bilateral = {case.name for case in cases if case.physics.elastic}
+    doc.table(friction_rates_view(plan.rates[plan.rates.case.isin(names)], plan.results, bilateral), verdict_column="verdict")
     absent = left_out_view(cases, plan.methods)
     if not absent.empty:
         doc.paragraph("Methods of the report left out of the friction cases, each with its own reason (n/a in the "
@@ -66,21 +67,23 @@ def write(doc: Document, plan: ReportPlan) -> None:
                       + "; ".join(f"`{name}`: {meaning}" for name, (meaning, _) in FRICTION_QUANTITIES.items()) + ".")
         doc.table(quantities)
     figures = [(plan.figs[case.name]["contact"]["png"], f"{case.name}: {stick_slip_caption(case)}")
-               for case in cases if plan.figs.get(case.name, {}).get("contact") is not None]
+               for case in cases if draws_stick_slip(case) and plan.figs.get(case.name, {}).get("contact") is not None]
     if figures:
         doc.figures(figures, wide=True)
 
 
-def friction_rates_view(rates: pd.DataFrame, results: pd.DataFrame) -> pd.DataFrame:
+def friction_rates_view(rates: pd.DataFrame, results: pd.DataFrame, bilateral=()) -> pd.DataFrame:
     """Per friction case and method: the expected H¹ rate and whose it is, the fitted one, the
-    pairwise rates, the L² and Γ_C trace rates, the finest KKT residual and the verdict."""
+    pairwise rates, the L² and Γ_C trace rates, the finest KKT residual and the verdict. The
+    trace rate is the contact variable's: for the ``bilateral`` (elastic) cases u_h . n, which
+    vanishes (exactly for the cones): no rate, "—"."""
     rows = []
     for rate in rates.itertuples():
         finest = results[(results.case == rate.case) & (results.method == rate.method)].sort_values("level").iloc[-1]
         rows.append({"case": rate.case, "method": rate.method, "expected": bound_text(rate.expected_rate, rate.expected_log_exponent),
                      "theory": rate.reference, "H¹ rate": f"{rate.fitted_rate:.3f} ± {rate.fitted_rate_se:.3f}",
                      "pairwise H¹ rates": " ".join(str(rate.pairwise_rates).split()[-4:]),
-                     "L² rate": _fmt(rate.fitted_rate_l2, ".2f"), "trace rate": _fmt(getattr(rate, "fitted_rate_trace", np.nan), ".2f"),
+                     "L² rate": _fmt(rate.fitted_rate_l2, ".2f"), "trace rate": "—" if rate.case in bilateral else _fmt(getattr(rate, "fitted_rate_trace", np.nan), ".2f"),
                      "finest ndof": _fmt(finest.ndof, ".3g"), "KKT": _fmt(finest.kkt_residual, ".1e"), "verdict": rate.verdict})
     return pd.DataFrame(rows)
 
@@ -128,6 +131,13 @@ def quantity_text(group: pd.DataFrame, column: str, kind: str) -> str:
     else:
         text = f"{values[-1]:.6g} ± {band['gci']:.1e} (p {band['observed_order']:.2f}){'' if band['asymptotic'] else '*'}"
     return text + (f"; error {exact['error']:.1e}" if np.isfinite(exact["error"]) else "")
+
+
+def draws_stick_slip(case) -> bool:
+    """Whether the case's contact figure is the stick/slip picture (``stick_slip``): one scalar
+    body in 2D (an elastic case's snapshots hold the normal displacement and reaction, a 3D
+    case's faces, two bodies' the opening: each keeps its contact figure)."""
+    return case.frictional and case.dimension == 2 and not case.physics.elastic and case.bodies == 1
 
 
 def stick_slip_caption(case) -> str:
