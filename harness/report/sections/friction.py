@@ -144,7 +144,7 @@ def stick_slip_caption(case) -> str:
     """What ``stick_slip`` shows of ``case`` (with or without a closed-form solution)."""
     exact = case.u is not None
     return ("finest level of each method along Γ_C. Top: the slip u_h (the friction variable's trace"
-            + ("; the exact u dashed" if exact else "") + "); bottom: the friction force λ_h = g_C − ∂ₙu_h (the "
+            + ("; the exact u dashed" if exact else "") + "); bottom: the friction force λ_h = ∂ₙu_h − g_C (the "
             "discrete multiplier per edge" + ("; the exact one dashed" if exact else "") + ") between the threshold "
             "±s (dotted). Shaded: " + ("the exact stick zone (u = 0)" if exact else "the first method's stick zone, where "
             "|λ_h| < s (no closed-form solution)") + ". Right: zoomed on the first stick-slip point.")
