@@ -51,7 +51,7 @@ def scalar_stick_slip(s: float = 1.0, c: float = 1.0, x0: float = 0.0):
     """(u, grad u) of the scalar Tresca problem's stick-slip point at (x0, 0) (``problem.friction``):
     u = s y + c r^{3/2} cos(3 theta/2), harmonic; on Gamma_C = {y = 0} (n = -e_y) it slips on
     the right (u = c (x - x0)^{3/2} > 0, d_n u = -s) and sticks on the left (u = 0,
-    d_n u = -s + (3/2) c |x - x0|^{1/2}, within [-s, s] while (3/2) c |x - x0|^{1/2} <= 2 s).
+    d_n u = -s + (3/2) c abs(x - x0)^{1/2}, within [-s, s] while (3/2) c abs(x - x0)^{1/2} <= 2 s).
     grad u from Re z^{3/2}' = (3/2) z^{1/2}: (3/2) c r^{1/2} (cos(theta/2), -sin(theta/2)) + (0, s)."""
     r, theta = polar(x0)
     u = s * (r * sin(theta)) + c * r ** 1.5 * cos(1.5 * theta)
