@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: test test-full lint report report-fine readme-figure bench docs clean distclean
+.PHONY: test test-full lint report report-fine readme-figure bench docs codes clean distclean
 
 $(STAMP): pyproject.toml setup.py
 	$(PYTHON) -m venv $(VENV)
@@ -53,8 +53,19 @@ $(DOCS_STAMP): $(STAMP) pyproject.toml
 docs: $(DOCS_STAMP)
 	$(PY) -m sphinx -W --keep-going -q -b html docs docs/_build/html
 
+# the other finite element codes of examples/codes (`harness export`, `external:DIR`), each in its
+# own environment, as a user's code would be: DOLFINx's binary wheel needs Python >= 3.12
+CODES_PYTHON ?= python3.12
+.venv-%/.installed: examples/codes/requirements-%.txt
+	$(CODES_PYTHON) -m venv .venv-$*
+	.venv-$*/bin/python -m pip install --quiet --upgrade pip
+	.venv-$*/bin/python -m pip install --quiet -r $<
+	touch $@
+
+codes: .venv-dolfinx/.installed .venv-skfem/.installed
+
 clean:
 	rm -rf results report
 
 distclean: clean
-	rm -rf $(VENV)
+	rm -rf $(VENV) .venv-dolfinx .venv-skfem
