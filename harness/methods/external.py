@@ -142,8 +142,11 @@ def external(folder, name: str | None = None) -> External:
     order = manifest.get("order", 2)
     if order not in LAGRANGE_ORDERS:
         raise ExternalError(f"{folder}: order {order!r}; external solutions are P1 or P2")
-    if not solution_sizes(folder):
+    sizes = solution_sizes(folder)
+    if not sizes:
         raise ExternalError(f"{folder} has no level-L.npz solution files")
+    for path in sizes.values():             # what needs no mesh is checked before any study starts
+        read_level(path, str(manifest["method"]))
     like = manifest.get("like")
     code = str(manifest.get("code", "another code"))
     return External(name=name or str(manifest["method"]), order=int(order), contact=f"{code}: {manifest.get('model', like or 'its own')}",
