@@ -247,16 +247,17 @@ def _sweep_into(out: Path, case, methods, values, level, references, engine, sho
     return frame
 
 
-def export(case, levels: int = 5, out="export", *, order: int = 2, progress=None) -> Path:
+def export(case, levels: int = 5, out="export", *, order: int = 2, progress=None, formats=("npz", "vtu", "msh")) -> Path:
     """Write ``levels`` uniform levels of ``case`` (a name, a case file or a ``Case``) for another
     finite element code: per level the mesh, the P_``order`` Lagrange nodes, the data there, the
     right-hand side as moments against the Lagrange basis, the discrete Dirichlet values and the
     exact solution (docs/guide/export-format.md); returns the manifest's path. ``progress(level,
-    path)`` is called per level. The other code's solutions come back as the method
-    ``external:DIR`` (``external``)."""
+    path)`` is called per level; ``formats``: .npz always, .vtu and .msh (meshio) if named. The
+    other code's solutions come back as the method ``external:DIR`` (``external``)."""
     from .problem.case import Case, load_case
     from .study.export import export as write
-    return write(case if isinstance(case, Case) else load_case(str(case)), levels, out, order=order, progress=progress)
+    return write(case if isinstance(case, Case) else load_case(str(case)), levels, out, order=order, progress=progress,
+                 formats=tuple(formats))
 
 
 def latex_tables(rows, fit_levels: int = 3) -> str:

@@ -7,6 +7,9 @@ from pathlib import Path
 
 import pandas as pd
 
+# tables of ``_tables`` that run only when `--only` names them: another code's environment and
+# minutes of its solves (``codes``)
+ASKED_ONLY = ("_codes",)
 # the tables `bench --only NAME` runs besides these, each named by its CSV's suffix (``_tables``)
 OTHER_BENCHES = ("solver", "report")
 
@@ -15,6 +18,7 @@ def _tables() -> list[tuple]:
     """(how to run it, the CSV's suffix, the title, its goals) of each table `bench` runs by
     default besides the solver table; `--only` names each by its suffix without the underscore."""
     from .adaptive import adaptive_goals, run_adaptive_bench
+    from .codes import codes_goals, run_codes_bench
     from .degree import degree_goals, run_degree_bench
     from .elastic import elastic_goals, run_elastic_bench
     from .friction import friction_goals, run_friction_bench
@@ -40,6 +44,9 @@ def _tables() -> list[tuple]:
             (run_friction_bench, "_friction",
              "Tresca friction (tresca-r32): exact friction solve against one linear solve without friction rows, "
              "same start (multigrid CG):", friction_goals),
+            (run_codes_bench, "_codes",
+             "other codes (transition-r32): DOLFINx + PETSc SNES VI / Nitsche against the harness, same exported problem, "
+             "one thread each:", codes_goals),
             (run_load_bench, "_load",
              "a study beside one busy process (`run`, wall seconds; threads: auto = the default policy):", load_goals)]
 
@@ -88,7 +95,7 @@ def run_bench_command(args) -> int:
     ensure_writable(out.parent)
     command, lines = command_line(), []
     for run, suffix, title, judge in _tables():
-        if args.only in (None, suffix.lstrip("_")):
+        if args.only == suffix.lstrip("_") or (args.only is None and suffix not in ASKED_ONLY):
             seconds, frame = timed(run)
             lines += _publish(frame, _beside(out, suffix), title, judge(frame), seconds, command)
     if args.only in (None, OTHER_BENCHES[0]):

@@ -29,6 +29,9 @@ SOLUTION_FORMAT = "signorini-harness-solution"
 # --method external:DIR
 EXTERNAL_PREFIX = "external:"
 SOLUTION_FORMAT_VERSION = 1
+# the harness methods the drivers of examples/codes discretise exactly (their --model): the
+# paper's nodal cone and Nitsche's law (``bench.codes`` runs them side by side)
+DRIVER_MODELS = ("nodal", "nitsche")
 # a point matches a node within this fraction of the level's extent (the export's nodes are
 # written in full double precision; another code's dof coordinates differ by round-off)
 MATCH_TOLERANCE = 1e-9

@@ -32,6 +32,8 @@ FORMAT_VERSION = 1
 # the boundary labels of a case (``problem.case``) as facet tags; a 3D case's other face labels
 # (``interior``) follow from 4 on, named in the manifest
 LABELS = {"contact": 1, "dirichlet": 2, "neumann": 3}
+# what export writes: NumPy's arrays (always), VTK's and Gmsh's meshes (through meshio)
+FORMATS = ("npz", "vtu", "msh")
 MESHIO_CELLS = {(2, 1): ("triangle", "line"), (2, 2): ("triangle6", "line3"),
                 (3, 1): ("tetra", "triangle"), (3, 2): ("tetra10", "triangle6")}
 
@@ -40,17 +42,20 @@ class ExportError(ValueError):
     """A one-line reason an export is refused."""
 
 
-def export(case, levels: int, out, order: int = 2, progress=None) -> Path:
+def export(case, levels: int, out, order: int = 2, progress=None, formats=FORMATS) -> Path:
     """Write ``levels`` uniform levels of ``case`` (a ``problem.case.Case``) at P_``order`` into
-    the folder ``out``; returns the manifest's path. ``progress(level, path)`` is called per level.
+    the folder ``out``, in ``formats`` (of ``FORMATS``: .npz always); returns the manifest's path.
+    ``progress(level, path)`` is called per level.
     A folder holding anything but an export is refused (nothing is overwritten but an export)."""
     _check(case, levels, order)
+    if "npz" not in formats or set(formats) - set(FORMATS):
+        raise ExportError(f"formats are npz (always) and any of vtu, msh; got {', '.join(formats)}")
     out = Path(out)
     _claim(out)
     records, labels = [], dict(LABELS)
     for level in UniformRefinement(case).levels(levels):
         arrays = level_arrays(case, level.mesh, order, labels)
-        records.append(write_level(out, level.index, arrays, level.h, order))
+        records.append(write_level(out, level.index, arrays, level.h, order, formats))
         if progress is not None:
             progress(level.index, out / records[-1]["file"])
     path = out / "manifest.json"
@@ -158,7 +163,7 @@ def contact_points(case, problem) -> dict:
             "q_normals": quadrature.normals, "q_obstacle": obstacle, "q_load": load}
 
 
-def write_level(out: Path, index: int, arrays: dict, h: float, order: int) -> dict:
+def write_level(out: Path, index: int, arrays: dict, h: float, order: int, formats=FORMATS) -> dict:
     """The level's .npz, .vtu and .msh (each written to a temporary name, then renamed: a killed
     export leaves no half-written file); its manifest record."""
     stem = f"level-{index}"
@@ -166,10 +171,12 @@ def write_level(out: Path, index: int, arrays: dict, h: float, order: int) -> di
     np.savez_compressed(tmp, **arrays)
     os.replace(tmp, out / f"{stem}.npz")
     for suffix, options in ((".vtu", {}), (".msh", {"file_format": "gmsh22", "binary": False})):
+        if suffix[1:] not in formats:
+            continue
         tmp = out / f".{stem}{suffix}"
         meshio_mesh(arrays, order, gmsh=suffix == ".msh").write(tmp, **options)
         os.replace(tmp, out / f"{stem}{suffix}")
-    return {"level": index, "file": f"{stem}.npz", "vtu": f"{stem}.vtu", "msh": f"{stem}.msh", "h": h,
+    return {"level": index, "file": f"{stem}.npz", **{kind: f"{stem}.{kind}" for kind in formats if kind != "npz"}, "h": h,
             "nodes": int(len(arrays["nodes"])), "cells": int(len(arrays["cells"])),
             "ndof": int(arrays["load"].size)}
 
