@@ -216,7 +216,7 @@ def manifest(case, order: int, records: list, labels: dict) -> dict:
             "case": described, "order": order, "components": physics.components if elastic else 1,
             "units": "nondimensional: lengths, loads and moduli as the case declares them (Young's modulus 1 unless stated)",
             "levels": records, "labels": labels,
-            "nitsche": {"gamma0": GAMMA0, "theta": 1.0,
+            "nitsche_law": {"gamma0": GAMMA0, "theta": 1.0,
                         "epsilon": "gamma0 * h / modulus",
                         "h": "2D: the contact edge's length; 3D: the longest edge of the contact triangle",
                         "modulus": physics.modulus if elastic else 1.0,
