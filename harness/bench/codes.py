@@ -32,10 +32,11 @@ def run_codes_bench(level: int = CODES_LEVEL, folder: Path = Path("results/bench
     ``methods.external.DRIVER_MODELS``, each of OPTIONS), one row per DOLFINx run."""
     if not ENVIRONMENT.exists():
         raise FileNotFoundError(f"bench --only codes runs DOLFINx from {ENVIRONMENT.parent.parent}: make .venv-dolfinx/.installed first")
-    from ..api import export
     from ..methods.external import DRIVER_MODELS
+    from ..problem.case import load_case
+    from ..study.export import export
     shutil.rmtree(folder, ignore_errors=True)
-    export(CODES_CASE, levels=level + 1, out=folder / "export", formats=("npz",))
+    export(load_case(CODES_CASE), level + 1, folder / "export", formats=("npz",))
     rows = []
     for model in DRIVER_MODELS:
         own = _harness_solution(model, level, folder / f"harness-{model}")
@@ -49,11 +50,12 @@ def run_codes_bench(level: int = CODES_LEVEL, folder: Path = Path("results/bench
 def _harness_solution(model: str, level: int, folder: Path) -> dict:
     """The harness's solve of ``model`` on levels 0..level, one thread, its finest level written
     as point values (``study.export.solution_writer``)."""
-    from ..api import run
-    from ..study import InProcess
+    from ..methods import methods_named
+    from ..problem.case import load_case
+    from ..study import InProcess, run_study
     from ..study.export import solution_writer
-    run(CODES_CASE, methods=[model], levels=level + 1, engine=InProcess(threads=1), show_progress=False,
-        on_level=solution_writer(folder, CODES_CASE, model))
+    run_study([load_case(CODES_CASE)], methods_named([model]), level + 1, show_progress=False, engine=InProcess(threads=1),
+              on_level=solution_writer(folder, CODES_CASE, model))
     return _finest(folder)
 
 
