@@ -54,8 +54,9 @@ docs: $(DOCS_STAMP)
 	$(PY) -m sphinx -W --keep-going -q -b html docs docs/_build/html
 
 # the other finite element codes of examples/codes (`harness export`, `external:DIR`), each in its
-# own environment, as a user's code would be: DOLFINx's binary wheel needs Python >= 3.12
-CODES_PYTHON ?= python3.12
+# own environment, as a user's code would be: DOLFINx's binary wheel needs Python >= 3.12 (pyenv's,
+# called by its path: the `python3.12` shim answers only where pyenv selects 3.12)
+CODES_PYTHON ?= $(firstword $(wildcard $(HOME)/.pyenv/versions/3.12*/bin/python3.12) $(shell command -v python3.12))
 .venv-%/.installed: examples/codes/requirements-%.txt
 	$(CODES_PYTHON) -m venv .venv-$*
 	.venv-$*/bin/python -m pip install --quiet --upgrade pip

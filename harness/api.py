@@ -251,7 +251,7 @@ def export(case, levels: int = 5, out="export", *, order: int = 2, progress=None
     """Write ``levels`` uniform levels of ``case`` (a name, a case file or a ``Case``) for another
     finite element code: per level the mesh, the P_``order`` Lagrange nodes, the data there, the
     right-hand side as moments against the Lagrange basis, the discrete Dirichlet values and the
-    exact solution (docs/guide/export-format.md); returns the manifest's path. ``progress(level,
+    exact solution (docs/guide/measure-your-code.md); returns the manifest's path. ``progress(level,
     path)`` is called per level; ``formats``: .npz always, .vtu and .msh (meshio) if named. The
     other code's solutions come back as the method ``external:DIR`` (``external``)."""
     from .problem.case import Case, load_case

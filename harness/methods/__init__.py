@@ -15,7 +15,7 @@ from ..fem.contact_laws.builtin import Nitsche, Penalty
 from ..fem.contact_laws.protocol import ContactLaw, FrictionLaw, FrictionPoints, GammaPoints, LawError
 from ..solvers.options import SolverOptions
 from .cones import BoundConstrained, CellMean
-from .external import External, ExternalError, external
+from .external import External, ExternalError
 from .method import (
     BASELINE,
     DEGREES,
@@ -51,6 +51,7 @@ from .registry import (
     FAMILIES,
     GROUPS,
     METHODS,
+    external,
     get_method,
     known,
     left_out,

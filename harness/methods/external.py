@@ -3,7 +3,7 @@
 
 The other code solved the levels of an export (``study.export``: the same meshes, the same
 data, the right-hand side as moments against the Lagrange basis) and wrote, per level, its
-solution's values at the P_k Lagrange nodes (docs/guide/export-format.md, "Solutions"). A P_k
+solution's values at the P_k Lagrange nodes (docs/guide/measure-your-code.md, "Solutions"). A P_k
 function is determined by those values, so the harness rebuilds u_h exactly
 (``fem.lagrange.LagrangeNodes``) and measures it like any row: every error, the quantities, the
 rates and verdicts, the cost (the code's own seconds) and the report's cells. What the harness
@@ -136,9 +136,9 @@ def solution_sizes(folder: Path) -> dict[int, Path]:
     return sizes
 
 
-def external(folder, name: str | None = None) -> External:
+def read_external(folder, name: str | None = None) -> External:
     """The method of the solutions in ``folder`` (its manifest.json and level-L.npz files,
-    docs/guide/export-format.md); ``name`` overrides the manifest's method name. A folder that
+    docs/guide/measure-your-code.md); ``name`` overrides the manifest's method name. A folder that
     is not one is refused in one line."""
     folder = Path(folder)
     manifest = _manifest(folder)
@@ -176,12 +176,8 @@ def _manifest(folder: Path) -> dict:
 
 
 def _expected(like: str | None, order: int):
-    """The expectation of the harness method ``like`` (what the code discretises), else the
-    best a P_k method can do for the case's regularity, h^min(nu - 1, k)."""
+    """Without ``like``: the best a P_k method can do for the case's regularity, h^min(nu - 1, k)
+    (with it, ``registry.external`` gives the harness method's own expectation)."""
     def expected(case) -> Expectation:
-        if like:
-            from .registry import get_method
-            return get_method(like).expected(case)
         return capped_expectation(case.nu, order, "the case's regularity (no theory of the code's method given)")
     return expected
-

@@ -7,12 +7,13 @@ order, roles: ``GROUPS``); and every way to ask for methods by name (``methods_n
 from __future__ import annotations
 
 from contextlib import contextmanager
+from dataclasses import replace
 
 from ..core.names import assignments, look_up, split_spec
 from ..core.plugins import is_external
 from . import cones, mortar, nitsche, penalty
 from .cones import BoundConstrained
-from .external import EXTERNAL_PREFIX, external
+from .external import EXTERNAL_PREFIX, External, read_external
 from .method import DEGREES, PAPER, Method
 from .mortar import Mortar
 from .plugins import MethodError, check_method, installed_methods, load_external
@@ -152,6 +153,13 @@ def get_method(name: str) -> Method:
         return _GIVEN[name]
     return look_up(installed_methods(), name, "method", MethodError, known=method_choices(),
                    also=", a file (path/to/method.py[:name]) or a module (package.module[:name])")
+
+
+def external(folder, name: str | None = None) -> External:
+    """Another code's solutions in ``folder`` as a method (``external.read_external``), expecting
+    the rate of the harness method they discretise (the folder's ``like``), if it names one."""
+    method = read_external(folder, name)
+    return replace(method, expected=get_method(method.like).expected) if method.like else method
 
 
 def parse_method(spec: str) -> Method:

@@ -1,5 +1,5 @@
 """Export a case's discrete problems, level by level, for another finite element code to solve
-(``python -m harness export``, ``harness.export``): the format docs/guide/export-format.md
+(``python -m harness export``, ``harness.export``): the format docs/guide/measure-your-code.md
 describes, version ``FORMAT_VERSION``.
 
 Per level: the mesh (vertices, cells, labelled boundary facets), the P_k Lagrange nodes, the
@@ -88,7 +88,7 @@ def _claim(out: Path) -> None:
 
 
 def level_arrays(case, mesh, order: int, labels: dict) -> dict:
-    """What one level's .npz holds (docs/guide/export-format.md), by name."""
+    """What one level's .npz holds (docs/guide/measure-your-code.md), by name."""
     problem = discretise(case, mesh, order)
     nodes = LagrangeNodes.of(problem.fes)
     components = problem.physics.components if problem.physics.rotated_frame else 1
