@@ -94,6 +94,7 @@ def facet_tags(mesh, data: dict):
     tdim = mesh.topology.dim
     mesh.topology.create_connectivity(tdim - 1, 0)
     mesh.topology.create_connectivity(tdim - 1, tdim)
+    mesh.topology.create_connectivity(0, tdim)
     boundary = dolfinx.mesh.exterior_facet_indices(mesh.topology)
     # topology vertex -> export vertex (P1 geometry: one geometry node per vertex)
     vertex_nodes = dolfinx.mesh.entities_to_geometry(mesh, 0, np.arange(mesh.topology.index_map(0).size_local, dtype=np.int32))
