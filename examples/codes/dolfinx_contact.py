@@ -28,10 +28,11 @@ variable c(v) = v (scalar) or -v . n (elasticity) and its flux d_n v or -sigma_n
 eps = gamma0 h / M (M = 1, or lambda + 2 mu), h = the contact facet's length in 2D (ufl.FacetArea),
 its longest edge in 3D (ufl.MaxFacetEdgeLength), the contact integrals with the harness's rule
 (4 Gauss points per edge in 2D, quadrature degree 7), solved by SNES ``newtonls``. The obstacle
-alpha (gap, or -gap) and the normal contact load g inside the bracket are the node samples
-interpolated into P_k: exact when the data are zero or polynomials of degree <= k, otherwise
-the bracket differs from the harness's (which evaluates them at the Gauss points) by the
-interpolation error, and the driver says so.
+alpha (gap, or -gap) and the normal contact load g inside the bracket: in 2D the export's values
+at those Gauss points (q_obstacle, q_load), held exactly there by a discontinuous P3 field; in 3D
+the node samples interpolated into P_k, exact when the data are zero or polynomials of degree
+<= k (otherwise the bracket differs from the harness's by the interpolation error, and the
+driver warns), with basix's degree-7 rule on the triangle, whose points need not be NGSolve's.
 
 Timing (``seconds``): assembly of the problem and the solve, not reading the mesh nor the forms'
 just-in-time compilation (cached after the first run). One thread (``--threads``).
@@ -230,8 +231,13 @@ def solve_nodal(level: Level, options: dict) -> tuple[PETSc.SNES, PETSc.Vec]:
 
 
 def contact_data(level: Level):
-    """(alpha, g): the obstacle and the normal contact load of the contact variable, from the node
-    samples interpolated into P_k (scalar: alpha = gap, g = g_C; elasticity: alpha = -gap, g = -g_C . n)."""
+    """(alpha, g): the obstacle and the normal contact load of the contact variable in the bracket.
+    2D: the harness's own values at its Gauss points (q_obstacle, q_load), held exactly there by a
+    discontinuous P3 field (``gauss_field``). 3D: the node samples interpolated into P_k (scalar:
+    alpha = gap, g = g_C; elasticity: alpha = -gap, g = -g_C . n), exact for P_k data only."""
+    if level.mesh.geometry.dim == 2:
+        return gauss_field(level, level.data["q_obstacle"]), gauss_field(level, level.data["q_load"])
+    check_contact_data(level)
     gap = level.data["gap"]
     if not level.elastic:
         return level.field(gap), level.field(level.data["contact_load"][:, 0])
@@ -239,6 +245,35 @@ def contact_data(level: Level):
     gap_h = dolfinx.fem.Function(level.V.sub(0).collapse()[0])
     gap_h.x.array[:] = np.nan_to_num(gap[level.node])
     return -gap_h, -ufl.dot(level.field(level.data["contact_load"]), n)
+
+
+def gauss_field(level: Level, values: np.ndarray) -> dolfinx.fem.Function:
+    """A DG P3 function equal to ``values`` at the harness's 4 Gauss points of each contact edge: on
+    an edge its trace is the cubic through them, which the degree-7 rule (the same 4 points) samples
+    exactly. So data that are not polynomials (corner-r12's g_C jumps and is singular) enter the
+    bracket as the harness's do."""
+    mesh, tdim = level.mesh, level.mesh.topology.dim
+    W = dolfinx.fem.functionspace(mesh, ("DG", 3))
+    facets = level.tags.find(CONTACT)
+    ends = mesh.geometry.x[dolfinx.mesh.entities_to_geometry(mesh, tdim - 1, facets)][:, :, :2]     # (F, 2, 2)
+    q = level.data["q_points"].reshape(-1, 4, 2)                     # the harness's points, edge by edge
+    size = np.ptp(level.data["vertices"], axis=0).max()
+    block = match_nodes(ends.mean(axis=1), q.mean(axis=1), 1e-9 * size)   # symmetric rule: mean = midpoint
+    cells = mesh.topology.connectivity(tdim - 1, tdim).array[mesh.topology.connectivity(tdim - 1, tdim).offsets[facets]]
+    dofs = W.dofmap.list[cells]                                       # (F, 10)
+    x = W.tabulate_dof_coordinates()[dofs][:, :, :2]
+    A, t = ends[:, :1], ends[:, 1:] - ends[:, :1]                     # edge A + s t, s in [0, 1]
+    along = np.einsum("fkd,fd->fk", x - A, t[:, 0]) / np.sum(t[:, 0] ** 2, axis=1)[:, None]
+    off = np.abs((x - A)[:, :, 0] * t[:, :, 1] - (x - A)[:, :, 1] * t[:, :, 0])   # distance * |t| from the edge's line
+    on = np.argsort(off, axis=1)[:, :4]                               # the 4 dofs of P3 on the edge
+    s_q = np.einsum("fkd,fd->fk", q[block] - A, t[:, 0]) / np.sum(t[:, 0] ** 2, axis=1)[:, None]
+    coef = np.linalg.solve(np.vander(s_q.ravel(), 4).reshape(-1, 4, 4), values.reshape(-1, 4)[block][:, :, None])
+    s_dof = np.take_along_axis(along, on, axis=1)
+    field, targets = dolfinx.fem.Function(W), np.take_along_axis(dofs, on, axis=1)
+    if len(np.unique(targets)) != targets.size:
+        warnings.warn("dolfinx_contact: a cell with two contact edges: their cubics share a vertex dof", stacklevel=2)
+    field.x.array[targets] = (np.vander(s_dof.ravel(), 4).reshape(-1, 4, 4) @ coef)[:, :, 0]
+    return field
 
 
 def nitsche_form(level: Level, u, v, gamma0: float, theta: float):
@@ -340,7 +375,6 @@ def solve_level(args, manifest: dict, data: dict, options: dict) -> dict:
     if args.model == "nodal":
         snes, x, seconds = solve_nodal(level, options)
     else:
-        check_contact_data(level)
         snes, x, seconds = solve_nitsche(level, options, args.gamma0, args.theta)
     reason = snes.getConvergedReason()
     if reason <= 0:
