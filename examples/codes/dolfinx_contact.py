@@ -366,7 +366,7 @@ def options_of(model: str, choice: str, theta: float) -> dict:
 
 def method_name(model: str, theta: float) -> str:
     if model == "nitsche" and theta != 1:
-        return f"dolfinx-nitsche-theta{theta:g}".replace("-1", "m1") if theta < 0 else f"dolfinx-nitsche-theta{theta:g}"
+        return f"dolfinx-nitsche-theta{theta:g}"
     return f"dolfinx-{model}"
 
 
