@@ -414,7 +414,7 @@ def main(argv=None) -> None:
     args = parse(argv)
     manifest = json.loads((args.export / "manifest.json").read_text())
     if args.gamma0 is None:
-        args.gamma0 = manifest["nitsche"]["gamma0"]
+        args.gamma0 = manifest["nitsche_law"]["gamma0"]
     options = options_of(args.model, args.options, args.theta)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "manifest.json").write_text(json.dumps(solution_manifest(args, manifest, options), indent=2))
