@@ -19,7 +19,7 @@ import numpy as np
 import pandas as pd
 
 CODES_CASE = "transition-r32"
-CODES_LEVEL = 8                 # P2: 2.3e6 dofs
+CODES_LEVEL = 7                 # P2: 2.3e6 dofs
 DRIVER = Path(__file__).resolve().parents[2] / "examples" / "codes" / "dolfinx_contact.py"
 ENVIRONMENT = Path(__file__).resolve().parents[2] / ".venv-dolfinx" / "bin" / "python"
 OPTIONS = ("default", "best")
