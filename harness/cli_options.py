@@ -173,8 +173,10 @@ def add_bench(p):
                         f"rows (one solve against one {reference} solve)")
     p.add_argument("--only", choices=bench_names(),
                    help="only the study row, only the solver table, only the elastic rows, only the 3D rows, only the "
-                        "adaptive rows, only the two-body (mortar) rows, only the runs beside a busy process (load), or "
-                        "only the report's profile (not part of the default run: a whole `make report` per variant)")
+                        "adaptive rows, only the two-body (mortar) rows, only the degree or friction rows, only the runs beside "
+                        "a busy process (load), only DOLFINx + PETSc against the harness on one exported problem (codes; "
+                        "not part of the default run: it needs make .venv-dolfinx/.installed), or only the report's "
+                        "profile (not part of the default run: a whole `make report` per variant)")
     p.add_argument("--workers", type=LEVEL, action="append", metavar="N",
                    help="with --only report: the variants, 0 = in this process, N = N local worker processes "
                         "(repeatable; default 0; ratios against the first)")
