@@ -104,6 +104,7 @@ def level_arrays(case, mesh, order: int, labels: dict) -> dict:
     arrays["u_dirichlet"] = nodes.values(problem.cartesian(problem.lift), components)
     arrays["load"] = nodes.moments(problem.cartesian(problem.b), components)
     arrays.update(node_data(case, mesh, nodes.points, arrays["on_contact"], components))
+    arrays["neumann"] = neumann_samples(case, mesh, nodes.points, order, components)
     arrays.update(contact_points(case, problem))
     return arrays
 
@@ -154,6 +155,34 @@ def node_data(case, mesh, points: np.ndarray, on_contact: np.ndarray, components
     return data
 
 
+# reference coordinates of a boundary facet's Lagrange nodes (order 1: the corners), by dimension
+FACET_NODES = {(2, 1): ((0.0, 0.0), (1.0, 0.0)), (2, 2): ((0.0, 0.0), (1.0, 0.0), (0.5, 0.0)),
+               (3, 1): ((0.0, 0.0), (1.0, 0.0), (0.0, 1.0)),
+               (3, 2): ((0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (0.5, 0.0), (0.5, 0.5), (0.0, 0.5))}
+
+
+def neumann_samples(case, mesh, points: np.ndarray, order: int, components: int) -> np.ndarray:
+    """(n, components) the Neumann data g (d_n u, or sigma(u) n) at the nodes of Gamma_g, each
+    evaluated on a Neumann facet holding it (with that facet's outward normal: at a corner of
+    Gamma_g, one of its facets'); NaN elsewhere."""
+    import ngsolve as ngs
+    from scipy.spatial import cKDTree
+    g = case.neumann_data(ngs.specialcf.normal(mesh.dim))
+    found, values = [], []
+    for element in mesh.Elements(ngs.BND):
+        if element.mat != "neumann":
+            continue
+        trafo = mesh.GetTrafo(element)
+        for xi in FACET_NODES[mesh.dim, order]:
+            point = trafo(*xi)
+            found.append(np.array(point.point)[:mesh.dim])
+            values.append(np.atleast_1d(g(point)))
+    samples = np.full((len(points), components), np.nan)
+    if found:
+        samples[cKDTree(points).query(np.array(found))[1]] = np.array(values).reshape(len(found), components)
+    return samples
+
+
 def contact_points(case, problem) -> dict:
     """Gamma_C's Gauss points of the contact laws (``fem.contact_quadrature.contact_quadrature``:
     Nitsche's), with h, the normals, and the obstacle and load of the contact variable there."""
@@ -189,7 +218,8 @@ def meshio_mesh(arrays: dict, order: int, gmsh: bool):
     cell_type, facet_type = MESHIO_CELLS[dim, order]
     points = np.pad(arrays["nodes"], ((0, 0), (0, 3 - dim)))        # both formats store 3D points
     facet_nodes = arrays["facet_nodes"]
-    point_data = {name: arrays[name] for name in ("u_exact", "u_dirichlet", "load", "f", "gap", "contact_load") if name in arrays}
+    point_data = {name: arrays[name] for name in ("u_exact", "u_dirichlet", "load", "f", "neumann", "gap", "contact_load")
+                  if name in arrays}
     point_data = {name: np.nan_to_num(value, nan=0.0) for name, value in point_data.items()}
     if not gmsh:
         return meshio.Mesh(points, [(cell_type, arrays["cell_nodes"])], point_data=point_data)
