@@ -7,6 +7,7 @@
     >>> harness.efficiency(rows)        # cost at equal accuracy against the P1 baseline
     >>> harness.plot(rows)              # a Matplotlib figure: H^1 error against h
     >>> harness.report(cases=["transition-r32"], methods=["paper"], levels=3)
+    >>> harness.export("transition-r32", levels=5, out="export")   # for another code to solve
 
 Every function takes rows (a DataFrame of ``run``, or a results folder or file) and returns a
 table, a figure or a path; ``out=`` writes what the command line writes, into a folder that one
@@ -244,6 +245,18 @@ def _sweep_into(out: Path, case, methods, values, level, references, engine, sho
         frame.attrs["path"] = write_csv(frame, folder / f"sweep_{case.name}.csv")
         frame.attrs["figure"] = figures.sweep(case, frame, folder)["png"]
     return frame
+
+
+def export(case, levels: int = 5, out="export", *, order: int = 2, progress=None) -> Path:
+    """Write ``levels`` uniform levels of ``case`` (a name, a case file or a ``Case``) for another
+    finite element code: per level the mesh, the P_``order`` Lagrange nodes, the data there, the
+    right-hand side as moments against the Lagrange basis, the discrete Dirichlet values and the
+    exact solution (docs/guide/export-format.md); returns the manifest's path. ``progress(level,
+    path)`` is called per level. The other code's solutions come back as the method
+    ``external:DIR`` (``external``)."""
+    from .problem.case import Case, load_case
+    from .study.export import export as write
+    return write(case if isinstance(case, Case) else load_case(str(case)), levels, out, order=order, progress=progress)
 
 
 def latex_tables(rows, fit_levels: int = 3) -> str:

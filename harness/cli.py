@@ -1,4 +1,4 @@
-"""Command line: python -m harness {run, sweep, cases, methods, rates, report, bench}.
+"""Command line: python -m harness {run, sweep, cases, methods, rates, report, bench, export}.
 
 Each command calls the Python API (``harness.api``) and adds only its
 arguments and what it prints. Exit status: 0 done; 1 done, but a solve did not converge (each
@@ -189,6 +189,14 @@ def cmd_bench(args) -> int:
     return run_bench_command(args)
 
 
+def cmd_export(args) -> int:
+    from .api import export
+    report = None if args.quiet else (lambda level, path: print(f"level {level}: wrote {path}", flush=True))
+    path = export(args.case, args.levels, args.out, order=args.order, progress=report)
+    print(f"wrote {path}")
+    return 0
+
+
 COMMANDS = {
     "cases": "list the registered cases with regularity and expected rate",
     "methods": "list the discretisations: order, contact condition, reference",
@@ -197,6 +205,7 @@ COMMANDS = {
     "rates": "fit rates of a results CSV; writes rates.csv beside it (--qoi: quantities.csv)",
     "report": "run the study (reusing unchanged results) and render the report",
     "bench": "contact solve vs one linear solve, textbook PDAS and Clarabel",
+    "export": "write a case's discrete problems (mesh, nodes, data, load moments) for another code to solve",
 }
 
 

@@ -183,5 +183,15 @@ def add_bench(p):
     return p
 
 
+def add_export(p):
+    p.add_argument("--case", required=True, metavar="NAME|PATH", help="a registered case name or a case file (one body)")
+    p.add_argument("--levels", type=POSITIVE, default=5, help="number of mesh levels (0..L-1)")
+    p.add_argument("--order", type=int, choices=(1, 2), default=2, help="k of the P_k Lagrange nodes (default 2)")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="a new or empty folder, or an earlier export (its files are replaced; any other folder is refused)")
+    p.add_argument("--quiet", action="store_true", help="no line per level")
+    return p
+
+
 ADDERS = {"cases": lambda p: p, "methods": lambda p: p, "run": add_run, "sweep": add_sweep, "rates": add_rates,
-          "report": add_report, "bench": add_bench}
+          "report": add_report, "bench": add_bench, "export": add_export}
