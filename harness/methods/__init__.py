@@ -15,6 +15,7 @@ from ..fem.contact_laws.builtin import Nitsche, Penalty
 from ..fem.contact_laws.protocol import ContactLaw, FrictionLaw, FrictionPoints, GammaPoints, LawError
 from ..solvers.options import SolverOptions
 from .cones import BoundConstrained, CellMean
+from .external import External, ExternalError, external
 from .method import (
     BASELINE,
     DEGREES,
@@ -68,4 +69,4 @@ __all__ = ["METHODS", "GROUPS", "FAMILIES", "BASELINE", "DEGREES", "MESH_STUDY",
            "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Carry", "ConeCarry", "LawCarry", "MortarCarry", "Expectation",
            "SolveFields", "timer", "no_theory", "FunctionalCone", "LevelSolve", "Method", "MethodError", "check_method",
            "get_method", "installed_methods", "left_out", "load_external", "method_choices", "methods_for", "methods_named",
-           "parse_method"]
+           "parse_method", "External", "ExternalError", "external"]

@@ -12,6 +12,7 @@ from ..core.names import assignments, look_up, split_spec
 from ..core.plugins import is_external
 from . import cones, mortar, nitsche, penalty
 from .cones import BoundConstrained
+from .external import EXTERNAL_PREFIX, external
 from .method import DEGREES, PAPER, Method
 from .mortar import Mortar
 from .plugins import MethodError, check_method, installed_methods, load_external
@@ -139,7 +140,10 @@ def left_out(case, methods) -> list[tuple[str, str]]:
 
 
 def get_method(name: str) -> Method:
-    """A registered method, or one with parameters: ``nitsche:gamma0=0.5,theta=-1``."""
+    """A registered method, one with parameters (``nitsche:gamma0=0.5,theta=-1``), or another
+    code's solutions (``external:DIR``, ``external``)."""
+    if name.startswith(EXTERNAL_PREFIX):
+        return external(name[len(EXTERNAL_PREFIX):])
     if ":" in name:
         return parse_method(name)
     if name in METHODS:

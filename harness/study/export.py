@@ -24,6 +24,7 @@ from ..fem.contact_quadrature import contact_quadrature
 from ..fem.lagrange import LAGRANGE_ORDERS, LagrangeNodes
 from ..mesh.levels import UniformRefinement
 from ..mesh.points import cells, coordinates, evaluate
+from ..methods.external import SOLUTION_FORMAT, SOLUTION_FORMAT_VERSION
 from ..methods.nitsche import GAMMA0
 
 FORMAT = "signorini-harness-export"
@@ -216,6 +217,38 @@ def manifest(case, order: int, records: list, labels: dict) -> dict:
                                               "NGSolve's degree-7 rule per triangle (3D)"},
             "contact_variable": "scalar: c(v) = v, flux(v) = dn v, c >= gap; elasticity: c(v) = -v . n, "
                                 "flux(v) = -n . sigma(v) n, v . n <= gap (q_obstacle: the bound of c; q_load: its load)"}
+
+
+def solution_writer(folder, case_name: str, method_name: str, code: str = "the harness", like: str | None = None):
+    """An ``on_level`` hook (``harness.run``) that writes each solve of ``method_name`` on
+    ``case_name`` as an external solution folder (``methods.external``): the values of u_h at
+    the level's Lagrange nodes, the solve's seconds and iterations. The harness's own solutions
+    in the format another code writes: the round trip of the format, and a baseline of node
+    values to compare a code with before measuring it."""
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    _atomic_text(folder / "manifest.json", json.dumps(
+        {"format": SOLUTION_FORMAT, "format_version": SOLUTION_FORMAT_VERSION, "code": code, "method": f"{method_name}-points",
+         "like": like or method_name, "case": case_name, "order": None}, indent=1))
+
+    def write(case, method, level, problem, solve):
+        if case.name != case_name or method.name != method_name:
+            return None
+        manifest_path = folder / "manifest.json"
+        written = json.loads(manifest_path.read_text())
+        if written["order"] is None:
+            written["order"] = method.order
+            _atomic_text(manifest_path, json.dumps(written, indent=1))
+        nodes = LagrangeNodes.of(problem.fes)
+        components = problem.physics.components if problem.physics.rotated_frame else 1
+        fields = solve.fields
+        tmp = folder / f".level-{level}.npz"
+        np.savez(tmp, points=nodes.points, values=nodes.values(problem.cartesian(solve.u), components),
+                 seconds=fields.solve_seconds, iterations=fields.solver_iterations, residual=fields.kkt_residual,
+                 status=str(fields.status))
+        os.replace(tmp, folder / f"level-{level}.npz")
+        return None
+    return write
 
 
 def _atomic_text(path: Path, text: str) -> None:

@@ -17,6 +17,7 @@ from pathlib import Path
 from ..figure_jobs import FIGURE_WORKERS, FigurePool
 from . import (
     cases,
+    codes,
     degrees,
     efficiency,
     elasticity,
@@ -36,9 +37,9 @@ from . import (
 # the document's order: what was run, the verdicts at a glance, the problem and methods, the
 # rates against the theorems, then the sections a study's cases call for (the cost at equal
 # accuracy, quantities, closed-form theories, parameter sweeps, meshes, the degree, elasticity,
-# two bodies, 3D, friction), and each case in full
+# two bodies, 3D, friction, other codes), and each case in full
 SECTIONS = (provenance, glance, methods, summary, efficiency, quantities, prediction, sweeps, meshes, degrees,
-            elasticity, two_bodies, three_d, friction, cases)
+            elasticity, two_bodies, three_d, friction, codes, cases)
 
 
 def figure_groups() -> tuple[str, ...]:
