@@ -1,5 +1,5 @@
 """scikit-fem's solution of a problem exported by ``python -m harness export`` (issue 75's exchange
-format v1, docs/guide: "Measure your own code"): an external program, run in its own environment
+format v1, docs/guide/measure-your-code.md): an external program, run in its own environment
 (``make .venv-skfem/.installed``), that never imports the harness.
 
     .venv-skfem/bin/python examples/codes/skfem_contact.py EXPORT_DIR OUT_DIR [--levels N]
