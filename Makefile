@@ -4,7 +4,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: test test-full lint report report-fine readme-figure bench docs codes clean distclean
+.PHONY: test test-full lint report report-fine report-codes readme-figure bench docs codes clean distclean
 
 $(STAMP): pyproject.toml setup.py
 	$(PYTHON) -m venv $(VENV)
@@ -64,6 +64,23 @@ CODES_PYTHON ?= $(firstword $(wildcard $(HOME)/.pyenv/versions/3.12*/bin/python3
 	touch $@
 
 codes: .venv-dolfinx/.installed .venv-skfem/.installed
+
+# the report with other codes beside the harness (its section "Other codes"): transition-r32 and
+# elastic-transition-r32 exported, solved by DOLFINx (nodal, Nitsche) and scikit-fem (nodal), and
+# measured with the harness's nodal and nitsche; into results/codes and report/codes
+CODES_CASES  := transition-r32 elastic-transition-r32
+CODES_LEVELS ?= 6
+report-codes: $(STAMP) codes
+	rm -rf results/codes/solutions
+	for c in $(CODES_CASES); do \
+	  $(PY) -m harness export --case $$c --levels $(CODES_LEVELS) --out results/codes/export/$$c --quiet && \
+	  .venv-dolfinx/bin/python examples/codes/dolfinx_contact.py results/codes/export/$$c results/codes/solutions/dolfinx-nodal/$$c --model nodal && \
+	  .venv-dolfinx/bin/python examples/codes/dolfinx_contact.py results/codes/export/$$c results/codes/solutions/dolfinx-nitsche/$$c --model nitsche && \
+	  .venv-skfem/bin/python examples/codes/skfem_contact.py results/codes/export/$$c results/codes/solutions/skfem-nodal/$$c || exit 1; \
+	done
+	$(PY) -m harness report $(foreach c,$(CODES_CASES),--case $(c)) --method nodal --method nitsche \
+	  $(foreach m,dolfinx-nodal dolfinx-nitsche skfem-nodal,--method external:results/codes/solutions/$(m)) \
+	  --levels $(CODES_LEVELS) --results results/codes --report report/codes $(ENGINE)
 
 clean:
 	rm -rf results report

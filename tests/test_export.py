@@ -158,3 +158,18 @@ def test_another_case_leaves_the_external_method_out_with_its_reason(own_solutio
     method = external(own_solution)
     assert "transition-r32" in method.refusal(harness.load_case("corner-r12"))
     assert method.refusal(harness.load_case("transition-r32")) is None
+
+
+def test_one_method_holds_a_code_s_solutions_of_several_cases(tmp_path):
+    """A folder of case folders (or external:DIR given once per case) is one method over those cases."""
+    for case in ("transition-r32", "corner-r12"):
+        harness.run(case, methods=["nodal"], levels=2, show_progress=False,
+                    on_level=solution_writer(tmp_path / "all" / case, case, "nodal"))
+    method = external(tmp_path / "all")
+    assert method.cases == ("corner-r12", "transition-r32")
+    given = harness.methods_named([f"external:{tmp_path / 'all' / case}" for case in ("transition-r32", "corner-r12")])
+    assert len(given) == 1 and set(given[0].cases) == {"transition-r32", "corner-r12"}
+    rows = harness.run(["transition-r32", "corner-r12"], methods=["nodal", f"external:{tmp_path / 'all'}"], levels=2,
+                       show_progress=False)
+    mine, theirs = (rows[rows.method == name].sort_values(["case", "level"]).err_h1.to_numpy() for name in ("nodal", "nodal-points"))
+    np.testing.assert_allclose(theirs, mine, rtol=1e-12)

@@ -13,7 +13,7 @@ code's own.
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -43,12 +43,12 @@ class ExternalError(ValueError):
 
 @dataclass(frozen=True)
 class External(Method):
-    """The solutions in ``folder`` of the case ``case_name``, computed by ``code``; ``like``: the
-    harness method they discretise (its expected rate), if the folder names one."""
+    """Another code's solutions, computed by ``code``: ``solutions`` ((case name, folder), ...),
+    one folder per case; ``like``: the harness method they discretise (its expected rate), if
+    the folders name one."""
 
-    folder: str = ""
+    solutions: tuple = ()
     code: str = ""
-    case_name: str = ""
     like: str | None = None
     options: dict = field(default_factory=dict, compare=False)
     physics: tuple = ("scalar", "elasticity")
@@ -56,16 +56,30 @@ class External(Method):
     friction: tuple = ("frictionless", "tresca")
     cost_model: str | float = 1e-5
 
+    @property
+    def cases(self) -> tuple[str, ...]:
+        return tuple(case for case, _ in self.solutions)
+
     def refusal(self, case) -> str | None:
-        if case.name != self.case_name:
-            return f"its solutions ({self.folder}) are of case {self.case_name}"
+        if case.name not in self.cases:
+            return f"its solutions are of {', '.join(self.cases)}"
         return super().refusal(case)
 
-    def level_file(self, nodes: int) -> Path:
-        """The level file whose solution has ``nodes`` values: the level of that size."""
-        sizes = solution_sizes(Path(self.folder))
+    def joined(self, other: "External") -> "External":
+        """This method with ``other``'s solutions of other cases (the same code, order and ``like``)."""
+        if (other.order, other.like, other.code) != (self.order, self.like, self.code):
+            raise ExternalError(f"two external methods named {self.name!r} of different codes, orders or models: rename one")
+        clash = set(self.cases) & set(other.cases)
+        if clash and dict(self.solutions) != dict(other.solutions):
+            raise ExternalError(f"two solution folders of {self.name!r} on {', '.join(sorted(clash))}")
+        return replace(self, solutions=tuple((dict(self.solutions) | dict(other.solutions)).items()))
+
+    def level_file(self, case_name: str, nodes: int) -> Path:
+        """The level file of ``case_name`` whose solution has ``nodes`` values: the level of that size."""
+        folder = Path(dict(self.solutions)[case_name])
+        sizes = solution_sizes(folder)
         if nodes not in sizes:
-            raise ExternalError(f"external {self.name!r}: {self.folder} has no solution on the level with {nodes} nodes "
+            raise ExternalError(f"external {self.name!r}: {folder} has no solution on the level with {nodes} nodes "
                                 f"(it has {', '.join(map(str, sorted(sizes))) or 'none'}): a level is missing")
         return sizes[nodes]
 
@@ -73,7 +87,7 @@ class External(Method):
         timed = timer(phases)
         with timed("setup"):
             nodes = LagrangeNodes.of(problem.fes)
-            level = read_level(self.level_file(nodes.count), self.name)
+            level = read_level(self.level_file(case.name, nodes.count), self.name)
         with timed("solve"):
             u = rebuilt(problem, nodes, level, self.name)
         trace_u = ContactTraceFunction.of(problem, u)
@@ -138,23 +152,39 @@ def solution_sizes(folder: Path) -> dict[int, Path]:
 
 def read_external(folder, name: str | None = None) -> External:
     """The method of the solutions in ``folder`` (its manifest.json and level-L.npz files,
-    docs/guide/measure-your-code.md); ``name`` overrides the manifest's method name. A folder that
-    is not one is refused in one line."""
+    docs/guide/measure-your-code.md), or in its subfolders, one per case, of one code and method;
+    ``name`` overrides the manifests' method name. A folder that is neither is refused in one line."""
     folder = Path(folder)
+    folders = [folder] if (folder / "manifest.json").exists() else sorted(p.parent for p in folder.glob("*/manifest.json"))
+    if not folders:
+        _manifest(folder)                   # the one-line refusal of a folder without a manifest
+    manifests = [_checked_folder(each) for each in folders]
+    first = manifests[0]
+    for each, manifest in zip(folders[1:], manifests[1:]):
+        if (manifest["method"], manifest.get("order", 2), manifest.get("like")) != (first["method"], first.get("order", 2), first.get("like")):
+            raise ExternalError(f"{each}: method {manifest['method']!r} of order {manifest.get('order', 2)}, like "
+                                f"{manifest.get('like')!r}; {folders[0]} has another: one method per folder")
+    cases = [str(manifest["case"]) for manifest in manifests]
+    if len(set(cases)) != len(cases):
+        raise ExternalError(f"{folder}: two solution folders of one case")
+    order, like, code = int(first.get("order", 2)), first.get("like"), str(first.get("code", "another code"))
+    return External(name=name or str(first["method"]), order=order, contact=f"{code}: {first.get('model', like or 'its own')}",
+                    reference=code, expected=_expected(like, order), code=code, like=like,
+                    solutions=tuple((case, str(each.resolve())) for case, each in zip(cases, folders)),
+                    options=dict(first.get("options", {})))
+
+
+def _checked_folder(folder: Path) -> dict:
+    """The manifest of one case's solution folder, its level files checked (what needs no mesh)."""
     manifest = _manifest(folder)
-    order = manifest.get("order", 2)
-    if order not in LAGRANGE_ORDERS:
-        raise ExternalError(f"{folder}: order {order!r}; external solutions are P1 or P2")
+    if manifest.get("order", 2) not in LAGRANGE_ORDERS:
+        raise ExternalError(f"{folder}: order {manifest.get('order')!r}; external solutions are P1 or P2")
     sizes = solution_sizes(folder)
     if not sizes:
         raise ExternalError(f"{folder} has no level-L.npz solution files")
-    for path in sizes.values():             # what needs no mesh is checked before any study starts
+    for path in sizes.values():
         read_level(path, str(manifest["method"]))
-    like = manifest.get("like")
-    code = str(manifest.get("code", "another code"))
-    return External(name=name or str(manifest["method"]), order=int(order), contact=f"{code}: {manifest.get('model', like or 'its own')}",
-                    reference=code, expected=_expected(like, int(order)), folder=str(folder.resolve()), code=code,
-                    case_name=str(manifest["case"]), like=like, options=dict(manifest.get("options", {})))
+    return manifest
 
 
 def _manifest(folder: Path) -> dict:

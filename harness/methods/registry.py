@@ -119,11 +119,25 @@ def methods_named(names) -> list[Method]:
         else:
             external = is_external(name) and name not in installed_methods()
             found = load_external(name) if external else [get_method(name)]
-        others += [m for m in found if m.name not in [o.name for o in others]]
+        others = _added(others, found)
     clash = [m.name for m in others if m.name in wanted and m is not METHODS.get(m.name)]
     if clash:
         raise MethodError(f"two methods named {clash[0]!r}: rename yours (the harness has one)")
     return [m for name, m in METHODS.items() if name in wanted] + others
+
+
+def _added(others: list[Method], found: list[Method]) -> list[Method]:
+    """``others`` and the methods of ``found`` not among them by name; an external method of a
+    name already there (another case's folder of the same code and method, ``external:DIR`` given
+    once per case) joins its solutions to that one's."""
+    others = list(others)
+    for method in found:
+        same = next((i for i, o in enumerate(others) if o.name == method.name), None)
+        if same is None:
+            others.append(method)
+        elif isinstance(method, External) and isinstance(others[same], External) and method != others[same]:
+            others[same] = others[same].joined(method)
+    return others
 
 
 def methods_for(case, methods) -> list[Method]:

@@ -42,9 +42,9 @@ def write(doc: Document, plan: ReportPlan) -> None:
 def codes_rates_view(codes: list[External], rates: pd.DataFrame) -> pd.DataFrame:
     """Per code and case: its fitted H¹ rate and verdict, and the harness method's beside it."""
     rows = []
-    for method in codes:
+    for method, case in ((method, case) for method in codes for case in method.cases):
         for name in filter(None, (method.name, method.like)):
-            found = rates[(rates.method == name) & (rates.case == method.case_name)]
+            found = rates[(rates.method == name) & (rates.case == case)]
             for rate in found.itertuples():
                 rows.append({"case": rate.case, "method": name, "code": method.code if name == method.name else "the harness",
                              "expected": bound_text(rate.expected_rate, rate.expected_log_exponent),
@@ -56,13 +56,13 @@ def codes_levels_view(codes: list[External], results: pd.DataFrame) -> pd.DataFr
     """Per code, case and level: ndof, the code's H¹ error, its relative difference from the
     harness method it discretises (``like``), and the seconds per solve of both."""
     rows = []
-    for method in codes:
-        own = results[(results.method == method.name) & (results.case == method.case_name)].set_index("level")
-        theirs = results[(results.method == method.like) & (results.case == method.case_name)].set_index("level")
+    for method, case in ((method, case) for method in codes for case in method.cases):
+        own = results[(results.method == method.name) & (results.case == case)].set_index("level")
+        theirs = results[(results.method == method.like) & (results.case == case)].set_index("level")
         for level, row in own.sort_index().iterrows():
             harness_row = theirs.loc[level] if level in theirs.index else None
             difference = np.nan if harness_row is None else abs(row.err_h1 - harness_row.err_h1) / harness_row.err_h1
-            rows.append({"case": method.case_name, "method": method.name, "level": level, "ndof": _fmt(row.ndof, ".3g"),
+            rows.append({"case": case, "method": method.name, "level": level, "ndof": _fmt(row.ndof, ".3g"),
                          "err_h1": _fmt(row.err_h1, ".4e"), "like": method.like or "—",
                          "relative difference": _fmt(difference, ".1e"), "seconds": _fmt(row.solve_seconds, ".3g"),
                          "harness seconds": "—" if harness_row is None else _fmt(harness_row.solve_seconds, ".3g")})
