@@ -22,7 +22,8 @@ def _round_trip(tmp_path, case, levels, method="nodal"):
     return own.sort_values("level"), imported.sort_values("level"), folder
 
 
-@pytest.mark.parametrize("case, levels", [("transition-r32", 3), ("elastic-transition-r32", 2), ("transition-line-3d", 1)])
+@pytest.mark.parametrize("case, levels", [("transition-r32", 3), ("elastic-transition-r32", 2),
+                                          pytest.param("transition-line-3d", 1, marks=pytest.mark.slow)])
 def test_the_harness_own_solution_as_point_values_measures_the_same_errors(tmp_path, case, levels):
     own, imported, _ = _round_trip(tmp_path, case, levels)
     assert (imported.method == "nodal-points").all() and (imported.status == "converged").all()
@@ -43,7 +44,7 @@ def _level(folder, level):
         return {key: data[key] for key in data.files}
 
 
-@pytest.mark.parametrize("case", ["corner-r12", "elastic-transition-r32", "transition-line-3d"])
+@pytest.mark.parametrize("case", ["corner-r12", "elastic-transition-r32", pytest.param("transition-line-3d", marks=pytest.mark.slow)])
 def test_the_load_moments_integrate_the_load_of_one_and_of_x(tmp_path, case):
     """Sum_i L(psi_i) = L(1) and sum_i L(psi_i) x_i = L(x) (the Lagrange basis reproduces 1 and
     x), against NGSolve's integrals of the case's data, computed here independently."""
