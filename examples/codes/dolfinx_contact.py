@@ -169,10 +169,18 @@ class Level:
         e = ufl.sym(ufl.grad(u))
         return 2 * mu * e + lam * ufl.tr(e) * ufl.Identity(len(u))
 
-    def initial(self) -> PETSc.Vec:
-        """A start that satisfies the Dirichlet condition (Newton's updates keep it: J's rows there are I)."""
+    def initial(self, coarse=None) -> PETSc.Vec:
+        """A start that satisfies the Dirichlet condition (Newton's updates keep it: J's rows there are
+        I): zero, or (nested iteration) the coarser level's solution ``coarse``, a P_k function on a
+        mesh this one refines uniformly, so its interpolant here is itself."""
         x = dolfinx.fem.petsc.create_vector(self.V)
-        x.set(0.0)
+        if coarse is None:
+            x.set(0.0)
+        else:
+            fine = dolfinx.fem.Function(self.V)
+            cells = np.arange(self.mesh.topology.index_map(self.mesh.topology.dim).size_local, dtype=np.int32)
+            fine.interpolate_nonmatching(coarse, cells, dolfinx.fem.create_interpolation_data(self.V, coarse.function_space, cells))
+            x.array[:] = fine.x.array
         dolfinx.fem.petsc.set_bc(x, [self.bc])
         return x
 
@@ -198,6 +206,18 @@ def node_bounds(level: Level) -> tuple[PETSc.Vec, PETSc.Vec]:
     return tuple(PETSc.Vec().createWithArray(np.ascontiguousarray(b.ravel()), comm=COMM) for b in (lower, upper))
 
 
+def first_iterate(snes: PETSc.SNES, level: Level, coarse) -> PETSc.Vec:
+    """The start: zero, or the coarser level's solution with the same stopping test as from zero
+    (the residual 1e-12 times the zero start's, an absolute tolerance: relative to a start that is
+    already close, 1e-12 would be below the round-off of F)."""
+    if coarse is None:
+        return level.initial()
+    zero, F = level.initial(), level.load()
+    snes.computeFunction(zero, F)
+    snes.setTolerances(atol=NEWTON["snes_rtol"] * F.norm())
+    return level.initial(coarse)
+
+
 def make_snes(kind: str, options: dict, prefix: str) -> PETSc.SNES:
     table = PETSc.Options()
     for key, value in options.items():
@@ -208,7 +228,7 @@ def make_snes(kind: str, options: dict, prefix: str) -> PETSc.SNES:
     return snes
 
 
-def solve_nodal(level: Level, options: dict) -> tuple[PETSc.SNES, PETSc.Vec]:
+def solve_nodal(level: Level, options: dict, start_from=None) -> tuple[PETSc.SNES, PETSc.Vec]:
     """Belhachmi & Ben Belgacem's model 2: the QP F(u) = K u - b = 0 on the box, K with the Dirichlet
     rows and columns of DOLFINx (identity), b the load lifted by u_dirichlet (b = u_D at those rows)."""
     a = dolfinx.fem.form(level.bilinear(ufl.TrialFunction(level.V), ufl.TestFunction(level.V)))
@@ -227,7 +247,7 @@ def solve_nodal(level: Level, options: dict) -> tuple[PETSc.SNES, PETSc.Vec]:
     snes.setJacobian(lambda *args: None, K)  # J = K, assembled once
     snes.setVariableBounds(*node_bounds(level))
     snes.setFromOptions()
-    x = level.initial()
+    x = first_iterate(snes, level, start_from)
     snes.solve(None, x)
     return snes, x, time.perf_counter() - start
 
@@ -314,7 +334,7 @@ def contact_degree(level: Level) -> int:
     sys.exit(f"dolfinx_contact: no basix rule with {per_facet} points per facet")
 
 
-def solve_nitsche(level: Level, options: dict, gamma0: float, theta: float):
+def solve_nitsche(level: Level, options: dict, gamma0: float, theta: float, start_from=None):
     """Nitsche's law by SNES newtonls: F(u) = F(u; .) - b off the Dirichlet rows, u - u_D on them."""
     u, v = dolfinx.fem.Function(level.V), ufl.TestFunction(level.V)
     F_ufl = nitsche_form(level, u, v, gamma0, theta)
@@ -341,7 +361,7 @@ def solve_nitsche(level: Level, options: dict, gamma0: float, theta: float):
     snes.setFunction(residual, b.duplicate())
     snes.setJacobian(jacobian, J)
     snes.setFromOptions()
-    x = level.initial()
+    x = first_iterate(snes, level, start_from)
     snes.solve(None, x)
     return snes, x, time.perf_counter() - start
 
@@ -372,16 +392,20 @@ def method_name(model: str, theta: float) -> str:
     return f"dolfinx-{model}"
 
 
-def solve_level(args, manifest: dict, data: dict, options: dict) -> dict:
+def solve_level(args, manifest: dict, data: dict, options: dict, coarse=None) -> tuple[dict, dolfinx.fem.Function]:
+    """Solve one level (from ``coarse``, the coarser level's solution, if given); the result's arrays
+    and the solution as a function (the next level's start under --nested)."""
     level = Level(manifest, data)
     if args.model == "nodal":
-        snes, x, seconds = solve_nodal(level, options)
+        snes, x, seconds = solve_nodal(level, options, coarse)
     else:
-        snes, x, seconds = solve_nitsche(level, options, args.gamma0, args.theta)
+        snes, x, seconds = solve_nitsche(level, options, args.gamma0, args.theta, coarse)
     reason = snes.getConvergedReason()
     if reason <= 0:
         sys.exit(f"dolfinx_contact: SNES did not converge (reason {reason})")
-    return {"points": level.points, "values": x.array.reshape(len(level.points), -1).copy(),
+    solution = dolfinx.fem.Function(level.V)
+    solution.x.array[:] = x.array
+    return solution, {"points": level.points, "values": x.array.reshape(len(level.points), -1).copy(),
             "seconds": seconds, "iterations": snes.getIterationNumber(),
             "linear_iterations": snes.getLinearSolveIterations(), "residual": snes.getFunctionNorm()}
 
@@ -396,6 +420,8 @@ def parse(argv=None):
     parser.add_argument("--levels", type=int, default=None, help="the first N levels (default: all)")
     parser.add_argument("--options", choices=tuple(LINEAR), default="best")
     parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--nested", action="store_true", help="start each level from the coarser level's solution")
+    parser.add_argument("--petsc", nargs="*", default=[], metavar="KEY=VALUE", help="extra PETSc options (without prefix)")
     return parser.parse_args(argv)
 
 
@@ -416,10 +442,13 @@ def main(argv=None) -> None:
     if args.gamma0 is None:
         args.gamma0 = manifest["nitsche_law"]["gamma0"]
     options = options_of(args.model, args.options, args.theta)
+    options.update(item.split("=", 1) if "=" in item else (item, "") for item in args.petsc)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "manifest.json").write_text(json.dumps(solution_manifest(args, manifest, options), indent=2))
+    coarse = None
     for entry in manifest["levels"][:args.levels]:
-        result = solve_level(args, manifest, read_level(args.export, entry), options)
+        solution, result = solve_level(args, manifest, read_level(args.export, entry), options, coarse)
+        coarse = solution if args.nested else None
         np.savez(args.out / f"level-{entry['level']}.npz", **result)
         print(f"level {entry['level']}: {len(result['points'])} nodes, {result['seconds']:.3f} s, "
               f"{result['iterations']} Newton, {result['linear_iterations']} linear, residual {result['residual']:.2e}", flush=True)
