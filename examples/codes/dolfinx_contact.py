@@ -177,12 +177,66 @@ class Level:
         if coarse is None:
             x.set(0.0)
         else:
-            fine = dolfinx.fem.Function(self.V)
-            cells = np.arange(self.mesh.topology.index_map(self.mesh.topology.dim).size_local, dtype=np.int32)
-            fine.interpolate_nonmatching(coarse, cells, dolfinx.fem.create_interpolation_data(self.V, coarse.function_space, cells))
-            x.array[:] = fine.x.array
+            x.array[:] = prolong(coarse, self.V).ravel()
         dolfinx.fem.petsc.set_bc(x, [self.bc])
         return x
+
+
+def prolong(coarse: dolfinx.fem.Function, V) -> np.ndarray:
+    """The coarse P_k function at V's dofs, V on a uniform red refinement of the coarse mesh: each
+    fine dof evaluated in its parent cell (``parents``) by ``Function.eval``, no point search; in 3D
+    (or a mesh that is not such a refinement) by DOLFINx's non-matching interpolation."""
+    mesh = V.mesh
+    cells = np.arange(mesh.topology.index_map(mesh.topology.dim).size_local, dtype=np.int32)
+    parent = parents(coarse.function_space, mesh) if mesh.geometry.dim == 2 else None
+    if parent is None:
+        fine = dolfinx.fem.Function(V)
+        fine.interpolate_nonmatching(coarse, cells, dolfinx.fem.create_interpolation_data(V, coarse.function_space, cells))
+        return fine.x.array
+    dof_parent = np.empty(V.dofmap.index_map.size_local, dtype=np.int32)
+    dof_parent[V.dofmap.list] = parent[:, None]                 # any cell holding the dof: all lie in one parent
+    return coarse.eval(V.tabulate_dof_coordinates(), dof_parent)
+
+
+def parents(coarse_V, mesh) -> np.ndarray | None:
+    """Each fine cell's coarse cell (2D, red refinement): the fine vertices are the coarse P2 nodes,
+    at least two of a fine cell's are midpoints of its parent's edges, and two edges' midpoints
+    belong to one triangle only. None when the meshes are not so related (or coarse_V is not P2)."""
+    if coarse_V.element.space_dimension // coarse_V.dofmap.index_map_bs != 6:
+        return None
+    dofs = coarse_V.dofmap.list                                 # (nc, 6): vertices, then edge midpoints
+    vertex_of = dolfinx.mesh.entities_to_geometry(mesh, 2, np.arange(mesh.topology.index_map(2).size_local, dtype=np.int32))
+    node = same_points(mesh.geometry.x[:, :2], coarse_V.tabulate_dof_coordinates()[:, :2])
+    if node is None:
+        return None
+    fine = node[vertex_of]                                      # (nf, 3) coarse dofs
+    midpoint = np.zeros(coarse_V.dofmap.index_map.size_local, dtype=bool)
+    midpoint[dofs[:, 3:]] = True
+    first_two = np.take_along_axis(fine, np.argsort(~midpoint[fine], axis=1, kind="stable")[:, :2], axis=1)
+    if not midpoint[first_two].all():
+        return None
+    n = np.int64(len(midpoint))
+    pairs = dofs[:, [3, 3, 4]], dofs[:, [4, 5, 5]]                # the three pairs of edge midpoints
+    keys = np.minimum(*pairs).astype(np.int64) * n + np.maximum(*pairs)
+    order = np.argsort(keys.ravel())
+    wanted = np.min(first_two, axis=1).astype(np.int64) * n + np.max(first_two, axis=1)
+    at = np.minimum(np.searchsorted(keys.ravel()[order], wanted), keys.size - 1)
+    if not np.array_equal(keys.ravel()[order][at], wanted):
+        return None
+    return (order[at] // 3).astype(np.int32)
+
+
+def same_points(points: np.ndarray, targets: np.ndarray) -> np.ndarray | None:
+    """For each point, the index of the target at its position (on a grid of 1e-7 of the domain,
+    shifted by 1/pi of a step: the nodes' dyadic coordinates would sit on the rounding's ties), or None."""
+    size = np.ptp(targets, axis=0).max()
+    keys = np.round(np.vstack([points, targets]) / (1e-7 * size) + 1 / np.pi).astype(np.int64)
+    _, group = np.unique(keys, axis=0, return_inverse=True)
+    group = group.ravel()
+    target_of = np.full(group.max() + 1, -1)
+    target_of[group[len(points):]] = np.arange(len(targets))
+    index = target_of[group[:len(points)]]
+    return None if (index < 0).any() else index
 
 
 def node_bounds(level: Level) -> tuple[PETSc.Vec, PETSc.Vec]:
