@@ -3,7 +3,8 @@ environment (``make .venv-dolfinx/.installed``), reading an export folder (``pyt
 export``) and writing a solution folder that ``external:DIR`` imports (docs: the exchange format).
 
     .venv-dolfinx/bin/python examples/codes/dolfinx_contact.py EXPORT_DIR OUT_DIR --model nodal|nitsche
-        [--theta 1] [--gamma0 G] [--levels N] [--options default|best] [--threads 1]
+        [--theta 1] [--gamma0 G] [--levels N] [--options default|best] [--nested] [--threads 1]
+        [--petsc KEY=VALUE ...]
 
 Per level: the DOLFINx mesh from the exported vertices and cells (serial, MPI.COMM_SELF), P_k
 Lagrange (k from the manifest; vector-valued for elasticity, plane strain in 2D), the bilinear form
@@ -34,7 +35,31 @@ the node samples interpolated into P_k, exact when the data are zero or polynomi
 <= k (otherwise the bracket differs from the harness's by the interpolation error, and the
 driver warns), with basix's degree-7 rule on the triangle, whose points need not be NGSolve's.
 
-Timing (``seconds``): assembly of the problem and the solve, not reading the mesh nor the forms'
+Options (``--options``): ``default`` is what DOLFINx users write, CG + GAMG (rtol 1e-12) inside
+each Newton step, from zero; ``best`` the fastest found: the same CG + GAMG, started from the coarser
+level's solution (nested iteration, ``--nested``; as the harness's study solves), evaluated exactly
+in each fine dof's parent cell (the levels are uniform red refinements). Both stop at the same
+residual: 1e-12 times the zero start's. Measured on transition-r32 (P2), one thread, on 2 cores
+shared with other jobs (seconds of the finest level; SNES/KSP iterations):
+
+    candidate                              nodal L5 (1.4e5)   nodal L6 (5.7e5)   Nitsche L5        Nitsche L6
+    CG+GAMG from zero (default)            6.3-7.0 s  9/321   -                  6.3 s             -
+    MUMPS LU from zero (old best)          10.0-12.4 s  9/9   -                  4.9 s             -
+    MUMPS Cholesky from zero               11.3 s  9/9        -                  -                 -
+    PETSc LU / Cholesky (nd) from zero     19.5 / 23.2 s      -                  -                 -
+    SuperLU_dist LU from zero              17.2 s             -                  -                 -
+    GAMG threshold 0.02 / 0.05 from zero   13.0 / 13.8 s 214/191 KSP (loaded)    -                 -
+    GAMG agg_nsmooths 0 from zero          25.0 s  1068 KSP (loaded)             -                 -
+    nested CG+GAMG (best)                  1.98 s  1/35       4.4-4.6 s  1/39    1.91 s  1/35      4.3 s  1/37
+    nested MUMPS LU                        2.72 s  1/1        6.2 s  1/1         2.66 s  1/1       6.1 s  1/1
+    nested MUMPS Cholesky                  2.40 s  1/1        -                  2.49 s  1/1       -
+    nested PETSc Cholesky (native)         -                  12.3 s  1/1        -                 -
+
+(The from-zero GAMG variants ran beside another job, so against the default's 7.0 s beside the same
+one; hypre is not in the PETSc wheel; from a nested start one Newton step suffices, so Eisenstat-Walker
+has nothing to loosen.) ``--petsc KEY=VALUE`` adds PETSc options (without the model's prefix).
+
+Timing (``seconds``): the nested start (when used), of the problem and the solve, not reading the mesh nor the forms'
 just-in-time compilation (cached after the first run). One thread (``--threads``).
 """
 import os
