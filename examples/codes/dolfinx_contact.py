@@ -59,7 +59,7 @@ shared with other jobs (seconds of the finest level; SNES/KSP iterations):
 one; hypre is not in the PETSc wheel; from a nested start one Newton step suffices, so Eisenstat-Walker
 has nothing to loosen.) ``--petsc KEY=VALUE`` adds PETSc options (without the model's prefix).
 
-Timing (``seconds``): the nested start (when used), of the problem and the solve, not reading the mesh nor the forms'
+Timing (``seconds``): the nested start (when used), the assembly of the problem and the solve, not reading the mesh nor the forms'
 just-in-time compilation (cached after the first run). One thread (``--threads``).
 """
 import os
