@@ -3,7 +3,8 @@ environment (``make .venv-dolfinx/.installed``), reading an export folder (``pyt
 export``) and writing a solution folder that ``external:DIR`` imports (docs: the exchange format).
 
     .venv-dolfinx/bin/python examples/codes/dolfinx_contact.py EXPORT_DIR OUT_DIR --model nodal|nitsche
-        [--theta 1] [--gamma0 G] [--levels N] [--options default|best] [--threads 1]
+        [--theta 1] [--gamma0 G] [--levels N] [--options default|best] [--nested] [--threads 1]
+        [--petsc KEY=VALUE ...]
 
 Per level: the DOLFINx mesh from the exported vertices and cells (serial, MPI.COMM_SELF), P_k
 Lagrange (k from the manifest; vector-valued for elasticity, plane strain in 2D), the bilinear form
@@ -34,7 +35,31 @@ the node samples interpolated into P_k, exact when the data are zero or polynomi
 <= k (otherwise the bracket differs from the harness's by the interpolation error, and the
 driver warns), with basix's degree-7 rule on the triangle, whose points need not be NGSolve's.
 
-Timing (``seconds``): assembly of the problem and the solve, not reading the mesh nor the forms'
+Options (``--options``): ``default`` is what DOLFINx users write, CG + GAMG (rtol 1e-12) inside
+each Newton step, from zero; ``best`` the fastest found: the same CG + GAMG, started from the coarser
+level's solution (nested iteration, ``--nested``; as the harness's study solves), evaluated exactly
+in each fine dof's parent cell (the levels are uniform red refinements). Both stop at the same
+residual: 1e-12 times the zero start's. Measured on transition-r32 (P2), one thread, on 2 cores
+shared with other jobs (seconds of the finest level; SNES/KSP iterations):
+
+    candidate                              nodal L5 (1.4e5)   nodal L6 (5.7e5)   Nitsche L5        Nitsche L6
+    CG+GAMG from zero (default)            6.3-7.0 s  9/321   -                  6.3 s             -
+    MUMPS LU from zero (old best)          10.0-12.4 s  9/9   -                  4.9 s             -
+    MUMPS Cholesky from zero               11.3 s  9/9        -                  -                 -
+    PETSc LU / Cholesky (nd) from zero     19.5 / 23.2 s      -                  -                 -
+    SuperLU_dist LU from zero              17.2 s             -                  -                 -
+    GAMG threshold 0.02 / 0.05 from zero   13.0 / 13.8 s 214/191 KSP (loaded)    -                 -
+    GAMG agg_nsmooths 0 from zero          25.0 s  1068 KSP (loaded)             -                 -
+    nested CG+GAMG (best)                  1.98 s  1/35       4.4-4.6 s  1/39    1.91 s  1/35      4.3 s  1/37
+    nested MUMPS LU                        2.72 s  1/1        6.2 s  1/1         2.66 s  1/1       6.1 s  1/1
+    nested MUMPS Cholesky                  2.40 s  1/1        -                  2.49 s  1/1       -
+    nested PETSc Cholesky (native)         -                  12.3 s  1/1        -                 -
+
+(The from-zero GAMG variants ran beside another job, so against the default's 7.0 s beside the same
+one; hypre is not in the PETSc wheel; from a nested start one Newton step suffices, so Eisenstat-Walker
+has nothing to loosen.) ``--petsc KEY=VALUE`` adds PETSc options (without the model's prefix).
+
+Timing (``seconds``): the nested start (when used), the assembly of the problem and the solve, not reading the mesh nor the forms'
 just-in-time compilation (cached after the first run). One thread (``--threads``).
 """
 import os
@@ -66,13 +91,12 @@ from petsc4py import PETSc  # noqa: E402
 
 CONTACT = 1  # the export's facet label of Gamma_C
 
-# the linear solver inside each Newton step: `default` as DOLFINx users write it (Krylov +
-# algebraic multigrid), `best` a sparse direct factorisation (MUMPS): exact at every Newton step.
-# Measured at 3.6e4 P2 dofs (transition-r32 level 4, one thread, 2 shared cores): nodal 1.2 s (GAMG)
-# against 2.0 s (MUMPS), Nitsche 1.2 s against 1.1 s; neither wins clearly at this size
-LINEAR = {"default": {"ksp_type": "cg", "pc_type": "gamg", "ksp_rtol": 1e-12, "ksp_atol": 1e-50,
-                      "ksp_max_it": 2000},
-          "best": {"ksp_type": "preonly", "pc_type": "lu", "pc_factor_mat_solver_type": "mumps"}}
+# the linear solver inside each Newton step, and the start: `default` as DOLFINx users write it
+# (CG + algebraic multigrid, from zero), `best` the fastest found (the module's docstring: the same
+# CG + GAMG from the coarser level's solution, nested iteration as the harness's study solves)
+GAMG = {"ksp_type": "cg", "pc_type": "gamg", "ksp_rtol": 1e-12, "ksp_atol": 1e-50, "ksp_max_it": 2000}
+LINEAR = {"default": GAMG, "best": GAMG}
+NESTED = {"default": False, "best": True}
 # Newton: converged when the residual has dropped 1e-12 or reached ~ machine precision of b
 NEWTON = {"snes_rtol": 1e-12, "snes_stol": 0.0, "snes_max_it": 100}
 
@@ -169,12 +193,74 @@ class Level:
         e = ufl.sym(ufl.grad(u))
         return 2 * mu * e + lam * ufl.tr(e) * ufl.Identity(len(u))
 
-    def initial(self) -> PETSc.Vec:
-        """A start that satisfies the Dirichlet condition (Newton's updates keep it: J's rows there are I)."""
+    def initial(self, coarse=None) -> PETSc.Vec:
+        """A start that satisfies the Dirichlet condition (Newton's updates keep it: J's rows there are
+        I): zero, or (nested iteration) the coarser level's solution ``coarse``, a P_k function on a
+        mesh this one refines uniformly, so its interpolant here is itself."""
         x = dolfinx.fem.petsc.create_vector(self.V)
-        x.set(0.0)
+        if coarse is None:
+            x.set(0.0)
+        else:
+            x.array[:] = prolong(coarse, self.V).ravel()
         dolfinx.fem.petsc.set_bc(x, [self.bc])
         return x
+
+
+def prolong(coarse: dolfinx.fem.Function, V) -> np.ndarray:
+    """The coarse P_k function at V's dofs, V on a uniform red refinement of the coarse mesh: each
+    fine dof evaluated in its parent cell (``parents``) by ``Function.eval``, no point search; in 3D
+    (or a mesh that is not such a refinement) by DOLFINx's non-matching interpolation."""
+    mesh = V.mesh
+    cells = np.arange(mesh.topology.index_map(mesh.topology.dim).size_local, dtype=np.int32)
+    parent = parents(coarse.function_space, mesh) if mesh.geometry.dim == 2 else None
+    if parent is None:
+        fine = dolfinx.fem.Function(V)
+        fine.interpolate_nonmatching(coarse, cells, dolfinx.fem.create_interpolation_data(V, coarse.function_space, cells))
+        return fine.x.array
+    dof_parent = np.empty(V.dofmap.index_map.size_local, dtype=np.int32)
+    dof_parent[V.dofmap.list] = parent[:, None]                 # any cell holding the dof: all lie in one parent
+    return coarse.eval(V.tabulate_dof_coordinates(), dof_parent)
+
+
+def parents(coarse_V, mesh) -> np.ndarray | None:
+    """Each fine cell's coarse cell (2D, red refinement): the fine vertices are the coarse P2 nodes,
+    at least two of a fine cell's are midpoints of its parent's edges, and two edges' midpoints
+    belong to one triangle only. None when the meshes are not so related (or coarse_V is not P2)."""
+    if coarse_V.element.space_dimension // coarse_V.dofmap.index_map_bs != 6:
+        return None
+    dofs = coarse_V.dofmap.list                                 # (nc, 6): vertices, then edge midpoints
+    vertex_of = dolfinx.mesh.entities_to_geometry(mesh, 2, np.arange(mesh.topology.index_map(2).size_local, dtype=np.int32))
+    node = same_points(mesh.geometry.x[:, :2], coarse_V.tabulate_dof_coordinates()[:, :2])
+    if node is None:
+        return None
+    fine = node[vertex_of]                                      # (nf, 3) coarse dofs
+    midpoint = np.zeros(coarse_V.dofmap.index_map.size_local, dtype=bool)
+    midpoint[dofs[:, 3:]] = True
+    first_two = np.take_along_axis(fine, np.argsort(~midpoint[fine], axis=1, kind="stable")[:, :2], axis=1)
+    if not midpoint[first_two].all():
+        return None
+    n = np.int64(len(midpoint))
+    pairs = dofs[:, [3, 3, 4]], dofs[:, [4, 5, 5]]                # the three pairs of edge midpoints
+    keys = np.minimum(*pairs).astype(np.int64) * n + np.maximum(*pairs)
+    order = np.argsort(keys.ravel())
+    wanted = np.min(first_two, axis=1).astype(np.int64) * n + np.max(first_two, axis=1)
+    at = np.minimum(np.searchsorted(keys.ravel()[order], wanted), keys.size - 1)
+    if not np.array_equal(keys.ravel()[order][at], wanted):
+        return None
+    return (order[at] // 3).astype(np.int32)
+
+
+def same_points(points: np.ndarray, targets: np.ndarray) -> np.ndarray | None:
+    """For each point, the index of the target at its position (on a grid of 1e-7 of the domain,
+    shifted by 1/pi of a step: the nodes' dyadic coordinates would sit on the rounding's ties), or None."""
+    size = np.ptp(targets, axis=0).max()
+    keys = np.round(np.vstack([points, targets]) / (1e-7 * size) + 1 / np.pi).astype(np.int64)
+    _, group = np.unique(keys, axis=0, return_inverse=True)
+    group = group.ravel()
+    target_of = np.full(group.max() + 1, -1)
+    target_of[group[len(points):]] = np.arange(len(targets))
+    index = target_of[group[:len(points)]]
+    return None if (index < 0).any() else index
 
 
 def node_bounds(level: Level) -> tuple[PETSc.Vec, PETSc.Vec]:
@@ -198,6 +284,18 @@ def node_bounds(level: Level) -> tuple[PETSc.Vec, PETSc.Vec]:
     return tuple(PETSc.Vec().createWithArray(np.ascontiguousarray(b.ravel()), comm=COMM) for b in (lower, upper))
 
 
+def first_iterate(snes: PETSc.SNES, level: Level, coarse) -> PETSc.Vec:
+    """The start: zero, or the coarser level's solution with the same stopping test as from zero
+    (the residual 1e-12 times the zero start's, an absolute tolerance: relative to a start that is
+    already close, 1e-12 would be below the round-off of F)."""
+    if coarse is None:
+        return level.initial()
+    zero, F = level.initial(), level.load()
+    snes.computeFunction(zero, F)
+    snes.setTolerances(atol=NEWTON["snes_rtol"] * F.norm())
+    return level.initial(coarse)
+
+
 def make_snes(kind: str, options: dict, prefix: str) -> PETSc.SNES:
     table = PETSc.Options()
     for key, value in options.items():
@@ -208,7 +306,7 @@ def make_snes(kind: str, options: dict, prefix: str) -> PETSc.SNES:
     return snes
 
 
-def solve_nodal(level: Level, options: dict) -> tuple[PETSc.SNES, PETSc.Vec]:
+def solve_nodal(level: Level, options: dict, start_from=None) -> tuple[PETSc.SNES, PETSc.Vec]:
     """Belhachmi & Ben Belgacem's model 2: the QP F(u) = K u - b = 0 on the box, K with the Dirichlet
     rows and columns of DOLFINx (identity), b the load lifted by u_dirichlet (b = u_D at those rows)."""
     a = dolfinx.fem.form(level.bilinear(ufl.TrialFunction(level.V), ufl.TestFunction(level.V)))
@@ -227,7 +325,7 @@ def solve_nodal(level: Level, options: dict) -> tuple[PETSc.SNES, PETSc.Vec]:
     snes.setJacobian(lambda *args: None, K)  # J = K, assembled once
     snes.setVariableBounds(*node_bounds(level))
     snes.setFromOptions()
-    x = level.initial()
+    x = first_iterate(snes, level, start_from)
     snes.solve(None, x)
     return snes, x, time.perf_counter() - start
 
@@ -314,7 +412,7 @@ def contact_degree(level: Level) -> int:
     sys.exit(f"dolfinx_contact: no basix rule with {per_facet} points per facet")
 
 
-def solve_nitsche(level: Level, options: dict, gamma0: float, theta: float):
+def solve_nitsche(level: Level, options: dict, gamma0: float, theta: float, start_from=None):
     """Nitsche's law by SNES newtonls: F(u) = F(u; .) - b off the Dirichlet rows, u - u_D on them."""
     u, v = dolfinx.fem.Function(level.V), ufl.TestFunction(level.V)
     F_ufl = nitsche_form(level, u, v, gamma0, theta)
@@ -341,7 +439,7 @@ def solve_nitsche(level: Level, options: dict, gamma0: float, theta: float):
     snes.setFunction(residual, b.duplicate())
     snes.setJacobian(jacobian, J)
     snes.setFromOptions()
-    x = level.initial()
+    x = first_iterate(snes, level, start_from)
     snes.solve(None, x)
     return snes, x, time.perf_counter() - start
 
@@ -361,7 +459,7 @@ def check_contact_data(level: Level) -> None:
 
 def options_of(model: str, choice: str, theta: float) -> dict:
     linear = dict(LINEAR[choice])
-    if choice == "default" and model == "nitsche" and theta != 1:
+    if linear["ksp_type"] == "cg" and model == "nitsche" and theta != 1:
         linear["ksp_type"] = "gmres"  # theta != 1: J is not symmetric
     return {**NEWTON, **linear}
 
@@ -372,16 +470,20 @@ def method_name(model: str, theta: float) -> str:
     return f"dolfinx-{model}"
 
 
-def solve_level(args, manifest: dict, data: dict, options: dict) -> dict:
+def solve_level(args, manifest: dict, data: dict, options: dict, coarse=None) -> tuple[dict, dolfinx.fem.Function]:
+    """Solve one level (from ``coarse``, the coarser level's solution, if given); the result's arrays
+    and the solution as a function (the next level's start under --nested)."""
     level = Level(manifest, data)
     if args.model == "nodal":
-        snes, x, seconds = solve_nodal(level, options)
+        snes, x, seconds = solve_nodal(level, options, coarse)
     else:
-        snes, x, seconds = solve_nitsche(level, options, args.gamma0, args.theta)
+        snes, x, seconds = solve_nitsche(level, options, args.gamma0, args.theta, coarse)
     reason = snes.getConvergedReason()
     if reason <= 0:
         sys.exit(f"dolfinx_contact: SNES did not converge (reason {reason})")
-    return {"points": level.points, "values": x.array.reshape(len(level.points), -1).copy(),
+    solution = dolfinx.fem.Function(level.V)
+    solution.x.array[:] = x.array
+    return solution, {"points": level.points, "values": x.array.reshape(len(level.points), -1).copy(),
             "seconds": seconds, "iterations": snes.getIterationNumber(),
             "linear_iterations": snes.getLinearSolveIterations(), "residual": snes.getFunctionNorm()}
 
@@ -396,6 +498,8 @@ def parse(argv=None):
     parser.add_argument("--levels", type=int, default=None, help="the first N levels (default: all)")
     parser.add_argument("--options", choices=tuple(LINEAR), default="best")
     parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--nested", action="store_true", help="start each level from the coarser level's solution")
+    parser.add_argument("--petsc", nargs="*", default=[], metavar="KEY=VALUE", help="extra PETSc options (without prefix)")
     return parser.parse_args(argv)
 
 
@@ -407,7 +511,8 @@ def solution_manifest(args, manifest: dict, options: dict) -> dict:
     return {"format": "signorini-harness-solution", "format_version": 1,
             "code": f"DOLFINx {dolfinx.__version__} + PETSc {petsc} {solver}",
             "method": method_name(args.model, args.theta), "like": like, "case": manifest["case"]["name"],
-            "order": manifest["order"], "options": {"petsc": options, "choice": args.options, "threads": args.threads, **extra}}
+            "order": manifest["order"], "options": {"petsc": options, "choice": args.options, "threads": args.threads,
+                        "nested": args.nested or NESTED[args.options], **extra}}
 
 
 def main(argv=None) -> None:
@@ -416,10 +521,13 @@ def main(argv=None) -> None:
     if args.gamma0 is None:
         args.gamma0 = manifest["nitsche_law"]["gamma0"]
     options = options_of(args.model, args.options, args.theta)
+    options.update(item.split("=", 1) if "=" in item else (item, "") for item in args.petsc)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "manifest.json").write_text(json.dumps(solution_manifest(args, manifest, options), indent=2))
+    coarse = None
     for entry in manifest["levels"][:args.levels]:
-        result = solve_level(args, manifest, read_level(args.export, entry), options)
+        solution, result = solve_level(args, manifest, read_level(args.export, entry), options, coarse)
+        coarse = solution if args.nested or NESTED[args.options] else None
         np.savez(args.out / f"level-{entry['level']}.npz", **result)
         print(f"level {entry['level']}: {len(result['points'])} nodes, {result['seconds']:.3f} s, "
               f"{result['iterations']} Newton, {result['linear_iterations']} linear, residual {result['residual']:.2e}", flush=True)
