@@ -5,8 +5,7 @@ CODES_LEVEL, one thread each, the nodal model (PETSc SNES VI against the harness
 method) and Nitsche (SNES newtonls against the harness's semismooth Newton), each DOLFINx run
 with PETSc's linear-solver options as users write them ("default") and the best found ("best":
 the driver's docstring says which). The ratio is DOLFINx's seconds over the harness's, each its
-own solve of the finest level (assembly included; the harness's from the coarser level's
-solution, as its study solves, DOLFINx's from zero, as its users do). The two solutions are
+own solve of the finest level (assembly included; ). The two solutions are
 compared at the nodes: the same discrete problem, so they agree to the solvers' tolerance."""
 from __future__ import annotations
 
