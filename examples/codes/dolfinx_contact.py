@@ -39,25 +39,12 @@ Options (``--options``): ``default`` is what DOLFINx users write, CG + GAMG (rto
 each Newton step, from zero; ``best`` the fastest found: the same CG + GAMG, started from the coarser
 level's solution (nested iteration, ``--nested``; as the harness's study solves), evaluated exactly
 in each fine dof's parent cell (the levels are uniform red refinements). Both stop at the same
-residual: 1e-12 times the zero start's. Measured on transition-r32 (P2), one thread, on 2 cores
-shared with other jobs (seconds of the finest level; SNES/KSP iterations):
-
-    candidate                              nodal L5 (1.4e5)   nodal L6 (5.7e5)   Nitsche L5        Nitsche L6
-    CG+GAMG from zero (default)            6.3-7.0 s  9/321   -                  6.3 s             -
-    MUMPS LU from zero (old best)          10.0-12.4 s  9/9   -                  4.9 s             -
-    MUMPS Cholesky from zero               11.3 s  9/9        -                  -                 -
-    PETSc LU / Cholesky (nd) from zero     19.5 / 23.2 s      -                  -                 -
-    SuperLU_dist LU from zero              17.2 s             -                  -                 -
-    GAMG threshold 0.02 / 0.05 from zero   13.0 / 13.8 s 214/191 KSP (loaded)    -                 -
-    GAMG agg_nsmooths 0 from zero          25.0 s  1068 KSP (loaded)             -                 -
-    nested CG+GAMG (best)                  1.98 s  1/35       4.4-4.6 s  1/39    1.91 s  1/35      4.3 s  1/37
-    nested MUMPS LU                        2.72 s  1/1        6.2 s  1/1         2.66 s  1/1       6.1 s  1/1
-    nested MUMPS Cholesky                  2.40 s  1/1        -                  2.49 s  1/1       -
-    nested PETSc Cholesky (native)         -                  12.3 s  1/1        -                 -
-
-(The from-zero GAMG variants ran beside another job, so against the default's 7.0 s beside the same
-one; hypre is not in the PETSc wheel; from a nested start one Newton step suffices, so Eisenstat-Walker
-has nothing to loosen.) ``--petsc KEY=VALUE`` adds PETSc options (without the model's prefix).
+residual: 1e-12 times the zero start's. Tried on transition-r32 (P2, one thread) and slower than
+``best`` from the same start: MUMPS's LU and Cholesky, PETSc's own LU and Cholesky, SuperLU_dist,
+GAMG with other thresholds or without smoothed aggregation (hypre is not in the PETSc wheel; from
+a nested start one Newton step suffices, so Eisenstat-Walker has nothing to loosen). The figures:
+`python -m harness bench --only codes` (the performance page) for ``default`` and ``best``.
+``--petsc KEY=VALUE`` adds PETSc options (without the model's prefix).
 
 Timing (``seconds``): the nested start (when used), the assembly of the problem and the solve, not reading the mesh nor the forms'
 just-in-time compilation (cached after the first run). One thread (``--threads``).
@@ -137,15 +124,10 @@ def facet_tags(mesh, data: dict):
 
 
 def match_nodes(points: np.ndarray, targets: np.ndarray, tol: float) -> np.ndarray:
-    """For each point, the index of the target at the same position (within tol): a hash of the
-    coordinates rounded to tol, and a nearest-point search for the few that straddle a cell."""
-    def keys(x):
-        return map(tuple, np.floor(x / tol).astype(np.int64))
-    table = {key: j for j, key in enumerate(keys(targets))}
-    index = np.fromiter((table.get(key, -1) for key in keys(points)), dtype=np.int64, count=len(points))
-    for i in np.flatnonzero(index < 0):
-        index[i] = np.argmin(np.linalg.norm(targets - points[i], axis=1))
-    if np.max(np.linalg.norm(targets[index] - points, axis=1)) > tol or len(np.unique(index)) != len(points):
+    """For each point, the index of the target at the same position (within tol): both rounded on
+    one grid (``same_points``, vectorised), then every pair's distance checked."""
+    index = same_points(points, targets)
+    if index is None or np.max(np.linalg.norm(targets[index] - points, axis=1)) > tol or len(np.unique(index)) != len(points):
         sys.exit("dolfinx_contact: the export's nodes are not DOLFINx's dofs (P_k node positions differ)")
     return index
 
