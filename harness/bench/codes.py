@@ -26,13 +26,14 @@ CODES_COLUMNS = ["case", "model", "options", "ndof", "t_dolfinx", "t_harness", "
                  "ksp_iterations", "harness_iterations", "max_value_difference", "dolfinx_residual", "harness_residual"]
 
 
-def run_codes_bench(level: int = CODES_LEVEL, folder: Path = Path("results/bench_codes"), progress=print) -> pd.DataFrame:
+def run_codes_bench(level: int = CODES_LEVEL, folder: Path = Path("results/bench_codes"), progress=None) -> pd.DataFrame:
     """Export ``level`` of CODES_CASE, solve it by the harness and by DOLFINx (each model of
     ``methods.external.DRIVER_MODELS``, each of OPTIONS), one row per DOLFINx run."""
     if not ENVIRONMENT.exists():
         raise FileNotFoundError(f"bench --only codes runs DOLFINx from {ENVIRONMENT.parent.parent}: make .venv-dolfinx/.installed first")
     from ..methods.external import DRIVER_MODELS
     from ..problem.case import load_case
+    progress = progress or (lambda line: print(line, flush=True))
     from ..study.export import export
     shutil.rmtree(folder, ignore_errors=True)
     export(load_case(CODES_CASE), level + 1, folder / "export", formats=("npz",))
