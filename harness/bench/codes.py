@@ -22,7 +22,8 @@ CODES_LEVEL = 7                 # P2: 2.3e6 dofs
 DRIVER = Path(__file__).resolve().parents[2] / "examples" / "codes" / "dolfinx_contact.py"
 ENVIRONMENT = Path(__file__).resolve().parents[2] / ".venv-dolfinx" / "bin" / "python"
 OPTIONS = ("default", "best")
-CODES_COLUMNS = ["case", "model", "options", "ndof", "t_dolfinx", "t_harness", "ratio", "snes_iterations",
+CODES_COLUMNS = ["case", "model", "options", "ndof", "t_dolfinx", "t_harness", "ratio", "t_harness_total", "ratio_total",
+                 "snes_iterations",
                  "ksp_iterations", "harness_iterations", "max_value_difference", "dolfinx_residual", "harness_residual"]
 
 
@@ -54,9 +55,11 @@ def _harness_solution(model: str, level: int, folder: Path) -> dict:
     from ..problem.case import load_case
     from ..study import InProcess, run_study
     from ..study.export import solution_writer
-    run_study([load_case(CODES_CASE)], methods_named([model]), level + 1, show_progress=False, engine=InProcess(threads=1),
-              on_level=solution_writer(folder, CODES_CASE, model))
-    return _finest(folder)
+    rows = run_study([load_case(CODES_CASE)], methods_named([model]), level + 1, show_progress=False,
+                     engine=InProcess(threads=1), on_level=solution_writer(folder, CODES_CASE, model))
+    found = _finest(folder)
+    found["total_seconds"] = float(rows.sort_values("level").total_seconds.iloc[-1])
+    return found
 
 
 def _dolfinx_solution(model: str, options: str, level: int, folder: Path) -> dict:
@@ -86,7 +89,8 @@ def _row(model: str, options: str, own: dict, theirs: dict) -> dict:
     difference = np.abs(values[at] - theirs["values"].reshape(len(at), -1)).max() / np.abs(values).max()
     return {"case": CODES_CASE, "model": model, "options": options, "ndof": int(values.size),
             "t_dolfinx": float(theirs["seconds"]), "t_harness": float(own["seconds"]),
-            "ratio": float(theirs["seconds"]) / float(own["seconds"]), "snes_iterations": int(theirs["iterations"]),
+            "ratio": float(theirs["seconds"]) / float(own["seconds"]), "t_harness_total": own["total_seconds"],
+            "ratio_total": float(theirs["seconds"]) / own["total_seconds"], "snes_iterations": int(theirs["iterations"]),
             "ksp_iterations": int(theirs.get("linear_iterations", -1)), "harness_iterations": int(own["iterations"]),
             "max_value_difference": float(difference), "dolfinx_residual": float(theirs.get("residual", np.nan)),
             "harness_residual": float(own["residual"])}
@@ -96,7 +100,8 @@ def codes_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
     """What the table shows (issue 75): DOLFINx's time over the harness's per model at >= 1e6
     dofs, both options; the two solutions the same to 1e-6 of the largest value."""
     shown = "; ".join(f"{r.model} ({r.options}) {r.ratio:.1f}x: DOLFINx {r.t_dolfinx:.3g} s ({r.snes_iterations} SNES, "
-                      f"{r.ksp_iterations} KSP) against {r.t_harness:.3g} s at {r.ndof:.2g} dofs" for r in frame.itertuples())
+                      f"{r.ksp_iterations} KSP) against {r.t_harness:.3g} s ({r.ratio_total:.1f}x the harness's whole level, "
+                      f"{r.t_harness_total:.3g} s) at {r.ndof:.2g} dofs" for r in frame.itertuples())
     return [("codes DOLFINx/PETSc seconds over the harness's, one thread each, >= 1e6 dofs (shown)",
              bool((frame.ndof >= 1e6).all()), shown),
             ("codes the same discrete solution (nodes, relative max difference <= 1e-6)",
