@@ -19,11 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from ..fem.assembly import ContactTraceFunction
-from ..fem.cones import contact_pressure
 from ..fem.lagrange import LAGRANGE_ORDERS, LagrangeNodes
 from ..fem.nested import p1_values
 from ..fem.penetration import max_penetration
 from .method import Carry, Expectation, LevelSolve, Method, SolveFields, capped_expectation, timer
+from .protocol import vertex_force_pressure
 
 SOLUTION_FORMAT = "signorini-harness-solution"
 # --method external:DIR
@@ -91,8 +91,7 @@ class External(Method):
         with timed("solve"):
             u = rebuilt(problem, nodes, level, self.name)
         trace_u = ContactTraceFunction.of(problem, u)
-        force = np.concatenate([problem.contact_residual(u)[:len(problem.vertex_dofs)], np.zeros(len(problem.edge_dofs))])
-        pressure = contact_pressure(problem, force)
+        pressure = vertex_force_pressure(problem, u)
         fields = SolveFields(max_penetration(case, problem.mesh, trace_u), float(pressure.min()), level["residual"],
                              level["status"], level["iterations"], level["linear_iterations"],
                              solve_seconds=level["seconds"])

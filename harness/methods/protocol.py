@@ -347,11 +347,17 @@ class OwnSolve(Method):
         if solution.pressure is not None:
             pressure = contact_quadrature(problem).edge_means(np.asarray(solution.pressure, float))
         else:
-            force = np.concatenate([problem.contact_residual(u)[:len(problem.vertex_dofs)], np.zeros(len(problem.edge_dofs))])
-            pressure = contact_pressure(problem, force)
+            pressure = vertex_force_pressure(problem, u)
         fields = SolveFields(max_penetration(case, problem.mesh, trace_u), float(pressure.min()), float(solution.residual),
                              str(solution.status), int(solution.iterations), solve_seconds=seconds)
         return LevelSolve(fields, u, trace_u, pressure, Carry(p1_values(problem, u)))
+
+
+def vertex_force_pressure(problem, u: np.ndarray) -> np.ndarray:
+    """The discrete contact pressure of a solve that gives none: the contact force a(u_h, phi_i) -
+    L(phi_i) of Gamma_C's vertex hats, per contact edge (``fem.cones.contact_pressure``)."""
+    force = np.concatenate([problem.contact_residual(u)[:len(problem.vertex_dofs)], np.zeros(len(problem.edge_dofs))])
+    return contact_pressure(problem, force)
 
 
 def level_problem(case, problem, carry, multilevel) -> LevelProblem:
