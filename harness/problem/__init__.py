@@ -13,7 +13,8 @@ _PUBLIC = {
     "roller_free_mode": "functions", "roller_free_series": "functions", "bracketed_root": "functions",
     "stick_slip_mode": "functions", "stick_slip_series": "functions",
     "Elasticity": "physics", "Scalar": "physics", "MirrorBody": "bodies",
-    "Tresca": "friction", "FRICTIONLESS": "friction", "scalar_stick_slip": "functions",
+    "Tresca": "friction", "FRICTIONLESS": "friction", "Coulomb": "friction", "LoadHistory": "friction",
+    "LoadStep": "friction", "scalar_stick_slip": "functions",
 }
 __all__ = list(_PUBLIC)
 __getattr__, __dir__ = lazy(__name__, _PUBLIC)

@@ -79,7 +79,13 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     friction               optional friction law on Gamma_C (``harness.problem.friction``):
                            ``Tresca(threshold=s)`` replaces the Signorini conditions by Tresca's
                            (scalar: |d_n u - g_C| <= s; elasticity: u . n = 0 and
-                           |sigma_t| <= s), which validation checks. Default: frictionless
+                           |sigma_t| <= s), which validation checks; ``Coulomb(coefficient=mu_F)``
+                           (elasticity) adds |sigma_t| <= mu_F p to the Signorini conditions.
+                           Default: frictionless
+    history                optional ``LoadHistory((LoadStep(...), ...))``: quasi-static load steps
+                           solved in order, the state carried over (Coulomb's slip is the
+                           increment of a step); the last step is the case's own data, and the
+                           earlier ones may change a reference case's dirichlet, neumann and f
     groups                 optional list of group names the case belongs to beyond those derived
                            from what it is (``DERIVED_GROUPS``), e.g. ["paper"]: ``--case
                            GROUP`` runs every case of a group (``expand_groups``)
@@ -143,7 +149,7 @@ from .contract import (  # noqa: F401
     physics_of,
     reference_levels,
 )
-from .friction import FRICTIONLESS
+from .friction import FRICTIONLESS, STATIC
 from .geometry import geometry_dimension
 from .physics import SCALAR, gradient
 
@@ -200,6 +206,7 @@ class Case:
     second_body: object = None                         # ``bodies.MirrorBody``: a two-body case
     declared_groups: tuple = ()                        # the module's groups (``Case.groups``)
     friction: object = FRICTIONLESS                    # ``friction.Tresca``: the friction law on Gamma_C
+    history: object = STATIC                           # ``friction.LoadHistory``: the load steps, in order
 
     @property
     def bodies(self) -> int:
@@ -234,6 +241,14 @@ class Case:
         """g on Gamma_g (du/dn, or the traction sigma(u) n): from the exact u, or the reference
         case's data."""
         return self.physics.flux(self.grad_u, normal) if self.u is not None else self.neumann
+
+    def at_step(self, step: int) -> "Case":
+        """The case with the data of its history's step ``step`` (0-based; the last is the case
+        itself, ``friction.LoadHistory``): numbers are constant fields of the physics."""
+        def data(value):
+            return self.physics.constant(value) if isinstance(value, (int, float)) else ngs.CF(value)
+        overrides = self.history.steps[step].overrides()
+        return dataclasses.replace(self, **{k: (v if k == "declared_f" else data(v)) for k, v in overrides.items()})
 
     def with_reference(self, levels: int) -> "Case":
         """This case with errors measured against a reference ``levels`` levels finer."""

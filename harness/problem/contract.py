@@ -64,18 +64,30 @@ def check_declared(module, source: str) -> None:
 
 def check_friction(module, source: str) -> None:
     """``friction``, if declared: a friction law of ``problem.friction``; Tresca has no gap (its
-    bilateral normal contact in elasticity is u . n = 0); two bodies scalar only."""
-    from .friction import FRICTIONLESS, Frictionless, Tresca
+    bilateral normal contact in elasticity is u . n = 0); two bodies scalar only; Coulomb's is
+    elastic and one body. ``history``, if declared: a ``friction.LoadHistory``, whose steps
+    change data only of a reference case (an exact case's data are its u's)."""
+    from .friction import FRICTIONLESS, Coulomb, Frictionless, LoadHistory, Tresca
     law = getattr(module, "friction", FRICTIONLESS)
-    if not isinstance(law, (Frictionless, Tresca)):
-        raise CaseError(f"case {source}: friction must be harness.problem.Tresca(threshold=...) or "
-                        f"harness.problem.FRICTIONLESS, got {law!r}")
-    if isinstance(law, Tresca) and getattr(module, "second_body", None) is not None \
-            and getattr(module, "physics", "scalar") != "scalar":
+    if not isinstance(law, (Frictionless, Tresca, Coulomb)):
+        raise CaseError(f"case {source}: friction must be harness.problem.Tresca(threshold=...), "
+                        f"harness.problem.Coulomb(coefficient=...) or harness.problem.FRICTIONLESS, got {law!r}")
+    elastic = getattr(module, "physics", "scalar") != "scalar"
+    if isinstance(law, Tresca) and getattr(module, "second_body", None) is not None and elastic:
         raise CaseError(f"case {source}: Tresca friction between two elastic bodies is not implemented (scalar only)")
     if isinstance(law, Tresca) and getattr(module, "gap", None) is not None:
         raise CaseError(f"case {source}: Tresca friction has no gap (scalar: no unilateral condition; elasticity: "
                         f"bilateral u . n = 0 on Gamma_C)")
+    if isinstance(law, Coulomb) and not elastic:
+        raise CaseError(f"case {source}: Coulomb friction needs a normal stress: physics = \"elasticity\"")
+    if isinstance(law, Coulomb) and getattr(module, "second_body", None) is not None:
+        raise CaseError(f"case {source}: Coulomb friction between two bodies is not implemented (one body against a rigid obstacle)")
+    history = getattr(module, "history", None)
+    if history is not None and not isinstance(history, LoadHistory):
+        raise CaseError(f"case {source}: history must be harness.problem.LoadHistory(steps), got {history!r}")
+    if history is not None and hasattr(module, "u") and any(step.overrides() for step in history.steps):
+        raise CaseError(f"case {source}: the steps of an exact case's history cannot change its data (they are u's); "
+                        f"declare the data instead (a reference case)")
 
 
 def _check_strings(module, source: str) -> None:
@@ -233,7 +245,7 @@ def optional_fields(module) -> dict:
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
                 "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile", "second_body",
                 "singular_lines", "report_levels", "prediction", "predicted_quantities", "predicted_pressure",
-                "derivative_jumps", "friction"):
+                "derivative_jumps", "friction", "history"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):
