@@ -23,6 +23,7 @@ from dataclasses import replace
 
 from ..fem.contact_laws.builtin import Penalty
 from .method import SWEPT, Expectation, capped_expectation, no_result_below
+from .nitsche import COULOMB_REFERENCE
 from .protocol import ContactLawMethod
 
 REFERENCE = "Chouly & Hild 2013 (Appl. Numer. Math. 65), eps = eps0 h"
@@ -35,7 +36,7 @@ TRESCA_REFERENCE = "Dione 2019 (abstract read): O(h^{1/2+nu} + eps^{1/2+nu}) for
 
 
 def expected(case) -> Expectation:
-    cited = TRESCA_REFERENCE if case.frictional else REFERENCE
+    cited = {"tresca": TRESCA_REFERENCE, "coulomb": COULOMB_REFERENCE}.get(case.friction.name, REFERENCE)
     return capped_expectation(case.nu, 1.0, cited, 1.5, no_result_below(cited))
 
 
@@ -54,7 +55,7 @@ method = ContactLawMethod(
     expected=expected,
     law=Penalty(epsilon0=EPS0),
     roles=frozenset({SWEPT}),
-    friction=("frictionless", "tresca"),
+    friction=("frictionless", "tresca", "coulomb"),
 )
 
 # `penalty-p1`: the `penalty` method on P1 (same default eps0, same expected rate)

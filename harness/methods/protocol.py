@@ -35,7 +35,7 @@ from ..fem.assembly import ContactTraceFunction
 from ..fem.cones import contact_pressure, end_status
 from ..fem.contact_laws.channels import friction_system
 from ..fem.contact_laws.system import contact_data, law_system
-from ..fem.contact_laws.tresca import law_for
+from ..fem.contact_laws.friction_laws import law_for
 from ..fem.contact_quadrature import ContactNodes, contact_quadrature, lagrange_nodes
 from ..fem.edge_functionals import check_rules, edge_functional_qp
 from ..fem.friction import rules_friction_qp
@@ -178,7 +178,7 @@ class ContactLawMethod(Method):
     is chosen for, which an hp mesh scales by (k / p)^2 in an element of degree p.
 
     Friction: on a case with a friction law (``problem.friction``) among the method's
-    ``friction``, the law is replaced by its friction law (``fem.contact_laws.tresca.law_for``:
+    ``friction``, the law is replaced by its friction law (``fem.contact_laws.friction_laws.law_for``:
     the built-in Nitsche and penalty laws carry their parameters over; a law of your own gives
     ``for_friction``, or is itself a ``fem.contact_laws.protocol.FrictionLaw``), solved by the same Newton
     method on the channels of ``fem.contact_laws.channels``."""
@@ -191,7 +191,7 @@ class ContactLawMethod(Method):
     def system(self, case, problem, take_stiffness: bool = False):
         """The law's system on ``problem``; on a case with friction (``problem.friction``) the
         system of the friction law that carries the law's idea and parameters
-        (``fem.contact_laws.tresca.law_for``): the method is the discretisation, the friction
+        (``fem.contact_laws.friction_laws.law_for``): the method is the discretisation, the friction
         law the case's physics."""
         if case.frictional:
             return friction_system(case, problem, law_for(self.calibrated_law, case.friction), take_stiffness)

@@ -82,17 +82,21 @@ def slip_rows(problem: DiscreteProblem, quadrature: ContactQuadrature) -> tuple[
 
 
 def channel_data(case, problem: DiscreteProblem, quadrature: ContactQuadrature, tangential: int):
-    """(gap (q,), load (q, m), threshold (q,)) at the points: the normal channel's obstacle, every
-    channel's load (the tangential components of g_C on the frames, then -g_C . n; the scalar
-    g_C), Tresca's s."""
+    """(gap (q,), load (q, m), threshold (q,), coefficient (q,) or None) at the points: the normal
+    channel's obstacle, every channel's load (the tangential components of g_C on the frames,
+    then -g_C . n; the scalar g_C), Tresca's s (zeros for Coulomb), Coulomb's mu_F (None for
+    Tresca)."""
     gap, normal_load = contact_data(case, problem, quadrature)
-    threshold = evaluate(case.friction.threshold_function, problem.mesh, quadrature.points)
+    friction, q = case.friction, len(gap)
+    coulomb = friction.name == "coulomb"
+    threshold = np.zeros(q) if coulomb else evaluate(friction.threshold_function, problem.mesh, quadrature.points)
+    coefficient = np.full(q, float(friction.coefficient)) if coulomb else None
     if not problem.physics.rotated_frame:
-        return gap, normal_load[:, None], threshold
+        return gap, normal_load[:, None], threshold, coefficient
     frames = tangent_frames(quadrature.normals)
-    g = np.zeros((len(gap), problem.physics.dim)) if case.contact_load is None else \
-        evaluate(case.contact_load, problem.mesh, quadrature.points).reshape(len(gap), -1)
-    return gap, np.column_stack([np.einsum("qtd,qd->qt", frames, g), normal_load]), threshold
+    g = np.zeros((q, problem.physics.dim)) if case.contact_load is None else \
+        evaluate(case.contact_load, problem.mesh, quadrature.points).reshape(q, -1)
+    return gap, np.column_stack([np.einsum("qtd,qd->qt", frames, g), normal_load]), threshold, coefficient
 
 
 @dataclass
@@ -118,15 +122,26 @@ class FrictionSystem(BoundaryTerms):
     symmetric: bool = True
     affine: bool = True
     stiff: np.ndarray | None = None     # (q, m) bool: the stiff channels of the last Jacobian
+    coefficient: np.ndarray | None = None   # (q,) Coulomb's mu_F, None for Tresca
+    # (q, tangential) u_t at the end of the previous load step (``problem.friction.LoadHistory``):
+    # the slip channels hold the step's slip u_t - reference; None: zero (a static problem)
+    reference: np.ndarray | None = None
 
     def __post_init__(self):
         self.R = sp.vstack(self.T + self.N).tocsr()
 
     def at(self, u: np.ndarray) -> FrictionPoints:
         q, physics = self.quadrature, self.problem.physics
-        return FrictionPoints(np.column_stack([T @ u for T in self.T]), np.column_stack([N @ u for N in self.N]),
+        channels = np.column_stack([T @ u for T in self.T])
+        if self.reference is not None:
+            channels[:, :self.tangential] -= self.reference
+        return FrictionPoints(channels, np.column_stack([N @ u for N in self.N]),
                               self.gap, self.load, self.threshold, q.h, q.points, self.tangential, physics.name,
-                              physics.modulus, q.degree)
+                              physics.modulus, q.degree, self.coefficient)
+
+    def slip_state(self, u: np.ndarray) -> np.ndarray:
+        """(q, tangential) u_t of u_h at the points: the next load step's ``reference``."""
+        return np.column_stack([T @ u for T in self.T[:self.tangential]])
 
     def zero(self) -> FrictionPoints:
         return self.at(np.zeros(self.problem.ndof))
@@ -196,11 +211,11 @@ def friction_system(case, problem: DiscreteProblem, law, take_stiffness: bool = 
     tangential = len(T)
     if problem.physics.rotated_frame:
         T, N = T + [quadrature.T], N + [quadrature.N]
-    gap, load, threshold = channel_data(case, problem, quadrature, tangential)
+    gap, load, threshold, coefficient = channel_data(case, problem, quadrature, tangential)
     touched = sum((abs(M) for M in T + N[1:]), abs(N[0])).tocsr()
     J, J_ngs, delta, positions = boundary_jacobian(problem, touched.T @ touched, take_stiffness)
     system = FrictionSystem(problem, quadrature, law, T, N, gap, load, threshold, tangential, problem.b.copy(), J, J_ngs,
-                            delta, positions, obstacle_force(case, problem, J))
+                            delta, positions, obstacle_force(case, problem, J), coefficient=coefficient)
     system.symmetric, system.affine = check_friction_law(system)
     system.set_jacobian(np.zeros(len(gap), np.int64))
     return system

@@ -116,19 +116,24 @@ class FrictionPoints:
       channel.
 
     Tresca's conditions on the friction force lambda_t (a vector of the ``tangential`` first
-    channels): |lambda_t| <= s, lambda_t = -s u_t / |u_t| where u_t != 0."""
+    channels): |lambda_t| <= s, lambda_t = -s u_t / |u_t| where u_t != 0; Coulomb's put
+    s = mu_F lambda_n (``coefficient``) and the unilateral conditions on the normal channel. Over
+    a load step (``problem.friction.LoadHistory``) the slip channels hold the slip of the step,
+    u_t less the previous step's (``fem.contact_laws.channels.FrictionSystem``)."""
 
     u: np.ndarray           # (q, m) the channels' variables
     dn: np.ndarray          # (q, m) their fluxes
     gap: np.ndarray         # (q,) the normal channel's obstacle (-g; zeros without a normal channel)
     load: np.ndarray        # (q, m) the channels' loads
-    threshold: np.ndarray   # (q,) Tresca's s
+    threshold: np.ndarray   # (q,) Tresca's s (zeros for Coulomb's, whose threshold is mu_F times the pressure)
     h: np.ndarray           # (q,) the size of the point's contact cell
     x: np.ndarray           # (q, dim) the points
     tangential: int = 1     # the slip's components (1, or 2 in 3D elasticity)
     physics: str = "scalar"
     modulus: float = 1.0    # the flux's stiffness scale (``GammaPoints.modulus``)
     degree: np.ndarray | None = None    # (q,) the degree of each point's cell, or None
+    # (q,) Coulomb's friction coefficient mu_F (``problem.friction.Coulomb``); None for Tresca
+    coefficient: np.ndarray | None = None
 
     @property
     def slip(self) -> np.ndarray:

@@ -191,24 +191,3 @@ class PenaltyTresca:
         if m > t:
             p_u[:, t, t] = -1.0 / eps
         return p_u, p_dn, f_u, f_dn
-
-
-# the friction laws of the built-in frictionless laws, by the law of ``problem.friction``
-# (Coulomb's adds its entries here)
-FRICTION_OF = {("tresca", Nitsche): NitscheTresca.of, ("tresca", Penalty): PenaltyTresca.of}
-
-
-def law_for(law, friction):
-    """The law that discretises ``friction`` (``problem.friction``) with ``law``'s idea and
-    parameters: ``law`` itself when frictionless or when it is a friction law of that name
-    (``protocol.FrictionLaw``); the built-in laws' counterpart (``FRICTION_OF``); a law's own
-    ``for_friction(friction)`` if it has one. LawError else."""
-    if friction.name == "frictionless" or getattr(law, "friction", None) == friction.name:
-        return law
-    made = FRICTION_OF.get((friction.name, type(law)))
-    if made is not None:
-        return made(law)
-    if hasattr(law, "for_friction"):
-        return law.for_friction(friction)
-    raise LawError(f"contact law {type(law).__name__} has no {friction.name} friction law "
-                   f"(give it for_friction(friction), or use a friction law)")

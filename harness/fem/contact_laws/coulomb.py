@@ -1,0 +1,186 @@
+"""The built-in Coulomb laws: Nitsche's method and the penalty method for Coulomb friction
+(``problem.friction.Coulomb``), as friction laws of the method protocol's second level
+(``fem.contact_laws.protocol.FrictionLaw``), in 2D and 3D elasticity.
+
+Coulomb's conditions couple the two channels of a point (``protocol.FrictionPoints``): the
+normal one is the frictionless contact variable (c = -u . n >= alpha, the pressure lambda_n =
+flux_n - load_n >= 0, complementarity) and the tangential one Tresca's with the threshold
+s = mu_F lambda_n. As for Tresca (``tresca``'s note), both are projections, for every gamma > 0:
+
+    lambda_n = [x_n]_+,                 x_n = lambda_n - (c - alpha) / gamma,
+    lambda_t = P_{mu_F [x_n]_+}(x_t),   x_t = lambda_t - w_t / gamma,                     (*)
+
+w_t the slip over the load step (u_t less the previous step's, ``channels.FrictionSystem``).
+
+Nitsche (F. Chouly, P. Hild, V. Lleras & Y. Renard, Nitsche-based finite element method for
+contact with Coulomb friction, in: Numerical Mathematics and Advanced Applications ENUMATH 2017,
+Springer 2019, and the static/dynamic existence analysis of the same authors, J. Comput. Appl.
+Math. 2022 (docs/theory/coulomb.md says which statements were read)): put (*) into the
+first term of the theta-family, as for the frictionless law (``builtin.Nitsche``) and Tresca's
+(``tresca.NitscheTresca``), on both channels:
+
+    p_n = [x_n]_+,  p_t = P_{mu_F p_n}(x_t),  f = theta gamma (p - lambda),   gamma = gamma0 h / M.
+
+Penalty: p_n = [(alpha - c)/eps]_+, p_t = P_{mu_F p_n}(-w_t / eps), f = 0 (the regularised
+Coulomb law of Oden & Martins, CMAME 52 (1985), as a penalty of both channels).
+
+The branches of a point: SEPARATED (x_n <= 0: p = 0 on both channels), and in contact STICK
+(|x_t| <= mu_F x_n), SLIP (2D elasticity: x_t > mu_F x_n; 3D: |x_t| > mu_F x_n) and SLIP_BELOW
+(2D: x_t < -mu_F x_n). On SLIP the threshold moves with the normal channel:
+d p_t / d x_n = mu_F x_t / |x_t|, an entry of the Jacobian's tangential rows in the normal
+column with nothing to balance it in the normal rows (d p_n / d x_t = 0): the Jacobian is not
+symmetric for any theta (theta = 1 included) as soon as a point slips, and Newton's linear
+solves go to GMRES (``solvers.newton``). In 2D every branch is affine (p_t = +-mu_F x_n on the
+slip branches): semismooth Newton ends in finitely many steps once the branches settle; in 3D
+the slip branch is not affine (s x_t/|x_t|) and Newton relinearises.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .builtin import THETAS, Nitsche, Penalty, _positive, degree_scale
+from .protocol import FrictionPoints, LawError
+from .tresca import SLIP, SLIP_BELOW, STICK, ball_branch, ball_jacobian, ball_projection
+
+SEPARATED = 3       # the branch where the normal channel is not in contact: no force on either channel
+
+
+def _check_channels(at: FrictionPoints) -> None:
+    if at.u.shape[1] != at.tangential + 1 or at.coefficient is None:
+        raise LawError("a Coulomb law needs the slip channel(s), the normal channel and the friction coefficient "
+                       "(elasticity, a Coulomb case)")
+
+
+def coulomb_branch(x_t: np.ndarray, x_n: np.ndarray, mu: np.ndarray) -> np.ndarray:
+    """(q,) the branch of (*) at the arguments x_t (q, t) and x_n (q,)."""
+    return np.where(x_n > 0, ball_branch(x_t, mu * np.maximum(x_n, 0.0)), SEPARATED)
+
+
+def coulomb_projection(x_t: np.ndarray, x_n: np.ndarray, mu: np.ndarray, branch: np.ndarray) -> np.ndarray:
+    """(q, t + 1): (P_{mu p_n}(x_t), p_n) by the formulas of ``branch``, p_n = x_n in contact, 0
+    where SEPARATED (the threshold 0 makes P_0 = 0 on the slip formula)."""
+    contact = branch != SEPARATED
+    p_n = np.where(contact, x_n, 0.0)
+    p_t = ball_projection(x_t, mu * p_n, np.where(contact, branch, SLIP))
+    return np.column_stack([p_t, p_n])
+
+
+def coulomb_jacobian(x_t: np.ndarray, x_n: np.ndarray, mu: np.ndarray, branch: np.ndarray) -> np.ndarray:
+    """(q, t + 1, t + 1) the derivative of ``coulomb_projection`` with respect to (x_t, x_n) on
+    ``branch``: the ball's Jacobian in the tangential block, the threshold's slope mu x_t/|x_t|
+    (1D: +-mu) in the tangential rows' normal column on a slip branch, 1 on the normal diagonal
+    in contact; zero where SEPARATED."""
+    q, t = x_t.shape
+    contact = branch != SEPARATED
+    s = mu * np.where(contact, x_n, 0.0)
+    D = np.zeros((q, t + 1, t + 1))
+    D[:, :t, :t] = ball_jacobian(x_t, s, np.where(contact, branch, SLIP))
+    if t == 1:
+        slope = np.select([branch == SLIP, branch == SLIP_BELOW], [mu, -mu], 0.0)[:, None]
+    else:
+        length = np.maximum(np.linalg.norm(x_t, axis=1), np.finfo(float).tiny)
+        # (the disc has one slip branch: SLIP_BELOW, a 1D code, takes its formula, as in ``tresca``)
+        slope = np.where((contact & (branch != STICK))[:, None], (mu / length)[:, None] * x_t, 0.0)
+    D[:, :t, t] = slope
+    D[:, t, t] = contact
+    return D
+
+
+def _blocks(D: np.ndarray, du: np.ndarray, ddn: np.ndarray, flux_scale: np.ndarray | None):
+    """(p_u, p_dn, f_u, f_dn) from D = dp/dx and the arguments' slopes dx/du = ``du`` and
+    dx/d(flux) = ``ddn`` (per point); f = flux_scale (p - lambda) (None: f = 0)."""
+    p_u, p_dn = D * du[:, None, None], D * ddn[:, None, None]
+    if flux_scale is None:
+        zero = np.zeros_like(D)
+        return p_u, p_dn, zero, zero
+    g = flux_scale[:, None, None]
+    return p_u, p_dn, g * p_u, g * (p_dn - np.eye(D.shape[1]))
+
+
+@dataclass(frozen=True)
+class NitscheCoulomb:
+    """Nitsche's law for Coulomb friction (the module's note), gamma = gamma0 h / M (``degree``
+    as for ``builtin.Nitsche``), variant theta in (1, 0, -1)."""
+
+    gamma0: float = 0.05
+    theta: float = 1.0
+    degree: int | None = None
+    friction = "coulomb"
+    branches = (STICK, SLIP, SLIP_BELOW, SEPARATED)
+
+    def __post_init__(self):
+        _positive("gamma0", self.gamma0)
+        if self.theta not in THETAS:
+            raise ValueError(f"theta must be 1, 0 or -1, got {self.theta}")
+
+    @classmethod
+    def of(cls, law: Nitsche) -> "NitscheCoulomb":
+        """The Coulomb law of the frictionless ``law``: its gamma0, theta and degree."""
+        return cls(law.gamma0, law.theta, law.degree)
+
+    def arguments(self, at: FrictionPoints) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(x_t, x_n, gamma) of (*)."""
+        gamma = self.gamma0 * at.h / at.modulus * degree_scale(self.degree, at)
+        force = at.dn - at.load
+        t = at.tangential
+        return force[:, :t] - at.u[:, :t] / gamma[:, None], force[:, t] - (at.u[:, t] - at.gap) / gamma, gamma
+
+    def branch(self, at: FrictionPoints) -> np.ndarray:
+        _check_channels(at)
+        x_t, x_n, _ = self.arguments(at)
+        return coulomb_branch(x_t, x_n, at.coefficient)
+
+    def term(self, at: FrictionPoints, branch: np.ndarray):
+        _check_channels(at)
+        x_t, x_n, gamma = self.arguments(at)
+        p = coulomb_projection(x_t, x_n, at.coefficient, branch)
+        return p, self.theta * gamma[:, None] * (p - (at.dn - at.load))
+
+    def derivative(self, at: FrictionPoints, branch: np.ndarray):
+        x_t, x_n, gamma = self.arguments(at)
+        D = coulomb_jacobian(x_t, x_n, at.coefficient, branch)
+        # dx/du = -1/gamma, dx/d(flux) = 1 on both channels; f = theta gamma (p - lambda)
+        return _blocks(D, -1.0 / gamma, np.ones_like(gamma), self.theta * gamma)
+
+
+@dataclass(frozen=True)
+class PenaltyCoulomb:
+    """The penalty law for Coulomb friction (the module's note), eps = epsilon0 h / M
+    (``degree`` as for ``builtin.Penalty``)."""
+
+    epsilon0: float = 0.05
+    degree: int | None = None
+    friction = "coulomb"
+    branches = (STICK, SLIP, SLIP_BELOW, SEPARATED)
+
+    def __post_init__(self):
+        _positive("epsilon0", self.epsilon0)
+
+    @classmethod
+    def of(cls, law: Penalty) -> "PenaltyCoulomb":
+        """The Coulomb law of the frictionless ``law``: its epsilon0 and degree."""
+        return cls(law.epsilon0, law.degree)
+
+    def arguments(self, at: FrictionPoints) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(x_t, x_n, eps): -w_t/eps and (alpha - c)/eps."""
+        eps = self.epsilon0 * at.h / at.modulus * degree_scale(self.degree, at)
+        t = at.tangential
+        return -at.u[:, :t] / eps[:, None], (at.gap - at.u[:, t]) / eps, eps
+
+    def branch(self, at: FrictionPoints) -> np.ndarray:
+        _check_channels(at)
+        x_t, x_n, _ = self.arguments(at)
+        return coulomb_branch(x_t, x_n, at.coefficient)
+
+    def term(self, at: FrictionPoints, branch: np.ndarray):
+        _check_channels(at)
+        x_t, x_n, _ = self.arguments(at)
+        p = coulomb_projection(x_t, x_n, at.coefficient, branch)
+        return p, np.zeros_like(p)
+
+    def derivative(self, at: FrictionPoints, branch: np.ndarray):
+        x_t, x_n, eps = self.arguments(at)
+        D = coulomb_jacobian(x_t, x_n, at.coefficient, branch)
+        return _blocks(D, -1.0 / eps, np.zeros_like(eps), None)
