@@ -44,6 +44,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..fem.p1_embedding import ContactEdges
+from .krylov import gmres
 from .multigrid import TruncatedVCycle, max_abs, pcg
 from .options import SolverOptions
 from .pdas import KKT, primal_dual_active_set, resolved
@@ -191,13 +192,15 @@ class FactorisedSystem:
 
 class MultigridSystem:
     """Solves with some dofs pinned by CG with a V-cycle truncated at the pins (``multigrid``),
-    from the previous iterate: one preconditioner per pin set, no factorisation of K."""
+    from the previous iterate: one preconditioner per pin set, no factorisation of K.
+    ``symmetric`` False: GMRES with the same V-cycle (``krylov.gmres``; a nonsymmetric K)."""
 
     iterative = True            # its solves are as deep as asked: loose ones cost less
 
     def __init__(self, K_ngs, b: np.ndarray, multilevel, edges: ContactEdges, stiff_vertices=None,
-                 options: SolverOptions = _DEFAULT):
+                 options: SolverOptions = _DEFAULT, symmetric: bool = True):
         self.K_ngs, self.b, self.multilevel, self.edges = K_ngs, b, multilevel, edges
+        self.krylov = pcg if symmetric else gmres
         self.stiff_vertices = stiff_vertices        # see ``multigrid.TruncatedVCycle``
         self.max_cg_iterations = options.cg_iterations
         self.cg_iterations = 0
@@ -220,7 +223,7 @@ class MultigridSystem:
                                               previous=previous)
             self.preconditioners += 1
         preconditioner = self._last[1]
-        z, iterations = pcg(self.K_ngs, preconditioner, self.b, z, free, tol, self.max_cg_iterations)
+        z, iterations = self.krylov(self.K_ngs, preconditioner, self.b, z, free, tol, self.max_cg_iterations)
         self.cg_iterations += iterations
         return z
 

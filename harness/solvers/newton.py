@@ -34,7 +34,9 @@ may have no solution: such runs would wander for all their steps). The stall cou
 that every run of the report's sweeps that converges at all converges in the same steps with it
 (the sweep's rows and their ``solver_iterations`` show it), while the others stop early.
 
-Linear solves: J is A with the rows of the elements along Gamma_C changed. Symmetric J
+Linear solves: J is A with the rows of the elements along Gamma_C changed. A nonsymmetric J of
+a Coulomb law (every theta: ``fem.contact_laws.coulomb``) goes to GMRES with the same V-cycle
+(``krylov.gmres``; its iterations are counted as CG's). Symmetric J
 (penalty; Nitsche with theta = 1) goes to the cones' multigrid CG (``bound_constraints.MultigridSystem``:
 the V-cycle smooths with J itself; its P1 coarse spaces are A's -- vector P1 in the rotated frame
 for elasticity -- truncated at the Dirichlet dofs and at the Gamma_C vertices with an active
@@ -135,7 +137,11 @@ class _AffineSolves:
 
     def __init__(self, system, multilevel, options: SolverOptions):
         self.system, self.multilevel, self.options = system, multilevel, options
-        self.direct = multilevel is None or not system.symmetric
+        # a nonsymmetric J with a hierarchy: GMRES with the same V-cycle (``krylov``) for the
+        # laws that ask for it (Coulomb's, ``nonsymmetric_krylov``); the frictionless theta = 0, -1
+        # variants keep their factorisation, whose updates the report's sweeps are timed with
+        self.krylov = bool(getattr(system, "nonsymmetric_krylov", False))
+        self.direct = multilevel is None or not (system.symmetric or self.krylov)
         self.factored = None        # the factorisation of J, updated step by step once direct
         self.linear = None          # the multigrid system of the current set
         self.rhs, self.step_set = None, None
@@ -165,7 +171,8 @@ class _AffineSolves:
         system, problem = self.system, self.system.problem
         self.linear = self.linear or MultigridSystem(
             system.J_ngs, self.rhs, self.multilevel, ContactEdges.of(problem, model=False),
-            stiff_vertices=system.stiff_vertices(self.step_set, self.multilevel.ndof), options=self.options)
+            stiff_vertices=system.stiff_vertices(self.step_set, self.multilevel.ndof), options=self.options,
+            symmetric=system.symmetric)
         before = self.linear.cg_iterations
         candidate = self.linear.solve(~problem.free, problem.lift, start=u, tol=tol)
         self.iterations += self.linear.cg_iterations - before

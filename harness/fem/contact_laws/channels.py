@@ -123,6 +123,9 @@ class FrictionSystem(BoundaryTerms):
     affine: bool = True
     stiff: np.ndarray | None = None     # (q, m) bool: the stiff channels of the last Jacobian
     coefficient: np.ndarray | None = None   # (q,) Coulomb's mu_F, None for Tresca
+    # a nonsymmetric Jacobian goes to GMRES with the multigrid V-cycle, not to a factorisation
+    # (``solvers.newton``): Coulomb's laws, nonsymmetric for every theta, on fine meshes
+    nonsymmetric_krylov: bool = False
     # (q, tangential) u_t at the end of the previous load step (``problem.friction.LoadHistory``):
     # the slip channels hold the step's slip u_t - reference; None: zero (a static problem)
     reference: np.ndarray | None = None
@@ -215,7 +218,8 @@ def friction_system(case, problem: DiscreteProblem, law, take_stiffness: bool = 
     touched = sum((abs(M) for M in T + N[1:]), abs(N[0])).tocsr()
     J, J_ngs, delta, positions = boundary_jacobian(problem, touched.T @ touched, take_stiffness)
     system = FrictionSystem(problem, quadrature, law, T, N, gap, load, threshold, tangential, problem.b.copy(), J, J_ngs,
-                            delta, positions, obstacle_force(case, problem, J), coefficient=coefficient)
+                            delta, positions, obstacle_force(case, problem, J), coefficient=coefficient,
+                            nonsymmetric_krylov=coefficient is not None)
     system.symmetric, system.affine = check_friction_law(system)
     system.set_jacobian(np.zeros(len(gap), np.int64))
     return system
