@@ -12,7 +12,7 @@ variables.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import ngsolve as ngs
 import numpy as np
@@ -207,11 +207,8 @@ def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadratu
     a = ngs.BilinearForm(physics.form(u, v) * ngs.dx).Assemble()
     quadrature = quadrature or ElementQuadrature.of(case, mesh)
 
-    dirichlet = ngs.GridFunction(fes)
-    dirichlet.Set(case.dirichlet_data, ngs.BND, definedon=mesh.Boundaries("dirichlet"))
     free = free_dofs(fes)
-    lift = np.where(free, 0.0, dirichlet.vec.FV().NumPy())
-    b = load_vector(case, fes, quadrature)
+    lift, b = dirichlet_lift(case, fes, free), load_vector(case, fes, quadrature)
 
     trace = contact_trace(mesh)
     A = csr_view(a.mat)
@@ -240,6 +237,28 @@ def discretise(case, mesh: ngs.Mesh, order: int = 2, quadrature: ElementQuadratu
     if case.contact_load is not None and not physics.traction_load:
         problem.b += contact_load_vector(case, problem)
     return problem
+
+
+def dirichlet_lift(case, fes, free: np.ndarray) -> np.ndarray:
+    """u_D interpolated on Gamma_u's dofs (NGSolve's basis), zero on the free ones."""
+    dirichlet = ngs.GridFunction(fes)
+    dirichlet.Set(case.dirichlet_data, ngs.BND, definedon=fes.mesh.Boundaries("dirichlet"))
+    return np.where(free, 0.0, dirichlet.vec.FV().NumPy())
+
+
+def at_load_step(case, problem: DiscreteProblem, step: int) -> DiscreteProblem:
+    """``problem`` with the load and Dirichlet data of the case's load step ``step``
+    (``problem.friction.LoadHistory``; the last step's are the problem's own), in its variables:
+    the same space, matrix and trace, another b and lift."""
+    if step == len(case.history) - 1:
+        return problem
+    stepped = case.at_step(step)
+    lift, b = dirichlet_lift(stepped, problem.fes, problem.free), load_vector(stepped, problem.fes, problem.quadrature)
+    if problem.basis is not None:
+        b, lift = problem.basis.T @ b, problem.basis.T @ lift
+    if stepped.contact_load is not None and not problem.physics.traction_load:
+        b += contact_load_vector(stepped, problem)
+    return replace(problem, b=b, lift=lift, cache={})
 
 
 def _checked_degrees(case, mesh: ngs.Mesh, order: int, degrees) -> np.ndarray | None:

@@ -87,6 +87,7 @@ class SolveFields(Mapping):
     n_contact_constraints: int = 0
     backward_error: float = math.nan    # the normwise backward error of the stationarity
     solve_seconds: float = 0.0
+    load_steps: int = 1             # the load history's steps solved (each to the tolerance; the worst's residual)
 
     def __getitem__(self, name: str):
         if name not in self._names():
@@ -134,10 +135,12 @@ class ConeCarry(Carry):
 
 @dataclass(frozen=True)
 class LawCarry(Carry):
-    """A contact law's: its Gauss points (``points``) and their branch (``active``)."""
+    """A contact law's: its Gauss points (``points``) and their branch (``active``); on a load
+    history (``problem.friction.LoadHistory``) ``steps``, the carries of the steps before the last."""
 
     points: np.ndarray | None = None
     active: np.ndarray | None = None
+    steps: tuple = ()
 
 
 @dataclass(frozen=True)

@@ -44,7 +44,7 @@ from ..fem.p1_embedding import ContactEdges
 from ..fem.penetration import max_penetration
 from ..solvers.friction import solve_friction_qp
 from ..solvers.general_constraints import GeneralConstraintSolver
-from ..solvers.newton import solve_semismooth_newton
+from ..solvers.load_steps import previous_state, solve_history
 from ..solvers.options import SolverOptions
 from ..solvers.projected_multigrid import ProjectedMultigridSystem
 from .method import Carry, ConeCarry, LawCarry, LevelSolve, Method, SolveFields, timer
@@ -233,9 +233,12 @@ class ContactLawMethod(Method):
         timed = timer(phases)
         with timed("setup"):
             system = self.system(case, problem, take_stiffness)
-            start, predicted = nested_guess(system, carry, multilevel)
         with timed("solve"):
-            solution = solve_semismooth_newton(system, start, multilevel, predicted=predicted, options=self.solver)
+            # a load history's steps in order (``solvers.load_steps``), each nested from the
+            # coarser level's same step; a static case is one step
+            history = solve_history(case, system, lambda k, steps: step_guess(system, carry, multilevel, k, steps),
+                                    multilevel, self.solver)
+            solution = history.combined()
         u = solution.u
         trace_u = ContactTraceFunction.of(problem, u)
         pressure = system.quadrature.edge_means(system.pressure(u))
@@ -245,9 +248,21 @@ class ContactLawMethod(Method):
         fields = SolveFields(penetration, float(pressure.min()), solution.residual,
                              solution.status, solution.iterations, solution.linear_iterations,
                              active_constraints=int(np.count_nonzero(solution.active)), backward_error=solution.backward,
-                             solve_seconds=solution.seconds)
+                             solve_seconds=solution.seconds, load_steps=len(history.steps))
+        points = system.quadrature.points
+        earlier = tuple(LawCarry(p1_values(problem, s.u), points=points, active=s.active) for s in history.steps[:-1])
         return LevelSolve(fields, u, trace_u, pressure,
-                          LawCarry(p1_values(problem, u), points=system.quadrature.points, active=solution.active))
+                          LawCarry(p1_values(problem, u), points=points, active=solution.active, steps=earlier))
+
+
+def step_guess(system, carry, multilevel, step: int, steps: list):
+    """(start, predicted branch) of load step ``step``: nested from the coarser level's same step
+    (``nested_guess``), or, on the first level, the previous step's state."""
+    if carry is not None:
+        same = carry if step == len(carry.steps) else carry.steps[step] if step < len(carry.steps) else None
+        if same is not None:
+            return nested_guess(system, same, multilevel)
+    return previous_state(steps)
 
 
 def nested_guess(system, carry, multilevel):

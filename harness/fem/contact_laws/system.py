@@ -55,6 +55,11 @@ class BoundaryTerms:
         touched[(columns // block * nv + vertex)[vertex < nv]] = True
         return touched
 
+    def at_step(self, problem) -> None:
+        """Solve with ``problem``'s load and Dirichlet data from now on: a load step's
+        (``fem.assembly.at_load_step``; the same space, matrix and trace)."""
+        self.problem, self.rhs = problem, problem.b.copy()
+
     def write_terms(self, terms: sp.spmatrix) -> None:
         """J = A + ``terms`` (within ``delta``'s pattern), written into J's memory."""
         terms = terms.tocoo()
