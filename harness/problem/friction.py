@@ -31,8 +31,8 @@
   step of a load history (``LoadHistory``; quasi-static Coulomb friction discretised in time,
   L.-E. Andersson, Appl. Math. Optim. 42 (2000) (statement not read here); P. Wriggers,
   Computational Contact Mechanics, 2006, Sect. 5.2). No convexity: the discrete problem has a
-  solution for every mu_F and a unique one only for mu_F small (P. Hild & Y. Renard, Numer.
-  Math. 2007: uniqueness for mu_F below a mesh-dependent bound; statement not read here), and
+  solution for every mu_F and a unique one only for mu_F small (H. B. Khenous, J. Pommier &
+  Y. Renard, Appl. Numer. Math. 56 (2006) 163-192, read from its abstract only), and
   no theorem gives a rate: the harness reports the measured rates beside Tresca's.
 
 A case declares ``friction = Tresca(threshold=...)`` or ``Coulomb(coefficient=...)``

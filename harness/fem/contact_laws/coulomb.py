@@ -12,10 +12,10 @@ s = mu_F lambda_n. As for Tresca (``tresca``'s note), both are projections, for 
 
 w_t the slip over the load step (u_t less the previous step's, ``channels.FrictionSystem``).
 
-Nitsche (F. Chouly, P. Hild, V. Lleras & Y. Renard, Nitsche-based finite element method for
-contact with Coulomb friction, in: Numerical Mathematics and Advanced Applications ENUMATH 2017,
-Springer 2019, and the static/dynamic existence analysis of the same authors, J. Comput. Appl.
-Math. 2022 (docs/theory/coulomb.md says which statements were read)): put (*) into the
+Nitsche (F. Chouly, P. Hild, V. Lleras & Y. Renard, Nitsche method for contact with Coulomb
+friction: existence results for the static and dynamic finite element formulations, J. Comput.
+Appl. Math. (2022); its statements were not available to read here, docs/theory/coulomb.md; the
+form below is GetFEM's documented Nitsche friction term in the harness's channels): put (*) into the
 first term of the theta-family, as for the frictionless law (``builtin.Nitsche``) and Tresca's
 (``tresca.NitscheTresca``), on both channels:
 
