@@ -19,6 +19,12 @@ discrete friction force (``FrictionTerms`` says how it is made):
   + h_E (|lambda_t,h| - s)_+^2               excess over the threshold
   + (s |u_h,t| + lambda_t,h . u_h,t)_+       complementarity of the friction law
 
+Coulomb (``problem.friction.Coulomb``): the elastic terms with s = mu_F [lambda_h]_+ and, for
+the unilateral normal condition, the Signorini estimator's penetration, tension and
+complementarity in place of the bilateral residual. On a load history the complementarity
+takes the total u_t, not the last step's slip (the estimator sees u_h alone): it is then not a
+residual of the step's law, a known limit.
+
 Every term vanishes at the exact solution: |lambda| <= s makes s|u| + lambda u >= 0 with
 equality exactly where lambda = -s sign(u) or u = 0, so its positive part is zero there, and the
 others are residuals of equations u satisfies. The complementarity takes the discrete force,
@@ -56,13 +62,20 @@ def scalar_density(lam_h, force, u_h, s, h, complementarity: bool = True) -> dic
 
 
 def elastic_density(lam_h, pressure, normal_residual, force_t, traction_t, u_t, s, h,
-                    complementarity: bool = True) -> dict:
+                    complementarity: bool = True, unilateral: bool = False) -> dict:
     """The elastic terms at q points: ``lam_h`` the discrete normal reaction, ``pressure``
     p(u_h), ``normal_residual`` c(u_h) - obstacle (q,); ``force_t`` the discrete friction force,
-    ``traction_t`` sigma_t(u_h) - g_t and ``u_t`` the tangential trace (q, dim); ``s``, ``h`` (q,)."""
+    ``traction_t`` sigma_t(u_h) - g_t and ``u_t`` the tangential trace (q, dim); ``s``, ``h`` (q,).
+    ``unilateral`` (Coulomb): the normal condition's terms are the Signorini estimator's --
+    penetration, tension of lambda_h and their complementarity -- not the bilateral residual."""
     flux = (lam_h - pressure) ** 2 + ((force_t - traction_t) ** 2).sum(axis=-1)
     excess = np.maximum(np.linalg.norm(force_t, axis=-1) - s, 0.0)
-    terms = {"flux": h * flux, "normal": normal_residual**2 / h, "excess": h * excess**2}
+    normal = normal_residual**2 / h
+    if unilateral:
+        normal = np.maximum(-normal_residual, 0.0) ** 2 / h + h * np.minimum(lam_h, 0.0) ** 2
+        if complementarity:
+            normal = normal + np.maximum(lam_h, 0.0) * np.maximum(normal_residual, 0.0)
+    terms = {"flux": h * flux, "normal": normal, "excess": h * excess**2}
     work = s * np.linalg.norm(u_t, axis=-1) + (force_t * u_t).sum(axis=-1)
     terms["complementarity"] = np.maximum(work, 0.0) if complementarity else 0.0 * h
     return terms
@@ -83,7 +96,9 @@ class FrictionTerms:
     def __init__(self, case, problem, q, load, obstacle):
         self.case, self.problem, self.q, self.load = case, problem, q, load
         self.obstacle = 0.0 if obstacle is None else obstacle
-        self.s = evaluate(case.friction.threshold_function, problem.mesh, q.points)
+        # Coulomb's threshold is mu_F times the discrete pressure, known at ``terms`` only
+        self.coulomb = case.friction.name == "coulomb"
+        self.s = None if self.coulomb else evaluate(case.friction.threshold_function, problem.mesh, q.points)
         # the complementarity is left out for P_k, k >= 3, as in the Signorini terms
         self.complementarity = problem.order <= 2
         self.tangential = None
@@ -114,8 +129,9 @@ class FrictionTerms:
         traction_t = traction - (traction * q.normals).sum(axis=-1)[:, None] * q.normals
         values = evaluate(gfu, mesh, q.points).reshape(q.normals.shape)
         u_t = values - (values * q.normals).sum(axis=-1)[:, None] * q.normals
+        s = self.case.friction.coefficient * np.maximum(lam_h, 0.0) if self.coulomb else self.s
         return elastic_density(lam_h, force, q.T @ u - self.obstacle, self.friction_force(u, traction_t), traction_t,
-                               u_t, self.s, q.h, self.complementarity)
+                               u_t, s, q.h, self.complementarity, unilateral=self.coulomb)
 
     def density(self, lam_h: np.ndarray, u: np.ndarray, gfu) -> np.ndarray:
         return sum(self.terms(lam_h, u, gfu).values())

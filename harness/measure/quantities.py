@@ -94,9 +94,10 @@ def exact_column(column: str) -> str:
     return f"{column}_exact"
 
 
-def quantities(case, problem, u: np.ndarray) -> dict:
+def quantities(case, problem, u: np.ndarray, previous: np.ndarray | None = None) -> dict:
     """The quantities of ``u`` (a solution on ``problem``), as results.csv columns; the
-    penetration is the method's own column."""
+    penetration is the method's own column. ``previous``: u_h at the end of the load step before
+    the last (``problem.friction.LoadHistory``), from which the last step's slip is measured."""
     pressure = DiscretePressure.of(problem)
     coefficients = pressure.coefficients(u)
     at_points = pressure.at_points(coefficients)
@@ -109,19 +110,39 @@ def quantities(case, problem, u: np.ndarray) -> dict:
                "qoi_energy": strain_energy(problem, u)}
     if not case.frictional:
         return columns
-    force, slip = DiscreteTraction.of(problem).at_points(u)
-    return columns | friction_quantities(case, problem, q, force, slip) | meaningless(problem.physics)
+    traction = DiscreteTraction.of(problem)
+    force, slip = traction.at_points(u)
+    if previous is not None:
+        slip = slip - traction.at_points(previous)[1]
+    contact = contact_zone(problem.physics, q, at_points, gap)
+    return columns | friction_quantities(case, problem, q, force, slip, pressure=at_points, contact=contact) | meaningless(case)
 
 
-def meaningless(physics, exact: bool = False) -> dict:
-    """NaN for the frictionless quantities without meaning on a friction case (``MEANINGLESS``)."""
-    return {exact_column(c) if exact else c: float("nan") for c in MEANINGLESS[physics.rotated_frame]}
+def meaningless(case, exact: bool = False) -> dict:
+    """NaN for the frictionless quantities without meaning on a Tresca case (``MEANINGLESS``;
+    Coulomb's contact is unilateral: every frictionless quantity keeps its meaning)."""
+    if case.friction.name != "tresca":
+        return {}
+    return {exact_column(c) if exact else c: float("nan") for c in MEANINGLESS[case.physics.rotated_frame]}
 
 
-def friction_quantities(case, problem, q, force: np.ndarray, slip: np.ndarray, exact: bool = False) -> dict:
+def friction_threshold(case, problem, q, pressure: np.ndarray) -> np.ndarray:
+    """The friction threshold at the points of ``q``: Tresca's s, or Coulomb's mu_F times the
+    contact pressure ``pressure`` (its positive part: no threshold where the body separates)."""
+    if case.friction.name == "coulomb":
+        return case.friction.coefficient * np.maximum(pressure, 0.0)
+    return evaluate(case.friction.threshold_function, problem.mesh, q.points)
+
+
+def friction_quantities(case, problem, q, force: np.ndarray, slip: np.ndarray, exact: bool = False,
+                        pressure: np.ndarray | None = None, contact: np.ndarray | None = None) -> dict:
     """The slip zone's measure and the first stick-slip point of a friction force ``force`` and a
-    slip ``slip`` ((q, d - 1) at the points of the rule ``q``): the module docstring's."""
-    zone = slip_zone(problem.physics, q, force, slip, evaluate(case.friction.threshold_function, problem.mesh, q.points))
+    slip ``slip`` ((q, d - 1) at the points of the rule ``q``; for Coulomb the ``pressure``
+    there, its threshold's, and the ``contact`` zone, outside which a point neither sticks nor
+    slips): the module docstring's."""
+    zone = slip_zone(problem.physics, q, force, slip, friction_threshold(case, problem, q, pressure))
+    if case.friction.name == "coulomb":
+        zone &= contact
     two_d = problem.trace.faces is None
     columns = {"qoi_slip_measure": float(q.weights @ zone),
                "qoi_stick_slip_point": first_transition(q, zone) if two_d else float("nan")}
@@ -163,9 +184,14 @@ def obstacle_at(case, problem, points: np.ndarray) -> np.ndarray | float:
 
 
 def contact_measure(physics, q, pressure: np.ndarray, gap: np.ndarray) -> float:
-    """The measure of the points of the rule ``q`` where the contact law's argument
-    lambda - (E / h)(c(u) - alpha) is positive (module docstring)."""
-    return float(q.weights @ (pressure - physics.modulus / q.h * gap > 0))
+    """The measure of the points of the rule ``q`` in the contact zone (``contact_zone``)."""
+    return float(q.weights @ contact_zone(physics, q, pressure, gap))
+
+
+def contact_zone(physics, q, pressure: np.ndarray, gap: np.ndarray) -> np.ndarray:
+    """At each point of the rule ``q``: is the contact law's argument
+    lambda - (E / h)(c(u) - alpha) positive (module docstring)?"""
+    return pressure - physics.modulus / q.h * gap > 0
 
 
 def exact_quantities(case, problem) -> dict:
@@ -182,10 +208,11 @@ def exact_quantities(case, problem) -> dict:
                exact_column("qoi_peak_pressure"): exact_peak(case, problem, pressure) if two_d else float("nan")}
     if not case.frictional:
         return columns
-    friction = friction_quantities(case, problem, q, *exact_friction(case, problem, q), exact=True)
+    friction = friction_quantities(case, problem, q, *exact_friction(case, problem, q), exact=True, pressure=pressure,
+                                   contact=contact_zone(case.physics, q, pressure, gap))
     if not two_d:       # the slip zone's border crosses the triangles: no rule of the mesh resolves it
         friction = dict.fromkeys(friction, float("nan"))
-    return columns | friction | meaningless(case.physics, exact=True)
+    return columns | friction | meaningless(case, exact=True)
 
 
 def exact_peak(case, problem, graded: np.ndarray) -> float:

@@ -162,6 +162,9 @@ class LevelSolve:
     trace_u: object
     pressure: np.ndarray
     carry: Carry | None
+    # u_h at the end of the load step before the last (``problem.friction.LoadHistory``): the
+    # final step's slip is measured from it; None for a static case
+    previous: np.ndarray | None = None
 
 
 def timer(phases):

@@ -252,7 +252,8 @@ class ContactLawMethod(Method):
         points = system.quadrature.points
         earlier = tuple(LawCarry(p1_values(problem, s.u), points=points, active=s.active) for s in history.steps[:-1])
         return LevelSolve(fields, u, trace_u, pressure,
-                          LawCarry(p1_values(problem, u), points=points, active=solution.active, steps=earlier))
+                          LawCarry(p1_values(problem, u), points=points, active=solution.active, steps=earlier),
+                          previous=history.steps[-2].u if len(history.steps) > 1 else None)
 
 
 def step_guess(system, carry, multilevel, step: int, steps: list):

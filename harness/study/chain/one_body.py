@@ -89,8 +89,8 @@ class OneBody:
         if self.sequence.adaptive:
             self.sequence.observe(indicators)
 
-    def quantities(self, problem, u, quadrature) -> dict:
-        columns = quantities(self.case, problem, u)
+    def quantities(self, problem, u, quadrature, previous=None) -> dict:
+        columns = quantities(self.case, problem, u, previous)
         if not self.case.exact:
             return columns
         if self._exact[0] is not quadrature:

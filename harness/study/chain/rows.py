@@ -32,6 +32,8 @@ COLUMNS = [
     "sharper_rate", "sharper_log_exponent", "sharper_reference", "case_source",
     # friction cases (``measure.quantities``, ``measure.errors.DiscreteTraction``)
     "qoi_slip_measure", "qoi_stick_slip_point", "qoi_slip_measure_exact", "qoi_stick_slip_point_exact", "err_friction_l2",
+    # load histories (``problem.friction.LoadHistory``): the steps solved, each to the tolerance
+    "load_steps",
 ]
 
 # What each column of results.csv means (the docs' table of results.csv is generated from this)
@@ -79,10 +81,12 @@ COLUMN_MEANINGS = {
     "sharper_rate": "a second theory's rate", "sharper_log_exponent": "its log power", "sharper_reference": "its theorem",
     "case_source": "the case file",
     "qoi_slip_measure": "friction cases: the length (3D: area) of the slip zone, where |λ_h − (E/h) u_t,h| > s "
-    "(Tresca's projection acts)", "qoi_stick_slip_point": "2D friction cases: the position along Γ_C (x of a horizontal Γ_C) "
+    "(Tresca's projection acts; Coulomb: s = μ_F λ_h, the slip that of the last load step, and only where in contact)", "qoi_stick_slip_point": "2D friction cases: the position along Γ_C (x of a horizontal Γ_C) "
     "of its first stick–slip point, to O(h); NaN where there is none",
     "qoi_slip_measure_exact": "the exact slip zone's measure (2D friction cases with u)",
     "qoi_stick_slip_point_exact": "the exact first stick–slip point (2D friction cases with u)",
+    "load_steps": "the load history's steps solved in order (1: a static case); kkt_residual and backward_error are "
+    "the worst step's, the iterations and solve_seconds the sum over the steps",
     "err_friction_l2": "friction cases with u: ‖σ_t − σ_t,h‖ in L²(Γ_C), σ_t,h the Riesz representative of the residual's "
     "tangential part (scalar model: λ − λ_h, equal to err_pressure_l2)",
 }

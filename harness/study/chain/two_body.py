@@ -115,7 +115,7 @@ class TwoBodies:
     def observe(self, indicators) -> None:
         self.sequence.observe(indicators)
 
-    def quantities(self, problem, u, quadratures) -> dict:
+    def quantities(self, problem, u, quadratures, previous=None) -> dict:
         """The upper (slave) body's force and peak pressure (the lower body's balance them), the
         energy of both; the contact zone is where the jump closes across non-matching meshes,
         which no vertex test of one body sees: not measured."""

@@ -82,7 +82,7 @@ class Discretisation(Protocol):
     def observe(self, indicators) -> None:
         """A studied solve's error indicators (an adaptive sequence's next mesh needs them)."""
 
-    def quantities(self, problem, u, quadrature) -> dict:
+    def quantities(self, problem, u, quadrature, previous=None) -> dict:
         """The quantities of interest of a studied solve (``measure.quantities``), with their
         exact values on a case with u."""
 
@@ -230,7 +230,7 @@ class ChainWalk:
         with self.phases("errors"):
             columns = self.measure.solved(method, level.index, problem, solve.u, row)
             if row is not None:
-                columns |= self.discretisation.quantities(problem, solve.u, level.quadrature)
+                columns |= self.discretisation.quantities(problem, solve.u, level.quadrature, solve.previous)
         if row is not None:
             row.update(columns)
             row["measure_seconds"] = time.perf_counter() - clock
