@@ -22,7 +22,7 @@ mu_F p. Exact Coulomb with no contact load therefore needs the Coulomb local pro
 ansatz with the face conditions (u_theta = 0, sigma_rtheta + mu_F sigma_thetatheta = 0) at
 theta = 0, (u_r = u_theta = 0) at theta = pi has the determinant (SymPy)
 
-    2 l mu kappa sin(pi l) ((kappa + 1) cos(pi l) + mu_F (kappa - 1) sin(pi l)),
+    4 l mu kappa sin(pi l) ((kappa + 1) cos(pi l) + mu_F (kappa - 1) sin(pi l)),
 
 whose non-integer roots are cot(pi l) = -mu_F (kappa - 1)/(kappa + 1): real, simple, and for
 mu_F > 0 (slip along +x; the other slip direction is -mu_F) shifted upwards from Tresca's 3/2:

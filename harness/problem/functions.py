@@ -201,7 +201,7 @@ def coulomb_stick_slip_series(material, coefficient: float) -> "PolarSeries":
     half plane theta in [0, pi]: on theta = 0 (slip, u_x > 0) u_y = 0 and
     sigma_xy + mu_F sigma_yy = 0 (the slip condition sigma_xy = mu_F p less a smooth part's),
     on theta = pi clamped (stick). Williams' ansatz (``stick_slip_series``) gives the determinant
-    2 l mu kappa sin(pi l) ((kappa + 1) cos(pi l) + mu_F (kappa - 1) sin(pi l)): besides the
+    4 l mu kappa sin(pi l) ((kappa + 1) cos(pi l) + mu_F (kappa - 1) sin(pi l)): besides the
     integers, cot(pi l) = -mu_F (kappa - 1)/(kappa + 1), the first admissible root
     l = ``coulomb_stick_slip_exponent`` (tests/test_coulomb_exact.py). With t = mu_F (kappa - 1)/(kappa + 1)
     the null vector is B = t A, C = A/(kappa + l), D = -t A/(kappa + l), i.e.
