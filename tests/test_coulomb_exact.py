@@ -11,8 +11,7 @@ import pytest
 
 sp = pytest.importorskip("sympy")
 
-from tests.test_tresca_exact import (  # noqa: E402
-    DISTANCES, KAPPA, MU, cartesian_stresses, d_x, d_y, lame, polar_stresses, r, t, williams, zero)
+from tests.test_tresca_exact import DISTANCES, KAPPA, MU, cartesian_stresses, d_x, d_y, lame, polar_stresses, r, t, williams, zero  # noqa: E402
 
 ell = sp.Symbol("l", positive=True)
 mu_, kappa_, friction = sp.Symbol("mu", positive=True), sp.Symbol("kappa", positive=True), sp.Symbol("mu_F", positive=True)
@@ -23,13 +22,13 @@ TAN = MU_F * (KAPPA - 1) / (KAPPA + 1)                  # tan(pi delta) = 1/7
 EXPONENT = sp.Rational(3, 2) + sp.atan(TAN) / sp.pi
 
 
-def coulomb_face_matrix(l):
+def coulomb_face_matrix(ex):
     """Williams' 4 x 4 system: theta = 0 slipping along +x (u_theta = 0, sigma_rt + mu_F sigma_tt = 0),
     theta = pi clamped (u_r = u_theta = 0), each row divided by its power of r."""
-    ur, ut, unknowns = williams(l)
+    ur, ut, unknowns = williams(ex)
     _, stt, srt = polar_stresses(ur, ut, mu_, kappa_)
-    rows = [ut.subs(t, 0) / r**l, (srt + friction * stt).subs(t, 0) * r / r**l,
-            ur.subs(t, sp.pi) / r**l, ut.subs(t, sp.pi) / r**l]
+    rows = [ut.subs(t, 0) / r**ex, (srt + friction * stt).subs(t, 0) * r / r**ex,
+            ur.subs(t, sp.pi) / r**ex, ut.subs(t, sp.pi) / r**ex]
     return sp.Matrix([[sp.diff(sp.simplify(row), v) for v in unknowns] for row in rows]), (ur, ut, unknowns)
 
 
@@ -47,29 +46,29 @@ def test_coulomb_stick_slip_characteristic_equation():
     assert sp.Rational(3, 2) < EXPONENT < 2
 
 
-def coulomb_mode(l=EXPONENT):
+def coulomb_mode(ex=EXPONENT):
     """functions.coulomb_stick_slip_series in Williams' polar form: B = tan A, C = A/(kappa + l),
     D = -tan A/(kappa + l), A = (kappa + l) cos(pi delta)/(2 mu (kappa + 1)); the case's data."""
-    ur, ut, (A, B, C, D) = williams(l)
-    a = (KAPPA + l) * sp.cos(sp.atan(TAN)) / (2 * MU * (KAPPA + 1))
-    values = {A: a, B: TAN * a, C: a / (KAPPA + l), D: -TAN * a / (KAPPA + l), kappa_: KAPPA}
+    ur, ut, (A, B, C, D) = williams(ex)
+    a = (KAPPA + ex) * sp.cos(sp.atan(TAN)) / (2 * MU * (KAPPA + 1))
+    values = {A: a, B: TAN * a, C: a / (KAPPA + ex), D: -TAN * a / (KAPPA + ex), kappa_: KAPPA}
     ur, ut = ur.subs(values), ut.subs(values)
     return ur * sp.cos(t) - ut * sp.sin(t), ur * sp.sin(t) + ut * sp.cos(t)       # (m_x, m_y)
 
 
 def test_the_coulomb_mode_is_the_null_vector_and_its_faces_are_the_docstrings():
-    l = EXPONENT
-    mx, my = coulomb_mode(l)
+    ex = EXPONENT
+    mx, my = coulomb_mode(ex)
     sxx, syy, sxy = cartesian_stresses(mx, my, MU, KAPPA)
     cos_d = sp.cos(sp.atan(TAN))
     # theta = 0: m_y = 0, m_x = kappa cos(pi delta)/(mu (kappa + 1)) x^l, sigma_xy + mu_F sigma_yy = 0
     assert zero(my.subs(t, 0))
-    assert zero(mx.subs(t, 0) - KAPPA * cos_d / (MU * (KAPPA + 1)) * r**l)
-    assert zero(syy.subs(t, 0) + l * (KAPPA - 1) * cos_d / (KAPPA + 1) * r ** (l - 1))
+    assert zero(mx.subs(t, 0) - KAPPA * cos_d / (MU * (KAPPA + 1)) * r**ex)
+    assert zero(syy.subs(t, 0) + ex * (KAPPA - 1) * cos_d / (KAPPA + 1) * r ** (ex - 1))
     assert zero((sxy + MU_F * syy).subs(t, 0))
     # theta = pi: clamped, sigma_yy = 0, sigma_xy = -l |x|^{l-1}
     assert zero(mx.subs(t, sp.pi)) and zero(my.subs(t, sp.pi))
-    assert zero(syy.subs(t, sp.pi)) and zero(sxy.subs(t, sp.pi) + l * r ** (l - 1))
+    assert zero(syy.subs(t, sp.pi)) and zero(sxy.subs(t, sp.pi) + ex * r ** (ex - 1))
 
 
 def elastic_coulomb_field():
@@ -81,7 +80,7 @@ def elastic_coulomb_field():
 
 
 def test_elastic_coulomb_r32():
-    l = EXPONENT
+    ex = EXPONENT
     ux, uy = elastic_coulomb_field()
     sxx, syy, sxy = cartesian_stresses(ux, uy, MU, KAPPA)
     # Navier: div sigma = 0 (f = 0)
@@ -91,14 +90,14 @@ def test_elastic_coulomb_r32():
     assert zero(uy.subs(t, 0)) and zero(uy.subs(t, sp.pi))
     cos_d = sp.cos(sp.atan(TAN))
     slip_p, stick_p = sp.simplify(p.subs(t, 0)), sp.simplify(p.subs(t, sp.pi))
-    assert zero(slip_p - (P0 + C_AMP * l * (KAPPA - 1) * cos_d / (KAPPA + 1) * r ** (l - 1)))
+    assert zero(slip_p - (P0 + C_AMP * ex * (KAPPA - 1) * cos_d / (KAPPA + 1) * r ** (ex - 1)))
     assert zero(stick_p - P0)
     # slip x > 0: u_x > 0 and sigma_t = -sigma_xy e_x = -mu_F p e_x, i.e. sigma_xy = mu_F p
     assert zero(sxy.subs(t, 0) - MU_F * slip_p)
     # stick x < 0: u = 0, sigma_xy = s - c l |x|^{l-1}, |sigma_xy| <= mu_F p
     assert zero(ux.subs(t, sp.pi))
     stick_shear = sp.simplify(sxy.subs(t, sp.pi))
-    assert zero(stick_shear - (S - C_AMP * l * r ** (l - 1)))
+    assert zero(stick_shear - (S - C_AMP * ex * r ** (ex - 1)))
     for d in DISTANCES:
         assert float(ux.subs(t, 0).subs(r, d)) > 0 and float(slip_p.subs(r, d)) > 0
         assert abs(float(stick_shear.subs(r, d))) <= float(MU_F * P0) * (1 + 1e-14)
