@@ -53,17 +53,19 @@ def _check_channels(at: FrictionPoints) -> None:
 
 
 def threshold(at: FrictionPoints, x_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(s, ds/dx_n) at the points: Coulomb's mu_F [x_n]_+ (``at.coefficient``), or, without a
-    coefficient, Tresca's given s where in contact (``at.threshold``: the frozen threshold of
-    the fixed point over Tresca problems, ``solvers.coulomb_fixed_point``), whose slope is 0."""
+    """(s, ds/dx_n) at the points on a contact branch (the projection and its Jacobian set both
+    to zero where SEPARATED): Coulomb's mu_F x_n (``at.coefficient``; x_n > 0 in contact), or,
+    without a coefficient, Tresca's given s (``at.threshold``: the frozen threshold of the fixed
+    point over Tresca problems, ``solvers.coulomb_fixed_point``), whose slope is 0. Affine in
+    x_n on every branch, as the law's check asks (``channels.check_friction_law``)."""
     if at.coefficient is None:
-        return at.threshold * (x_n > 0), np.zeros_like(x_n)
-    return at.coefficient * np.maximum(x_n, 0.0), at.coefficient * (x_n > 0)
+        return at.threshold, np.zeros_like(x_n)
+    return at.coefficient * x_n, at.coefficient
 
 
 def coulomb_branch(x_t: np.ndarray, x_n: np.ndarray, s: np.ndarray) -> np.ndarray:
     """(q,) the branch of (*) at the arguments x_t (q, t) and x_n (q,), threshold s (q,)."""
-    return np.where(x_n > 0, ball_branch(x_t, s), SEPARATED)
+    return np.where(x_n > 0, ball_branch(x_t, np.maximum(s, 0.0)), SEPARATED)
 
 
 def coulomb_projection(x_t: np.ndarray, x_n: np.ndarray, s: np.ndarray, branch: np.ndarray) -> np.ndarray:
@@ -84,7 +86,7 @@ def coulomb_jacobian(x_t: np.ndarray, x_n: np.ndarray, s: np.ndarray, ds: np.nda
     contact = branch != SEPARATED
     D = np.zeros((q, t + 1, t + 1))
     D[:, :t, :t] = ball_jacobian(x_t, np.where(contact, s, 0.0), np.where(contact, branch, SLIP))
-    ds = np.where(contact, ds, 0.0)
+    ds = np.where(contact, ds, 0.0) * np.ones(q)
     if t == 1:
         slope = np.select([branch == SLIP, branch == SLIP_BELOW], [ds, -ds], 0.0)[:, None]
     else:
