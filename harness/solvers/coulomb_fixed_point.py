@@ -58,8 +58,11 @@ def solve_fixed_point(system, start: np.ndarray | None = None, multilevel=None, 
     options = replace(options, newton_iterations=max(options.newton_iterations, INNER_STEPS),
                       stall_steps=max(options.stall_steps, INNER_STEPS // 4))
     try:
-        system.coefficient, system.threshold = None, np.zeros_like(system.threshold)
+        # the law checked with a positive threshold (with s = 0 the disc's slip branch is the
+        # constant 0, affine; the thresholds to come are not zero), then the first problem's s = 0
+        system.coefficient, system.threshold = None, np.ones_like(system.threshold)
         system.symmetric, system.affine = check_friction_law(system)
+        system.threshold = np.zeros_like(system.threshold)
         for k in range(1, iterations + 1):
             solution = solve_semismooth_newton(system, u, multilevel, options=options)
             u, steps, linear = solution.u, steps + solution.iterations, linear + solution.linear_iterations
