@@ -11,7 +11,7 @@ __version__ = "0.13.0"      # the one version: pyproject.toml reads it
 _PUBLIC = {
     "run": "api", "rates": "api", "quantities": "api", "efficiency": "api", "plot": "api", "store": "api",
     "cases": "api", "case_table": "api", "method_table": "api", "StudyWarning": "api",
-    "report": "api", "sweep": "api", "export": "api", "external": "methods", "solution_writer": "study.export", "latex_tables": "api", "Engine": "study.execution.engines",
+    "report": "api", "sweep": "api", "export": "api", "coulomb_axis": "api", "external": "methods", "solution_writer": "study.export", "latex_tables": "api", "Engine": "study.execution.engines",
     "load_case": "problem.case", "registered_cases": "problem.case", "Case": "problem.case",
     "CaseError": "problem.case", "METHODS": "methods", "methods_named": "methods",
     "InProcess": "study", "LocalProcesses": "study", "DaskEngine": "study",

@@ -260,6 +260,19 @@ def export(case, levels: int = 5, out="export", *, order: int = 2, progress=None
                  formats=tuple(formats))
 
 
+def coulomb_axis(case="elastic-coulomb-r32", coefficients=(0.1, 0.3, 0.5, 1.0, 2.0, 5.0), level: int = 3,
+                 method: str = "nitsche", *, show_progress: bool = False) -> pd.DataFrame:
+    """The friction coefficient as an axis of a Coulomb case (a Case, a registered name or a
+    file): for each mu_F the case's data with ``Coulomb(mu_F)``, solved to ``level`` by
+    ``method``'s coupled semismooth Newton method (nested, GMRES with multigrid) and, on that
+    level from the same start, by the fixed point over Tresca problems. One row per mu_F: each
+    solver's status, iterations and residual, the stick/slip/separated Gauss points and the
+    largest relative difference of the two solutions (two converged solvers that disagree: two
+    discrete solutions)."""
+    from .study.planning.coulomb_axis import coefficient_axis
+    return coefficient_axis(tuple(coefficients), level, case, method, progress=print if show_progress else (lambda line: None))
+
+
 def latex_tables(rows, fit_levels: int = 3) -> str:
     """The rates (``rates``) and each case's levels as booktabs LaTeX tables, one after the
     other, as ``python -m harness rates --latex`` prints them."""

@@ -15,7 +15,7 @@ pytestmark = pytest.mark.slow
 def test_there_is_a_tutorial_for_each_topic_the_docs_promise():
     assert [p.stem.split("_", 2)[2] for p in TUTORIALS] == [
         "first_study", "your_own_case", "your_own_method", "graded_and_adaptive", "paraview", "dask_and_resume",
-        "beside_the_paper", "tresca", "other_codes"]
+        "beside_the_paper", "tresca", "other_codes", "coulomb"]
 
 
 @pytest.mark.tutorial

@@ -19,7 +19,8 @@ def _tables() -> list[tuple]:
     default besides the solver table; `--only` names each by its suffix without the underscore."""
     from .adaptive import adaptive_goals, run_adaptive_bench
     from .codes import codes_goals, run_codes_bench
-    from .coulomb import axis_goals, coefficient_axis, coulomb_goals, run_coulomb_bench
+    from ..study.planning.coulomb_axis import coefficient_axis
+    from .coulomb import axis_goals, coulomb_goals, run_coulomb_bench
     from .degree import degree_goals, run_degree_bench
     from .elastic import elastic_goals, run_elastic_bench
     from .friction import friction_goals, run_friction_bench

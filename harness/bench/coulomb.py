@@ -5,20 +5,13 @@
    level as the study does) against ONE linear multigrid CG solve of the Dirichlet/Neumann
    problem of the same space from the same nested start to the same tolerance (``ratio_nested``,
    the goal: at most ``COULOMB_GOAL``), at >= 1e6 dofs; the Krylov iterations of both shown.
-2. The friction coefficient as an axis (``coefficient_axis``): for each mu_F of
-   ``COEFFICIENTS`` the same case's data with Coulomb(mu_F), the nested Newton chain to
-   ``AXIS_LEVEL`` and, on that level from the same start, the fixed point over Tresca problems
-   (``solvers.coulomb_fixed_point``): their iterations, residuals, the stick/slip/separated
-   points and the largest difference of the two solutions. Uniqueness is proven for small mu_F
-   only (Khenous, Pommier & Renard 2006, abstract read): where the two disagree with both
-   converged, the discrete problem has two solutions; where one fails, it says so.
+2. The friction coefficient as an axis (``study.planning.coulomb_axis.coefficient_axis``, the
+   table ``_coulomb_axis``): Newton and the fixed point over Tresca problems as mu_F grows.
 """
 from __future__ import annotations
 
-from dataclasses import replace
 from functools import partial
 
-import numpy as np
 import pandas as pd
 
 from .common import fresh_rows
@@ -27,11 +20,6 @@ from .friction import FRICTION_COLUMNS, _law_row
 COULOMB_CASE = "elastic-coulomb-r32"
 COULOMB_LEVEL = 6               # P2 plane strain: 1.2e6 dofs
 COULOMB_GOAL = 3.0
-COEFFICIENTS = (0.1, 0.3, 0.5, 1.0, 2.0, 5.0)
-AXIS_LEVEL = 3                  # 1.8e4 dofs: the fixed point solves some 20 Tresca problems per mu_F
-AXIS_COLUMNS = ["mu_F", "ndof", "newton_status", "newton_steps", "gmres_iterations", "newton_residual", "newton_seconds",
-                "fixed_point_status", "tresca_problems", "fixed_point_steps", "fixed_point_residual", "fixed_point_seconds",
-                "difference", "stick", "slip", "separated"]
 
 
 def coulomb_law_methods() -> tuple:
@@ -47,52 +35,6 @@ def run_coulomb_bench(level: int = COULOMB_LEVEL, progress=print) -> pd.DataFram
     frame = fresh_rows(partial(_law_row, case_name=COULOMB_CASE), "coulomb", "multigrid CG", (level,),
                        coulomb_law_methods(), progress, FRICTION_COLUMNS)
     return frame.rename(columns={"cg_iterations": "gmres_iterations"})
-
-
-def coefficient_axis(coefficients=COEFFICIENTS, level: int = AXIS_LEVEL, case_name: str = COULOMB_CASE,
-                     method_name: str = "nitsche", progress=print) -> pd.DataFrame:
-    """The solvers' behaviour as mu_F grows (the module's note 2), one row per coefficient."""
-    rows = []
-    for mu in coefficients:
-        rows.append(_axis_row(mu, level, case_name, method_name))
-        row = rows[-1]
-        progress(f"coulomb mu_F {mu:g}: Newton {row['newton_status']} ({row['newton_steps']} steps), fixed point "
-                 f"{row['fixed_point_status']} ({row['tresca_problems']} Tresca problems), difference {row['difference']:.1e}")
-    return pd.DataFrame(rows, columns=AXIS_COLUMNS)
-
-
-def _axis_row(mu: float, level: int, case_name: str, method_name: str) -> dict:
-    import ngsolve as ngs
-
-    from ..fem.assembly import discretise
-    from ..mesh.levels import UniformRefinement
-    from ..methods import get_method
-    from ..methods.protocol import nested_guess
-    from ..problem import Coulomb
-    from ..problem.case import load_case
-    from ..solvers.coulomb_fixed_point import solve_fixed_point
-    from ..solvers.multigrid import Multilevel
-
-    ngs.ngsglobals.msg_level = 0
-    case, method = replace(load_case(case_name), friction=Coulomb(mu)), get_method(method_name)
-    multilevel, carry, previous = None, None, None
-    with ngs.TaskManager():
-        for step in UniformRefinement(case).levels(level + 1):
-            multilevel = Multilevel(step.mesh, case.physics) if multilevel is None else multilevel.refined(step.mesh)
-            problem = discretise(case, step.mesh, method.order)
-            previous, solve = carry, method.solve(case, problem, carry, multilevel)
-            carry = solve.carry
-        system = method.system(case, problem)
-        start, _ = nested_guess(system, previous, multilevel)
-        fixed = solve_fixed_point(system, start, multilevel, method.solver)
-    fields, codes = solve.fields, np.bincount(np.asarray(carry.active, np.int64), minlength=4)
-    return {"mu_F": mu, "ndof": problem.ndof, "newton_status": fields.status, "newton_steps": fields.solver_iterations,
-            "gmres_iterations": fields.linear_iterations, "newton_residual": fields.kkt_residual,
-            "newton_seconds": fields.solve_seconds, "fixed_point_status": fixed.status, "tresca_problems": fixed.iterations,
-            "fixed_point_steps": fixed.newton_steps, "fixed_point_residual": fixed.residual,
-            "fixed_point_seconds": fixed.seconds,
-            "difference": float(np.abs(fixed.u - solve.u).max() / max(np.abs(solve.u).max(), np.finfo(float).tiny)),
-            "stick": int(codes[0]), "slip": int(codes[1] + codes[2]), "separated": int(codes[3])}
 
 
 def coulomb_goals(frame: pd.DataFrame) -> list[tuple[str, bool, str]]:
