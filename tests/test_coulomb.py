@@ -16,7 +16,7 @@ import harness
 from harness.fem.contact_laws.channels import check_friction_law, friction_system
 from harness.fem.contact_laws.coulomb import SEPARATED, NitscheCoulomb, PenaltyCoulomb
 from harness.fem.contact_laws.friction_laws import law_for
-from harness.fem.contact_laws.protocol import FrictionPoints, LawError
+from harness.fem.contact_laws.protocol import FrictionPoints
 from harness.fem.contact_laws.tresca import SLIP, STICK
 from harness.methods import get_method
 from harness.problem import FRICTIONLESS, Coulomb, LoadHistory, LoadStep

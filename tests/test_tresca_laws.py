@@ -14,8 +14,8 @@ from conftest import problem_at
 
 import harness
 from harness.fem.contact_laws.channels import check_friction_law, friction_system, slip_rows, tangent_frames
-from harness.fem.contact_laws.protocol import FrictionPoints, LawError
 from harness.fem.contact_laws.friction_laws import law_for
+from harness.fem.contact_laws.protocol import FrictionPoints, LawError
 from harness.fem.contact_laws.tresca import NitscheTresca, PenaltyTresca, ball_projection
 from harness.fem.contact_quadrature import contact_quadrature
 from harness.mesh.points import evaluate

@@ -17,9 +17,9 @@ OTHER_BENCHES = ("solver", "report")
 def _tables() -> list[tuple]:
     """(how to run it, the CSV's suffix, the title, its goals) of each table `bench` runs by
     default besides the solver table; `--only` names each by its suffix without the underscore."""
+    from ..study.planning.coulomb_axis import coefficient_axis
     from .adaptive import adaptive_goals, run_adaptive_bench
     from .codes import codes_goals, run_codes_bench
-    from ..study.planning.coulomb_axis import coefficient_axis
     from .coulomb import axis_goals, coulomb_goals, run_coulomb_bench
     from .degree import degree_goals, run_degree_bench
     from .elastic import elastic_goals, run_elastic_bench

@@ -34,8 +34,8 @@ import scipy.sparse as sp
 from ..fem.assembly import ContactTraceFunction
 from ..fem.cones import contact_pressure, end_status
 from ..fem.contact_laws.channels import friction_system
-from ..fem.contact_laws.system import contact_data, law_system
 from ..fem.contact_laws.friction_laws import law_for
+from ..fem.contact_laws.system import contact_data, law_system
 from ..fem.contact_quadrature import ContactNodes, contact_quadrature, lagrange_nodes
 from ..fem.edge_functionals import check_rules, edge_functional_qp
 from ..fem.friction import rules_friction_qp

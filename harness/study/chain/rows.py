@@ -85,10 +85,10 @@ COLUMN_MEANINGS = {
     "of its first stick–slip point, to O(h); NaN where there is none",
     "qoi_slip_measure_exact": "the exact slip zone's measure (2D friction cases with u)",
     "qoi_stick_slip_point_exact": "the exact first stick–slip point (2D friction cases with u)",
-    "load_steps": "the load history's steps solved in order (1: a static case); kkt_residual and backward_error are "
-    "the worst step's, the iterations and solve_seconds the sum over the steps",
     "err_friction_l2": "friction cases with u: ‖σ_t − σ_t,h‖ in L²(Γ_C), σ_t,h the Riesz representative of the residual's "
     "tangential part (scalar model: λ − λ_h, equal to err_pressure_l2)",
+    "load_steps": "the load history's steps solved in order (1: a static case); kkt_residual and backward_error are "
+    "the worst step's, the iterations and solve_seconds the sum over the steps"
 }
 
 # The phases of a study, in the order of the data flow; ``Phases`` sums the wall time of each.
