@@ -54,8 +54,8 @@ def cattaneo_line(poisson: float, mu: float, xi: float, delta: float = 0.015, yo
         "gap": x * x / (2 * RADIUS), "singular_points": [(1.0, 1.0), (-1.0, 1.0)],
         "friction": Coulomb(mu),
         "history": LoadHistory((LoadStep("normal", dirichlet=CF((0.0, -delta))), LoadStep("tangential"))),
-        "nu": 1 + exponent, "expected_rate": exponent, "theorem": "4.2 i, 5.2 i (Remark 2.3)",
-        "regime": f"3/2 < nu < 2 (clamped-free top corners, r^{exponent:.3f}); Coulomb, two load steps",
+        # no rate theorem for Coulomb (docs/theory/coulomb.md): the regime only, no nu or rate
+        "regime": f"u at most H^{1 + exponent:.3f} (clamped-free top corners, r^{exponent:.3f}); Coulomb, two load steps",
         "prediction": "Hertz and Cattaneo (Johnson, Contact Mechanics, 1985, Sect. 4.2, 7.1)",
         "predicted_quantities": predicted_quantities, "predicted_friction": predicted_friction,
         "predicted_pressure": predicted_pressure, "predicted_traction": predicted_traction,
