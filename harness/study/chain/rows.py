@@ -88,6 +88,8 @@ COLUMN_MEANINGS = {
     "of its first stick–slip point, to O(h); NaN where there is none",
     "qoi_slip_measure_exact": "the exact slip zone's measure (2D friction cases with u)",
     "qoi_stick_slip_point_exact": "the exact first stick–slip point (2D friction cases with u)",
+    "err_friction_l2": "friction cases with u: ‖σ_t − σ_t,h‖ in L²(Γ_C), σ_t,h the Riesz representative of the residual's "
+    "tangential part (scalar model: λ − λ_h, equal to err_pressure_l2)",
     "load_steps": "the load history's steps solved in order (1: a static case); kkt_residual and backward_error are "
     "the worst step's, the iterations and solve_seconds the sum over the steps",
     "qoi_tangential_force": "Coulomb cases: Q = ∫_{Γ_C} −σ_t,h, the friction force on the obstacle, positive in the sense of "
@@ -96,8 +98,6 @@ COLUMN_MEANINGS = {
     "(Cattaneo: 2c; Mindlin: π c²)",
     "err_traction_prediction": "Coulomb cases declaring `predicted_traction`: ‖−σ_t,h − q‖ / ‖q‖ in L²(Γ_C), q the "
     "closed-form shear traction (Cattaneo, Mindlin) at the row's computed P and Q, along Q's direction",
-    "err_friction_l2": "friction cases with u: ‖σ_t − σ_t,h‖ in L²(Γ_C), σ_t,h the Riesz representative of the residual's "
-    "tangential part (scalar model: λ − λ_h, equal to err_pressure_l2)",
 }
 
 # The phases of a study, in the order of the data flow; ``Phases`` sums the wall time of each.
