@@ -19,6 +19,7 @@ def _tables() -> list[tuple]:
     default besides the solver table; `--only` names each by its suffix without the underscore."""
     from .adaptive import adaptive_goals, run_adaptive_bench
     from .codes import codes_goals, run_codes_bench
+    from .coulomb import axis_goals, coefficient_axis, coulomb_goals, run_coulomb_bench
     from .degree import degree_goals, run_degree_bench
     from .elastic import elastic_goals, run_elastic_bench
     from .friction import friction_goals, run_friction_bench
@@ -44,6 +45,12 @@ def _tables() -> list[tuple]:
             (run_friction_bench, "_friction",
              "Tresca friction (tresca-r32): exact friction solve against one linear solve without friction rows, "
              "same start (multigrid CG):", friction_goals),
+            (run_coulomb_bench, "_coulomb",
+             "Coulomb friction (elastic-coulomb-r32): one load step (Newton, GMRES + multigrid) against one linear solve "
+             "without contact rows, same start (multigrid CG):", coulomb_goals),
+            (coefficient_axis, "_coulomb_axis",
+             "Coulomb friction: the coupled Newton method and the fixed point over Tresca problems as mu_F grows "
+             "(elastic-coulomb-r32's data, level 3):", axis_goals),
             (run_codes_bench, "_codes",
              "other codes (transition-r32): DOLFINx + PETSc SNES VI / Nitsche against the harness, same exported problem, "
              "one thread each:", codes_goals),
@@ -95,7 +102,8 @@ def run_bench_command(args) -> int:
     ensure_writable(out.parent)
     command, lines = command_line(), []
     for run, suffix, title, judge in _tables():
-        if args.only == suffix.lstrip("_") or (args.only is None and suffix not in ASKED_ONLY):
+        # `--only coulomb` runs its axis too (``_coulomb_axis``), `--only coulomb_axis` the axis alone
+        if args.only in (suffix.lstrip("_"), suffix.lstrip("_").split("_")[0]) or (args.only is None and suffix not in ASKED_ONLY):
             seconds, frame = timed(run)
             lines += _publish(frame, _beside(out, suffix), title, judge(frame), seconds, command)
     if args.only in (None, OTHER_BENCHES[0]):

@@ -92,10 +92,10 @@ def _cone_row(method_name: str, level: int, connection) -> None:
     connection.close()
 
 
-def _law_row(method_name: str, level: int, connection) -> None:
-    """A contact law's Tresca solve of ``level`` (its own ``solve``, nested from its coarser
-    level) against the linear multigrid solve of the Dirichlet/Neumann problem of its space
-    (NGSolve's matrix A, no Gamma_C term), from zero and from the law's nested start."""
+def _law_row(method_name: str, level: int, connection, case_name: str = FRICTION_CASE) -> None:
+    """A contact law's friction solve of ``level`` on ``case_name`` (its own ``solve``, nested
+    from its coarser level) against the linear multigrid solve of the Dirichlet/Neumann problem of
+    its space (NGSolve's matrix A, no Gamma_C term), from zero and from the law's nested start."""
     import ngsolve as ngs
 
     from ..fem.assembly import discretise
@@ -109,7 +109,7 @@ def _law_row(method_name: str, level: int, connection) -> None:
     from .common import timed
 
     ngs.ngsglobals.msg_level = 0
-    case, method = load_case(FRICTION_CASE), get_method(method_name)
+    case, method = load_case(case_name), get_method(method_name)
     multilevel, carry = None, None
     with ngs.TaskManager():
         for step in UniformRefinement(case).levels(level + 1):
@@ -129,12 +129,13 @@ def _law_row(method_name: str, level: int, connection) -> None:
         t, level_solve = fastest(lambda: timed(method.solve, case, problem, carry, multilevel))
     fields = level_solve.fields
     connection.send(_row(method_name, problem.ndof, t, fields["solver_iterations"], fields["linear_iterations"],
-                         fields["kkt_residual"], *linear))
+                         fields["kkt_residual"], *linear, case_name=case_name))
     connection.close()
 
 
-def _row(method_name, ndof, t, iterations, cg_iterations, kkt, t_linear, linear_iterations, t_nested, nested_iterations):
-    return {"case": FRICTION_CASE, "method": method_name, "ndof": ndof, "t_contact": t, "t_linear": t_linear,
+def _row(method_name, ndof, t, iterations, cg_iterations, kkt, t_linear, linear_iterations, t_nested, nested_iterations,
+         case_name: str = FRICTION_CASE):
+    return {"case": case_name, "method": method_name, "ndof": ndof, "t_contact": t, "t_linear": t_linear,
             "ratio_linear": t / t_linear, "iterations": iterations, "cg_iterations": cg_iterations,
             "linear_cg_iterations": linear_iterations, "kkt_residual": kkt,
             "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,

@@ -12,6 +12,7 @@ _PUBLIC = {
     "polar": "functions", "transition": "functions", "transition_gradient": "functions",
     "roller_free_mode": "functions", "roller_free_series": "functions", "bracketed_root": "functions", "clamped_free_exponent": "functions",
     "stick_slip_mode": "functions", "stick_slip_series": "functions",
+    "coulomb_stick_slip_series": "functions", "coulomb_stick_slip_exponent": "functions",
     "Elasticity": "physics", "Scalar": "physics", "MirrorBody": "bodies",
     "Tresca": "friction", "FRICTIONLESS": "friction", "Coulomb": "friction", "LoadHistory": "friction",
     "LoadStep": "friction", "scalar_stick_slip": "functions",

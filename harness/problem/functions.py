@@ -189,19 +189,54 @@ def stick_slip_series(material, exponent: float = 1.5) -> "PolarSeries":
     return PolarSeries(((C * kappa, l, l), (-C * l, l, 2 - l), (A, l, -l)))
 
 
-def stick_slip_mode(material, coordinates: str = "xy", with_gradient: bool = False):
+def coulomb_stick_slip_exponent(material, coefficient: float) -> float:
+    """The leading exponent l of a Coulomb stick-slip point (``coulomb_stick_slip_series``):
+    l = 3/2 + arctan(mu_F (kappa - 1)/(kappa + 1)) / pi, in (3/2, 2); 3/2 at mu_F = 0 (Tresca)."""
+    import math
+    kappa = material.kappa
+    return 1.5 + math.atan(coefficient * (kappa - 1) / (kappa + 1)) / math.pi
+
+
+def coulomb_stick_slip_series(material, coefficient: float) -> "PolarSeries":
+    """u_x + i u_y of the plane-strain Williams mode at a Coulomb stick-slip point, about 0 on the
+    half plane theta in [0, pi]: on theta = 0 (slip, u_x > 0) u_y = 0 and
+    sigma_xy + mu_F sigma_yy = 0 (the slip condition sigma_xy = mu_F p less a smooth part's),
+    on theta = pi clamped (stick). Williams' ansatz (``stick_slip_series``) gives the determinant
+    4 l mu kappa sin(pi l) ((kappa + 1) cos(pi l) + mu_F (kappa - 1) sin(pi l)): besides the
+    integers, cot(pi l) = -mu_F (kappa - 1)/(kappa + 1), the first admissible root
+    l = ``coulomb_stick_slip_exponent`` (tests/test_coulomb_exact.py). With t = mu_F (kappa - 1)/(kappa + 1)
+    the null vector is B = t A, C = A/(kappa + l), D = -t A/(kappa + l), i.e.
+
+        u_x + i u_y = r^l ((A + i B) e^{-i l theta} + (C + i D) kappa e^{i l theta} - (C - i D) l e^{i (2 - l) theta}),
+
+    scaled by A = (kappa + l) cos(pi delta) / (2 mu (kappa + 1)), delta = l - 3/2, so that on
+    theta = pi sigma_xy = -l r^{l-1}, sigma_yy = 0, and on theta = 0
+    u_x = kappa cos(pi delta) / (mu (kappa + 1)) r^l, sigma_yy = -l t cos(pi delta) / mu_F r^{l-1}
+    (= -l (kappa - 1) cos(pi delta)/(kappa + 1) r^{l-1}), sigma_xy = -mu_F sigma_yy.
+    mu_F = 0 gives ``stick_slip_series``'s l = 3/2 mode."""
+    import math
+    l = coulomb_stick_slip_exponent(material, coefficient)
+    mu, kappa = material.mu, material.kappa
+    t = coefficient * (kappa - 1) / (kappa + 1)
+    A = (kappa + l) * math.cos(math.pi * (l - 1.5)) / (2 * mu * (kappa + 1))
+    B, C, D = t * A, A / (kappa + l), -t * A / (kappa + l)
+    return PolarSeries((((A + 1j * B), l, -l), ((C + 1j * D) * kappa, l, l), (-(C - 1j * D) * l, l, 2 - l)))
+
+
+def stick_slip_mode(material, coordinates: str = "xy", with_gradient: bool = False, coefficient: float = 0.0):
     """The plane-strain displacement of ``stick_slip_series`` (l = 3/2) about 0: u_y = 0 and
     sigma_xy = 0 on x > 0 (y = 0), u = 0 on x < 0; sigma_xy = -(3/2) abs(x)^{1/2} on x < 0 and
     u_x = kappa / (mu (kappa + 1)) x^{3/2} on x > 0. ``coordinates``: "xy", or "xz" for the 3D
     field (u_x, 0, u_z) of the same displacement in the (x, z) plane (``roller_free_mode``).
-    ``with_gradient``: (u, grad u), the Jacobian (row i = grad u_i) in closed form."""
+    ``with_gradient``: (u, grad u), the Jacobian (row i = grad u_i) in closed form.
+    ``coefficient`` mu_F > 0: the Coulomb mode of ``coulomb_stick_slip_series`` instead."""
     from ngsolve import CF
     from ngsolve import x as X
     from ngsolve import y as Y
 
     if coordinates not in ("xy", "xz"):
         raise ValueError(f"coordinates must be 'xy' or 'xz', got {coordinates!r}")
-    series = stick_slip_series(material)
+    series = coulomb_stick_slip_series(material, coefficient) if coefficient else stick_slip_series(material)
     at = polar(0.0, False, X, z if coordinates == "xz" else Y)
     u = _in_frame(series.real_imag(*at), 0.0, coordinates)
     if not with_gradient:

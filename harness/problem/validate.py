@@ -157,7 +157,7 @@ def validate_case(case) -> None:
         bad = points[~(np.isfinite(excess) & np.isfinite(flux))][0]
         raise CaseError(f"case {case.name!r}: u or its flux is not finite on Gamma_C at {format_point(bad)}")
     if case.frictional:
-        check_tresca(case, mesh, points, excess, flux, normals)
+        FRICTION_CHECKS[case.friction.name](case, mesh, points, excess, flux, normals)
         return
     check_signorini(case, mesh, points, excess, flux, normals)
 
@@ -165,27 +165,37 @@ def validate_case(case) -> None:
 def check_signorini(case, mesh, points, excess, flux, normals) -> None:
     """The Signorini conditions (2.4) of the contact variable, and frictionless elasticity's
     sigma_t(u) = g_t, at the samples of Gamma_C."""
+    checks, _ = signorini_checks(CONDITIONS[case.physics.name], points, excess, flux)
+    tangential = case.physics.tangential(case, mesh, points, normals)
+    if tangential is not None:
+        tol_flux = RELATIVE_TOLERANCE * max(np.abs(flux).max(), 1e-300)
+        checks.append((CONDITIONS[case.physics.name][3], np.abs(tangential) > tol_flux, tangential))
+    refuse_violated(case, "Signorini", checks, points)
+
+
+def signorini_checks(names, points, excess, flux) -> tuple[list, float]:
+    """The three conditions (2.4) -- excess >= 0, flux (pressure) >= 0, their product 0 -- as
+    (name, violated, value) rows, and the tolerance of the excess."""
     # the scale of u - gap: its own, or, where u = gap on all of Gamma_C (its round-off is then
     # all there is), the flux times Gamma_C's extent
     extent = float(np.ptp(points, axis=0).max())
     tol_u = RELATIVE_TOLERANCE * max(np.abs(excess).max(), np.abs(flux).max() * extent, 1e-300)
     tol_flux = RELATIVE_TOLERANCE * max(np.abs(flux).max(), 1e-300)
-    names = CONDITIONS[case.physics.name]
-    checks = [
+    return [
         (names[0], excess < -tol_u, excess),
         (names[1], flux < -tol_flux, flux),
         (names[2], (np.abs(excess) > tol_u) & (np.abs(flux) > tol_flux), excess * flux),
-    ]
-    tangential = case.physics.tangential(case, mesh, points, normals)
-    if tangential is not None:
-        checks.append((names[3], np.abs(tangential) > tol_flux, tangential))
+    ], tol_u
+
+
+def refuse_violated(case, law: str, checks, points) -> None:
+    """Refuse the case in one line at the first violated row of ``checks`` (name, violated, value):
+    the law, the condition, the place, the value and how many samples break it."""
     for condition, violated, value in checks:
         if violated.any():
             k = int(np.argmax(violated))
-            raise CaseError(
-                f"case {case.name!r} violates the Signorini condition {condition} on Gamma_C "
-                f"at {format_point(points[k])}: value {value[k]:.3e} ({int(violated.sum())} of {len(points)} samples)"
-            )
+            raise CaseError(f"case {case.name!r} violates the {law} condition {condition} on Gamma_C at "
+                            f"{format_point(points[k])}: value {value[k]:.3e} ({int(violated.sum())} of {len(points)} samples)")
 
 
 # Tresca's conditions in words (``problem.friction``), by physics
@@ -201,28 +211,56 @@ def check_tresca(case, mesh, points, excess, flux, normals) -> None:
     the disc of radius s, and equals -s times the slip direction where u (u_t) does not vanish;
     in elasticity u . n = 0 (bilateral)."""
     s = evaluate(case.friction.threshold_function, mesh, points)
+    force, slip = friction_force_and_slip(case, mesh, points, excess, flux, normals)
+    names = TRESCA_CONDITIONS[case.physics.name]
+    checks, tol_u = threshold_checks(names, points, s, force, slip, excess)
+    if case.physics.name != "scalar":
+        checks.append((names[2], np.abs(excess) > tol_u, excess))
+    refuse_violated(case, "Tresca", checks, points)
+
+
+# Coulomb's conditions in words (``problem.friction``; elasticity only): Signorini's, then
+# Tresca's with the threshold mu_F p
+COULOMB_CONDITIONS = ("u.n - gap <= 0", "p = -(sigma_n(u) - g_n) >= 0", "p (u.n - gap) = 0",
+                      "|sigma_t| <= mu_F p", "sigma_t = -mu_F p u_t/|u_t| where u_t != 0")
+
+
+def check_coulomb(case, mesh, points, excess, flux, normals) -> None:
+    """Coulomb's conditions (``problem.friction``) of a static problem at the samples of Gamma_C:
+    the unilateral ones of elasticity (Signorini's, without the frictionless sigma_t = g_t),
+    and Tresca's with the threshold s = mu_F p, p = ``flux`` the contact pressure."""
+    checks, _ = signorini_checks(COULOMB_CONDITIONS, points, excess, flux)
+    force, slip = friction_force_and_slip(case, mesh, points, excess, flux, normals)
+    checks += threshold_checks(COULOMB_CONDITIONS[3:], points, case.friction.coefficient * flux, force, slip, excess)[0]
+    refuse_violated(case, "Coulomb", checks, points)
+
+
+def friction_force_and_slip(case, mesh, points, excess, flux, normals) -> tuple:
+    """(force, slip) at the samples, (k, components): the scalar flux d_n u - g_C and u itself,
+    or the tangential traction sigma_t(u) - g_t and the tangential displacement u_t."""
     if case.physics.name == "scalar":
-        force, slip = flux[:, None], excess[:, None]
-    else:
-        force = case.physics.tangential_traction(case, mesh, points, normals)
-        u = evaluate(case.u, mesh, points).reshape(points.shape)
-        slip = u - (u * normals).sum(axis=-1)[:, None] * normals
+        return flux[:, None], excess[:, None]
+    force = case.physics.tangential_traction(case, mesh, points, normals)
+    u = evaluate(case.u, mesh, points).reshape(points.shape)
+    return force, u - (u * normals).sum(axis=-1)[:, None] * normals
+
+
+def threshold_checks(names, points, s, force, slip, excess) -> tuple[list, float]:
+    """Tresca's two conditions with the threshold s (k,): |force| <= s, and force = -s slip/|slip|
+    where the slip exceeds its round-off, as (name, violated, value) rows; and that tolerance."""
     extent = float(np.ptp(points, axis=0).max())
     tol_force = RELATIVE_TOLERANCE * max(np.abs(s).max(), np.abs(force).max(), 1e-300)
     tol_u = RELATIVE_TOLERANCE * max(np.abs(slip).max(), np.abs(excess).max(), tol_force / RELATIVE_TOLERANCE * extent, 1e-300)
     length = np.linalg.norm(slip, axis=-1)
     direction = slip / np.where(length > 0, length, 1.0)[:, None]
-    names = TRESCA_CONDITIONS[case.physics.name]
-    checks = [(names[0], np.linalg.norm(force, axis=-1) - s > tol_force, np.linalg.norm(force, axis=-1) - s),
-              (names[1], (length > tol_u) & (np.linalg.norm(force + s[:, None] * direction, axis=-1) > tol_force),
-               np.linalg.norm(force + s[:, None] * direction, axis=-1))]
-    if case.physics.name != "scalar":
-        checks.append((names[2], np.abs(excess) > tol_u, excess))
-    for condition, violated, value in checks:
-        if violated.any():
-            k = int(np.argmax(violated))
-            raise CaseError(f"case {case.name!r} violates the Tresca condition {condition} on Gamma_C at "
-                            f"{format_point(points[k])}: value {value[k]:.3e} ({int(violated.sum())} of {len(points)} samples)")
+    size = np.linalg.norm(force, axis=-1)
+    mismatch = np.linalg.norm(force + s[:, None] * direction, axis=-1)
+    return [(names[0], size - s > tol_force, size - s),
+            (names[1], (length > tol_u) & (mismatch > tol_force), mismatch)], tol_u
+
+
+# the check of each friction law, by name (``problem.friction``)
+FRICTION_CHECKS = {"tresca": check_tresca, "coulomb": check_coulomb}
 
 
 def check_two_bodies(case) -> None:

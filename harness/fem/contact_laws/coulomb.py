@@ -48,41 +48,51 @@ SEPARATED = 3       # the branch where the normal channel is not in contact: no 
 
 
 def _check_channels(at: FrictionPoints) -> None:
-    if at.u.shape[1] != at.tangential + 1 or at.coefficient is None:
-        raise LawError("a Coulomb law needs the slip channel(s), the normal channel and the friction coefficient "
-                       "(elasticity, a Coulomb case)")
+    if at.u.shape[1] != at.tangential + 1:
+        raise LawError("a Coulomb law needs the slip channel(s) and the normal channel (elasticity)")
 
 
-def coulomb_branch(x_t: np.ndarray, x_n: np.ndarray, mu: np.ndarray) -> np.ndarray:
-    """(q,) the branch of (*) at the arguments x_t (q, t) and x_n (q,)."""
-    return np.where(x_n > 0, ball_branch(x_t, mu * np.maximum(x_n, 0.0)), SEPARATED)
+def threshold(at: FrictionPoints, x_n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(s, ds/dx_n) at the points on a contact branch (the projection and its Jacobian set both
+    to zero where SEPARATED): Coulomb's mu_F x_n (``at.coefficient``; x_n > 0 in contact), or,
+    without a coefficient, Tresca's given s (``at.threshold``: the frozen threshold of the fixed
+    point over Tresca problems, ``solvers.coulomb_fixed_point``), whose slope is 0. Affine in
+    x_n on every branch, as the law's check asks (``channels.check_friction_law``)."""
+    if at.coefficient is None:
+        return at.threshold, np.zeros_like(x_n)
+    return at.coefficient * x_n, at.coefficient
 
 
-def coulomb_projection(x_t: np.ndarray, x_n: np.ndarray, mu: np.ndarray, branch: np.ndarray) -> np.ndarray:
-    """(q, t + 1): (P_{mu p_n}(x_t), p_n) by the formulas of ``branch``, p_n = x_n in contact, 0
+def coulomb_branch(x_t: np.ndarray, x_n: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """(q,) the branch of (*) at the arguments x_t (q, t) and x_n (q,), threshold s (q,)."""
+    return np.where(x_n > 0, ball_branch(x_t, np.maximum(s, 0.0)), SEPARATED)
+
+
+def coulomb_projection(x_t: np.ndarray, x_n: np.ndarray, s: np.ndarray, branch: np.ndarray) -> np.ndarray:
+    """(q, t + 1): (P_s(x_t), p_n) by the formulas of ``branch``, p_n = x_n in contact; both 0
     where SEPARATED (the threshold 0 makes P_0 = 0 on the slip formula)."""
     contact = branch != SEPARATED
     p_n = np.where(contact, x_n, 0.0)
-    p_t = ball_projection(x_t, mu * p_n, np.where(contact, branch, SLIP))
+    p_t = ball_projection(x_t, np.where(contact, s, 0.0), np.where(contact, branch, SLIP))
     return np.column_stack([p_t, p_n])
 
 
-def coulomb_jacobian(x_t: np.ndarray, x_n: np.ndarray, mu: np.ndarray, branch: np.ndarray) -> np.ndarray:
+def coulomb_jacobian(x_t: np.ndarray, x_n: np.ndarray, s: np.ndarray, ds: np.ndarray, branch: np.ndarray) -> np.ndarray:
     """(q, t + 1, t + 1) the derivative of ``coulomb_projection`` with respect to (x_t, x_n) on
-    ``branch``: the ball's Jacobian in the tangential block, the threshold's slope mu x_t/|x_t|
-    (1D: +-mu) in the tangential rows' normal column on a slip branch, 1 on the normal diagonal
-    in contact; zero where SEPARATED."""
+    ``branch``: the ball's Jacobian in the tangential block, the threshold's slope
+    ds/dx_n x_t/|x_t| (1D: +-ds) in the tangential rows' normal column on a slip branch, 1 on
+    the normal diagonal in contact; zero where SEPARATED."""
     q, t = x_t.shape
     contact = branch != SEPARATED
-    s = mu * np.where(contact, x_n, 0.0)
     D = np.zeros((q, t + 1, t + 1))
-    D[:, :t, :t] = ball_jacobian(x_t, s, np.where(contact, branch, SLIP))
+    D[:, :t, :t] = ball_jacobian(x_t, np.where(contact, s, 0.0), np.where(contact, branch, SLIP))
+    ds = np.where(contact, ds, 0.0) * np.ones(q)
     if t == 1:
-        slope = np.select([branch == SLIP, branch == SLIP_BELOW], [mu, -mu], 0.0)[:, None]
+        slope = np.select([branch == SLIP, branch == SLIP_BELOW], [ds, -ds], 0.0)[:, None]
     else:
         length = np.maximum(np.linalg.norm(x_t, axis=1), np.finfo(float).tiny)
         # (the disc has one slip branch: SLIP_BELOW, a 1D code, takes its formula, as in ``tresca``)
-        slope = np.where((contact & (branch != STICK))[:, None], (mu / length)[:, None] * x_t, 0.0)
+        slope = np.where((contact & (branch != STICK))[:, None], (ds / length)[:, None] * x_t, 0.0)
     D[:, :t, t] = slope
     D[:, t, t] = contact
     return D
@@ -130,17 +140,17 @@ class NitscheCoulomb:
     def branch(self, at: FrictionPoints) -> np.ndarray:
         _check_channels(at)
         x_t, x_n, _ = self.arguments(at)
-        return coulomb_branch(x_t, x_n, at.coefficient)
+        return coulomb_branch(x_t, x_n, threshold(at, x_n)[0])
 
     def term(self, at: FrictionPoints, branch: np.ndarray):
         _check_channels(at)
         x_t, x_n, gamma = self.arguments(at)
-        p = coulomb_projection(x_t, x_n, at.coefficient, branch)
+        p = coulomb_projection(x_t, x_n, threshold(at, x_n)[0], branch)
         return p, self.theta * gamma[:, None] * (p - (at.dn - at.load))
 
     def derivative(self, at: FrictionPoints, branch: np.ndarray):
         x_t, x_n, gamma = self.arguments(at)
-        D = coulomb_jacobian(x_t, x_n, at.coefficient, branch)
+        D = coulomb_jacobian(x_t, x_n, *threshold(at, x_n), branch)
         # dx/du = -1/gamma, dx/d(flux) = 1 on both channels; f = theta gamma (p - lambda)
         return _blocks(D, -1.0 / gamma, np.ones_like(gamma), self.theta * gamma)
 
@@ -172,15 +182,15 @@ class PenaltyCoulomb:
     def branch(self, at: FrictionPoints) -> np.ndarray:
         _check_channels(at)
         x_t, x_n, _ = self.arguments(at)
-        return coulomb_branch(x_t, x_n, at.coefficient)
+        return coulomb_branch(x_t, x_n, threshold(at, x_n)[0])
 
     def term(self, at: FrictionPoints, branch: np.ndarray):
         _check_channels(at)
         x_t, x_n, _ = self.arguments(at)
-        p = coulomb_projection(x_t, x_n, at.coefficient, branch)
+        p = coulomb_projection(x_t, x_n, threshold(at, x_n)[0], branch)
         return p, np.zeros_like(p)
 
     def derivative(self, at: FrictionPoints, branch: np.ndarray):
         x_t, x_n, eps = self.arguments(at)
-        D = coulomb_jacobian(x_t, x_n, at.coefficient, branch)
+        D = coulomb_jacobian(x_t, x_n, *threshold(at, x_n), branch)
         return _blocks(D, -1.0 / eps, np.zeros_like(eps), None)

@@ -77,7 +77,9 @@ def ball_jacobian(x: np.ndarray, s: np.ndarray, branch: np.ndarray) -> np.ndarra
     eye = np.broadcast_to(np.eye(t), (q, t, t))
     length = np.maximum(np.linalg.norm(x, axis=1), np.finfo(float).tiny)
     unit = x / length[:, None]
-    slip = (s / length)[:, None, None] * (eye - unit[:, :, None] * unit[:, None, :])
+    # s/|x| only off STICK: a stick point may sit at x = 0, where the slip formula has no value
+    ratio = np.divide(s, length, out=np.zeros(q), where=branch != STICK)
+    slip = ratio[:, None, None] * (eye - unit[:, :, None] * unit[:, None, :])
     return np.where((branch == STICK)[:, None, None], eye, slip)
 
 

@@ -18,6 +18,7 @@ from ..figure_jobs import FIGURE_WORKERS, FigurePool
 from . import (
     cases,
     codes,
+    coulomb,
     degrees,
     efficiency,
     elasticity,
@@ -37,9 +38,9 @@ from . import (
 # the document's order: what was run, the verdicts at a glance, the problem and methods, the
 # rates against the theorems, then the sections a study's cases call for (the cost at equal
 # accuracy, quantities, closed-form theories, parameter sweeps, meshes, the degree, elasticity,
-# two bodies, 3D, friction, other codes), and each case in full
+# two bodies, 3D, Tresca friction, Coulomb friction, other codes), and each case in full
 SECTIONS = (provenance, glance, methods, summary, efficiency, quantities, prediction, sweeps, meshes, degrees,
-            elasticity, two_bodies, three_d, friction, codes, cases)
+            elasticity, two_bodies, three_d, friction, coulomb, codes, cases)
 
 
 def figure_groups() -> tuple[str, ...]:

@@ -39,19 +39,25 @@ FRICTION_QUANTITIES = {
 }
 
 
-def friction_cases(plan: ReportPlan) -> list:
-    """The report's cases with a friction law (``Case.frictional``), in its order."""
-    return [case for case in plan.cases if case.frictional]
+def friction_cases(plan: ReportPlan, law: str = "tresca") -> list:
+    """The report's cases with the friction law ``law`` (``problem.friction``), in its order."""
+    return [case for case in plan.cases if case.friction.name == law]
 
 
 def write(doc: Document, plan: ReportPlan) -> None:
-    """The section, where the report has a friction case."""
+    """The section, where the report has a Tresca case."""
     cases = friction_cases(plan)
     if not cases:
         return
-    names = [case.name for case in cases]
     doc.heading("Tresca friction")
     doc.paragraph(FRICTION_NOTE)
+    write_common(doc, plan, cases)
+
+
+def write_common(doc: Document, plan: ReportPlan, cases: list) -> None:
+    """What the Tresca and the Coulomb sections (``sections.coulomb``) both show of their
+    ``cases``: the rates, the methods left out, the friction quantities, the stick/slip pictures."""
+    names = [case.name for case in cases]
     bilateral = {case.name for case in cases if case.physics.elastic}
     doc.table(friction_rates_view(plan.rates[plan.rates.case.isin(names)], plan.results, bilateral), verdict_column="verdict")
     absent = left_out_view(cases, plan.methods)
@@ -134,20 +140,26 @@ def quantity_text(group: pd.DataFrame, column: str, kind: str) -> str:
 
 
 def draws_stick_slip(case) -> bool:
-    """Whether the case's contact figure is the stick/slip picture (``stick_slip``): one scalar
-    body in 2D (an elastic case's snapshots hold the normal displacement and reaction, a 3D
-    case's faces, two bodies' the opening: each keeps its contact figure)."""
-    return case.frictional and case.dimension == 2 and not case.physics.elastic and case.bodies == 1
+    """Whether the case's contact figure is the stick/slip picture (``stick_slip``): one body in
+    2D (scalar, or elastic, whose snapshots then hold the slip and the friction force:
+    ``study.chain.snapshots.friction_snapshot``; a 3D case's hold faces, two bodies' the opening:
+    each keeps its contact figure)."""
+    return case.frictional and case.dimension == 2 and case.bodies == 1
 
 
 def stick_slip_caption(case) -> str:
     """What ``stick_slip`` shows of ``case`` (with or without a closed-form solution)."""
-    exact = case.u is not None
-    return ("finest level of each method along Γ_C. Top: the slip u_h (the friction variable's trace"
-            + ("; the exact u dashed" if exact else "") + "); bottom: the friction force λ_h = ∂ₙu_h − g_C (the "
-            "discrete multiplier per edge" + ("; the exact one dashed" if exact else "") + ") between the threshold "
-            "±s (dotted). Shaded: " + ("the exact stick zone (u = 0)" if exact else "the first method's stick zone, where "
-            "|λ_h| < s (no closed-form solution)") + ". Right: zoomed on the first stick-slip point.")
+    exact, elastic = case.u is not None, case.physics.elastic
+    coulomb = case.friction.name == "coulomb"
+    slip = "the slip u_h·τ" + (" of the last load step" if len(case.history) > 1 else "") if elastic else \
+        "the slip u_h (the friction variable's trace"
+    force = "the friction force σ_t,h − g_t along τ (the Riesz representative, per edge's mean" if elastic else \
+        "the friction force λ_h = ∂ₙu_h − g_C (the discrete multiplier per edge"
+    bound = "±μ_F p_h (dotted, p_h the discrete pressure)" if coulomb else "±s (dotted)"
+    return ("finest level of each method along Γ_C. Top: " + slip + ("" if elastic else ")") + ("; the exact one dashed" if exact else "")
+            + "; bottom: " + force + ("; the exact one dashed" if exact else "") + ") between the threshold " + bound
+            + ". Shaded: " + ("the exact stick zone (no slip)" if exact else "the first method's stick zone, where "
+            "|λ_h| < the threshold (no closed-form solution)") + ". Right: zoomed on the first stick-slip point.")
 
 
 def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
@@ -164,7 +176,7 @@ def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
         return None
     fig, axes = plt.subplots(2, 2, figsize=(11, 5.6), sharex="col", gridspec_kw={"width_ratios": (1.6, 1)})
     exact = bool(np.isfinite(first[fields["exact_slip"]]).all())       # a reference case has no exact u
-    threshold = threshold_along(case, first["s"])
+    threshold = coulomb_threshold(case, first) if case.friction.name == "coulomb" else threshold_along(case, first["s"])
     stick = stick_zone(first, fields, exact, threshold)
     for column, window in enumerate((None, zoom_window(first["s"], stick, first["edge_lengths"]))):
         top, bottom = axes[:, column]
@@ -193,7 +205,7 @@ def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
     axes[0, 0].legend(fontsize=7, loc="best")
     axes[1, 0].legend(fontsize=7, loc="best")
     axes[1, 0].set_xlabel("coordinate along $\\Gamma_C$; shaded: " + ("exact" if exact else f"{next(iter(snapshots))}'s")
-                          + " stick zone; dotted: ±s")
+                          + " stick zone; dotted: " + ("±μ_F p_h" if case.friction.name == "coulomb" else "±s"))
     axes[1, 1].set_xlabel("zoom on the stick-slip point")
     axes[0, 0].set_title(f"{case.name}: stick and slip, finest level of each method", fontsize=10)
     return save(fig, folder, f"{case.name}_stick_slip")
@@ -210,6 +222,13 @@ def stick_zone(snapshot: dict, fields: dict, exact: bool, threshold: np.ndarray 
     bound = np.interp(snapshot["edge_s"], snapshot["s"], threshold)
     inside = np.abs(snapshot[fields["force"]]) < (1 - 1e-8) * bound
     return np.interp(snapshot["s"], snapshot["edge_s"], inside.astype(float)) > 0.5
+
+
+def coulomb_threshold(case, snapshot: dict) -> np.ndarray:
+    """Coulomb's threshold mu_F p_h at the snapshot's coordinates: its per-edge pressure, held
+    over each edge (the per-edge friction force is drawn the same way)."""
+    edge = np.clip(np.searchsorted(snapshot["edge_s"] + 0.5 * snapshot["edge_lengths"], snapshot["s"]), 0, len(snapshot["edge_s"]) - 1)
+    return case.friction.coefficient * np.maximum(snapshot["pressure"][edge], 0.0)
 
 
 def threshold_along(case, s: np.ndarray) -> np.ndarray | None:

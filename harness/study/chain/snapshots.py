@@ -51,6 +51,37 @@ def contact_snapshot(case, problem, trace_u, pressure) -> dict:
     }
 
 
+def friction_snapshot(case, problem, u: np.ndarray, previous: np.ndarray | None = None) -> dict:
+    """An elastic 2D friction case's fields along Gamma_C, in ``contact_snapshot``'s order: the
+    slip of u_h (of its last load step: less ``previous``) and of u along tau = (-n_y, n_x), and
+    the discrete friction force per edge (the mean over each edge of ``measure.errors.DiscreteTraction``,
+    sigma_t,h - g_t along tau) beside the exact one at the points (NaN without u)."""
+    from ...measure.errors import DiscreteTraction
+    trace = problem.trace
+    t = np.linspace(0.0, 1.0, SAMPLES_PER_EDGE)
+    points = trace.points(t)
+    start, end = trace.vertex_points.min(axis=0), trace.vertex_points.max(axis=0)
+    direction = (end - start) / np.linalg.norm(end - start)
+    order = np.argsort((points @ direction).ravel(), kind="stable")
+    flat = points.reshape(-1, 2)
+    normals = np.repeat(trace.normals, len(t), axis=0)
+    tangents = np.stack([-normals[:, 1], normals[:, 0]], axis=1)
+    moved = u if previous is None else u - previous
+    slip = (evaluate(problem.gridfunction(moved), problem.mesh, flat).reshape(-1, 2) * tangents).sum(axis=1)
+    if case.u is None:
+        exact_slip = exact_force = np.full(len(flat), np.nan)
+    else:
+        exact_slip = (evaluate(case.u, problem.mesh, flat).reshape(-1, 2) * tangents).sum(axis=1)
+        exact_force = (case.physics.tangential_traction(case, problem.mesh, flat, normals) * tangents).sum(axis=1)
+    traction = DiscreteTraction.of(problem)
+    q = traction.quadrature
+    force = traction.at_points(u)[0][:, 0]
+    per_edge = np.bincount(q.edge, weights=q.weights * force, minlength=len(trace.lengths)) / \
+        np.bincount(q.edge, weights=q.weights, minlength=len(trace.lengths))
+    return {"slip": slip[order], "exact_slip": exact_slip[order], "exact_friction_force": exact_force[order],
+            "friction_force": per_edge[np.argsort(trace.midpoints @ direction)]}
+
+
 def contact_face_snapshot(case, problem, trace_u, pressure) -> dict:
     """3D: Gamma_C seen as its triangles, each split into four at its edge midpoints: the
     points (x, y), those sub-triangles, u_h - alpha and u - alpha at the points (u_h at the
@@ -156,6 +187,8 @@ class SnapshotHook:
         if level == self.finest.get(method.name):
             snapshot = contact_face_snapshot if three_d else contact_snapshot
             kept["contact"] = snapshot(case, problem, solve.trace_u, solve.pressure)
+            if case.frictional and case.physics.elastic and not three_d:
+                kept["contact"] |= friction_snapshot(case, problem, solve.u, solve.previous)
         if method.name == self.picture_method and level == self.picture_level and not three_d:
             kept["domain"] = domain_snapshot(case, problem, solve.u) | {"method": np.array(method.name)}
         return kept or None
