@@ -52,13 +52,12 @@ Cost. Elastic levels cost more than the scalar ones the default profile's seven 
 (level 6 would have 3.1e6 dofs): ``report_levels`` stops the default report at four levels
 (4.9e4 P2 dofs; the reference one level finer, 2.0e5) and the fine profile at five.
 """
-from math import cos, pi, sin
+from math import pi
 
-import numpy as np
-from netgen.geom2d import SplineGeometry
 from ngsolve import CF, x
 
-from harness.problem import bracketed_root
+from harness.problem import clamped_free_exponent, zone_rectangle
+from harness.problem.closed_forms import hertz_line, hertz_pressure
 
 YOUNG, POISSON, RADIUS = 1.0, 0.3, 1.0
 E_STAR = YOUNG / (1 - POISSON**2)
@@ -66,8 +65,7 @@ E_STAR = YOUNG / (1 - POISSON**2)
 
 def hertz(force, radius=RADIUS, e_star=E_STAR):
     """Hertz's half-width a and peak pressure p0 for a force per unit length."""
-    a = (4 * force * radius / (pi * e_star)) ** 0.5
-    return a, 2 * force / (pi * a)
+    return hertz_line(force, radius, e_star)
 
 
 prediction = "Hertz (Johnson, Contact Mechanics, 1985, Sect. 4.2)"
@@ -81,32 +79,13 @@ def predicted_quantities(force):
 
 def predicted_pressure(s, force):
     """Hertz's p0 sqrt(1 - x^2/a^2) on the contact zone, 0 outside it."""
-    a, p0 = hertz(force)
-    return p0 * np.sqrt(np.clip(1 - (np.asarray(s) / a) ** 2, 0.0, None))
-
-
-def hertz_geometry(half_width, height, zone, zone_h=None, corner_h=None):
-    """(-L, L) x (0, H): Gamma_C the bottom with corners at +-zone (local mesh size zone_h on
-    [-zone, zone]), Gamma_g the sides, Gamma_u the top (local size corner_h at its corners)."""
-    L, H = half_width, height
-    geo = SplineGeometry()
-    bottom = [(-L, 0.0, None)] + ([(-zone, 0.0, zone_h), (zone, 0.0, zone_h)] if zone else []) + [(L, 0.0, None)]
-    points = bottom + [(L, H, corner_h), (-L, H, corner_h)]
-    ids = [geo.AppendPoint(px, py) if h is None else geo.AppendPoint(px, py, maxh=h) for px, py, h in points]
-    labels = ["contact"] * (len(bottom) - 1) + ["neumann", "dirichlet", "neumann"]
-    sizes = [None] * len(labels)
-    if zone and zone_h:
-        sizes[1] = zone_h
-    for k, (label, h) in enumerate(zip(labels, sizes)):
-        extra = {} if h is None else {"maxh": h}
-        geo.Append(["line", ids[k], ids[(k + 1) % len(ids)]], bc=label, leftdomain=1, rightdomain=0, **extra)
-    return geo
+    return hertz_pressure(s, *hertz(force))
 
 
 def setup(half_width=1.0, height=1.0, delta=0.015, zone=0.2, zone_h=0.025, maxh=0.25, corner_h=None):
     """The module-level declarations of the case (a dict) for these parameters."""
     return {
-        "geometry": hertz_geometry(half_width, height, zone, zone_h, corner_h),
+        "geometry": zone_rectangle(half_width, height, zone, zone_h, corner_h),
         "maxh": maxh,
         "f": CF((0.0, 0.0)),
         "dirichlet": CF((0.0, -delta)),
@@ -114,13 +93,6 @@ def setup(half_width=1.0, height=1.0, delta=0.015, zone=0.2, zone_h=0.025, maxh=
         "gap": x * x / (2 * RADIUS),
         "singular_points": [(half_width, height), (-half_width, height)],
     }
-
-
-def clamped_free_exponent(omega: float, poisson: float) -> float:
-    """The least root l of Williams' clamped-free wedge equation (module docstring), plane strain."""
-    kappa = 3 - 4 * poisson
-    return bracketed_root(lambda s: kappa**2 + 1 + 2 * kappa * cos(2 * s * omega) - 4 * s**2 * sin(omega) ** 2, 0.5, 0.99,
-                  xtol=1e-14)
 
 
 CORNER_EXPONENT = clamped_free_exponent(pi / 2, POISSON)        # 0.711173...

@@ -31,6 +31,14 @@ On a friction case (``problem.friction``; the friction force lambda_h and the sl
   where u_t = 0, |lambda| <= s. The set {|lambda| = s} would be wrong: a stick point may carry the
   threshold force (tresca-r72's lambda = -s + |x|^3 reaches -s at the stick-slip point). For
   u_h it needs no threshold on u_h;
+* ``stick_measure`` (Coulomb): the length (3D: area) of the stick zone, the contact zone less the
+  slip zone, by the same rule (Cattaneo's 2c, Mindlin's pi c^2);
+* ``tangential_force`` (Coulomb): Q = int_{Gamma_C} -lambda_t, the friction force the body exerts
+  on the obstacle, positive in the sense of the applied shear (2D: signed along tau; 3D: the
+  resultant's length), the same functional for every method as the force is;
+* ``err_traction_prediction`` (Coulomb cases declaring ``predicted_traction``): the relative
+  L2(Gamma_C) error of -lambda_t against the predicted shear traction at the row's P and Q
+  (``traction_prediction``);
 * ``stick_slip_point`` (2D): the position of the first stick-slip point from Gamma_C's start,
   found as the first change of state between consecutive Gauss points ordered along a flat
   Gamma_C (their midpoint: within O(h) of the transition); the position is the coordinate
@@ -115,7 +123,49 @@ def quantities(case, problem, u: np.ndarray, previous: np.ndarray | None = None)
     if previous is not None:
         slip = slip - traction.at_points(previous)[1]
     contact = contact_zone(problem.physics, q, at_points, gap)
-    return columns | friction_quantities(case, problem, q, force, slip, pressure=at_points, contact=contact) | meaningless(case)
+    columns |= friction_quantities(case, problem, q, force, slip, pressure=at_points, contact=contact) | meaningless(case)
+    if case.friction.name == "coulomb":
+        columns |= coulomb_quantities(case, q, force, columns)
+    return columns
+
+
+def shear(q, force: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The friction force the body exerts on the obstacle, -lambda_t (the sense of the applied
+    shear), at the points of ``q`` as (q, d - 1), and its resultant's unit direction in the
+    tangent frame (2D: tau itself, so that Q is signed along tau)."""
+    sheared = -force
+    if sheared.shape[1] == 1:
+        return sheared, np.ones(1)
+    total = q.weights @ sheared
+    length = np.linalg.norm(total)
+    return sheared, total / length if length > 0 else np.eye(sheared.shape[1])[0]
+
+
+def coulomb_quantities(case, q, force: np.ndarray, columns: dict) -> dict:
+    """A Coulomb case's tangential force Q = int_{Gamma_C} -lambda_t (2D: along tau, the x of a
+    horizontal Gamma_C below the body; 3D: the resultant's length) and, where the case declares
+    a predicted shear traction (``Case.predicted_traction``), the relative L2(Gamma_C) error of
+    -lambda_t against it at the row's P and Q (``traction_prediction``)."""
+    sheared, direction = shear(q, force)
+    tangential = float((q.weights @ sheared) @ direction)
+    out = {"qoi_tangential_force": tangential, "err_traction_prediction": float("nan")}
+    if case.predicted_traction is not None:
+        out["err_traction_prediction"] = traction_prediction(case, q, sheared, direction, columns["qoi_force"], tangential)
+    return out
+
+
+def traction_prediction(case, q, sheared: np.ndarray, direction: np.ndarray, force: float, tangential: float) -> float:
+    """||t_h - q e||_{L2(Gamma_C)} / ||q||_{L2(Gamma_C)}: t_h = -lambda_t the discrete shear at the
+    pressure's Gauss points, q the case's predicted traction at the computed P and Q, e the
+    resultant's direction (a shear across it, as Mindlin's slip annulus has, counts as error).
+    The rule's points fall on either side of the predicted kinks at c and a: the norms are
+    integrated to O(h^{3/2}), below the discretisation error they measure."""
+    two_d = sheared.shape[1] == 1
+    s = q.points @ point_tangents(q.normals[:1])[0, 0] if two_d else q.points
+    predicted = np.asarray(case.predicted_traction(s, force, tangential), float)
+    difference = sheared - predicted[:, None] * direction[None, :]
+    norm = float(np.sqrt(q.weights @ predicted**2))
+    return float(np.sqrt(q.weights @ np.sum(difference**2, axis=1))) / norm if norm > 0 else float("nan")
 
 
 def meaningless(case, exact: bool = False) -> dict:
@@ -146,6 +196,8 @@ def friction_quantities(case, problem, q, force: np.ndarray, slip: np.ndarray, e
     two_d = problem.trace.faces is None
     columns = {"qoi_slip_measure": float(q.weights @ zone),
                "qoi_stick_slip_point": first_transition(q, zone) if two_d else float("nan")}
+    if case.friction.name == "coulomb" and not exact:      # the stick zone: in contact, not slipping
+        columns["qoi_stick_measure"] = float(q.weights @ (contact & ~zone))
     return {exact_column(c): v for c, v in columns.items()} if exact else columns
 
 

@@ -8,9 +8,9 @@ from ..core.lazy import lazy
 _PUBLIC = {
     "Case": "case", "CaseError": "case", "load_case": "case", "registered_cases": "case",
     "polygon": "geometry", "contact_strip": "geometry", "split_strip": "geometry", "contact_box": "geometry",
-    "disc_box": "geometry", "zone_box": "geometry",
+    "disc_box": "geometry", "zone_box": "geometry", "zone_rectangle": "geometry",
     "polar": "functions", "transition": "functions", "transition_gradient": "functions",
-    "roller_free_mode": "functions", "roller_free_series": "functions", "bracketed_root": "functions",
+    "roller_free_mode": "functions", "roller_free_series": "functions", "bracketed_root": "functions", "clamped_free_exponent": "functions",
     "stick_slip_mode": "functions", "stick_slip_series": "functions",
     "coulomb_stick_slip_series": "functions", "coulomb_stick_slip_exponent": "functions",
     "Elasticity": "physics", "Scalar": "physics", "MirrorBody": "bodies",

@@ -68,6 +68,15 @@ A case module (one file in ``cases/``, or any file given by path) defines at mod
     predicted_quantities   optional, force -> {results column (qoi_*): predicted value}
     predicted_pressure     optional, (s, force) -> the predicted pressure at the coordinates s
                            along Gamma_C (x for a horizontal Gamma_C), drawn on the contact figure
+    predicted_friction     optional (a friction case with a prediction), (force, tangential_force)
+                           -> {results column: predicted value} at the row's computed P
+                           (``qoi_force``) and Q (``qoi_tangential_force``): Cattaneo's stick zone
+                           ``qoi_stick_measure`` (2c), Mindlin's (pi c^2)
+    predicted_traction     optional, (s, force, tangential_force) -> the predicted shear traction
+                           q at the points s of Gamma_C (2D: the coordinate along tau, (n,);
+                           3D: the points, (n, 3)), in the sense of the applied shear: the rows'
+                           ``err_traction_prediction`` is the discrete friction force's relative
+                           L2(Gamma_C) error against it (``measure.quantities.traction_prediction``)
     report_profile         optional, the first report profile that includes the case: "default"
                            (the default) or "fine" -- a case whose study costs more than the
                            five minutes of ``make report`` allow, run by ``make report-fine``
@@ -203,6 +212,8 @@ class Case:
     prediction: str = ""                               # a closed-form theory the case is read against
     predicted_quantities: object = None                # force -> {results column: predicted value}
     predicted_pressure: object = None                  # (s along Gamma_C, force) -> pressure
+    predicted_friction: object = None                  # (force, tangential force) -> {column: value}
+    predicted_traction: object = None                  # (s, force, tangential force) -> shear traction
     second_body: object = None                         # ``bodies.MirrorBody``: a two-body case
     declared_groups: tuple = ()                        # the module's groups (``Case.groups``)
     friction: object = FRICTIONLESS                    # ``friction.Tresca``: the friction law on Gamma_C

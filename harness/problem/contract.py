@@ -139,11 +139,16 @@ def _check_level_counts(module, source: str) -> None:
 def _check_predictions(module, source: str) -> None:
     """A theory's predictions are functions of the contact force, and the theory has a name,
     which the report prints beside them."""
-    for key in ("predicted_quantities", "predicted_pressure"):
+    for key in ("predicted_quantities", "predicted_pressure", "predicted_friction", "predicted_traction"):
         if getattr(module, key, None) is not None and not callable(getattr(module, key)):
             raise CaseError(f"case {source}: {key} must be a function of the contact force, got {getattr(module, key)!r}")
-    if hasattr(module, "predicted_quantities") and not isinstance(getattr(module, "prediction", None), str):
-        raise CaseError(f"case {source}: predicted_quantities needs prediction, the theory's name (a string)")
+    for key in ("predicted_quantities", "predicted_friction", "predicted_traction"):
+        if hasattr(module, key) and not isinstance(getattr(module, "prediction", None), str):
+            raise CaseError(f"case {source}: {key} needs prediction, the theory's name (a string)")
+    friction = getattr(module, "friction", None)
+    for key in ("predicted_friction", "predicted_traction"):
+        if hasattr(module, key) and getattr(friction, "name", "") != "coulomb":
+            raise CaseError(f"case {source}: {key} needs a Coulomb friction law (friction = Coulomb(mu_F))")
 
 
 def _check_coefficients(module, source: str) -> None:
@@ -245,7 +250,7 @@ def optional_fields(module) -> dict:
     for key in ("expected_log_exponent", "regime", "gap", "contact_load", "singular_points", "conjectured",
                 "transition_curve", "asymptotic_levels", "asymptotic_levels_p1", "report_profile", "second_body",
                 "singular_lines", "report_levels", "prediction", "predicted_quantities", "predicted_pressure",
-                "derivative_jumps", "friction", "history"):
+                "predicted_friction", "predicted_traction", "derivative_jumps", "friction", "history"):
         if hasattr(module, key):
             fields[key] = getattr(module, key)
     if hasattr(module, "f"):

@@ -6,6 +6,7 @@ elastic ones, Remark 2.3).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from ngsolve import atan2, cos, pi, sin, sqrt, x, y, z
@@ -308,3 +309,12 @@ def bracketed_root(f, a: float, b: float, xtol: float = 1e-15) -> float:
         else:
             b = m
     return 0.5 * (a + b)
+
+
+def clamped_free_exponent(omega: float, poisson: float) -> float:
+    """The least root l in (0.5, 0.99) of Williams' clamped-free wedge equation in plane strain
+    (J. Appl. Mech. 19 (1952) 526-528; cases/hertz_line.py checks it), kappa = 3 - 4 nu:
+    kappa^2 + 1 + 2 kappa cos(2 l omega) - 4 l^2 sin^2(omega) = 0."""
+    kappa = 3 - 4 * poisson
+    return bracketed_root(lambda s: kappa**2 + 1 + 2 * kappa * math.cos(2 * s * omega) - 4 * s**2 * math.sin(omega) ** 2,
+                          0.5, 0.99, xtol=1e-14)

@@ -130,3 +130,21 @@ def zone_box(half_width: float, height: float, zone: float, zone_h: float):
     for side in (outside.faces.Min(X), outside.faces.Max(X), outside.faces.Min(Y), outside.faces.Max(Y)):
         side.name = "neumann"
     return OCCGeometry(Glue([outside, inner]))
+
+
+def zone_rectangle(half_width, height, zone, zone_h=None, corner_h=None):
+    """(-L, L) x (0, H): Gamma_C the bottom with corners at +-zone (local mesh size zone_h on
+    [-zone, zone]), Gamma_g the sides, Gamma_u the top (local size corner_h at its corners)."""
+    L, H = half_width, height
+    geo = SplineGeometry()
+    bottom = [(-L, 0.0, None)] + ([(-zone, 0.0, zone_h), (zone, 0.0, zone_h)] if zone else []) + [(L, 0.0, None)]
+    points = bottom + [(L, H, corner_h), (-L, H, corner_h)]
+    ids = [geo.AppendPoint(px, py) if h is None else geo.AppendPoint(px, py, maxh=h) for px, py, h in points]
+    labels = ["contact"] * (len(bottom) - 1) + ["neumann", "dirichlet", "neumann"]
+    sizes = [None] * len(labels)
+    if zone and zone_h:
+        sizes[1] = zone_h
+    for k, (label, h) in enumerate(zip(labels, sizes)):
+        extra = {} if h is None else {"maxh": h}
+        geo.Append(["line", ids[k], ids[(k + 1) % len(ids)]], bc=label, leftdomain=1, rightdomain=0, **extra)
+    return geo

@@ -34,6 +34,9 @@ COLUMNS = [
     "qoi_slip_measure", "qoi_stick_slip_point", "qoi_slip_measure_exact", "qoi_stick_slip_point_exact", "err_friction_l2",
     # load histories (``problem.friction.LoadHistory``): the steps solved, each to the tolerance
     "load_steps",
+    # Coulomb cases: Q, the stick zone, and (cases read against Cattaneo / Mindlin) the shear
+    # traction's error against the closed form at the row's P and Q
+    "qoi_tangential_force", "qoi_stick_measure", "err_traction_prediction",
 ]
 
 # What each column of results.csv means (the docs' table of results.csv is generated from this)
@@ -88,7 +91,13 @@ COLUMN_MEANINGS = {
     "err_friction_l2": "friction cases with u: ‖σ_t − σ_t,h‖ in L²(Γ_C), σ_t,h the Riesz representative of the residual's "
     "tangential part (scalar model: λ − λ_h, equal to err_pressure_l2)",
     "load_steps": "the load history's steps solved in order (1: a static case); kkt_residual and backward_error are "
-    "the worst step's, the iterations and solve_seconds the sum over the steps"
+    "the worst step's, the iterations and solve_seconds the sum over the steps",
+    "qoi_tangential_force": "Coulomb cases: Q = ∫_{Γ_C} −σ_t,h, the friction force on the obstacle, positive in the sense of "
+    "the applied shear (2D: signed along τ; 3D: the resultant's length); Q/(μ_F qoi_force) is the load ratio",
+    "qoi_stick_measure": "Coulomb cases: the length (3D: area) of the stick zone, the contact zone less the slip zone "
+    "(Cattaneo: 2c; Mindlin: π c²)",
+    "err_traction_prediction": "Coulomb cases declaring `predicted_traction`: ‖−σ_t,h − q‖ / ‖q‖ in L²(Γ_C), q the "
+    "closed-form shear traction (Cattaneo, Mindlin) at the row's computed P and Q, along Q's direction",
 }
 
 # The phases of a study, in the order of the data flow; ``Phases`` sums the wall time of each.
