@@ -90,9 +90,11 @@ def coulomb_jacobian(x_t: np.ndarray, x_n: np.ndarray, s: np.ndarray, ds: np.nda
     if t == 1:
         slope = np.select([branch == SLIP, branch == SLIP_BELOW], [ds, -ds], 0.0)[:, None]
     else:
-        length = np.maximum(np.linalg.norm(x_t, axis=1), np.finfo(float).tiny)
-        # (the disc has one slip branch: SLIP_BELOW, a 1D code, takes its formula, as in ``tresca``)
-        slope = np.where((contact & (branch != STICK))[:, None], (ds / length)[:, None] * x_t, 0.0)
+        norm = np.linalg.norm(x_t, axis=1)
+        # (the disc has one slip branch: SLIP_BELOW, a 1D code, takes its formula, as in
+        # ``tresca``); at x_t = 0 the direction x_t/|x_t| has no value: 0, as ``tresca.ball_jacobian``
+        slip = contact & (branch != STICK) & (norm > 0)
+        slope = np.where(slip[:, None], np.divide(ds, norm, out=np.zeros(q), where=slip)[:, None] * x_t, 0.0)
     D[:, :t, t] = slope
     D[:, t, t] = contact
     return D

@@ -75,12 +75,18 @@ def ball_jacobian(x: np.ndarray, s: np.ndarray, branch: np.ndarray) -> np.ndarra
     (s/|x|)(I - x x^T/|x|^2) on SLIP (zero in 1D)."""
     q, t = x.shape
     eye = np.broadcast_to(np.eye(t), (q, t, t))
-    length = np.maximum(np.linalg.norm(x, axis=1), np.finfo(float).tiny)
+    stick = (branch == STICK)[:, None, None]
+    if t == 1:          # the interval's slip branches are the constants +-s: their derivative is 0
+        return np.where(stick, eye, 0.0)
+    norm = np.linalg.norm(x, axis=1)
+    length = np.maximum(norm, np.finfo(float).tiny)
     unit = x / length[:, None]
-    # s/|x| only off STICK: a stick point may sit at x = 0, where the slip formula has no value
-    ratio = np.divide(s, length, out=np.zeros(q), where=branch != STICK)
+    # s/|x| only off STICK and where x != 0: a stick point, or a slip branch carried to a point
+    # where x = 0 (a nested prediction at the start of a load step), has no value of the slip
+    # formula's derivative there; 0 is the derivative of its value s x/|x| = 0 along x = 0
+    ratio = np.divide(s, length, out=np.zeros(q), where=(branch != STICK) & (norm > 0))
     slip = ratio[:, None, None] * (eye - unit[:, :, None] * unit[:, None, :])
-    return np.where((branch == STICK)[:, None, None], eye, slip)
+    return np.where(stick, eye, slip)
 
 
 def _blocks(q: int, m: int) -> list[np.ndarray]:
