@@ -30,7 +30,7 @@ Setup. hertz-line's block, cylinder and mesh (Omega = (-L, L) x (0, H), L = H = 
 E = 1, parabolic gap x^2/(2R), Gamma_C corners at +-2a with maxh a/4 there, maxh 0.25 elsewhere),
 Poisson ratio 0.3, Coulomb friction mu_F = 0.3 (steel on steel, and the coefficient of the
 dolfinx_contact friction demos, so their Cattaneo comparison and this one share it; with
-beta/mu_F 0.95 for the coupling). Load history (``harness.problem.cattaneo.cattaneo_line``):
+beta/mu_F 0.95 for the coupling). Load history (``harness.problem.cattaneo.cattaneo_line_case``):
 the normal step u = (0, -0.015) on the top, then the tangential step u = (0.0023, -0.015). xi is
 data, chosen once so that Q/(mu_F P) comes near 0.3 on this mesh (measured 0.295); every
 comparison is at the computed ratio, not at 0.3.
@@ -43,9 +43,9 @@ Cost. Two load steps per level: nitsche level 3 (4.9e4 dofs) about 0.5 s, level 
 2 s; five levels with the reference at 7.8e5 dofs about 16 s in all (the fine profile). penalty
 does not run here yet (an infinite Jacobian entry at the tangential step's start).
 """
-from harness.problem.cattaneo import cattaneo_line
+from harness.problem import cattaneo_line_case
 
 name = "cattaneo-line-q03"
 description = "Cattaneo line contact: rigid cylinder pressed into an elastic block (nu = 0.3), then sheared to Q/(mu_F P) near 0.3"
-globals().update(cattaneo_line(poisson=0.3, mu=0.3, xi=0.0023))
+globals().update(cattaneo_line_case(poisson=0.3, mu=0.3, xi=0.0023))
 report_levels = {"default": 4, "fine": 5}

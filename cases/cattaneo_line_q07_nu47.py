@@ -33,7 +33,7 @@ Setup. hertz-line's block, cylinder and mesh (Omega = (-L, L) x (0, H), L = H = 
 E = 1, parabolic gap x^2/(2R), Gamma_C corners at +-2a with maxh a/4 there, maxh 0.25 elsewhere),
 Poisson ratio 0.47, Coulomb friction mu_F = 0.3 (steel on steel, and the coefficient of the
 dolfinx_contact friction demos, so their Cattaneo comparison and this one share it; with
-beta/mu_F 0.19 for the coupling). Load history (``harness.problem.cattaneo.cattaneo_line``):
+beta/mu_F 0.19 for the coupling). Load history (``harness.problem.cattaneo.cattaneo_line_case``):
 the normal step u = (0, -0.015) on the top, then the tangential step u = (0.0066, -0.015). xi is
 data, chosen once so that Q/(mu_F P) comes near 0.7 on this mesh (measured 0.717); every
 comparison is at the computed ratio, not at 0.7.
@@ -46,9 +46,9 @@ Cost. Two load steps per level, more Newton steps than at nu = 0.3 (17-36): nits
 (4.9e4 dofs) about 3-5 s, level 4 (2.0e5) about 15 s; five levels with the reference at 7.8e5
 dofs about 105 s in all (the fine profile).
 """
-from harness.problem.cattaneo import cattaneo_line
+from harness.problem import cattaneo_line_case
 
 name = "cattaneo-line-q07-nu47"
 description = "Cattaneo line contact: rigid cylinder pressed into an elastic block (nu = 0.47), then sheared to Q/(mu_F P) near 0.7"
-globals().update(cattaneo_line(poisson=0.47, mu=0.3, xi=0.0066))
+globals().update(cattaneo_line_case(poisson=0.47, mu=0.3, xi=0.0066))
 report_levels = {"default": 4, "fine": 5}

@@ -56,8 +56,7 @@ from math import pi
 
 from ngsolve import CF, x
 
-from harness.problem import clamped_free_exponent, zone_rectangle
-from harness.problem.closed_forms import hertz_line, hertz_pressure
+from harness.problem import clamped_free_exponent, hertz_line, hertz_pressure, zone_rectangle
 
 YOUNG, POISSON, RADIUS = 1.0, 0.3, 1.0
 E_STAR = YOUNG / (1 - POISSON**2)

@@ -32,7 +32,7 @@ The issue's 5 % criterion is therefore not claimed.
 
 Setup. hertz-sphere's box (-L, L)^2 x (0, H), L = H = 1 = 10 a, R = 1, E = 1, parabolic gap
 (x^2 + y^2)/(2R), the zone (-2a, 2a)^2 at maxh a/2, maxh 0.5 elsewhere; Coulomb mu_F = 0.3 (as the
-Cattaneo cases). Load history (``harness.problem.cattaneo.mindlin_sphere``): the normal step
+Cattaneo cases). Load history (``harness.problem.cattaneo.mindlin_sphere_case``): the normal step
 u = (0, 0, -0.01) on the top, then u = (0.002, 0, -0.01); xi = 0.002 is data, giving Q/(mu_F P)
 near 0.5 on level 0 (0.003 gives 0.78).
 
@@ -43,9 +43,9 @@ Cost. Two load steps per level: nitsche level 0 (2.4e4 dofs) about 7 s, level 1 
 23 s of solve; the fine profile studies level 0 and 1 with the reference at level 2 (1.4e6 dofs), as
 hertz-sphere's (``report_levels``).
 """
-from harness.problem.cattaneo import mindlin_sphere
+from harness.problem import mindlin_sphere_case
 
 name = "mindlin-sphere"
 description = "Mindlin's sphere: rigid sphere pressed into an elastic block (nu = 0.3), then sheared, 3D"
-globals().update(mindlin_sphere(poisson=0.3, mu=0.3, xi=0.002))
+globals().update(mindlin_sphere_case(poisson=0.3, mu=0.3, xi=0.002))
 report_levels = {"fine": 2}

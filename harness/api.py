@@ -261,11 +261,12 @@ def export(case, levels: int = 5, out="export", *, order: int = 2, progress=None
 
 
 def coulomb_axis(case="elastic-coulomb-r32", coefficients=(0.1, 0.3, 0.5, 1.0, 2.0, 5.0), level: int = 3,
-                 method: str = "nitsche", *, show_progress: bool = False) -> pd.DataFrame:
+                 method: str | None = None, *, show_progress: bool = False) -> pd.DataFrame:
     """The friction coefficient as an axis of a Coulomb case (a Case, a registered name or a
     file): for each mu_F the case's data with ``Coulomb(mu_F)``, solved to ``level`` by
     ``method``'s coupled semismooth Newton method (nested, GMRES with multigrid) and, on that
-    level from the same start, by the fixed point over Tresca problems. One row per mu_F: each
+    level from the same start, by the fixed point over Tresca problems (``method`` default: the
+    case's reference method, Nitsche's P2 law on a Coulomb case). One row per mu_F: each
     solver's status, iterations and residual, the stick/slip/separated Gauss points and the
     largest relative difference of the two solutions (two converged solvers that disagree: two
     discrete solutions)."""

@@ -26,6 +26,8 @@ SIGNATURES = {
     harness.sweep: [("case", E), ("methods", E), ("values", None), ("level", 4), ("reference", True), ("out", None),
                     ("engine", None), ("show_progress", True)],
     harness.latex_tables: [("rows", E), ("fit_levels", 3)],
+    harness.coulomb_axis: [("case", "elastic-coulomb-r32"), ("coefficients", (0.1, 0.3, 0.5, 1.0, 2.0, 5.0)), ("level", 3),
+                           ("method", None), ("show_progress", False)],
     harness.case_table: [("cases", None)],
     harness.method_table: [],
     harness.load_case: [("spec", E)],

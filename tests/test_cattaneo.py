@@ -73,8 +73,8 @@ def test_hertz_line_keeps_its_formulas():
     ("del declared['prediction']\n", "needs prediction")])
 def test_the_contract_checks_the_friction_predictions(tmp_path, change, message):
     path = tmp_path / "broken.py"
-    path.write_text("from harness.problem.cattaneo import cattaneo_line\nname = 'broken'\ndescription = 'd'\n"
-                    "declared = cattaneo_line(0.3, 0.3, 0.002)\n" + change + "globals().update(declared)\n")
+    path.write_text("from harness.problem import cattaneo_line_case\nname = 'broken'\ndescription = 'd'\n"
+                    "declared = cattaneo_line_case(0.3, 0.3, 0.002)\n" + change + "globals().update(declared)\n")
     with pytest.raises(CaseError, match=message):
         load_case(str(path))
 

@@ -135,6 +135,7 @@ for an exact case measures against a reference instead of u (which checks the re
 from __future__ import annotations
 
 import dataclasses
+import math
 import hashlib
 from dataclasses import dataclass
 from functools import cached_property
@@ -325,6 +326,8 @@ def bound_text(rate: float, log_exponent: float = 0.0) -> str:
 def fraction(value: float) -> str:
     """2/3 rather than 0.666667 for the exponents of the paper."""
     from fractions import Fraction
+    if not math.isfinite(value):         # a case that declares no rate (Coulomb's reference cases)
+        return f"{value:g}"
     f = Fraction(value).limit_denominator(12)
     return str(f) if abs(float(f) - value) < 1e-9 else f"{value:g}"
 

@@ -26,7 +26,7 @@ from .geometry import zone_box, zone_rectangle
 RADIUS = 1.0
 
 
-def cattaneo_line(poisson: float, mu: float, xi: float, delta: float = 0.015, young: float = 1.0) -> dict:
+def cattaneo_line_case(poisson: float, mu: float, xi: float, delta: float = 0.015, young: float = 1.0) -> dict:
     """The declarations of a Cattaneo line case (hertz-line's block 10a x 10a, Gamma_C corners at
     +-2a with local size a/4, maxh 0.25) for this Poisson ratio, mu_F, shear xi and depth delta."""
     e_star = closed_forms.contact_modulus(young, poisson)
@@ -63,7 +63,7 @@ def cattaneo_line(poisson: float, mu: float, xi: float, delta: float = 0.015, yo
     }
 
 
-def mindlin_sphere(poisson: float, mu: float, xi: float, delta: float = 0.01, young: float = 1.0) -> dict:
+def mindlin_sphere_case(poisson: float, mu: float, xi: float, delta: float = 0.01, young: float = 1.0) -> dict:
     """The declarations of a Mindlin sphere case (hertz-sphere's box 10a x 10a x 10a, the zone
     (-2a, 2a)^2 at maxh a/2, maxh 0.5) for this Poisson ratio, mu_F, shear xi (along x) and depth."""
     e_star = closed_forms.contact_modulus(young, poisson)

@@ -36,6 +36,8 @@ FRICTION_QUANTITIES = {
     "qoi_slip_measure": ("the length (3D: area) of the slip zone", "value"),
     "qoi_stick_slip_point": ("where stick turns to slip along Γ_C", "value"),
     "err_friction_l2": ("‖λ − λ_h‖ on Γ_C, the friction force's L² error", "error"),
+    "qoi_tangential_force": ("Coulomb: the total friction force Q on the obstacle", "value"),
+    "qoi_stick_measure": ("Coulomb: the length (3D: area) of the stick zone", "value"),
 }
 
 
@@ -156,6 +158,8 @@ def stick_slip_caption(case) -> str:
     force = "the friction force σ_t,h − g_t along τ (the Riesz representative, per edge's mean" if elastic else \
         "the friction force λ_h = ∂ₙu_h − g_C (the discrete multiplier per edge"
     bound = "±μ_F p_h (dotted, p_h the discrete pressure)" if coulomb else "±s (dotted)"
+    if getattr(case, "predicted_traction", None) is not None:
+        bound += "; dashed: the closed form's force at the first method's P_h, Q_h (" + case.prediction + ")"
     return ("finest level of each method along Γ_C. Top: " + slip + ("" if elastic else ")") + ("; the exact one dashed" if exact else "")
             + "; bottom: " + force + ("; the exact one dashed" if exact else "") + ") between the threshold " + bound
             + ". Shaded: " + ("the exact stick zone (no slip)" if exact else "the first method's stick zone, where "
@@ -189,6 +193,9 @@ def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
             bottom.step(snap["edge_s"], snap[fields["force"]], where="mid", color=colour, lw=1.1, label=f"{method}: $\\lambda_h$")
         for bound in (threshold, -threshold) if threshold is not None else ():
             bottom.plot(first["s"], bound, color="0.5", lw=1.2, ls=":")
+        closed = predicted_force(case, first)
+        if closed is not None:
+            bottom.plot(first["s"], closed, "k--", lw=1.0, label="closed form at $P_h$, $Q_h$", zorder=5)
         for ax in (top, bottom):
             ax.fill_between(first["s"], 0, 1, where=stick, transform=ax.get_xaxis_transform(), color="0.85", alpha=0.6, lw=0)
             ax.grid(True, alpha=0.25)
@@ -222,6 +229,18 @@ def stick_zone(snapshot: dict, fields: dict, exact: bool, threshold: np.ndarray 
     bound = np.interp(snapshot["edge_s"], snapshot["s"], threshold)
     inside = np.abs(snapshot[fields["force"]]) < (1 - 1e-8) * bound
     return np.interp(snapshot["s"], snapshot["edge_s"], inside.astype(float)) > 0.5
+
+
+def predicted_force(case, snapshot: dict) -> np.ndarray | None:
+    """The friction force a closed form predicts along Gamma_C (``Case.predicted_traction``:
+    Cattaneo's shear q on the body, drawn as the force sigma_t = -q), read at the snapshot's own
+    P = int p_h and Q = -int sigma_t,h (the per-edge means times the edge lengths); None where the
+    case declares none."""
+    if getattr(case, "predicted_traction", None) is None or "friction_force" not in snapshot:
+        return None
+    lengths = snapshot["edge_lengths"]
+    force, tangential = float(snapshot["pressure"] @ lengths), float(-snapshot["friction_force"] @ lengths)
+    return -np.asarray(case.predicted_traction(snapshot["s"], force, tangential), float)
 
 
 def coulomb_threshold(case, snapshot: dict) -> np.ndarray:

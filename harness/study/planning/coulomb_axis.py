@@ -23,11 +23,14 @@ AXIS_COLUMNS = ["case", "method", "mu_F", "level", "ndof", "newton_status", "new
 
 
 def coefficient_axis(coefficients=COEFFICIENTS, level: int = AXIS_LEVEL, case="elastic-coulomb-r32",
-                     method_name: str = "nitsche", progress=print) -> pd.DataFrame:
+                     method_name: str | None = None, progress=print) -> pd.DataFrame:
     """The solvers' behaviour as mu_F grows (the module's note), one row per coefficient, on
-    ``case`` (a Case, or a registered name or file) with the method ``method_name``."""
+    ``case`` (a Case, or a registered name or file) with the method ``method_name`` (default:
+    the case's reference method, ``measure.reference.reference_method``: Nitsche's P2 law)."""
+    from ...measure.reference import reference_method
     from ...problem.case import Case, load_case
     case = case if isinstance(case, Case) else load_case(case)
+    method_name = method_name or reference_method(case).name
     rows = []
     for mu in coefficients:
         rows.append(_axis_row(mu, level, case, method_name))
