@@ -140,7 +140,8 @@ class FrictionSystem(BoundaryTerms):
             channels[:, :self.tangential] -= self.reference
         return FrictionPoints(channels, np.column_stack([N @ u for N in self.N]),
                               self.gap, self.load, self.threshold, q.h, q.points, self.tangential, physics.name,
-                              physics.modulus, q.degree, self.coefficient)
+                              physics.modulus, q.degree, self.coefficient,
+                              2.0 * physics.mu if physics.rotated_frame else None)
 
     def slip_state(self, u: np.ndarray) -> np.ndarray:
         """(q, tangential) u_t of u_h at the points: the next load step's ``reference``."""

@@ -24,6 +24,15 @@ first term of the theta-family, as for the frictionless law (``builtin.Nitsche``
 Penalty: p_n = [(alpha - c)/eps]_+, p_t = P_{mu_F p_n}(-w_t / eps), f = 0 (the regularised
 Coulomb law of Oden & Martins, CMAME 52 (1985), as a penalty of both channels).
 
+The scales. gamma (eps) is gamma0 h / M_j per channel j, M_j the stiffness of the channel's flux:
+lambda + 2 mu for the normal one (the frictionless law's), 2 mu for the slip ones -- the
+tangential traction mu (d_n u_t + d_t u_n) carries no lambda, and the coercivity bound of theta = 1
+asks gamma_t |sigma_t(v)|^2 <~ a(v, v) of it alone. One gamma0 h/(lambda + 2 mu) for both, as the
+Tresca laws have, makes the slip channel (lambda + 2 mu)/(2 mu) times stiffer than it needs to be:
+on the near-incompressible Cattaneo cases (nu = 0.49: 25 times) the stick slab |w_t| <~ gamma |lambda_t|
+shrinks toward round-off and semismooth Newton stalled on every level; with 2 mu it converges in
+7 steps per level (measured; docs/theory/coulomb.md).
+
 The branches of a point: SEPARATED (x_n <= 0: p = 0 on both channels), and in contact STICK
 (|x_t| <= mu_F x_n), SLIP (2D elasticity: x_t > mu_F x_n; 3D: |x_t| > mu_F x_n) and SLIP_BELOW
 (2D: x_t < -mu_F x_n). On SLIP the threshold moves with the normal channel:
@@ -100,14 +109,23 @@ def coulomb_jacobian(x_t: np.ndarray, x_n: np.ndarray, s: np.ndarray, ds: np.nda
     return D
 
 
+def channel_scales(parameter: float, degree: int | None, at: FrictionPoints) -> np.ndarray:
+    """(q, m) parameter h / M_j per channel j: M the slip channels' stiffness scale 2 mu
+    (``FrictionPoints.slip_modulus``), then the normal channel's lambda + 2 mu (``modulus``),
+    scaled by the degree on an hp mesh (``builtin.degree_scale``)."""
+    base = parameter * at.h * degree_scale(degree, at)
+    t = at.tangential
+    return np.column_stack([np.repeat((base / at.slip_modulus)[:, None], t, axis=1), base / at.modulus])
+
+
 def _blocks(D: np.ndarray, du: np.ndarray, ddn: np.ndarray, flux_scale: np.ndarray | None):
-    """(p_u, p_dn, f_u, f_dn) from D = dp/dx and the arguments' slopes dx/du = ``du`` and
-    dx/d(flux) = ``ddn`` (per point); f = flux_scale (p - lambda) (None: f = 0)."""
-    p_u, p_dn = D * du[:, None, None], D * ddn[:, None, None]
+    """(p_u, p_dn, f_u, f_dn) from D = dp/dx and the arguments' slopes per channel (q, m):
+    dx_k/du_k = ``du``, dx_k/d(flux_k) = ``ddn``; f_j = flux_scale_j (p_j - lambda_j) (None: f = 0)."""
+    p_u, p_dn = D * du[:, None, :], D * ddn[:, None, :]
     if flux_scale is None:
         zero = np.zeros_like(D)
         return p_u, p_dn, zero, zero
-    g = flux_scale[:, None, None]
+    g = flux_scale[:, :, None]
     return p_u, p_dn, g * p_u, g * (p_dn - np.eye(D.shape[1]))
 
 
@@ -132,12 +150,16 @@ class NitscheCoulomb:
         """The Coulomb law of the frictionless ``law``: its gamma0, theta and degree."""
         return cls(law.gamma0, law.theta, law.degree)
 
+    def gammas(self, at: FrictionPoints) -> np.ndarray:
+        """(q, m) gamma of each channel: gamma0 h / M_j, M_j the channel's stiffness scale (the
+        module's note on the scales)."""
+        return channel_scales(self.gamma0, self.degree, at)
+
     def arguments(self, at: FrictionPoints) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(x_t, x_n, gamma) of (*)."""
-        gamma = self.gamma0 * at.h / at.modulus * degree_scale(self.degree, at)
-        force = at.dn - at.load
-        t = at.tangential
-        return force[:, :t] - at.u[:, :t] / gamma[:, None], force[:, t] - (at.u[:, t] - at.gap) / gamma, gamma
+        """(x_t, x_n, gamma (q, m)) of (*)."""
+        gamma = self.gammas(at)
+        x = (at.dn - at.load) - (at.u - np.column_stack([np.zeros((len(at.h), at.tangential)), at.gap])) / gamma
+        return x[:, :at.tangential], x[:, at.tangential], gamma
 
     def branch(self, at: FrictionPoints) -> np.ndarray:
         _check_channels(at)
@@ -148,12 +170,12 @@ class NitscheCoulomb:
         _check_channels(at)
         x_t, x_n, gamma = self.arguments(at)
         p = coulomb_projection(x_t, x_n, threshold(at, x_n)[0], branch)
-        return p, self.theta * gamma[:, None] * (p - (at.dn - at.load))
+        return p, self.theta * gamma * (p - (at.dn - at.load))
 
     def derivative(self, at: FrictionPoints, branch: np.ndarray):
         x_t, x_n, gamma = self.arguments(at)
         D = coulomb_jacobian(x_t, x_n, *threshold(at, x_n), branch)
-        # dx/du = -1/gamma, dx/d(flux) = 1 on both channels; f = theta gamma (p - lambda)
+        # dx_j/du_j = -1/gamma_j, dx_j/d(flux_j) = 1; f = theta gamma (p - lambda), channel by channel
         return _blocks(D, -1.0 / gamma, np.ones_like(gamma), self.theta * gamma)
 
 
@@ -176,10 +198,10 @@ class PenaltyCoulomb:
         return cls(law.epsilon0, law.degree)
 
     def arguments(self, at: FrictionPoints) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(x_t, x_n, eps): -w_t/eps and (alpha - c)/eps."""
-        eps = self.epsilon0 * at.h / at.modulus * degree_scale(self.degree, at)
-        t = at.tangential
-        return -at.u[:, :t] / eps[:, None], (at.gap - at.u[:, t]) / eps, eps
+        """(x_t, x_n, eps (q, m)): -w_t/eps_t and (alpha - c)/eps_n, eps_j = epsilon0 h / M_j."""
+        eps = channel_scales(self.epsilon0, self.degree, at)
+        x = -(at.u - np.column_stack([np.zeros((len(at.h), at.tangential)), at.gap])) / eps
+        return x[:, :at.tangential], x[:, at.tangential], eps
 
     def branch(self, at: FrictionPoints) -> np.ndarray:
         _check_channels(at)

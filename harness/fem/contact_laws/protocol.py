@@ -134,6 +134,14 @@ class FrictionPoints:
     degree: np.ndarray | None = None    # (q,) the degree of each point's cell, or None
     # (q,) Coulomb's friction coefficient mu_F (``problem.friction.Coulomb``); None for Tresca
     coefficient: np.ndarray | None = None
+    # the stiffness scale of the slip channels' flux: 2 mu in elasticity (sigma_t = mu (d_n u_t +
+    # d_t u_n) carries no lambda), ``modulus`` where not given
+    shear_modulus: float | None = None
+
+    @property
+    def slip_modulus(self) -> float:
+        """The slip channels' stiffness scale: ``shear_modulus``, else ``modulus``."""
+        return self.modulus if self.shear_modulus is None else self.shear_modulus
 
     @property
     def slip(self) -> np.ndarray:
