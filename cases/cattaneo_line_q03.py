@@ -20,10 +20,7 @@ The block is finite (10 a), as hertz-line's: a and p0 move by a fraction of a pe
 and ``err_traction_prediction`` (the shear traction against Cattaneo's q at the same P, Q) measure
 the coupling's share (the issue's "rigid-cylinder-on-block Cattaneo with nu = 0.3: the
 coupling's share (Spence), measured"), plus discretisation and finite size. Nothing here is
-expected to meet Cattaneo's c. Measured (nitsche, P2 levels 0-3, 858 to 49,410 dofs): c_h / c =
-0.62-0.64 at Q/(mu_F P) = 0.295 and 0.57-0.59 at 0.686, the levels agreeing to a few percent (the
-coupling, not the mesh); the traction's relative error 2.19 and 0.77 on every level (the
-antisymmetric normal-step shear is as large as Cattaneo's q at the lower ratio). The near-incompressible pair (``cattaneo-line-q03-nu47``) shows the
+expected to meet Cattaneo's c. The figures: the report's Coulomb section (its table against Cattaneo). The near-incompressible pair (``cattaneo-line-q03-nu47``) shows the
 approach to Cattaneo as beta -> 0.
 
 Setup. hertz-line's block, cylinder and mesh (Omega = (-L, L) x (0, H), L = H = 1 = 10 a, R = 1,
@@ -32,16 +29,14 @@ Poisson ratio 0.3, Coulomb friction mu_F = 0.3 (steel on steel, and the coeffici
 dolfinx_contact friction demos, so their Cattaneo comparison and this one share it; with
 beta/mu_F 0.95 for the coupling). Load history (``harness.problem.cattaneo.cattaneo_line_case``):
 the normal step u = (0, -0.015) on the top, then the tangential step u = (0.0023, -0.015). xi is
-data, chosen once so that Q/(mu_F P) comes near 0.3 on this mesh (measured 0.295); every
+data, chosen once so that Q/(mu_F P) comes near 0.3 on this mesh; every
 comparison is at the computed ratio, not at 0.3.
 
 Rate. No convergence theorem for Coulomb friction was found (docs/theory/coulomb.md, "What is
 proven"): nu, expected_rate and theorem are left out, and the report gives measured rates only,
 against nitsche's solution one level finer (``reference_levels``).
 
-Cost. Two load steps per level: nitsche level 3 (4.9e4 dofs) about 0.5 s, level 4 (2.0e5) about
-2 s; five levels with the reference at 7.8e5 dofs about 16 s in all (the fine profile). penalty
-does not run here yet (an infinite Jacobian entry at the tangential step's start).
+Cost. Two load steps per level; the fine profile runs it (its phases: the report's study table).
 """
 from harness.problem import cattaneo_line_case
 

@@ -10,24 +10,13 @@ What is exact and what is not. Cattaneo's solution (the closed forms in
 ``harness.problem.closed_forms``; docs/theory/coulomb.md, "Cattaneo and Mindlin") assumes that the
 normal and tangential responses uncouple, Dundurs' beta = 0, and half-spaces. Here nu = 0.47 against a rigid cylinder: beta =
 (1 - 2 nu)/(2 (1 - nu)) = 0.057, a fifth of the nu = 0.3 pair's 0.286. Cattaneo would be exact at
-nu = 1/2 (beta = 0), which a displacement method cannot reach (lambda = infinity); nu = 0.47 is
-the largest Poisson ratio the Coulomb solvers handled when the case was written: at nu = 0.48,
-0.49 and 0.499 the semismooth Newton step met an infinite Jacobian entry on level 1 (the ball's
-Jacobian at a zero tangential argument), for nitsche, nitsche-p1 and penalty alike. P2 locking
-is mild at nu = 0.47 (lambda/mu = 15.7).
+nu = 1/2 (beta = 0), which a displacement method cannot reach (lambda = infinity); at nu = 0.47
+P2 locking is mild (lambda/mu = 15.7), while nearer 1/2 it grows (nu = 0.49, lambda/mu = 49).
 The block is finite (10 a), as hertz-line's: a and p0 move by a fraction of a percent
 (hertz-line's docstring). So the rows' ``qoi_stick_measure`` = 2 c_h against Cattaneo's 2c
 (``predicted_friction``, at the row's computed P = ``qoi_force`` and Q = ``qoi_tangential_force``)
 and ``err_traction_prediction`` (the shear traction against Cattaneo's q at the same P, Q) measure
-mostly discretisation and the remaining coupling (beta = 0.057). Measured (nitsche,
-P2 levels 0-3, 858 to 49,410 dofs): c_h / c = 0.975, 0.978, 0.984, 0.986 at Q/(mu_F P) = 0.302 and
-0.902, 0.972, 0.983, 0.988 at 0.717; the traction's relative error 0.59, 0.24, 0.19, 0.14 and
-0.19, 0.11, 0.098, 0.082; on level 4 (1.96e5 dofs, the fine profile's finest) c_h / c = 0.993 and
-the error 0.076 at 0.717, where Newton stalled at a KKT residual of 3e-7 (not converged). Against the same loading at nu = 0.3, 0.4, 0.45, 0.47 (beta = 0.286,
-0.167, 0.091, 0.057; Q/(mu_F P) about 0.45-0.5, level 3) c_h / c = 0.60, 0.81, 0.97, 0.99 and the
-error 1.18, 0.92, 0.41, 0.11: the deviation falls with beta, and what is left at nu = 0.47 is
-the remaining coupling and the discretisation together (not separated). The issue's 2 % criterion is
-therefore not claimed for this case.
+mostly discretisation and the remaining coupling (beta = 0.057). The figures: the report's Coulomb section (its table against Cattaneo). 
 
 Setup. hertz-line's block, cylinder and mesh (Omega = (-L, L) x (0, H), L = H = 1 = 10 a, R = 1,
 E = 1, parabolic gap x^2/(2R), Gamma_C corners at +-2a with maxh a/4 there, maxh 0.25 elsewhere),
@@ -35,16 +24,14 @@ Poisson ratio 0.47, Coulomb friction mu_F = 0.3 (steel on steel, and the coeffic
 dolfinx_contact friction demos, so their Cattaneo comparison and this one share it; with
 beta/mu_F 0.19 for the coupling). Load history (``harness.problem.cattaneo.cattaneo_line_case``):
 the normal step u = (0, -0.015) on the top, then the tangential step u = (0.0066, -0.015). xi is
-data, chosen once so that Q/(mu_F P) comes near 0.7 on this mesh (measured 0.717); every
+data, chosen once so that Q/(mu_F P) comes near 0.7 on this mesh; every
 comparison is at the computed ratio, not at 0.7.
 
 Rate. No convergence theorem for Coulomb friction was found (docs/theory/coulomb.md, "What is
 proven"): nu, expected_rate and theorem are left out, and the report gives measured rates only,
 against nitsche's solution one level finer (``reference_levels``).
 
-Cost. Two load steps per level, more Newton steps than at nu = 0.3 (17-36): nitsche level 3
-(4.9e4 dofs) about 3-5 s, level 4 (2.0e5) about 15 s; five levels with the reference at 7.8e5
-dofs about 105 s in all (the fine profile).
+Cost. Two load steps per level; the fine profile runs it (its phases: the report's study table).
 """
 from harness.problem import cattaneo_line_case
 

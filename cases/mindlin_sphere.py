@@ -20,15 +20,10 @@ Mindlin's c, besides the discretisation:
 2. The coupling: a rigid sphere on a nu = 0.3 body has Dundurs' beta = 0.286 != 0, as the
    cattaneo-line-q03 / q07 cases (nu = 0.3): the normal step already leaves a radial interfacial
    shear, and the tangential step starts from it. In 2D this coupling alone moves c_h / c to
-   about 0.6 (cattaneo-line-q03's docstring); it is the dominant share here too.
+   well below 1 (the report's Coulomb section); it is the dominant share here too.
 3. The block is finite (10 a), as hertz-sphere's.
 
-Measured (nitsche, Q/(mu_F P) = 0.569 and 0.569): c_h / c = 0.70 on level 0 (2.4e4 dofs) and 0.69
-on level 1 (1.8e5), a_h / a = 1.00; the traction's relative error 1.23 and 1.18 (nitsche-p1 on
-3.3e3 and 2.4e4 dofs: c_h / c = 0.74 and 0.67). So c_h / c here measures the sum, dominated by
-the coupling (the 2D block at nu = 0.3 gives 0.57-0.64); Mindlin's approximation is not
-separated from it on this case (a nu -> 1/2 sphere would be; in 3D the levels are too costly).
-The issue's 5 % criterion is therefore not claimed.
+The figures: the report's Coulomb section (its table against Cattaneo). 
 
 Setup. hertz-sphere's box (-L, L)^2 x (0, H), L = H = 1 = 10 a, R = 1, E = 1, parabolic gap
 (x^2 + y^2)/(2R), the zone (-2a, 2a)^2 at maxh a/2, maxh 0.5 elsewhere; Coulomb mu_F = 0.3 (as the
@@ -39,9 +34,7 @@ near 0.5 on level 0 (0.003 gives 0.78).
 Rate. No convergence theorem for Coulomb friction (docs/theory/coulomb.md): nu, expected_rate and
 theorem are left out; errors against nitsche's solution one level finer.
 
-Cost. Two load steps per level: nitsche level 0 (2.4e4 dofs) about 7 s, level 1 (1.8e5) about
-23 s of solve; the fine profile studies level 0 and 1 with the reference at level 2 (1.4e6 dofs), as
-hertz-sphere's (``report_levels``).
+Cost. Two load steps per level; the fine profile runs it (its phases: the report's study table).
 """
 from harness.problem import mindlin_sphere_case
 
