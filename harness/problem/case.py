@@ -135,8 +135,8 @@ for an exact case measures against a reference instead of u (which checks the re
 from __future__ import annotations
 
 import dataclasses
-import math
 import hashlib
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
