@@ -79,6 +79,7 @@ def elastic_coulomb_field():
     return S * y / MU + C_AMP * mx, -b * y + C_AMP * my
 
 
+@pytest.mark.slow
 def test_elastic_coulomb_r32():
     ex = EXPONENT
     ux, uy = elastic_coulomb_field()
@@ -103,6 +104,7 @@ def test_elastic_coulomb_r32():
         assert abs(float(stick_shear.subs(r, d))) <= float(MU_F * P0) * (1 + 1e-14)
 
 
+@pytest.mark.slow
 def test_elastic_coulomb_3d():
     """u = w(y) U(x, z), w = 1 + y^2/2, U elastic-coulomb-r32's field in (x, z): the load
     f = -(mu U_x, (lambda + mu) w' div U, mu U_z), and on z = 0 every stress is U's times w
