@@ -114,8 +114,11 @@ def _law_row(method_name: str, level: int, connection, case_name: str = FRICTION
     with ngs.TaskManager():
         for step in UniformRefinement(case).levels(level + 1):
             multilevel = Multilevel(step.mesh, case.physics) if multilevel is None else multilevel.refined(step.mesh)
-            if step.index == level - 1:
-                carry = method.solve(case, discretise(case, step.mesh, method.order), None, multilevel).carry
+            # the study's chain: every coarser level nested from the one before (a Coulomb law's
+            # Newton method from zero on a fine level may end on a poor branch set, whose
+            # prediction then costs the timed level dozens of damped steps)
+            if step.index < level:
+                carry = method.solve(case, discretise(case, step.mesh, method.order), carry, multilevel).carry
         problem = discretise(case, step.mesh, method.order)
         system = MultigridSystem(problem.A_ngs, problem.b, multilevel, ContactEdges.of(problem, model=False))
         scale = np.abs((problem.b - problem.A @ problem.lift)[problem.free]).max()
