@@ -129,16 +129,37 @@ def _blocks(D: np.ndarray, du: np.ndarray, ddn: np.ndarray, flux_scale: np.ndarr
     return p_u, p_dn, g * p_u, g * (p_dn - np.eye(D.shape[1]))
 
 
+class _CoulombProjection:
+    """What the Coulomb laws share: the branch and the projection (*) at their ``arguments``."""
+
+    friction = "coulomb"
+    branches = (STICK, SLIP, SLIP_BELOW, SEPARATED)
+
+    def branch(self, at: FrictionPoints) -> np.ndarray:
+        _check_channels(at)
+        x_t, x_n, _ = self.arguments(at)
+        return coulomb_branch(x_t, x_n, threshold(at, x_n)[0])
+
+    def projected(self, at: FrictionPoints, branch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(p, the channels' scales): the projection (*) on ``branch``."""
+        _check_channels(at)
+        x_t, x_n, scale = self.arguments(at)
+        return coulomb_projection(x_t, x_n, threshold(at, x_n)[0], branch), scale
+
+    def jacobian(self, at: FrictionPoints, branch: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(dp/dx, the channels' scales) on ``branch``."""
+        x_t, x_n, scale = self.arguments(at)
+        return coulomb_jacobian(x_t, x_n, *threshold(at, x_n), branch), scale
+
+
 @dataclass(frozen=True)
-class NitscheCoulomb:
+class NitscheCoulomb(_CoulombProjection):
     """Nitsche's law for Coulomb friction (the module's note), gamma = gamma0 h / M (``degree``
     as for ``builtin.Nitsche``), variant theta in (1, 0, -1)."""
 
     gamma0: float = 0.05
     theta: float = 1.0
     degree: int | None = None
-    friction = "coulomb"
-    branches = (STICK, SLIP, SLIP_BELOW, SEPARATED)
 
     def __post_init__(self):
         _positive("gamma0", self.gamma0)
@@ -161,33 +182,23 @@ class NitscheCoulomb:
         x = (at.dn - at.load) - (at.u - np.column_stack([np.zeros((len(at.h), at.tangential)), at.gap])) / gamma
         return x[:, :at.tangential], x[:, at.tangential], gamma
 
-    def branch(self, at: FrictionPoints) -> np.ndarray:
-        _check_channels(at)
-        x_t, x_n, _ = self.arguments(at)
-        return coulomb_branch(x_t, x_n, threshold(at, x_n)[0])
-
     def term(self, at: FrictionPoints, branch: np.ndarray):
-        _check_channels(at)
-        x_t, x_n, gamma = self.arguments(at)
-        p = coulomb_projection(x_t, x_n, threshold(at, x_n)[0], branch)
+        p, gamma = self.projected(at, branch)
         return p, self.theta * gamma * (p - (at.dn - at.load))
 
     def derivative(self, at: FrictionPoints, branch: np.ndarray):
-        x_t, x_n, gamma = self.arguments(at)
-        D = coulomb_jacobian(x_t, x_n, *threshold(at, x_n), branch)
+        D, gamma = self.jacobian(at, branch)
         # dx_j/du_j = -1/gamma_j, dx_j/d(flux_j) = 1; f = theta gamma (p - lambda), channel by channel
         return _blocks(D, -1.0 / gamma, np.ones_like(gamma), self.theta * gamma)
 
 
 @dataclass(frozen=True)
-class PenaltyCoulomb:
+class PenaltyCoulomb(_CoulombProjection):
     """The penalty law for Coulomb friction (the module's note), eps = epsilon0 h / M
     (``degree`` as for ``builtin.Penalty``)."""
 
     epsilon0: float = 0.05
     degree: int | None = None
-    friction = "coulomb"
-    branches = (STICK, SLIP, SLIP_BELOW, SEPARATED)
 
     def __post_init__(self):
         _positive("epsilon0", self.epsilon0)
@@ -203,18 +214,10 @@ class PenaltyCoulomb:
         x = -(at.u - np.column_stack([np.zeros((len(at.h), at.tangential)), at.gap])) / eps
         return x[:, :at.tangential], x[:, at.tangential], eps
 
-    def branch(self, at: FrictionPoints) -> np.ndarray:
-        _check_channels(at)
-        x_t, x_n, _ = self.arguments(at)
-        return coulomb_branch(x_t, x_n, threshold(at, x_n)[0])
-
     def term(self, at: FrictionPoints, branch: np.ndarray):
-        _check_channels(at)
-        x_t, x_n, _ = self.arguments(at)
-        p = coulomb_projection(x_t, x_n, threshold(at, x_n)[0], branch)
+        p, _ = self.projected(at, branch)
         return p, np.zeros_like(p)
 
     def derivative(self, at: FrictionPoints, branch: np.ndarray):
-        x_t, x_n, eps = self.arguments(at)
-        D = coulomb_jacobian(x_t, x_n, *threshold(at, x_n), branch)
+        D, eps = self.jacobian(at, branch)
         return _blocks(D, -1.0 / eps, np.zeros_like(eps), None)
