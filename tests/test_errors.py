@@ -103,6 +103,10 @@ def test_errors_agree_with_a_much_finer_integration(case_name, level):
         methods = [m for m in one_of_each_order(methods) if m.order in DEFAULT["orders"]]
     elif level == FINEST_DEGREE_LEVEL:
         methods = [m for m in one_of_each_order(methods) if m.order not in DEFAULT["orders"]]
+    if level == FINEST_DEFAULT_LEVEL and case.asymptotic_levels is not None:
+        # a case that declares its levels ends `make report` there (elastic-tresca-r32,
+        # elastic-coulomb-r32: five), not on the profile's seventh (1.2e6 elastic dofs)
+        level = min(level, case.asymptotic_levels - 1)
     if case.bodies == 2:
         # the finest level of `make report` for two bodies is their own (asymptotic_levels); level
         # 6 would put mortar-standard's SuperLU saddle at 2e6 dofs (past 19 GB)
