@@ -162,8 +162,9 @@ def test_an_adaptive_level_past_the_budget_of_elements_is_not_made():
     assert next(levels).mesh.ne > coarse * 1.5
 
 
-# P1 (its estimator's order 1: the test above) in `make test-full`
-@pytest.mark.parametrize("name, method", [("transition-line-3d", "nodal"), pytest.param("transition-line-3d", "p1", marks=pytest.mark.slow),
+# the 3D chains (2-3 s each) in `make test-full`; `make test` runs the 2D chains (test_meshes.py)
+@pytest.mark.slow
+@pytest.mark.parametrize("name, method", [("transition-line-3d", "nodal"), ("transition-line-3d", "p1"),
                                           ("transition-line-3d", "mean"), ("elastic-transition-3d", "nodal")])
 def test_a_3d_adaptive_chain_runs_and_its_rows_carry_a_finite_effectivity(name, method):
     """SOLVE -> ESTIMATE -> MARK -> REFINE on tetrahedra: each level refines the last (more

@@ -137,6 +137,7 @@ def test_rates_of_missing_or_malformed_results_is_one_line(tmp_path):
     assert done.returncode != 0 and "missing column" in done.stderr and len(done.stderr.strip().splitlines()) == 1
 
 
+@pytest.mark.slow          # 7 s: a 3-level study in a fresh process
 def test_rates_command_writes_rates_beside_results(tmp_path):
     assert harness("run", "--case", "smooth", "--levels", "3", "--out", str(tmp_path), "--quiet").returncode == 0
     # `rates` is table work: in this process (the run above is the real command)
@@ -159,6 +160,7 @@ def test_rates_command_writes_rates_beside_results(tmp_path):
     assert "bands holding the exact value" in done.stdout
 
 
+@pytest.mark.slow          # 5 s: every method on 3 levels
 def test_case_file_by_path_runs_every_method_and_rates_needs_no_case_option(tmp_path):
     """The results carry each row's theory, so `rates` fits a CSV of an unregistered case alone."""
     case = str(ROOT / "tests" / "data" / "gap_case.py")
@@ -294,6 +296,7 @@ def test_listing_the_cases_imports_neither_pandas_nor_scipy_nor_matplotlib():
     assert not loaded & {"pandas", "scipy", "matplotlib"}, loaded & {"pandas", "scipy", "matplotlib"}
 
 
+@pytest.mark.slow          # 7 s: two reports
 def test_report_answers_for_its_own_rows_not_for_other_runs_kept_in_the_folder(tmp_path):
     """A row that did not converge, of another case, kept in results.csv by an earlier run: the
     report of transition-r32 still exits 0; a failed row of its own makes it exit 1."""

@@ -100,7 +100,7 @@ def test_methods_carry_their_parameters_to_the_coulomb_laws_and_cones_leave_coul
     assert get_method("nitsche").refusal(case) is None and get_method("nitsche-p1").refusal(case) is None
 
 
-@pytest.mark.parametrize("name, level", [("elastic-coulomb-r32", 2), ("elastic-coulomb-3d", 0)])
+@pytest.mark.parametrize("name, level", [("elastic-coulomb-r32", 2), pytest.param("elastic-coulomb-3d", 0, marks=pytest.mark.slow)])     # 3D: 2.4 s
 def test_gmres_multigrid_newton_and_fixed_point_over_tresca_reach_one_solution(name, level):
     """The coupled Newton method (GMRES with the V-cycle; and a factorisation) and the fixed point
     over Tresca problems (symmetric solves, the coupling never linearised) reach the same

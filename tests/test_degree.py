@@ -77,7 +77,8 @@ def test_the_3d_pk_trace_function_is_u_h_on_the_triangles_of_gamma_c(case_name, 
     np.testing.assert_allclose(trace_u.at(t), exact, atol=1e-10 * np.abs(exact).max())
 
 
-@pytest.mark.parametrize("case_name", [pytest.param("smooth-3d", marks=slow), "elastic-transition-3d"])
+@pytest.mark.slow          # 2-3 s each
+@pytest.mark.parametrize("case_name", ["smooth-3d", "elastic-transition-3d"])
 def test_nitsche_p3_in_3d_is_solved_exactly_near_the_best_approximation(case_name):
     """Issue 63's "in 3D at least Nitsche": nitsche-p3 on a 3D scalar and a 3D elastic case, its
     Newton residual <= 1e-10, its error within 2% of the best approximation's (measured 1.006,
@@ -192,6 +193,7 @@ def test_the_integrated_volume_and_jump_terms_of_p_k_are_the_p2_formulas_on_a_p2
     np.testing.assert_allclose(integrated, fast, rtol=1e-8, atol=1e-12 * fast.max())
 
 
+@pytest.mark.slow          # 3 s: four P3 levels
 def test_the_p3_estimator_is_steady_and_the_complementarity_it_leaves_out_is_of_lower_order():
     """On smooth-quintic (uniform meshes, nitsche-p3) eta / ||u - u_h||_a stays within a factor
     1.5 of itself over the levels; the complementarity term int (lambda_h)_+ (c(u_h) - alpha)_+,

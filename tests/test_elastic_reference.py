@@ -122,7 +122,9 @@ def test_an_elastic_reference_case_with_scalar_dirichlet_data_is_refused(tmp_pat
         load_case(str(tmp_path / "scalar_dirichlet.py"))
 
 
-@pytest.mark.parametrize("mesh", ["uniform", "adaptive", pytest.param("graded", marks=pytest.mark.slow)])
+# uniform in `make test`; the other meshes (2-3 s each) in `make test-full`
+@pytest.mark.parametrize("mesh", ["uniform", pytest.param("adaptive", marks=pytest.mark.slow),
+                                  pytest.param("graded", marks=pytest.mark.slow)])
 def test_an_elastic_case_without_u_runs_from_the_command_line(tmp_path, mesh):
     """The block pressed on the parabola, nodal and p1, 3 levels, in a process of its own: every
     row converged and measured against a converged reference (one, k = 2 levels past P2's finest,

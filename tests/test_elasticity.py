@@ -173,7 +173,9 @@ def _clarabel(A, q, G, h):
                     tol_gap_rel=1e-14, tol_feas=1e-14, tol_ktratio=1e-10, max_iter=400)
 
 
-@pytest.mark.parametrize("method_name", ["mean", "mean-edges", "nodal", "p1"])
+# nodal in `make test`, the other cones (the same QP path, 1.7 s each) in `make test-full`
+@pytest.mark.parametrize("method_name", [pytest.param(m, marks=pytest.mark.slow) if m != "nodal" else m
+                                         for m in ["mean", "mean-edges", "nodal", "p1"]])
 def test_3d_elastic_solution_equals_independent_qp_solver(method_name):
     """3D elasticity on level 0 (1803 P2 dofs): Clarabel, on a system assembled here in
     Cartesian variables with the cone's rows written here on u_z = -u . n (Gamma_C is z = 0,

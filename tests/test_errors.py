@@ -33,11 +33,12 @@ FINEST_DEFAULT_LEVEL = DEFAULT["levels"] - 1
 FINEST_DEGREE_LEVEL = DEFAULT["degree_levels"] - 1
 DEGREE_CASES = [name for name, meshes in PLAN["cases"].items() if "uniform" in meshes]
 # `make test` checks the error integration on a small level (the same rule, elements of every
-# kind: near the singular points and away; level 2, 0.5-4 s per case) for a case of each kind: a
-# corner singularity, a singular load, an elastic body, two bodies. Every exact case on level 2
-# and 3 and on the finest level of `make report` (10-50 s per case) is checked by `make test-full`
+# kind: near the singular points and away; level 2, 2-4 s per case) for the case whose rule is the
+# hardest (a singular load beside a corner); the other kinds (a corner singularity, an elastic body,
+# two bodies) and every exact case on level 2 and 3 and on the finest level of `make report` (10-50
+# s per case) are checked by `make test-full`
 SMALL_LEVEL = 2
-SMALL_CASES = {"corner-r12", "borderline-h2", "elastic-wedge", "two-body-junction"}
+SMALL_CASES = {"borderline-h2"}
 # level 3 and the finest level of `make report` are checked for the cases it runs (``report_profile``
 # "default"); the fine profile's on level 2 (their singularities are the default cases' kinds)
 IN_DEFAULT_REPORT = [name for name in EXACT_CASES if registered_cases()[name].report_profile == "default"]
@@ -123,10 +124,10 @@ def test_errors_agree_with_a_much_finer_integration(case_name, level):
 
 
 # `make test` checks the load quadrature on the case whose f is singular (f ~ r^-1 |log r|^-beta,
-# the graded rule's hardest load) and on one elastic case; the corner singularities (corner-r12,
+# the graded rule's hardest load); the elastic cases (4 s), the corner singularities (corner-r12,
 # wedge-r23), the oscillating boundary data (oscillating-r34, 7-9 s each) and the smooth loads
 # (3-4 s each) in `make test-full`
-ROUGH_LOADS = {"borderline-h2", "elastic-transition-r32"}
+ROUGH_LOADS = {"borderline-h2"}
 LOAD_CASES = [name if name in ROUGH_LOADS else pytest.param(name, marks=pytest.mark.slow) for name in EXACT_CASES]
 
 

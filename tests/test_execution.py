@@ -214,6 +214,7 @@ class InterruptAt:
         pass
 
 
+@pytest.mark.slow          # 3-5 s each: studies run twice
 @pytest.mark.parametrize("case_name, stop_level", [("transition-r32", 2), ("smooth-obstacle", 4)])
 def test_an_interrupted_study_resumes_from_its_checkpoints_with_the_same_rows(tmp_path, case_name, stop_level):
     """Every method of a case in one process, stopped when nodal starts ``stop_level`` (for
@@ -230,6 +231,7 @@ def test_an_interrupted_study_resumes_from_its_checkpoints_with_the_same_rows(tm
     assert_same_results(whole, resumed)
 
 
+@pytest.mark.slow          # 7 s: a study in a process killed and run again
 def test_run_killed_after_its_second_level_resumes_to_the_same_csv(tmp_path):
     """SIGKILL of `run` as soon as its second level is durable; the same command again continues
     from there and writes the CSV of an uninterrupted run."""
@@ -259,8 +261,9 @@ def test_run_killed_after_its_second_level_resumes_to_the_same_csv(tmp_path):
 ENGINES = {"local processes": lambda: LocalProcesses(2), "Dask LocalCluster": lambda: DaskEngine(workers=2)}
 
 
-# the Dask LocalCluster (7 s) in the slow tier: make report and --workers run on local processes
-@pytest.mark.parametrize("engine_name", ["local processes", pytest.param("Dask LocalCluster", marks=pytest.mark.slow)])
+# 7 s each, in the slow tier; `make test` runs two local processes in the progress bar's test
+@pytest.mark.slow
+@pytest.mark.parametrize("engine_name", ["local processes", "Dask LocalCluster"])
 def test_two_workers_give_the_serial_results_bit_for_bit(engine_name):
     """Two worker processes, local or a real Dask LocalCluster (transition-r32, the larger,
     split by order; smooth-obstacle whole: its methods wait for one reference solve), against

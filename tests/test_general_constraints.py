@@ -231,6 +231,7 @@ def _pins(qp, general_solver, bounds):
     return pinned
 
 
+@pytest.mark.slow          # 3 s
 def test_inexact_face_mean_steps_reach_the_exact_steps_solution():
     """The general-constraint active set method with loose solves of new sets (``forcing``) and
     with every set solved to the full depth (forcing = 0) find the same KKT point on

@@ -63,6 +63,7 @@ def mean_areas(points, triangles, near: float = 0.1) -> tuple[float, float]:
     return areas[close].mean(), areas[~close].mean()
 
 
+@pytest.mark.slow          # 2 s: a 3D adaptive chain
 def test_a_3d_adaptive_meshs_picture_is_its_triangles_on_gamma_c(tmp_path):
     """The finest 3D adaptive mesh is kept as the triangles of Gamma_C (z = 0), covering it
     once, refined from the coarse mesh more at the transition line x = 0 than away from it, and

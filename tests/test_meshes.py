@@ -323,6 +323,7 @@ def test_a_level_without_refinement_keeps_the_multigrid_hierarchy(corner):
     assert multilevel.refined(mesh) is multilevel and len(multilevel.matrices) == 1
 
 
+@pytest.mark.slow          # 7 s: every strategy on every kind of case
 def test_mesh_all_runs_every_strategy_on_every_kind_of_case(tmp_path, capsys):
     """A one-body 2D, a two-body and a 3D case on every strategy: each on all three, no line
     skipped (what a strategy refuses is refused before any solve: the test above)."""
@@ -358,6 +359,7 @@ def test_the_distance_to_a_segment_is_to_its_nearest_point():
     assert distance_to_segments(np.array([[0.5, 1.0]]), np.array([[[0.0, 0.0], [1.0, 0.0]]])) == pytest.approx([1.0])
 
 
+@pytest.mark.slow          # 3 s: 3D graded levels
 def test_a_3d_graded_mesh_meets_its_size_function_nests_and_keeps_the_budget(line3d):
     """h_T <= H min(1, r/R)^(1 - mu) on every tetrahedron, r the distance to the declared line
     {x = 0, z = 0}; each level keeps the previous one's vertices (refined in place); the

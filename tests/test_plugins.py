@@ -63,6 +63,7 @@ def test_one_method_of_a_file_is_picked_by_file_colon_name(outside):
     assert [m.name for m in methods_named(str(outside / "weak_variants.py"))] == ["nitsche-skew", "penalty-stiff"]
 
 
+@pytest.mark.slow          # 3 s: two worker processes
 def test_a_method_of_an_importable_module_runs_by_its_dotted_name_on_two_workers(outside):
     package = outside / "mypkg"
     package.mkdir()
@@ -90,6 +91,7 @@ def installed_package(site: Path, name: str, modules: dict[str, str], group: str
     return site
 
 
+@pytest.mark.slow          # 3 s: a package installed in a fresh venv
 def test_an_installed_packages_entry_point_method_runs_by_its_name(outside):
     site = installed_package(outside / "site", "userpkg", {"methods": (EXAMPLES / "nitsche_small_gamma.py").read_text()},
                              "signorini_harness.methods", "small-gamma = userpkg.methods:method")
@@ -138,6 +140,7 @@ def test_every_registered_method_passes_the_checks_a_plugin_passes():
         assert check_method(method, "registered") is method
 
 
+@pytest.mark.slow          # 4 s: a package installed in a fresh venv
 def test_a_case_of_an_installed_package_is_registered_by_its_entry_point(tmp_path):
     text = (ROOT / "cases" / "transition_r32.py").read_text().replace('name = "transition-r32"', 'name = "my-transition"')
     assert 'name = "my-transition"' in text
@@ -152,6 +155,7 @@ def test_a_case_of_an_installed_package_is_registered_by_its_entry_point(tmp_pat
 
 # --- mesh strategies (``harness.mesh.strategies.Strategy``)
 
+@pytest.mark.slow          # 4 s: two worker processes
 def test_a_mesh_strategy_file_runs_from_outside_on_two_workers_and_labels_its_rows(tmp_path):
     shutil.copy(ROOT / "examples" / "meshes" / "strong_grading.py", tmp_path / "grading.py")
     done = harness_cli("run", "--case", "corner-r12", "--method", "nodal", "--method", "p1", "--mesh", "grading.py", "--levels", "3",

@@ -134,6 +134,7 @@ def test_an_own_solve_returning_no_solution_of_the_level_is_refused_in_one_line(
     assert isinstance(refused.value.__cause__, ValueError) and "\n" not in str(refused.value)
 
 
+@pytest.mark.slow          # 7 s: every example on every mesh, two workers
 def test_the_protocol_examples_run_from_outside_on_every_mesh_and_two_workers(tmp_path):
     """A method at each protocol level (a cone by its functionals, a law, an own solve), each by
     its path from a folder outside the repository,
@@ -164,6 +165,7 @@ def test_the_case_example_runs_by_path_and_its_cones_meet_the_paper_rate():
     assert rates.verdict.eq("meets").all(), rates[["fitted_rate", "verdict"]]
 
 
+@pytest.mark.slow          # 7 s: 2D and 3D elastic studies
 def test_a_law_written_for_elasticity_runs_from_outside_on_2d_and_3d_elastic_cases(tmp_path):
     """The elastic Nitsche law of ``examples/methods/contact_laws.py``, by its path from a folder
     outside the repository, beside the built-in on plane strain and 3D elasticity."""

@@ -54,7 +54,7 @@ def test_prolongation_reproduces_the_coarse_function_exactly(order, rng):
     assert np.allclose(fine_norms, coarse_norms, rtol=1e-12)
 
 
-@pytest.mark.parametrize("order", [1, 2])
+@pytest.mark.parametrize("order", [1, pytest.param(2, marks=pytest.mark.slow)])      # P2: 3 s
 def test_prolongation_in_3d_reproduces_the_coarse_function_exactly(order, rng):
     """One red refinement of tetrahedra (eight children, the inner diagonal's bubble from the six
     coarse edges of its tetrahedron): P u_h equals u_h at random points, to round-off."""
@@ -89,7 +89,7 @@ def test_3d_errors_against_a_reference_miss_only_the_reference_error(case_name):
     np.testing.assert_allclose(ratio.loc["p1"], 1.0, atol=0.01)
 
 
-@pytest.mark.parametrize("case_name", ["transition-r32", "transition-circle-3d"])
+@pytest.mark.parametrize("case_name", ["transition-r32", pytest.param("transition-circle-3d", marks=pytest.mark.slow)])
 def test_parents_from_the_cells_are_netgens(case_name):
     """A red refinement's parents of its new vertices read from the cell table (2D, and 3D's
     tetrahedra; curved boundaries included) are those netgen gives one vertex at a time (netgen

@@ -26,6 +26,7 @@ def report(tmp_path_factory):
     return root, html
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_results_rates_and_provenance_are_written(report):
     root, _ = report
     results = pd.read_csv(root / "results" / "results.csv")
@@ -46,6 +47,7 @@ def test_results_rates_and_provenance_are_written(report):
     assert meta["solver_options"] == {"default": SolverOptions().as_dict()}
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_report_has_the_two_body_section_with_both_meshes_at_the_interface(report):
     root, html = report
     text = Path(html).read_text()
@@ -57,6 +59,7 @@ def test_report_has_the_two_body_section_with_both_meshes_at_the_interface(repor
     assert "opening [u_h] - 2α" in text
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_every_figure_exists_as_png_and_pdf(report):
     root, _ = report
     figures = root / "report" / "figures"
@@ -67,6 +70,7 @@ def test_every_figure_exists_as_png_and_pdf(report):
             assert (figures / f"{stem}.{ext}").stat().st_size > 1000, stem
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_report_answers_whether_p2_is_the_sweet_spot_across_the_degree(report):
     """The degree study (``study.planning.degree_study``) of the named cases it plans: Nitsche and the
     nodal cone of every degree k = 1 ... 4 on uniform and adaptive meshes, and on hp meshes those
@@ -86,6 +90,7 @@ def test_report_answers_whether_p2_is_the_sweet_spot_across_the_degree(report):
     assert (root / "report" / "figures" / "transition-r32-degrees.png").stat().st_size > 1000
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_report_sets_measured_rates_against_theorems(report):
     root, html = report
     text = html.read_text()
@@ -94,6 +99,7 @@ def test_report_sets_measured_rates_against_theorems(report):
     assert "| case | method | theory | expected |" in markdown and "figures/transition-r32_convergence.png" in markdown
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_report_answers_whether_p2_is_worth_it(report):
     root, html = report
     text = html.read_text()
@@ -186,6 +192,7 @@ def test_markdown_table_cells_keep_a_literal_bar_inside():
     assert unescaped_bars(row) == unescaped_bars(header) == 3
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_report_shows_where_penalty_and_nitsche_parameters_are_safe(report):
     """The sweep of every theta of Nitsche and of the penalty over eps0 / gamma0, beside nodal."""
     root, html = report
@@ -199,6 +206,7 @@ def test_report_shows_where_penalty_and_nitsche_parameters_are_safe(report):
         assert (swept[swept.sweep_method == "nitsche:theta=-1"].status == "converged").all()
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_report_has_both_verdicts_the_regularity_check_and_the_gamma_c_errors(report):
     root, html = report
     text = html.read_text()
@@ -211,6 +219,7 @@ def test_report_has_both_verdicts_the_regularity_check_and_the_gamma_c_errors(re
     assert cones.sharper_verdict.notna().all() and exact.fitted_rate_best.notna().all()
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_report_states_reference_and_remark_43_findings(report):
     """A reference case says what its errors are measured against; the Remark 4.3 case says
     whether the data support the belief (3 levels: the wording, not the finding)."""
@@ -273,6 +282,7 @@ def test_report_vtk_reruns_a_stored_case_without_its_files_once(tmp_path, capsys
     assert "transition-r32: reusing results" in capsys.readouterr().out
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_report_is_navigable_contents_link_to_anchors_and_cases_collapse(report):
     """A table of contents whose every link has its target, the verdict matrix at the top, each
     case collapsible, no heading "Theorem Remark"."""
@@ -290,6 +300,7 @@ def test_report_is_navigable_contents_link_to_anchors_and_cases_collapse(report)
     assert "**Contents**" in markdown and "](#at-a-glance-every-case-method)" in markdown
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_report_embeds_compact_images_and_keeps_full_pngs(report):
     root, html = report
     text = html.read_text()
@@ -299,6 +310,7 @@ def test_report_embeds_compact_images_and_keeps_full_pngs(report):
     assert embedded < 0.5 * pngs
 
 
+@pytest.mark.slow          # the module's report: 45 s
 def test_unchanged_results_are_reused(report, capsys):
     """Last in this file: it rewrites the module's report with one of its cases."""
     root, _ = report

@@ -98,9 +98,9 @@ def test_3d_solution_equals_independent_qp_solver(method_name):
     assert np.abs(ours - u_ref).max() <= 1e-8 * np.abs(u_ref).max()
 
 
-# `make test` solves one case of each kind (scalar, curved; elastic, flat); the other
-# geometries (the same solver paths, 5-16 s each) in `make test-full`
-MULTIGRID_CASES = [name if name in ("transition-circle-3d", "elastic-transition-3d")
+# `make test` solves the elastic case (the vector multigrid, the rotated frame); the scalar and
+# curved geometries (the same solver paths, 3-16 s each) in `make test-full`
+MULTIGRID_CASES = [name if name == "elastic-transition-3d"
                    else pytest.param(name, marks=pytest.mark.slow) for name in THREE_D]
 
 
@@ -116,6 +116,7 @@ def test_3d_multigrid_solves_are_exact_on_every_level(case_name):
         assert row["status"] == "converged" and row["kkt_residual"] <= 1e-10, row
 
 
+@pytest.mark.slow          # 3 s: three 3D levels meshed
 def test_3d_level_sizes_follow_the_red_refinement_recurrence():
     """V' = V + E, T' = 8 T (budget), checked on the meshes of the curved case (whose refinement
     moves new vertices onto the circle: the counts do not change)."""
@@ -131,9 +132,9 @@ def test_3d_level_sizes_follow_the_red_refinement_recurrence():
 SCALAR_3D = [name for name in THREE_D if registered_cases()[name].physics.name == "scalar"]
 
 
-# transition-line-3d in `make test`; the curved transition-circle-3d and smooth-3d in `make test-full`
-@pytest.mark.parametrize("case_name", [n if n == "transition-line-3d" else pytest.param(n, marks=pytest.mark.slow)
-                                       for n in SCALAR_3D])
+# 3-4 s each, in `make test-full`
+@pytest.mark.slow
+@pytest.mark.parametrize("case_name", SCALAR_3D)
 def test_3d_errors_agree_with_twice_the_gauss_order(case_name):
     """In 3D every element gets the Gauss rule (quadrature.py): order 6 against order 12 on
     level 1, nodal's u_h, to 1e-3 relative in every norm."""

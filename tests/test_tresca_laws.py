@@ -83,7 +83,7 @@ def test_disc_projection_is_radial_and_1d_projection_is_a_clip(rng):
     np.testing.assert_allclose(ball_projection(y, s, ball_branch(y, s))[:, 0], np.clip(y[:, 0], -s, s), rtol=1e-15)
 
 
-@pytest.mark.parametrize("case_name, level", [(ELASTIC_2D, 1), (ELASTIC_3D, 0)])
+@pytest.mark.parametrize("case_name, level", [(ELASTIC_2D, 1), pytest.param(ELASTIC_3D, 0, marks=pytest.mark.slow)])     # 3D: 2 s each
 @pytest.mark.parametrize("order", [1, 2])
 def test_slip_rows_give_ngsolve_tangential_displacement_and_traction(case_name, level, order, rng):
     case, problem = load_case(case_name), problem_at(case_name, level, order)
@@ -103,7 +103,7 @@ def test_slip_rows_give_ngsolve_tangential_displacement_and_traction(case_name, 
     np.testing.assert_allclose(gram, np.broadcast_to(np.eye(d), gram.shape), atol=1e-14)
 
 
-@pytest.mark.parametrize("case_name, level", [("tresca-r32", 1), (ELASTIC_2D, 0), (ELASTIC_3D, 0)])
+@pytest.mark.parametrize("case_name, level", [("tresca-r32", 1), (ELASTIC_2D, 0), pytest.param(ELASTIC_3D, 0, marks=pytest.mark.slow)])
 @pytest.mark.parametrize("theta, symmetric", [(1.0, True), (0.0, False), (-1.0, False)])
 def test_system_tells_symmetry_and_affinity(case_name, level, theta, symmetric):
     case, problem = load_case(case_name), problem_at(case_name, level, 2)

@@ -160,6 +160,7 @@ def test_the_writer_can_keep_to_the_levels_it_is_given(tmp_path):
     assert [e.get("file") for e in entries] == ["omega_level2.vtu"]
 
 
+@pytest.mark.slow          # 2 s: a 3D study
 def test_the_3d_mean_writes_its_triangle_conditions_as_cell_data():
     """The 3D `mean` constrains triangle means, not midpoints: Gamma_C's file marks the
     triangles whose condition was active (cell data ``active``; on them the mean of u_h - alpha
