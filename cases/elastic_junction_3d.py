@@ -61,3 +61,7 @@ singular_lines = [((0.0, -1.0, 0.0), (0.0, 1.0, 0.0)), ((0.5, -1.0, 0.0), (0.5, 
 # fitted H1 rate by less than the contract's 0.01 (`run --levels 4` shows it), so the default
 # report stops P1 with P2.
 asymptotic_levels_p1 = 3
+
+# the default report runs one scalar and one elastic 3D case (transition-line-3d, elastic-transition-3d);
+# this one, 15-22 s of its study, in `make report-fine` and `report --case` (make report within its 3 minutes)
+report_profile = "fine"

@@ -33,3 +33,7 @@ v = IfPos(-x, -x * x * x, 0.0) - z * IfPos(x, x * x * x, 0.0) + z * z * cos(x + 
 f_2d = IfPos(-x, 6 * x, 0.0) + IfPos(x, 6 * x * z, 0.0) + (2 * z * z - 2) * cos(x + z) + 4 * z * sin(x + z)
 u = w * v
 f = w * f_2d - v
+
+# the default report runs one scalar and one elastic 3D case (transition-line-3d, elastic-transition-3d);
+# this one, 15-22 s of its study, in `make report-fine` and `report --case` (make report within its 3 minutes)
+report_profile = "fine"

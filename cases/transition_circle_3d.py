@@ -62,3 +62,7 @@ transition_curve = [[(radius * cos(2 * pi * k / 128), radius * sin(2 * pi * k / 
 # sizes of the tetrahedra the grading makes at the levels a study reaches
 singular_lines = [((radius * cos(2 * pi * k / 128), radius * sin(2 * pi * k / 128), 0.0),
                    (radius * cos(2 * pi * (k + 1) / 128), radius * sin(2 * pi * (k + 1) / 128), 0.0)) for k in range(128)]
+
+# the default report runs one scalar and one elastic 3D case (transition-line-3d, elastic-transition-3d);
+# this one, 15-22 s of its study, in `make report-fine` and `report --case` (make report within its 3 minutes)
+report_profile = "fine"
