@@ -19,6 +19,19 @@ ALL = CASES + ["oscillating-r34", "smooth-obstacle", "two-body-transition-r32"]
 REPORTED = {name: m for name, m in METHODS.items() if m.order in PROFILES["default"]["orders"]}
 
 
+def test_a_report_of_one_case_and_one_method_writes_its_rows_rates_and_page(tmp_path):
+    """The fast tier's report, end to end (the module's whole report, 45 s, is `make test-full`'s):
+    one case, nodal, two levels."""
+    html = make_report("default", tmp_path / "results", tmp_path / "report", ["transition-r32"], show_progress=False,
+                       levels=2, methods=("nodal",))
+    rows = pd.read_csv(tmp_path / "results" / "results.csv")
+    assert set(rows.method) == {"nodal"} and sorted(rows.level.unique()) == [0, 1], rows[["method", "level"]]
+    assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
+    assert (tmp_path / "results" / "rates.csv").exists()
+    page = html.read_text()
+    assert "transition-r32" in page and "nodal" in page
+
+
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
     root = tmp_path_factory.mktemp("study")
