@@ -31,6 +31,7 @@ from .method import (
     no_result_below,
     timer,
 )
+from .coulomb_cones import solve_coulomb_cone
 from .protocol import FunctionalCone, exact_level, solve_general_rows, solve_tresca
 
 
@@ -47,12 +48,15 @@ class BoundConstrained(Method):
     dimensions: tuple = (2, 3)
 
     def refusal(self, case) -> str | None:
-        """Also: Tresca's elastic slip in 3D is a 2-vector whose set is a disc, not two bounds."""
+        """Also: Tresca's (and Coulomb's) elastic slip in 3D is a 2-vector whose set is a disc, not two bounds."""
         if case.frictional and case.physics.rotated_frame and case.dimension == 3 and case.friction.name in self.friction:
-            return "its Tresca rows are bounds; the 3D elastic slip is a 2-vector in a disc (a contact law solves it)"
+            return f"its {case.friction.name.capitalize()} rows are bounds; the 3D elastic slip is a 2-vector in a disc " \
+                   "(a contact law solves it)"
         return super().refusal(case)
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
+        if case.friction.name == "coulomb":
+            return solve_coulomb_cone(case, problem, self.cone, carry, multilevel, phases, self.solver)
         if case.frictional:
             return solve_tresca(case, problem, lambda: friction_qp(case, problem, self.cone), carry, multilevel, phases,
                                 self.solver)
@@ -80,7 +84,7 @@ class CellMean(BoundConstrained):
     def refusal(self, case) -> str | None:
         """Also: Tresca on the 3D triangle means (general rows) is not implemented."""
         if case.frictional and case.dimension == 3 and case.friction.name in self.friction:
-            return "its 3D triangle means are general rows, on which Tresca friction is not implemented"
+            return f"its 3D triangle means are general rows, on which {case.friction.name.capitalize()} friction is not implemented"
         return super().refusal(case)
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
@@ -147,7 +151,7 @@ mean = CellMean(
     sharper_theory=drouet_hild_for(2),
     cone=ContactModel(edge_functional="edge-mean"),
     roles=frozenset({PAPER}),
-    friction=("frictionless", "tresca"),
+    friction=("frictionless", "tresca", "coulomb"),
 )
 
 # `mean-edges`: the counterexample -- K_h extended to 3D edge by edge: v_h >= 0 at the vertices
@@ -180,7 +184,7 @@ nodal = BoundConstrained(
     sharper_theory=drouet_hild_for(2),
     cone=ContactModel(edge_functional="midpoint"),
     roles=frozenset({PAPER, REFERENCE, MESH_STUDY, DEGREES}),
-    friction=("frictionless", "tresca"),
+    friction=("frictionless", "tresca", "coulomb"),
 )
 
 # `p1`: conforming P1 with v_h(x_i) >= 0 at the vertices of Gamma_C -- the classical linear
@@ -220,7 +224,7 @@ p1 = BoundConstrained(
     sharper_theory=drouet_hild_for(1),
     cone=ContactModel(edge_functional=None),
     roles=frozenset({BASELINE, MESH_STUDY, DEGREES}),
-    friction=("frictionless", "tresca"),
+    friction=("frictionless", "tresca", "coulomb"),
 )
 
 
