@@ -8,7 +8,7 @@ the friction variables), so that both sets of rows are bounds on z:
     functionals), and the terms c_i |z[F_i] - zprev_i| (the slip at the same nodes).
 
 Row i of F and row i of C sit at the same node (Gamma_C's vertices, then its edges, in the
-order of ``problem.vertex_dofs`` and ``problem.edge_dofs``). The threshold from the multiplier:
+order of ``fem.assembly.DiscreteProblem``'s vertex_dofs and edge_dofs). The threshold from the multiplier:
 Tresca's weight is c_i = w_i s_i (w_i the friction quadrature weight, ``friction.friction_weights``);
 Coulomb's s = mu_F p, and the cone's multiplier at a node is its nodal normal reaction
 lambda_n,i = int p phi_i, which the same quadrature reads as w_i p_i (Simpson's weights for the

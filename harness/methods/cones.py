@@ -18,6 +18,7 @@ from ..fem.friction import friction_qp
 from ..fem.nested import start_from
 from ..fem.polynomials import lobatto_points
 from ..solvers.bound_constraints import solve_contact_qp
+from .coulomb_cones import solve_coulomb_cone
 from .method import (
     BASELINE,
     DEGREES,
@@ -31,7 +32,6 @@ from .method import (
     no_result_below,
     timer,
 )
-from .coulomb_cones import solve_coulomb_cone
 from .protocol import FunctionalCone, exact_level, solve_general_rows, solve_tresca
 
 
