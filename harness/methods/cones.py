@@ -211,8 +211,14 @@ P1_REFERENCE = "Drouet & Hild 2015 (SINUM 53); Ben Belgacem 2000 (SINUM 37)"
 P1_TRESCA = "P1 for Tresca: the best approximation's h^min(ν−1, 1) (Chouly 2014, Dione 2019: abstracts only)"
 
 
+# P1 for Coulomb: no theorem (the discrete problem's uniqueness holds for small mu_F only); the
+# best approximation's rate, conjectured, as for the P2 cones (``FRICTION_CONJECTURE``)
+P1_COULOMB = "P1 for Coulomb: the best approximation's h^min(ν−1, 1), conjectured (no theorem for Coulomb)"
+
+
 def p1_expected(case) -> Expectation:
-    return capped_expectation(case.nu, 1.0, P1_TRESCA if case.frictional else P1_REFERENCE)
+    cited = {"tresca": P1_TRESCA, "coulomb": P1_COULOMB}.get(case.friction.name, P1_REFERENCE)
+    return capped_expectation(case.nu, 1.0, cited)
 
 
 p1 = BoundConstrained(
