@@ -162,6 +162,8 @@ def test_the_cones_converge_on_elastic_coulomb_at_the_expected_rate(method):
     rows = harness.run("elastic-coulomb-r32", [method], levels=4, show_progress=False).sort_values("level")
     assert (rows.status == "converged").all() and (rows.kkt_residual <= TOLERANCE).all()
     assert (rows.solver_iterations > 2).all()             # the fixed point iterated on every level
+    measured = rows[["err_h1", "qoi_force", "qoi_tangential_force", "qoi_slip_measure", "qoi_stick_slip_point"]]
+    assert np.isfinite(measured.to_numpy(float)).all()    # the row's errors and quantities
     rate = fit_rate(rows.h.to_numpy(), rows.err_h1.to_numpy())[0]
     assert verdict(rate, load_case("elastic-coulomb-r32").expected_rate) == "meets", rate
 
