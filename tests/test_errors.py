@@ -133,8 +133,8 @@ LOAD_CASES = [name if name in ROUGH_LOADS else pytest.param(name, marks=pytest.m
 
 def load_check_method(case):
     """``nodal`` solves ``discretise(case)`` of every exact case (a two-body case's too, as one
-    problem on the union mesh); Coulomb's law only Nitsche and penalty do: there the case's
-    reference method."""
+    problem on the union mesh); on a Coulomb case the case's reference method (a contact law's,
+    ``measure.reference.reference_method``)."""
     return reference_method(case) if case.friction.name == "coulomb" else METHODS["nodal"]
 
 

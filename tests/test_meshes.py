@@ -297,7 +297,7 @@ EXACT_2D = sorted(name for name, case in registered_cases(2).items() if case.bod
                   and (not case.frictional or case.report_profile == "default"))
 
 
-# the cone methods, or on a Coulomb case (which no cone discretises) Nitsche P2 and P1: measured on
+# the cone methods, or on a Coulomb case Nitsche P2 and P1 (the cones' Coulomb solves not measured here): measured on
 # elastic-coulomb-r32, 5 adaptive levels, 5.7-6.4 (P2) and 2.4-3.4 (P1)
 EFFECTIVITY_RUNS = [(name, method) for name in EXACT_2D
                     for method in (("nitsche", "nitsche-p1") if registered_cases()[name].friction.name == "coulomb"

@@ -18,6 +18,7 @@ from ..fem.friction import friction_qp
 from ..fem.nested import start_from
 from ..fem.polynomials import lobatto_points
 from ..solvers.bound_constraints import solve_contact_qp
+from .coulomb_cones import solve_coulomb_cone
 from .method import (
     BASELINE,
     DEGREES,
@@ -47,12 +48,15 @@ class BoundConstrained(Method):
     dimensions: tuple = (2, 3)
 
     def refusal(self, case) -> str | None:
-        """Also: Tresca's elastic slip in 3D is a 2-vector whose set is a disc, not two bounds."""
+        """Also: Tresca's (and Coulomb's) elastic slip in 3D is a 2-vector whose set is a disc, not two bounds."""
         if case.frictional and case.physics.rotated_frame and case.dimension == 3 and case.friction.name in self.friction:
-            return "its Tresca rows are bounds; the 3D elastic slip is a 2-vector in a disc (a contact law solves it)"
+            return f"its {case.friction.name.capitalize()} rows are bounds; the 3D elastic slip is a 2-vector in a disc " \
+                   "(a contact law solves it)"
         return super().refusal(case)
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
+        if case.friction.name == "coulomb":
+            return solve_coulomb_cone(case, problem, self.cone, carry, multilevel, phases, self.solver)
         if case.frictional:
             return solve_tresca(case, problem, lambda: friction_qp(case, problem, self.cone), carry, multilevel, phases,
                                 self.solver)
@@ -80,7 +84,7 @@ class CellMean(BoundConstrained):
     def refusal(self, case) -> str | None:
         """Also: Tresca on the 3D triangle means (general rows) is not implemented."""
         if case.frictional and case.dimension == 3 and case.friction.name in self.friction:
-            return "its 3D triangle means are general rows, on which Tresca friction is not implemented"
+            return f"its 3D triangle means are general rows, on which {case.friction.name.capitalize()} friction is not implemented"
         return super().refusal(case)
 
     def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
@@ -147,7 +151,7 @@ mean = CellMean(
     sharper_theory=drouet_hild_for(2),
     cone=ContactModel(edge_functional="edge-mean"),
     roles=frozenset({PAPER}),
-    friction=("frictionless", "tresca"),
+    friction=("frictionless", "tresca", "coulomb"),
 )
 
 # `mean-edges`: the counterexample -- K_h extended to 3D edge by edge: v_h >= 0 at the vertices
@@ -180,7 +184,7 @@ nodal = BoundConstrained(
     sharper_theory=drouet_hild_for(2),
     cone=ContactModel(edge_functional="midpoint"),
     roles=frozenset({PAPER, REFERENCE, MESH_STUDY, DEGREES}),
-    friction=("frictionless", "tresca"),
+    friction=("frictionless", "tresca", "coulomb"),
 )
 
 # `p1`: conforming P1 with v_h(x_i) >= 0 at the vertices of Gamma_C -- the classical linear
@@ -207,8 +211,14 @@ P1_REFERENCE = "Drouet & Hild 2015 (SINUM 53); Ben Belgacem 2000 (SINUM 37)"
 P1_TRESCA = "P1 for Tresca: the best approximation's h^min(ν−1, 1) (Chouly 2014, Dione 2019: abstracts only)"
 
 
+# P1 for Coulomb: no theorem (the discrete problem's uniqueness holds for small mu_F only); the
+# best approximation's rate, conjectured, as for the P2 cones (``FRICTION_CONJECTURE``)
+P1_COULOMB = "P1 for Coulomb: the best approximation's h^min(ν−1, 1), conjectured (no theorem for Coulomb)"
+
+
 def p1_expected(case) -> Expectation:
-    return capped_expectation(case.nu, 1.0, P1_TRESCA if case.frictional else P1_REFERENCE)
+    cited = {"tresca": P1_TRESCA, "coulomb": P1_COULOMB}.get(case.friction.name, P1_REFERENCE)
+    return capped_expectation(case.nu, 1.0, cited)
 
 
 p1 = BoundConstrained(
@@ -220,7 +230,7 @@ p1 = BoundConstrained(
     sharper_theory=drouet_hild_for(1),
     cone=ContactModel(edge_functional=None),
     roles=frozenset({BASELINE, MESH_STUDY, DEGREES}),
-    friction=("frictionless", "tresca"),
+    friction=("frictionless", "tresca", "coulomb"),
 )
 
 
