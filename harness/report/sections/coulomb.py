@@ -20,7 +20,9 @@ COULOMB_NOTE = (
     "σ_t = −μ_F p w_t/|w_t| where the slip w_t (of the last load step) is not zero. Nitsche's method (the θ family) "
     "and the penalty method carry it as one law of both channels, p_t = P_{μ_F p_n}(σ_t − w_t/γ); the Jacobian is "
     "not symmetric for any θ, and each Newton step is solved by GMRES with the harness's multigrid V-cycle, every "
-    "load step to a residual ≤ 1e-10. The cones (the paper's nodal and mean models) do not discretise Coulomb yet. "
+    "load step to a residual ≤ 1e-10. The cones (the paper's nodal and mean models, P1) carry Tresca's rows with the threshold "
+    "from their own contact multiplier, s_i = μ_F λ_n,i, solved by a fixed point over unilateral Tresca problems "
+    "(Signorini and Tresca rows in one active set iteration). "
     "No theorem gives a rate: each case declares the best approximation's h^{min(ν−1, k)} for its regularity, the "
     "Tresca rate of the same ν, as a conjecture. The stick–slip exponent of Coulomb is not Tresca's 3/2 but "
     "3/2 + arctan(μ_F(κ−1)/(κ+1))/π (the slip side's shear follows the pressure), so ν moves with μ_F.")
