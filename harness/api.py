@@ -266,7 +266,7 @@ def coulomb_axis(case="elastic-coulomb-r32", coefficients=(0.1, 0.3, 0.5, 1.0, 2
     file): for each mu_F the case's data with ``Coulomb(mu_F)``, solved to ``level`` by
     ``method``'s coupled semismooth Newton method (nested, GMRES with multigrid) and, on that
     level from the same start, by the fixed point over Tresca problems (``method`` default: the
-    case's reference method, Nitsche's P2 law on a Coulomb case). One row per mu_F: each
+    first P2 contact law of the role reference, Nitsche's: ``study.planning.coulomb_axis.law_method``). One row per mu_F: each
     solver's status, iterations and residual, the stick/slip/separated Gauss points and the
     largest relative difference of the two solutions (two converged solvers that disagree: two
     discrete solutions)."""

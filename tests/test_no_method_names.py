@@ -79,7 +79,7 @@ def test_no_method_or_group_name_is_written_in_the_code_outside_methods(path):
 def test_the_registered_methods_declare_the_roles_the_report_gave_them_by_name():
     assert role_names(PAPER) == ["mean", "nodal"] == list(GROUPS[PAPER])
     assert role_names(BASELINE) == ["p1"]
-    # nitsche: the reference of the Coulomb cases (a contact law's, ``measure.reference.reference_method``)
+    # nitsche: the reference of the cases nodal does not discretise (3D Coulomb: ``measure.reference.reference_method``)
     assert REFERENCE_METHOD == "nodal" and role_names(REFERENCE) == ["nodal", "mortar-nodal", "nitsche"]
     assert role_names(SWEPT) == ["nitsche", "penalty"]
     assert role_names(MESH_STUDY) == ["nodal", "p1", "mortar-nodal", "nitsche", "mortar-p1"]

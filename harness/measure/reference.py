@@ -225,10 +225,6 @@ def reference_method(case=None, methods=()):
     residual <= 1e-10 like every solve, and discretising every physics and dimension of the
     harness."""
     for method in with_role(REFERENCE, [*methods, *METHODS.values()]):
-        # a Coulomb case's reference is a contact law's (one with a ``system``): the coefficient
-        # axis (``study.planning.coulomb_axis``) cross-checks its Newton solve by the fixed point
-        if case is not None and case.friction.name == "coulomb" and not hasattr(method, "system"):
-            continue
         if method.order == 2 and (method.supports(case) if case is not None else 1 in method.bodies):
             return method
     raise ValueError(f"no P2 method declares the role {REFERENCE!r} for {getattr(case, 'name', 'one body')}")

@@ -85,8 +85,8 @@ method = ContactLawMethod(
     reference="Chouly & Hild 2013; Chouly, Hild & Renard 2015",
     expected=expected_for(2),
     law=Nitsche(gamma0=GAMMA0, theta=1.0),
-    # the reference of the Coulomb cases (a contact law's: ``measure.reference.reference_method``
-    # passes over the cones there), elsewhere after the nodal cone
+    # the reference of the cases the nodal cone does not discretise (3D Coulomb's): the first
+    # method of the role that discretises a case is its reference (``measure.reference.reference_method``)
     roles=frozenset({SWEPT, MESH_STUDY, DEGREES, REFERENCE_ROLE}),
     friction=("frictionless", "tresca", "coulomb"),
 )

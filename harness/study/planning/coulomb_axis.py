@@ -26,11 +26,10 @@ def coefficient_axis(coefficients=COEFFICIENTS, level: int = AXIS_LEVEL, case="e
                      method_name: str | None = None, progress=print) -> pd.DataFrame:
     """The solvers' behaviour as mu_F grows (the module's note), one row per coefficient, on
     ``case`` (a Case, or a registered name or file) with the method ``method_name`` (default:
-    the case's reference method, ``measure.reference.reference_method``: Nitsche's P2 law)."""
-    from ...measure.reference import reference_method
+    ``law_method``)."""
     from ...problem.case import Case, load_case
     case = case if isinstance(case, Case) else load_case(case)
-    method_name = method_name or reference_method(case).name
+    method_name = method_name or law_method(case).name
     rows = []
     for mu in coefficients:
         rows.append(_axis_row(mu, level, case, method_name))
@@ -38,6 +37,18 @@ def coefficient_axis(coefficients=COEFFICIENTS, level: int = AXIS_LEVEL, case="e
         progress(f"coulomb mu_F {mu:g}: Newton {row['newton_status']} ({row['newton_steps']} steps), fixed point "
                  f"{row['fixed_point_status']} ({row['tresca_problems']} Tresca problems), difference {row['difference']:.1e}")
     return pd.DataFrame(rows, columns=AXIS_COLUMNS)
+
+
+def law_method(case):
+    """The first method of the role REFERENCE that discretises ``case`` in P2 by a contact law
+    (one with a ``system``: its Newton method's, which the fixed point reuses): Nitsche's."""
+    from ...methods import METHODS, ContactLawMethod
+    from ...methods.method import REFERENCE
+    from ...methods.registry import with_role
+    for method in with_role(REFERENCE, list(METHODS.values())):
+        if isinstance(method, ContactLawMethod) and method.order == 2 and method.supports(case):
+            return method
+    raise ValueError(f"no P2 contact law of the role {REFERENCE!r} discretises {case.name}")
 
 
 def _axis_row(mu: float, level: int, case, method_name: str) -> dict:
