@@ -186,6 +186,7 @@ def test_results_of_harness_0_1_are_refused_in_one_line(tmp_path):
     assert not (tmp_path / "rates.csv").exists()
 
 
+@pytest.mark.slow          # 3.5 s: a sweep in a fresh process; the sweep's planning is test_profiles'
 def test_sweep_writes_one_row_per_value_and_method_beside_the_reference(tmp_path):
     done = harness("sweep", "--case", "transition-r32", "--method", "nitsche:theta=-1", "--method", "penalty-p1",
                    "--values", "0.01,0.1", "--level", "1", "--out", str(tmp_path), "--quiet")

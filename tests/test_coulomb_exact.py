@@ -165,7 +165,7 @@ def test_the_case_modules_are_the_sympy_fields(case_name):
     assert np.allclose(values, expected, rtol=1e-12, atol=1e-13)
 
 
-@pytest.mark.parametrize("case_name", ["elastic_coulomb_r32", "elastic_coulomb_3d"])
+@pytest.mark.parametrize("case_name", ["elastic_coulomb_r32", pytest.param("elastic_coulomb_3d", marks=pytest.mark.slow)])     # 3D: 2.7 s
 def test_the_coulomb_cases_validate(case_name):
     from pathlib import Path
 

@@ -11,7 +11,7 @@ from harness.study.chain import PROFILES
 from harness.study.planning.degree_study import degree_config
 
 
-@pytest.mark.parametrize("profile", list(PROFILES))
+@pytest.mark.parametrize("profile", [p if p == "default" else pytest.param(p, marks=pytest.mark.slow) for p in PROFILES])     # fine: 2.3 s
 def test_every_profile_plans_its_studies_sweeps_and_mesh_study(profile, tmp_path, monkeypatch):
     monkeypatch.setattr(cache, "validate_case", lambda case: None)        # the cases' own checks: tests/test_validation.py
     methods = methods_named(["all"])
