@@ -162,3 +162,21 @@ def test_a_history_changes_coulomb_but_not_frictionless_contact():
 
 if __name__ == "__main__":
     sys.exit(pytest.main([__file__, "-q"]))
+
+
+def test_the_estimators_complementarity_on_a_history_takes_the_steps_slip():
+    """Coulomb's law is a law of slip rates: on a load history the estimator's friction
+    complementarity (s |w_t| + lambda_t . w_t)_+ takes the last step's slip w_t = u_t - u_t^prev.
+    With the step before equal to u_h itself the slip is 0 and the term vanishes exactly; with
+    the total u_t it does not."""
+    from harness.measure.estimator import ResidualEstimator
+    case = load_case("elastic-coulomb-r32")
+    problem, multilevel = problem_with_hierarchy("elastic-coulomb-r32", 1)
+    u = get_method("nitsche").solve(case, problem, None, multilevel).u
+    estimator = ResidualEstimator(case, problem)
+    gfu = problem.gridfunction(u)
+    lam = estimator.T_contact @ estimator.pressure.coefficients(u)
+    total = estimator.friction.terms(lam, u, gfu)["complementarity"]
+    step = estimator.friction.terms(lam, u, gfu, before=problem.gridfunction(u))["complementarity"]
+    assert np.abs(total).max() > 0 and np.abs(step).max() == 0.0
+    assert np.isfinite(estimator.indicators(u, previous=0.5 * u)).all()

@@ -238,8 +238,9 @@ class ResidualEstimator:
         faces = problem.trace.faces
         self.element_of_edge = problem.trace.volumes if faces is None else faces.volumes
 
-    def indicators(self, u: np.ndarray) -> np.ndarray:
-        """eta_T^2 for every element of the mesh."""
+    def indicators(self, u: np.ndarray, previous: np.ndarray | None = None) -> np.ndarray:
+        """eta_T^2 for every element of the mesh; ``previous``: u_h at the end of the load step
+        before (a friction case's slip is the step's, ``friction_terms``)."""
         mesh, case, terms = self.problem.mesh, self.case, self.terms
         gfu = self.problem.gridfunction(u)
         eta2 = terms.volume_and_jumps(gfu, self.problem.order, case.physics)
@@ -251,10 +252,10 @@ class ResidualEstimator:
         neumann = h * terms.neumann * ngs.InnerProduct(residual, residual) * \
             ngs.dx(element_boundary=True, bonus_intorder=2, definedonelements=terms.along_neumann)
         eta2 += ngs.Integrate(neumann, mesh, element_wise=True).NumPy()
-        np.add.at(eta2, self.element_of_edge, self.contact_terms(u, gfu))
+        np.add.at(eta2, self.element_of_edge, self.contact_terms(u, gfu, previous))
         return np.maximum(eta2, 0.0)
 
-    def contact_terms(self, u: np.ndarray, gfu: ngs.GridFunction) -> np.ndarray:
+    def contact_terms(self, u: np.ndarray, gfu: ngs.GridFunction, previous: np.ndarray | None = None) -> np.ndarray:
         """The Gamma_C terms of each contact edge (``problem.trace``'s order; 3D: each triangle of
         ``problem.trace.faces``): those of the flux (``flux_density``) and of the gap
         (``gap_density``). The coefficients of lambda_h stay in ``pressure_coefficients`` (the
@@ -262,7 +263,8 @@ class ResidualEstimator:
         self.pressure_coefficients = self.pressure.coefficients(u)
         lam_h = self.T_contact @ self.pressure_coefficients
         if self.friction is not None:
-            density = self.friction.density(lam_h, u, gfu)
+            before = None if previous is None else self.problem.gridfunction(previous)
+            density = self.friction.density(lam_h, u, gfu, before)
         else:
             density = self.flux_density(lam_h, gfu) + self.gap_density(lam_h, u)
         q = self.q

@@ -22,8 +22,7 @@ discrete friction force (``FrictionTerms`` says how it is made):
 Coulomb (``problem.friction.Coulomb``): the elastic terms with s = mu_F [lambda_h]_+ and, for
 the unilateral normal condition, the Signorini estimator's penetration, tension and
 complementarity in place of the bilateral residual. On a load history the complementarity
-takes the total u_t, not the last step's slip (the estimator sees u_h alone): it is then not a
-residual of the step's law, a known limit.
+takes the last step's slip, u_h,t less the step before's (the law of that step).
 
 Every term vanishes at the exact solution: |lambda| <= s makes s|u| + lambda u >= 0 with
 equality exactly where lambda = -s sign(u) or u = 0, so its positive part is zero there, and the
@@ -116,9 +115,11 @@ class FrictionTerms:
         normals = self.q.normals
         return (T @ mass.solve(rows @ u - b))[:, None] * np.stack([-normals[:, 1], normals[:, 0]], axis=-1)
 
-    def terms(self, lam_h: np.ndarray, u: np.ndarray, gfu) -> dict:
+    def terms(self, lam_h: np.ndarray, u: np.ndarray, gfu, before=None) -> dict:
         """The densities of ``scalar_density`` or ``elastic_density`` at the contact points, of
-        the solution u (its GridFunction ``gfu``) and its discrete force ``lam_h`` there."""
+        the solution u (its GridFunction ``gfu``) and its discrete force ``lam_h`` there;
+        ``before``: the GridFunction of the load step before on a history, whose tangential
+        displacement the step's slip is measured from (Coulomb's law is a law of slip rates)."""
         q, physics, mesh = self.q, self.case.physics, self.problem.mesh
         gradients = evaluate(ngs.grad(gfu), mesh, q.points).reshape(len(q.h), physics.components, -1)
         flux = physics.flux_array(gradients)
@@ -128,10 +129,12 @@ class FrictionTerms:
         traction = np.einsum("qij,qj->qi", flux, q.normals) - self.load
         traction_t = traction - (traction * q.normals).sum(axis=-1)[:, None] * q.normals
         values = evaluate(gfu, mesh, q.points).reshape(q.normals.shape)
+        if before is not None:
+            values = values - evaluate(before, mesh, q.points).reshape(q.normals.shape)
         u_t = values - (values * q.normals).sum(axis=-1)[:, None] * q.normals
         s = self.case.friction.coefficient * np.maximum(lam_h, 0.0) if self.coulomb else self.s
         return elastic_density(lam_h, force, q.T @ u - self.obstacle, self.friction_force(u, traction_t), traction_t,
                                u_t, s, q.h, self.complementarity, unilateral=self.coulomb)
 
-    def density(self, lam_h: np.ndarray, u: np.ndarray, gfu) -> np.ndarray:
-        return sum(self.terms(lam_h, u, gfu).values())
+    def density(self, lam_h: np.ndarray, u: np.ndarray, gfu, before=None) -> np.ndarray:
+        return sum(self.terms(lam_h, u, gfu, before).values())

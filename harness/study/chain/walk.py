@@ -219,7 +219,10 @@ class ChainWalk:
         indicators, clock = None, time.perf_counter()
         if studied and method.order in level.estimators:
             with self.phases("estimate"):
-                indicators = level.estimators[method.order].indicators(solve.u)
+                estimator = level.estimators[method.order]
+                # a load history's last step: its slip is u_h less the step before's (one body only)
+                indicators = (estimator.indicators(solve.u) if solve.previous is None
+                              else estimator.indicators(solve.u, previous=solve.previous))
         estimate_seconds = time.perf_counter() - clock + level.estimator_seconds.get(method.order, 0.0)
         self.discretisation.observe(indicators)
         if studied:
