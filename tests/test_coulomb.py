@@ -180,3 +180,16 @@ def test_the_estimators_complementarity_on_a_history_takes_the_steps_slip():
     step = estimator.friction.terms(lam, u, gfu, before=problem.gridfunction(u))["complementarity"]
     assert np.abs(total).max() > 0 and np.abs(step).max() == 0.0
     assert np.isfinite(estimator.indicators(u, previous=0.5 * u)).all()
+
+
+@pytest.mark.slow          # four fresh processes: 8 s
+def test_the_coulomb_bench_times_every_p2_method_and_its_goals_read_its_rows():
+    """`bench --only coulomb` on a small level: one row per registered P2 method that declares
+    Coulomb (the laws and the cones), each exact; the goals say the cones' ratios beside the
+    judged Nitsche one."""
+    from harness.bench.coulomb import coulomb_goals, coulomb_methods, run_coulomb_bench
+    frame = run_coulomb_bench(level=2, progress=lambda *a: None)
+    assert list(frame.method) == list(coulomb_methods()) and {"nodal", "mean", "nitsche", "penalty"} <= set(frame.method)
+    assert (frame.kkt_residual <= 1e-10).all() and (frame.iterations >= 1).all() and (frame.ratio_nested > 0).all()
+    (judged, passed, text), (residual, exact, _) = coulomb_goals(frame)
+    assert exact and not passed and "nodal" in text       # level 2 is far below 1e6 dofs: the goal is not met there
