@@ -1,0 +1,173 @@
+"""Two-body Coulomb friction by the dual mortar method (docs: the design note's steps 2-3): the
+tangential jump's dual projection as QP variables (``fem.two_body.dual_bound_qp(...,
+tangential=True)``), the frozen-threshold problem against Clarabel, the Coulomb fixed point of the
+one-body cones (``solvers.coulomb_cones``) on the two-body QP row by row, and mu_F -> 0.
+
+The data: two-body-elastic-transition's pair refined once (non-matching, 2:3 on Gamma_C); step 1
+the case's own data (frictionless in the limit), step 2 the upper body's Dirichlet values moved by
+XI along x (the lower body's kept), which shears the interface: a mirror pair with equal data
+never slips. At XI = 1 (the case's displacements reach 3) the contact nodes both stick and slip."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from conftest import clarabel_unilateral_tresca, trace_values
+
+from harness.fem.assembly import discretise
+from harness.fem.mortar import mortar_coupling
+from harness.fem.two_body import TwoBodyProblem, dual_bound_qp
+from harness.mesh.levels import coarse_mesh
+from harness.problem.bodies import lower_body
+from harness.problem.case import registered_cases
+from harness.solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, ngsolve_matrix
+from harness.solvers.coulomb_cones import solve_coulomb_history
+from harness.solvers.unilateral_friction import solve_unilateral_friction
+
+TOLERANCE = 1e-10
+MU = 0.3
+XI = 1.0
+
+
+@pytest.fixture(scope="module", params=[1, 2], ids=["P1", "P2"])
+def pair(request):
+    """(problem, frictionless QP, QP with the tangential rows, the two steps' (b, lift))."""
+    case = registered_cases()["two-body-elastic-transition"]
+    meshes = [coarse_mesh(body) for body in (case, lower_body(case))]
+    for mesh in meshes:
+        mesh.Refine()
+    order = request.param
+    problem = TwoBodyProblem(*(discretise(body, mesh, order) for body, mesh in zip((case, lower_body(case)), meshes)))
+    coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint")
+    weight = 4.0 if order == 2 else None
+    plain, qp = (dual_bound_qp(problem, coupling, weight, tangential=flag) for flag in (False, True))
+    sheared = qp.lift.copy()
+    upper_x = np.flatnonzero(~problem.upper.free[: problem.upper.ndof // 2])
+    sheared[upper_x] += XI
+    return problem, plain, qp, [(qp.b, qp.lift), (qp.b, sheared)]
+
+
+def _system(qp):
+    return lambda b: FactorisedSystem(qp.K, ngsolve_matrix(qp.K), b)
+
+
+def _history(qp, steps, mu):
+    guess = lambda k, solved: (solved[-1].solution.active, solved[-1].solution.z) if solved else (None, None)  # noqa: E731
+    return solve_coulomb_history(qp, steps, mu, _system(qp), guess)
+
+
+def _frictionless(plain, lift):
+    solution = ActiveSetSolver(plain.K, plain.b, plain.free, plain.C, plain.alpha, lift=lift,
+                               system=_system(plain)(plain.b)).solve()
+    assert solution.status == "converged"
+    return plain.to_u(solution.z)
+
+
+def _with_tangential_trace(problem, u_n, u_t):
+    """Body-wise vectors holding u_n's normal trace and u_t's trace values in the tangential block."""
+    parts = []
+    for body, normal, tangential in zip(problem.bodies, u_n, u_t):
+        part, dofs = normal.copy(), np.concatenate([body.vertex_dofs, body.edge_dofs])
+        part[dofs - body.ndof // 2] = tangential[dofs]
+        parts.append(part)
+    return np.concatenate(parts)
+
+
+def test_tangential_rows_are_the_slave_node_values_of_the_jump_for_polynomials(pair):
+    """For traces in the slave's space on non-matching meshes, z[C] = c_1 + c_2 and
+    z[T] = t_1 - t_2 at the slave's nodes (biorthogonality, exact intersection integrals);
+    to_z inverts to_u; K = S^T diag(A_1, A_2) S (dense, level 1); the normal channel is the
+    frictionless QP's."""
+    problem, plain, qp, _ = pair
+    order = problem.order
+    p, q = (lambda x: 0.3 + x - 0.7 * x ** order), (lambda x: -1.1 + 0.5 * x + 0.2 * x ** order)
+    r, s = (lambda x: 0.2 - 0.4 * x + 0.9 * x ** order), (lambda x: 0.7 + 0.3 * x - 0.5 * x ** order)
+    u = _with_tangential_trace(problem, [trace_values(problem.upper, p), trace_values(problem.lower, q)],
+                               [trace_values(problem.upper, r), trace_values(problem.lower, s)])
+    z = qp.to_z(u)
+    trace = problem.upper.trace
+    nodes = trace.vertex_points[:, 0] if order == 1 else np.concatenate([trace.vertex_points[:, 0], trace.midpoints[:, 0]])
+    np.testing.assert_allclose(z[qp.C], p(nodes) + q(nodes), rtol=0, atol=1e-13)
+    np.testing.assert_allclose(z[qp.T], r(nodes) - s(nodes), rtol=0, atol=1e-13)
+    np.testing.assert_allclose(qp.to_u(z), u, rtol=0, atol=1e-13)
+    A = sp.block_diag(qp.blocks).toarray()
+    S = qp.S.toarray()
+    assert np.abs(qp.K.toarray() - S.T @ A @ S).max() <= 1e-14 * np.abs(A).max()
+    assert (np.abs(qp.R[qp.C] - plain.R[plain.C]).max() == 0) and np.array_equal(qp.alpha, plain.alpha)
+    assert qp.free[qp.T].all() and len(qp.T) == len(qp.C)
+
+
+def test_the_tangential_rows_are_refused_where_they_do_not_apply(pair):
+    problem, _, _, _ = pair
+    coupling = mortar_coupling(problem.upper, problem.lower, None, "dual", "midpoint")
+    if problem.order == 2:
+        with pytest.raises(ValueError, match="nodal edge variables"):
+            dual_bound_qp(problem, coupling, 6.0, tangential=True)
+
+
+def test_the_frozen_threshold_problem_matches_clarabel(pair):
+    """Unilateral contact with Tresca rows of weights c = mu_F p (the frictionless forces of
+    step 1) on the sheared step, the slip measured from step 1's z[T]: the active set solver of
+    the one-body cones (``solvers.unilateral_friction``) on the two-body QP = Clarabel (epigraph
+    form), z to 1e-7 relative, its KKT residual <= 1e-10, contact nodes in stick and in slip."""
+    problem, plain, qp, steps = pair
+    first = _history(qp, steps[:1], 0.0)[0].solution
+    m = len(qp.C)
+    c, reference = MU * np.maximum(first.multipliers[:m], 0.0), first.z[qp.T]
+    b, lift = steps[1]
+    solution = solve_unilateral_friction(qp.K, b, qp.free, qp.C, qp.alpha, qp.T, c, reference, lift, _system(qp)(b))
+    clarabel = clarabel_unilateral_tresca(qp.K.toarray(), b, qp.free, lift, qp.C, qp.alpha, qp.T, c, reference)
+    assert solution.status == "converged" and solution.kkt.residual <= TOLERANCE
+    assert np.abs(solution.z - clarabel).max() <= 1e-7 * np.abs(clarabel).max()
+    contact, slip = solution.active[:m], solution.active[m:2 * m] | solution.active[2 * m:]
+    assert (contact & (c > 0) & slip).any() and (contact & (c > 0) & ~slip).any()
+
+
+def _coulomb_violations(qp, mu, step, zprev) -> dict:
+    """The discrete Coulomb law at the slave's nodes (the design note, Section 2.1) in the forces
+    p = (K z - b)_C = D lambda_n and tau = (b - K z)_T = D lambda_t, each violation over the
+    largest force or over max |z|."""
+    m, z, multipliers = len(qp.C), step.solution.z, step.solution.multipliers
+    p, tau, slip = multipliers[:m], multipliers[m:], z[qp.T] - zprev
+    force, size = max(np.abs(p).max(), np.abs(tau).max()), np.abs(z).max()
+    gap, bound = z[qp.C] - qp.alpha, mu * np.maximum(p, 0.0)
+    slipping = np.abs(slip) > 0
+    inside = np.abs(tau) < bound - TOLERANCE * force
+    return {"unilateral": max(0.0, -gap.min()) / size,
+            "pressure": max(0.0, -p.min()) / force,
+            "complementarity": np.abs(p * gap).max() / (force * size),
+            "cone": np.maximum(np.abs(tau) - bound, 0.0).max() / force,
+            "slip at the bound": np.abs(np.abs(tau) - bound)[slipping].max(initial=0.0) / force,
+            "slip against the force": np.maximum(-tau * np.sign(slip), 0.0)[slipping].max(initial=0.0) / force,
+            "stick inside": np.abs(slip[inside]).max(initial=0.0) / size}
+
+
+def test_the_fixed_point_solves_the_discrete_coulomb_conditions_row_by_row(pair):
+    """Both steps (the second slipping from the first's z[T]): c = mu_F p reached (change
+    <= 1e-10) and every condition holds to 1e-10; on the sheared step some contact nodes stick
+    strictly inside the cone and some slip."""
+    problem, plain, qp, steps = pair
+    history = _history(qp, steps, MU)
+    assert [step.status for step in history] == ["converged", "converged"] and history[1].iterations > 2
+    zprev = np.zeros(len(qp.T))
+    for step in history:
+        violations = _coulomb_violations(qp, MU, step, zprev)
+        assert max(violations.values()) <= TOLERANCE, violations
+        zprev = step.solution.z[qp.T]
+    m, last = len(qp.C), history[1].solution
+    tau, bound = last.multipliers[m:], MU * np.maximum(last.multipliers[:m], 0.0)
+    slip = np.abs(last.z[qp.T] - history[0].solution.z[qp.T]) > 0
+    assert (slip & (bound > 0)).any() and ((np.abs(tau) < 0.9 * bound) & ~slip).any()
+
+
+def test_mu_to_zero_reproduces_the_frictionless_two_body_solution(pair):
+    """mu_F = 0: u = S z of both steps equals the frictionless mortar solution (no tangential
+    rows) to 1e-10 relative (the tangential variables are free: the same minimiser in other
+    variables); mu_F > 0 moves it by O(mu_F)."""
+    problem, plain, qp, steps = pair
+    frictionless = [_frictionless(plain, lift) for _, lift in steps]
+    for step, u in zip(_history(qp, steps, 0.0), frictionless):
+        assert step.iterations == 1
+        assert np.abs(qp.to_u(step.solution.z) - u).max() <= TOLERANCE * np.abs(u).max()
+    moved = [np.abs(qp.to_u(_history(qp, steps, mu)[1].solution.z) - frictionless[1]).max() for mu in (1e-3, 1e-4)]
+    assert 0 < moved[1] <= 0.11 * moved[0], moved
