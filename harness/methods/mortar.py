@@ -164,8 +164,8 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
         return qp.K, FactorisedSystem(qp.K, ngsolve_matrix(qp.K), qp.b, options.refactor_above), None
     # K = diag(A_1, A_2) + (K - A) on the bodies' own NGSolve matrices: not copied into one
     K_ngs = CoupledBlocks([body.A_ngs for body in problem.bodies], qp.K_interface)
-    E = mortar_injection(problem)
-    coupling = mortar_coupling_matrix(problem, qp.S_rows(qp.C), qp.C, E)
+    E = mortar_injection(problem, tangential=len(qp.T) > 0)
+    coupling = mortar_coupling_matrix(problem, qp.S_rows(qp.changed), qp.changed, E)
     # a contact condition on u itself (scalar): opening variables on every level
     # (``solvers.two_body_multigrid.OpeningLevels``); in a rotated frame (elastic): each body's P1 levels
     # (the slave's trace follows a master hat on the finest level only)
