@@ -9,6 +9,8 @@ XI along x (the lower body's kept), which shears the interface: a mirror pair wi
 never slips. At XI = 1 (the case's displacements reach 3) the contact nodes both stick and slip."""
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -19,7 +21,7 @@ from harness.fem.mortar import mortar_coupling
 from harness.fem.two_body import TwoBodyProblem, dual_bound_qp
 from harness.mesh.levels import UniformRefinement, coarse_mesh
 from harness.methods.mortar import bound_system
-from harness.problem.bodies import lower_body
+from harness.problem.bodies import MirrorBody, lower_body
 from harness.problem.case import registered_cases
 from harness.solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, ngsolve_matrix
 from harness.solvers.coulomb_cones import solve_coulomb_history
@@ -213,3 +215,23 @@ def test_coulomb_on_the_coupled_multigrid_solves_what_it_solves_on_cholesky(orde
         z = reference.solution.z
         assert np.abs(mine.solution.z - z).max() <= 1e-8 * np.abs(z).max()
     assert multigrid.work()["cg_iterations"] > 0
+
+
+@pytest.mark.parametrize("order", [1, 2])
+def test_a_matching_mirror_pair_with_equal_data_never_slips(order):
+    """The design note's Section 1: on matching meshes (the lower body meshed as the upper) the
+    case's mirror data give a zero tangential jump and zero friction force (each <= 1e-13
+    relative, measured 3e-16 and 2e-15) under mu_F = 0.3: Coulomb = frictionless to 1e-10."""
+    case = registered_cases()["two-body-elastic-transition"]
+    case = dataclasses.replace(case, second_body=MirrorBody(case.geometry, case.maxh))
+    meshes = [coarse_mesh(body) for body in (case, lower_body(case))]
+    for mesh in meshes:
+        mesh.Refine()
+    problem, plain, qp, steps = _qps(case, meshes, order)
+    step = _history(qp, steps[:1], MU)[0]
+    u = _frictionless(plain, steps[0][1])
+    m, z = len(qp.C), step.solution.z
+    assert step.status == "converged" and (step.c > 0).any()
+    assert np.abs(z[qp.T]).max() <= 1e-13 * np.abs(z).max()
+    assert np.abs(step.solution.multipliers[m:]).max() <= 1e-13 * step.solution.multipliers[:m].max()
+    assert np.abs(qp.to_u(z) - u).max() <= TOLERANCE * np.abs(u).max()
