@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 
+import ngsolve as ngs
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -20,9 +21,11 @@ from harness.fem.assembly import discretise
 from harness.fem.mortar import mortar_coupling
 from harness.fem.two_body import TwoBodyProblem, dual_bound_qp
 from harness.mesh.levels import UniformRefinement, coarse_mesh
-from harness.methods.mortar import bound_system
+from harness.methods import get_method
+from harness.methods.mortar import bound_system, two_body_steps
 from harness.problem.bodies import MirrorBody, lower_body
 from harness.problem.case import registered_cases
+from harness.problem.friction import Coulomb, LoadHistory, LoadStep
 from harness.solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, ngsolve_matrix
 from harness.solvers.coulomb_cones import solve_coulomb_history
 from harness.solvers.multigrid import Multilevel
@@ -235,3 +238,43 @@ def test_a_matching_mirror_pair_with_equal_data_never_slips(order):
     assert np.abs(z[qp.T]).max() <= 1e-13 * np.abs(z).max()
     assert np.abs(step.solution.multipliers[m:]).max() <= 1e-13 * step.solution.multipliers[:m].max()
     assert np.abs(qp.to_u(z) - u).max() <= TOLERANCE * np.abs(u).max()
+
+
+def _pressed_then_held(case):
+    """The case as a reference Coulomb case (no u: its u as the Dirichlet data) with a two-step
+    history, half the data first: the entry point's test only (the contract refuses Coulomb
+    between two bodies; a sheared lower body needs the note's step 1)."""
+    traction = case.physics.flux(case.grad_u, ngs.specialcf.normal(2))
+    return dataclasses.replace(case, u=None, dirichlet=case.u, neumann=traction, friction=Coulomb(MU),
+                               history=LoadHistory((LoadStep("normal", dirichlet=0.5 * case.u, neumann=0.5 * traction),
+                                                    LoadStep("final"))))
+
+
+@pytest.mark.parametrize("method_name", ["mortar-p1", "mortar-nodal"])
+def test_mortar_solve_coulomb_runs_the_load_history_on_cholesky_and_on_multigrid(method_name):
+    """``Mortar.solve_coulomb`` on level 2 of a two-step history: both steps converged (fields:
+    KKT <= 1e-10, two load steps, the first step's u kept), the last step's data the problem's
+    own, the first's half of them, u the fixed point's on these steps to 1e-10; on the coupled
+    multigrid (threshold 0, nested from level 1's carry) the same u to 1e-8 relative."""
+    method = get_method(method_name)
+    (problem, _, qp, _), multilevel = _pair_on_hierarchy(3, method.order)
+    case = _pressed_then_held(registered_cases()["two-body-elastic-transition"])
+    steps = two_body_steps(case, problem, qp)
+    assert np.array_equal(steps[1][0], qp.b) and np.array_equal(steps[1][1], qp.lift)
+    np.testing.assert_allclose(steps[0][1], 0.5 * qp.lift, rtol=0, atol=1e-12 * np.abs(qp.lift).max())
+    np.testing.assert_allclose(steps[0][0], 0.5 * qp.b, rtol=0, atol=1e-12 * np.abs(qp.b).max())
+    on_cholesky = method.solve(case, problem, None, None)
+    fields = on_cholesky.fields
+    assert fields.status == "converged" and fields.kkt_residual <= TOLERANCE and fields.load_steps == 2
+    assert on_cholesky.previous is not None and fields.active_constraints > 0
+    # the fixed point of every step on its own system (a factorised system kept across steps would
+    # hold the first step's pinned values: the same pin set at the second step's lift returned the
+    # first step's solution, measured 1.5 max |u| off)
+    direct = qp.to_u(_history(qp, steps, MU)[-1].solution.z)
+    assert np.abs(on_cholesky.u - direct).max() <= TOLERANCE * np.abs(direct).max()
+    (coarse, *_), _ = _pair_on_hierarchy(2, method.order)
+    carry = method.solve(case, coarse, None, None).carry
+    multigrid = dataclasses.replace(method, solver=dataclasses.replace(method.solver, mortar_multigrid_from=0))
+    on_multigrid = multigrid.solve(case, problem, carry, multilevel)
+    assert on_multigrid.fields.status == "converged" and on_multigrid.fields.kkt_residual <= TOLERANCE
+    assert np.abs(on_multigrid.u - on_cholesky.u).max() <= 1e-8 * np.abs(on_cholesky.u).max()
