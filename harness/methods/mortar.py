@@ -7,6 +7,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import partial
+from typing import Callable
 
 import numpy as np
 import scipy.sparse as sp
@@ -17,7 +18,7 @@ from ..fem.mortar import mortar_coupling
 from ..fem.nested import friction_prediction, mortar_prediction, p1_values
 from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
 from ..problem.bodies import lower_body
-from ..solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix
+from ..solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix, row_norm
 from ..solvers.coulomb_cones import solve_coulomb_history
 from ..solvers.friction import solve_friction
 from ..solvers.general_constraints import GeneralConstraintSolver
@@ -153,16 +154,19 @@ class Mortar(Method):
         with timed("setup"):
             coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint")
             qp = dual_bound_qp(problem, coupling, self.contact_weight(problem.order), tangential=True)
-            _, system, start = bound_system(qp, problem, carry, multilevel, self.solver)
+            K, system, start = bound_system(qp, problem, carry, multilevel, self.solver)
+            # on the multigrid K is the coupled operator: the scipy K is never made
+            rows = CoulombRows(K, qp.free, qp.C, qp.alpha, qp.T, qp.thresholds)
+            K_norm = K.row_norm(qp.free) if hasattr(K, "row_norm") else row_norm(K, qp.free)
             steps, points = two_body_steps(case, problem, qp), row_points(problem)
             m = len(qp.C)
             # the coarser level's contact status, no slip predicted; later steps from the step before
             contact = mortar_prediction(carry, points, len(problem.upper.trace.vertex_points))
             first = None if contact is None else np.concatenate([contact, np.zeros(2 * m, bool)])
         with timed("solve"):
-            history = solve_coulomb_history(qp, steps, case.friction.coefficient, partial(step_system, system, self.solver),
+            history = solve_coulomb_history(rows, steps, case.friction.coefficient, partial(step_system, system, self.solver),
                                             lambda k, solved: (solved[-1].solution.active, solved[-1].solution.z) if solved
-                                            else (first, start), self.solver)
+                                            else (first, start), self.solver, K_norm)
         final = history[-1].solution
         u = qp.to_u(final.z)
         pressure = contact_pressure(problem.upper, final.multipliers[:m])
@@ -179,6 +183,20 @@ class Mortar(Method):
                                                                  active=final.active[:m],
                                                                  vertex_rows=len(problem.upper.trace.vertex_points)),
                           previous=previous)
+
+
+@dataclass(frozen=True)
+class CoulombRows:
+    """A dual bound QP with its tangential rows as ``solvers.coulomb_cones.solve_coulomb_history``
+    reads it (K, free, C, alpha, F, thresholds), K a scipy matrix or the coupled operator
+    (``solvers.two_body_operator.CoupledBlocks``)."""
+
+    K: object
+    free: np.ndarray
+    C: np.ndarray
+    alpha: np.ndarray
+    F: np.ndarray
+    thresholds: Callable
 
 
 def step_system(system, options, b: np.ndarray):
