@@ -110,11 +110,17 @@ def test_tangential_rows_are_the_slave_node_values_of_the_jump_for_polynomials(p
 
 
 def test_the_tangential_rows_are_refused_where_they_do_not_apply(pair):
+    """Edge means (w = 6, `mortar-mean`) and standard multipliers (rows, not bounds): one line each."""
     problem, _, _, _ = pair
     coupling = mortar_coupling(problem.upper, problem.lower, None, "dual", "midpoint")
+    case = _pressed_then_held(registered_cases()["two-body-elastic-transition"])
     if problem.order == 2:
         with pytest.raises(ValueError, match="nodal edge variables"):
             dual_bound_qp(problem, coupling, 6.0, tangential=True)
+        with pytest.raises(ValueError, match="nodal edge variables"):
+            get_method("mortar-mean").solve(case, problem, None, None)
+        with pytest.raises(ValueError, match="not dual"):
+            get_method("mortar-standard").solve(case, problem, None, None)
 
 
 def test_the_frozen_threshold_problem_matches_clarabel(pair):

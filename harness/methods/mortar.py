@@ -150,6 +150,8 @@ class Mortar(Method):
         The fields as ``methods.coulomb_cones``'s: ``kkt_residual`` the worst step's KKT residual
         or last change of the weights. Not yet declared by a method (``friction``) nor allowed
         by the case contract: the design note's steps 1 and 4."""
+        if self.multipliers != "dual":
+            raise ValueError(f"{self.name}: its multipliers are not dual: Coulomb's rows would not be bounds")
         timed = timer(phases)
         with timed("setup"):
             coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint")
