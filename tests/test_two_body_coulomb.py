@@ -1,7 +1,9 @@
 """Two-body Coulomb friction by the dual mortar method (docs: the design note's steps 2-3): the
 tangential jump's dual projection as QP variables (``fem.two_body.dual_bound_qp(...,
 tangential=True)``), the frozen-threshold problem against Clarabel, the Coulomb fixed point of the
-one-body cones (``solvers.coulomb_cones``) on the two-body QP row by row, and mu_F -> 0.
+one-body cones (``solvers.coulomb_cones``) on the two-body QP row by row, mu_F -> 0, the coupled
+multigrid against Cholesky, the mirror pair's symmetry (no slip on matching meshes, vanishing
+friction on non-matching ones) and the entry point ``methods.mortar.Mortar.solve_coulomb``.
 
 The data: two-body-elastic-transition's pair refined once (non-matching, 2:3 on Gamma_C); step 1
 the case's own data (frictionless in the limit), step 2 the upper body's Dirichlet values moved by
