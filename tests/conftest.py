@@ -2,6 +2,7 @@ import os
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 
 from harness.fem.assembly import discretise
 from harness.mesh.levels import mesh_hierarchy
@@ -126,3 +127,24 @@ def clarabel_solution(problem, qp):
     K_free, b_free = A[free][:, free], (problem.b - A @ problem.lift)[free]
     return solve_qp(sp.csc_matrix(K_free), -b_free, G=sp.csc_matrix(-qp.B[:, free]), h=-(qp.g - qp.B @ problem.lift),
                     solver="clarabel", tol_gap_abs=1e-11, tol_gap_rel=1e-11, tol_feas=1e-11)
+
+
+def clarabel_unilateral_tresca(K, b, free, lift, C, alpha, F, c, zprev):
+    """Clarabel's minimiser with the |.| terms as epigraphs: variables (z, t), t_i >= |z_F_i -
+    zprev_i|, minimise 1/2 z'Kz - b'z + c't (an interior point method, independent of the active
+    set iteration)."""
+    from qpsolvers import solve_qp
+    n, k = len(b), len(F)
+    P = sp.block_diag([sp.csc_matrix(K), sp.csc_matrix((k, k))]).tocsc()
+    q = np.concatenate([-b, c])
+    select_F = sp.csr_matrix((np.ones(k), (np.arange(k), F)), shape=(k, n))
+    select_C = sp.csr_matrix((np.ones(len(C)), (np.arange(len(C)), C)), shape=(len(C), n))
+    eye = sp.identity(k)
+    G = sp.vstack([sp.hstack([-select_C, sp.csr_matrix((len(C), k))]),     # z_C >= alpha
+                   sp.hstack([select_F, -eye]), sp.hstack([-select_F, -eye])]).tocsc()
+    h = np.concatenate([-alpha, zprev, -zprev])
+    pinned = np.flatnonzero(~free)
+    A = sp.csr_matrix((np.ones(len(pinned)), (np.arange(len(pinned)), pinned)), shape=(len(pinned), n + k))
+    x = solve_qp(P, q, G=G, h=h, A=A.tocsc(), b=lift[pinned], solver="clarabel",
+                 tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12)
+    return x[:n]

@@ -7,8 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from conftest import problem_with_hierarchy
-from qpsolvers import solve_qp
+from conftest import clarabel_unilateral_tresca, problem_with_hierarchy
 
 import harness
 from harness.fem.assembly import at_load_step
@@ -41,32 +40,12 @@ def _random_problem(seed: int, n: int = 36):
     return K, b, free, lift, C, alpha, F, c, zprev
 
 
-def _clarabel(K, b, free, lift, C, alpha, F, c, zprev):
-    """Clarabel's minimiser with the |.| terms as epigraphs: variables (z, t), t_i >= |z_F_i -
-    zprev_i|, minimise 1/2 z'Kz - b'z + c't (an interior point method, independent of the active
-    set iteration)."""
-    n, k = len(b), len(F)
-    P = sp.block_diag([sp.csc_matrix(K), sp.csc_matrix((k, k))]).tocsc()
-    q = np.concatenate([-b, c])
-    select_F = sp.csr_matrix((np.ones(k), (np.arange(k), F)), shape=(k, n))
-    select_C = sp.csr_matrix((np.ones(len(C)), (np.arange(len(C)), C)), shape=(len(C), n))
-    eye = sp.identity(k)
-    G = sp.vstack([sp.hstack([-select_C, sp.csr_matrix((len(C), k))]),     # z_C >= alpha
-                   sp.hstack([select_F, -eye]), sp.hstack([-select_F, -eye])]).tocsc()
-    h = np.concatenate([-alpha, zprev, -zprev])
-    pinned = np.flatnonzero(~free)
-    A = sp.csr_matrix((np.ones(len(pinned)), (np.arange(len(pinned)), pinned)), shape=(len(pinned), n + k))
-    x = solve_qp(P, q, G=G, h=h, A=A.tocsc(), b=lift[pinned], solver="clarabel",
-                 tol_gap_abs=1e-12, tol_gap_rel=1e-12, tol_feas=1e-12)
-    return x[:n]
-
-
 @pytest.mark.parametrize("seed", range(6))
 def test_unilateral_tresca_solver_matches_clarabel_and_reaches_its_kkt_tolerance(seed):
     K, b, free, lift, C, alpha, F, c, zprev = _random_problem(seed)
     system = FactorisedSystem(sp.csr_matrix(K), ngsolve_matrix(sp.csr_matrix(K)), b)
     solution = solve_unilateral_friction(sp.csr_matrix(K), b, free, C, alpha, F, c, zprev, lift, system)
-    reference = _clarabel(K, b, free, lift, C, alpha, F, c, zprev)
+    reference = clarabel_unilateral_tresca(K, b, free, lift, C, alpha, F, c, zprev)
     assert solution.status == "converged" and solution.kkt.residual <= TOLERANCE
     assert np.abs(solution.z - reference).max() <= 1e-7 * max(1.0, np.abs(reference).max())
     m, k = len(C), len(F)

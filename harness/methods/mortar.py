@@ -7,15 +7,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import partial
+from typing import Callable
 
 import numpy as np
 import scipy.sparse as sp
 
+from ..fem.assembly import at_load_step
 from ..fem.cones import ContactModel, contact_pressure
 from ..fem.mortar import mortar_coupling
 from ..fem.nested import friction_prediction, mortar_prediction, p1_values
 from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
-from ..solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix
+from ..problem.bodies import lower_body
+from ..solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix, row_norm
+from ..solvers.coulomb_cones import solve_coulomb_history
 from ..solvers.friction import solve_friction
 from ..solvers.general_constraints import GeneralConstraintSolver
 from ..solvers.two_body_multigrid import OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injected
@@ -77,7 +81,8 @@ class Mortar(Method):
         ``general=True`` (the cross-check), the rows themselves by the general-constraint active
         set method on the saddle system (``solvers.general_constraints``)."""
         if case.frictional:
-            return self.solve_tresca(case, problem, carry, multilevel, phases)
+            solver = self.solve_coulomb if case.friction.name == "coulomb" else self.solve_tresca
+            return solver(case, problem, carry, multilevel, phases)
         timed = timer(phases)
         with timed("setup"):
             dual = self.multipliers == "dual"
@@ -137,6 +142,85 @@ class Mortar(Method):
                                                                  vertex_rows=len(problem.upper.trace.vertex_points)))
 
 
+    def solve_coulomb(self, case, problem: TwoBodyProblem, carry, multilevel, phases) -> LevelSolve:
+        """Coulomb between the bodies (2D elasticity, dual multipliers, w = 4): the bounds of
+        ``fem.two_body.dual_bound_qp`` with the tangential jump's rows, solved by the one-body
+        cones' fixed point over unilateral Tresca problems (``solvers.coulomb_cones``,
+        c = mu_F p node by node) at every step of the case's load history (``two_body_steps``).
+        The fields as ``methods.coulomb_cones``'s: ``kkt_residual`` the worst step's KKT residual
+        or last change of the weights. Not yet declared by a method (``friction``) nor allowed
+        by the case contract: the design note's steps 1 and 4."""
+        if self.multipliers != "dual":
+            raise ValueError(f"{self.name}: its multipliers are not dual: Coulomb's rows would not be bounds")
+        timed = timer(phases)
+        with timed("setup"):
+            coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint")
+            qp = dual_bound_qp(problem, coupling, self.contact_weight(problem.order), tangential=True)
+            K, system, start = bound_system(qp, problem, carry, multilevel, self.solver)
+            # on the multigrid K is the coupled operator: the scipy K is never made
+            rows = CoulombRows(K, qp.free, qp.C, qp.alpha, qp.T, qp.thresholds)
+            K_norm = K.row_norm(qp.free) if hasattr(K, "row_norm") else row_norm(K, qp.free)
+            steps, points = two_body_steps(case, problem, qp), row_points(problem)
+            m = len(qp.C)
+            # the coarser level's contact status, no slip predicted; later steps from the step before
+            contact = mortar_prediction(carry, points, len(problem.upper.trace.vertex_points))
+            first = None if contact is None else np.concatenate([contact, np.zeros(2 * m, bool)])
+        with timed("solve"):
+            history = solve_coulomb_history(rows, steps, case.friction.coefficient, partial(step_system, system, self.solver),
+                                            lambda k, solved: (solved[-1].solution.active, solved[-1].solution.z) if solved
+                                            else (first, start), self.solver, K_norm)
+        final = history[-1].solution
+        u = qp.to_u(final.z)
+        pressure = contact_pressure(problem.upper, final.multipliers[:m])
+        failed = [step.status for step in history if step.status != "converged"]
+        work = [step.work.get("cg_iterations", step.work.get("factorizations", 0)) for step in history]
+        fields = SolveFields(max_penetration(case, problem, u), float(pressure.min()),
+                             max(max(step.solution.kkt.residual, step.change) for step in history),
+                             failed[0] if failed else "converged", sum(step.iterations for step in history), int(sum(work)),
+                             active_constraints=int(final.active[:m].sum()), n_contact_constraints=3 * m,
+                             backward_error=max(step.solution.kkt.backward for step in history),
+                             solve_seconds=sum(step.seconds for step in history), load_steps=len(history))
+        previous = qp.to_u(history[-2].solution.z) if len(history) > 1 else None
+        return LevelSolve(fields, u, None, pressure, MortarCarry(joint_p1_values(problem, u), points=points,
+                                                                 active=final.active[:m],
+                                                                 vertex_rows=len(problem.upper.trace.vertex_points)),
+                          previous=previous)
+
+
+@dataclass(frozen=True)
+class CoulombRows:
+    """A dual bound QP with its tangential rows as ``solvers.coulomb_cones.solve_coulomb_history``
+    reads it (K, free, C, alpha, F, thresholds), K a scipy matrix or the coupled operator
+    (``solvers.two_body_operator.CoupledBlocks``)."""
+
+    K: object
+    free: np.ndarray
+    C: np.ndarray
+    alpha: np.ndarray
+    F: np.ndarray
+    thresholds: Callable
+
+
+def step_system(system, options, b: np.ndarray):
+    """A new linear system like ``system`` with the load ``b``, one per load step: a factorised
+    system keeps its pins' values (``solvers.bound_constraints.FactorisedSystem``: the same pin set at a
+    new step's lift would return the old step's solution)."""
+    if isinstance(system, FactorisedSystem):
+        return FactorisedSystem(system.K, system.K_ngs, b, options.refactor_above)
+    return MultigridSystem(system.K_ngs, b, system.multilevel, system.edges, options=options)
+
+
+def two_body_steps(case, problem: TwoBodyProblem, qp) -> list:
+    """(b, lift) in z of every step of the case's load history: each body's own problem at that
+    step (``fem.assembly.at_load_step``; the lower body's in its mirrored frame, ``lower_body``)."""
+    lower, steps = lower_body(case), []
+    for k in range(len(case.history)):
+        bodies = (at_load_step(case, problem.upper, k), at_load_step(lower, problem.lower, k))
+        steps.append((qp.with_load(np.concatenate([body.b for body in bodies])),
+                      np.concatenate([body.lift for body in bodies])))
+    return steps
+
+
 def mortar_friction_weights(case, problem: TwoBodyProblem, D: np.ndarray, edge_functional: str) -> np.ndarray:
     """The weights of j_h on the dual rows (the slave's vertices, then its edges): D_i s(x_i),
     or for the edge means (`mortar-mean`) 0 at the vertices and |e| s(midpoint) on each edge."""
@@ -164,8 +248,8 @@ def bound_system(qp, problem: TwoBodyProblem, carry, multilevel, options):
         return qp.K, FactorisedSystem(qp.K, ngsolve_matrix(qp.K), qp.b, options.refactor_above), None
     # K = diag(A_1, A_2) + (K - A) on the bodies' own NGSolve matrices: not copied into one
     K_ngs = CoupledBlocks([body.A_ngs for body in problem.bodies], qp.K_interface)
-    E = mortar_injection(problem)
-    coupling = mortar_coupling_matrix(problem, qp.S_rows(qp.C), qp.C, E)
+    E = mortar_injection(problem, tangential=len(qp.T) > 0)
+    coupling = mortar_coupling_matrix(problem, qp.S_rows(qp.changed), qp.changed, E)
     # a contact condition on u itself (scalar): opening variables on every level
     # (``solvers.two_body_multigrid.OpeningLevels``); in a rotated frame (elastic): each body's P1 levels
     # (the slave's trace follows a master hat on the finest level only)

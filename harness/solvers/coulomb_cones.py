@@ -76,11 +76,12 @@ def solve_coulomb_step(qp, b, lift, zprev, coefficient: float, system: Callable,
 
 
 def solve_coulomb_history(qp, steps: list, coefficient: float, system: Callable, guess: Callable,
-                          options: SolverOptions = SolverOptions()) -> list:
+                          options: SolverOptions = SolverOptions(), K_norm: float | None = None) -> list:
     """Every load step in order: ``steps`` the (b, lift) of each, ``guess(k, previous)`` ->
     (predicted set, start) of step k from the steps solved so far. Step k > 0 measures its slip
-    from step k - 1's tangential variables and starts its weights from step k - 1's."""
-    K_norm = row_norm(qp.K, qp.free)
+    from step k - 1's tangential variables and starts its weights from step k - 1's. ``K_norm``:
+    ||K||_inf over the free rows, if known (an operator K that is no scipy matrix)."""
+    K_norm = row_norm(qp.K, qp.free) if K_norm is None else K_norm
     solved = []
     for k, (b, lift) in enumerate(steps):
         previous = solved[-1] if solved else None

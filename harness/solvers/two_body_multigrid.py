@@ -323,12 +323,20 @@ def p1_injected(problem, c: np.ndarray) -> np.ndarray:
     return z
 
 
-def mortar_injection(problem) -> sp.csr_matrix:
+def mortar_injection(problem, tangential: bool = False) -> sp.csr_matrix:
     """E: the joint P1 dofs -> the variables z of the dual mortar QP: each body's P1 function in
     its variables, the slave's trace variables its values there (a trace edge's: the mean of its
-    ends', ``multigrid.ContactEdges`` of the slave's contact model), the master's unchanged."""
+    ends', ``multigrid.ContactEdges`` of the slave's contact model), the master's unchanged.
+    ``tangential`` (``fem.two_body.dual_bound_qp(..., tangential=True)``): the tangential jump's
+    edge variables too, as the one-body Coulomb cones' (``fem.coulomb_cones.coulomb_cone_qp``)."""
     upper, lower = problem.bodies
-    return csr_block_diag([_injection(upper, ContactEdges.of(upper)), _injection(lower, ContactEdges.of(lower, model=False))])
+    slave = ContactEdges.of(upper)
+    if tangential and len(upper.edge_dofs):
+        block = upper.ndof // upper.physics.components
+        ends = upper.end_dofs[:len(upper.edge_dofs)]
+        slave = ContactEdges.of_edges(upper, np.concatenate([upper.edge_dofs, upper.edge_dofs - block]),
+                                      np.concatenate([ends, ends - block]))
+    return csr_block_diag([_injection(upper, slave), _injection(lower, ContactEdges.of(lower, model=False))])
 
 
 def _injection(body, edges: ContactEdges) -> sp.csr_matrix:
