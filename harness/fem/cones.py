@@ -196,13 +196,17 @@ class ContactQP(ProblemQP):
         return cone_prediction(previous, self.problem)
 
     def trace_function(self, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
-        problem = self.problem
-        nv = len(problem.vertex_dofs)
-        end_active = end_status(problem, active[:nv])
-        # Without edge constraints (P1) an edge is in contact when both its ends are: the linear
-        # trace then vanishes on all of it, and the fine vertex at its midpoint inherits that.
-        edge_active = active[nv:] if len(problem.edge_dofs) else end_active.all(axis=1)
-        return ContactTraceFunction.of(problem, u, end_active, edge_active)
+        return contact_trace(self.problem, u, active)
+
+
+def contact_trace(problem: DiscreteProblem, u: np.ndarray, active: np.ndarray) -> ContactTraceFunction:
+    """u_h's trace with the status of a cone's contact rows ``active`` (vertices, then edges)."""
+    nv = len(problem.vertex_dofs)
+    end_active = end_status(problem, active[:nv])
+    # Without edge constraints (P1) an edge is in contact when both its ends are: the linear
+    # trace then vanishes on all of it, and the fine vertex at its midpoint inherits that.
+    edge_active = active[nv:] if len(problem.edge_dofs) else end_active.all(axis=1)
+    return ContactTraceFunction.of(problem, u, end_active, edge_active)
 
 
 def transformed_matrix(problem: DiscreteProblem, S: sp.csr_matrix, take: bool = False, rows: np.ndarray | None = None):

@@ -26,7 +26,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .assembly import ContactTraceFunction, DiscreteProblem
-from .cones import ContactModel, ProblemQP, end_status, transformed_matrix
+from .cones import ContactModel, ProblemQP, contact_trace, transformed_matrix
 from .friction import friction_variables, friction_weights
 from .p1_embedding import ContactEdges
 
@@ -66,12 +66,8 @@ class CoulombConeQP(ProblemQP):
         return self.S @ z
 
     def trace_function(self, u: np.ndarray, contact_active: np.ndarray) -> ContactTraceFunction:
-        """u_h's trace with the contact rows' status (``fem.cones.ContactQP.trace_function``)."""
-        problem = self.problem
-        nv = len(problem.vertex_dofs)
-        end_active = end_status(problem, contact_active[:nv])
-        edge_active = contact_active[nv:] if len(problem.edge_dofs) else end_active.all(axis=1)
-        return ContactTraceFunction.of(problem, u, end_active, edge_active)
+        """u_h's trace with the contact rows' status (``fem.cones.contact_trace``)."""
+        return contact_trace(self.problem, u, contact_active)
 
 
 def coulomb_cone_qp(case, problem: DiscreteProblem, model: ContactModel) -> CoulombConeQP:
