@@ -9,7 +9,7 @@ point at the middle of Γ_C, exact for Coulomb with μ_F = 1/2 and no contact lo
 shear follows the pressure, which moves the stick-slip exponent from Tresca's 3/2 to
 l = 3/2 + arctan(μ_F(κ−1)/(κ+1))/π ≈ 1.545 (κ = 3 − 4ν). The case declares
 ``friction = Coulomb(coefficient=0.5)``; ``nitsche`` and ``penalty`` discretise it (P1 and P2),
-and so do the paper's cones ``nodal`` and ``mean`` and ``p1``: Tresca's rows with the threshold
+and so do the cones ``nodal``, ``mean`` (the paper's) and ``p1``: Tresca's rows with the threshold
 μ_F times the cone's own contact multiplier, by a fixed point over unilateral Tresca problems.
 """
 
