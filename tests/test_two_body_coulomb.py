@@ -1,4 +1,4 @@
-"""Two-body Coulomb friction by the dual mortar method (docs: the design note's steps 2-3): the
+"""Two-body Coulomb friction by the dual mortar method (docs: the design note's steps 2-4): the
 tangential jump's dual projection as QP variables (``fem.two_body.dual_bound_qp(...,
 tangential=True)``), the frozen-threshold problem against Clarabel, the Coulomb fixed point of the
 one-body cones (``solvers.coulomb_cones``) on the two-body QP row by row, mu_F -> 0, the coupled
@@ -12,6 +12,7 @@ never slips. At XI = 1 (the case's displacements reach 3) the contact nodes both
 from __future__ import annotations
 
 import dataclasses
+from types import SimpleNamespace
 
 import ngsolve as ngs
 import numpy as np
@@ -24,9 +25,10 @@ from harness.fem.mortar import mortar_coupling
 from harness.fem.two_body import TwoBodyProblem, dual_bound_qp
 from harness.mesh.levels import UniformRefinement, coarse_mesh
 from harness.methods import get_method
-from harness.methods.mortar import bound_system, two_body_steps
+from harness.methods.mortar import bound_system, coulomb_guess, two_body_steps
 from harness.problem.bodies import MirrorBody, lower_body
-from harness.problem.case import registered_cases
+from harness.problem.case import CaseError, registered_cases
+from harness.problem.contract import check_friction
 from harness.problem.friction import Coulomb, LoadHistory, LoadStep
 from harness.solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, ngsolve_matrix
 from harness.solvers.coulomb_cones import solve_coulomb_history
@@ -112,7 +114,8 @@ def test_tangential_rows_are_the_slave_node_values_of_the_jump_for_polynomials(p
 
 
 def test_the_tangential_rows_are_refused_where_they_do_not_apply(pair):
-    """Edge means (w = 6, `mortar-mean`) and standard multipliers (rows, not bounds): one line each."""
+    """Edge means (w = 6, `mortar-mean`) and standard multipliers (rows, not bounds): one line
+    each, also when a method's refusal is bypassed."""
     problem, _, _, _ = pair
     coupling = mortar_coupling(problem.upper, problem.lower, None, "dual", "midpoint")
     case = _pressed_then_held(registered_cases()["two-body-elastic-transition"])
@@ -123,6 +126,27 @@ def test_the_tangential_rows_are_refused_where_they_do_not_apply(pair):
             get_method("mortar-mean").solve(case, problem, None, None)
         with pytest.raises(ValueError, match="not dual"):
             get_method("mortar-standard").solve(case, problem, None, None)
+
+
+@pytest.mark.parametrize("name, reason", [("mortar-nodal", None), ("mortar-p1", None),
+                                          ("mortar-mean", "O(h^2) of either sign"), ("mortar-standard", "not dual")])
+def test_the_dual_nodal_mortars_discretise_two_body_coulomb_and_the_others_refuse_it_in_one_line(name, reason):
+    refusal = get_method(name).refusal(_pressed_then_held(registered_cases()["two-body-elastic-transition"]))
+    assert refusal is None if reason is None else (reason in refusal and "\n" not in refusal)
+
+
+@pytest.mark.parametrize("physics, solid, refused", [("elasticity", False, None), ("scalar", False, "needs a normal stress"),
+                                                     ("elasticity", True, "2D only")])
+def test_the_contract_allows_coulomb_between_two_bodies_in_2d_elasticity_only(physics, solid, refused):
+    """``problem.contract.check_friction``: two elastic bodies in 2D pass; the scalar model and
+    a 3D geometry are refused in one line each."""
+    geometry = registered_cases()["elastic-coulomb-3d" if solid else "two-body-elastic-transition"].geometry
+    module = SimpleNamespace(friction=Coulomb(MU), physics=physics, second_body=object(), geometry=geometry)
+    if refused is None:
+        check_friction(module, "probe")
+        return
+    with pytest.raises(CaseError, match=r"^case probe: Coulomb friction [^\n]*" + refused + r"[^\n]*$"):
+        check_friction(module, "probe")
 
 
 def test_the_frozen_threshold_problem_matches_clarabel(pair):
@@ -250,8 +274,8 @@ def test_a_matching_mirror_pair_with_equal_data_never_slips(order):
 
 def _pressed_then_held(case):
     """The case as a reference Coulomb case (no u: its u as the Dirichlet data) with a two-step
-    history, half the data first: the entry point's test only (the contract refuses Coulomb
-    between two bodies; a sheared lower body needs the note's step 1)."""
+    history, half the data first (the entry point's test: a two-body case loaded from a file
+    needs its u, ``problem.case.case_from_module``)."""
     traction = case.physics.flux(case.grad_u, ngs.specialcf.normal(2))
     return dataclasses.replace(case, u=None, dirichlet=case.u, neumann=traction, friction=Coulomb(MU),
                                history=LoadHistory((LoadStep("normal", dirichlet=0.5 * case.u, neumann=0.5 * traction),
@@ -282,10 +306,16 @@ def test_mortar_solve_coulomb_runs_the_load_history_on_cholesky_and_on_multigrid
     assert np.abs(on_cholesky.u - direct).max() <= TOLERANCE * np.abs(direct).max()
     (coarse, *_), _ = _pair_on_hierarchy(2, method.order)
     carry = method.solve(case, coarse, None, None).carry
+    assert len(carry.steps) == 1 and len(carry.slip) == 2 * len(carry.active) == 2 * len(carry.steps[0].active)
     multigrid = dataclasses.replace(method, solver=dataclasses.replace(method.solver, mortar_multigrid_from=0))
     on_multigrid = multigrid.solve(case, problem, carry, multilevel)
     assert on_multigrid.fields.status == "converged" and on_multigrid.fields.kkt_residual <= TOLERANCE
     assert np.abs(on_multigrid.u - on_cholesky.u).max() <= 1e-8 * np.abs(on_cholesky.u).max()
+    # each step nested from level 1's same step (``methods.mortar.coulomb_guess``): both steps'
+    # rows predicted and started from it
+    guesses = [coulomb_guess(qp, problem, carry, multilevel, k, []) for k in range(2)]
+    assert all(predicted is not None and start is not None for predicted, start in guesses)
+    assert len(guesses[0][0]) == 3 * len(qp.C) and guesses[1][0][:len(qp.C)].any()
 
 
 @pytest.mark.parametrize("order", [1, 2])

@@ -65,7 +65,7 @@ def check_declared(module, source: str) -> None:
 def check_friction(module, source: str) -> None:
     """``friction``, if declared: a friction law of ``problem.friction``; Tresca has no gap (its
     bilateral normal contact in elasticity is u . n = 0); two bodies scalar only; Coulomb's is
-    elastic and one body. ``history``, if declared: a ``friction.LoadHistory``, whose steps
+    elastic, and 2D between two bodies. ``history``, if declared: a ``friction.LoadHistory``, whose steps
     change data only of a reference case (an exact case's data are its u's)."""
     from .friction import FRICTIONLESS, Coulomb, Frictionless, LoadHistory, Tresca
     law = getattr(module, "friction", FRICTIONLESS)
@@ -80,8 +80,9 @@ def check_friction(module, source: str) -> None:
                         f"bilateral u . n = 0 on Gamma_C)")
     if isinstance(law, Coulomb) and not elastic:
         raise CaseError(f"case {source}: Coulomb friction needs a normal stress: physics = \"elasticity\"")
-    if isinstance(law, Coulomb) and getattr(module, "second_body", None) is not None:
-        raise CaseError(f"case {source}: Coulomb friction between two bodies is not implemented (one body against a rigid obstacle)")
+    if isinstance(law, Coulomb) and getattr(module, "second_body", None) is not None and \
+            (geometry_dimension(module.geometry) if hasattr(module, "geometry") else 2) != 2:
+        raise CaseError(f"case {source}: Coulomb friction between two bodies is 2D only (the mortar coupling, harness.fem.mortar)")
     history = getattr(module, "history", None)
     if history is not None and not isinstance(history, LoadHistory):
         raise CaseError(f"case {source}: history must be harness.problem.LoadHistory(steps), got {history!r}")
