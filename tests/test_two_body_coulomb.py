@@ -28,7 +28,7 @@ from harness.methods import get_method
 from harness.methods.mortar import bound_system, coulomb_guess, two_body_steps
 from harness.problem.bodies import MirrorBody, lower_body
 from harness.problem.case import CaseError, registered_cases
-from harness.problem.contract import check_friction
+from harness.problem.contract import check_friction, check_second_body
 from harness.problem.friction import Coulomb, LoadHistory, LoadStep
 from harness.solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, ngsolve_matrix
 from harness.solvers.coulomb_cones import solve_coulomb_history
@@ -332,3 +332,43 @@ def test_on_non_matching_meshes_the_friction_of_mirror_data_vanishes_under_refin
         m = len(qp.C)
         ratios.append(np.abs(step.solution.multipliers[m:]).max() / (MU * step.solution.multipliers[:m].max()))
     assert ratios[0] > ratios[1] > ratios[2] and ratios[0] < 0.05, ratios
+
+
+def _sheared(case, xi: float = XI):
+    """The exact case with Coulomb friction and the design note's two-step history: step 1 the
+    case's own data on both bodies, step 2 the upper body's Dirichlet values moved by ``xi``
+    along x while the lower body holds the mirror data (its own, ``MirrorBody.dirichlet``)."""
+    body = case.second_body
+    return dataclasses.replace(case, friction=Coulomb(MU), dirichlet=case.u + ngs.CF((xi, 0.0)),
+                               second_body=MirrorBody(body.geometry, body.maxh, dirichlet=case.u),
+                               history=LoadHistory((LoadStep("normal", dirichlet=case.u), LoadStep("tangential"))))
+
+
+def test_the_lower_body_holds_its_own_dirichlet_data_at_every_step():
+    """``problem.bodies.lower_body`` with ``MirrorBody.dirichlet``: the lower body's lift is the
+    mirror data's at both steps (the history's Dirichlet values are the upper's), the upper's
+    moves by XI along x at its Dirichlet vertices between the steps, and nothing else moves; without it the lower body is
+    the case's (the same history, no data of its own)."""
+    case = registered_cases()["two-body-elastic-transition"]
+    assert lower_body(case).dirichlet is None and lower_body(case).history is case.history
+    sheared = _sheared(case)
+    meshes = [coarse_mesh(body) for body in (case, lower_body(case))]
+    problem, _, qp, _ = _qps(case, meshes, 2)
+    steps = two_body_steps(sheared, TwoBodyProblem(*(discretise(body, mesh, 2) for body, mesh in
+                                                     zip((sheared, lower_body(sheared)), meshes))), qp)
+    n1, (lift_1, lift_2) = problem.upper.ndof, (lift for _, lift in steps)
+    np.testing.assert_allclose(lift_1, qp.lift, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(lift_2[n1:], qp.lift[n1:], rtol=0, atol=1e-13)
+    # the x-components' Dirichlet vertex dofs (NGSolve's P2 basis is hierarchical: a constant
+    # has no edge coefficients)
+    moved = np.flatnonzero(np.abs(lift_2 - lift_1) > 1e-13)
+    assert len(moved) > 0 and (moved < n1 // 2).all() and not problem.upper.free[moved].any()
+    np.testing.assert_allclose((lift_2 - lift_1)[moved], XI, rtol=0, atol=1e-13)
+
+
+def test_the_contract_refuses_a_lower_bodys_own_data_beside_the_mirror_solution():
+    case = registered_cases()["two-body-elastic-transition"]
+    with pytest.raises(CaseError, match=r"^case probe: second_body declares its own dirichlet[^\n]*$"):
+        check_second_body(_sheared(case), "probe")
+    with pytest.raises(ValueError, match="dirichlet must be a CoefficientFunction or a number"):
+        MirrorBody(case.geometry, case.maxh, dirichlet="u")

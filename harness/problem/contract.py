@@ -215,13 +215,17 @@ def check_derivative_jumps(module, source: str) -> None:
 
 
 def check_second_body(case, source: str) -> None:
-    """A two-body case: a ``bodies.MirrorBody`` on a 2D geometry."""
+    """A two-body case: a ``bodies.MirrorBody`` on a 2D geometry, with its own Dirichlet data
+    only beside no u (the mirror solution would not be the lower body's)."""
     from .bodies import MirrorBody
     if not isinstance(case.second_body, MirrorBody):
         raise CaseError(f"case {source}: second_body must be harness.problem.bodies.MirrorBody(geometry, maxh), "
                         f"got {type(case.second_body).__name__}")
     if case.dimension != 2 or geometry_dimension(case.second_body.geometry) != 2:
         raise CaseError(f"case {source}: two bodies are 2D only (both geometries must be polygons)")
+    if case.u is not None and case.second_body.dirichlet is not None:
+        raise CaseError(f"case {source}: second_body declares its own dirichlet, so the mirror solution is not the "
+                        f"lower body's: declare the data instead of u (a reference case)")
 
 
 def physics_of(module, source: str):
