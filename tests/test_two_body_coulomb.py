@@ -20,6 +20,7 @@ import pytest
 import scipy.sparse as sp
 from conftest import clarabel_unilateral_tresca, trace_values
 
+import harness
 from harness.fem.assembly import discretise
 from harness.fem.mortar import mortar_coupling
 from harness.fem.two_body import TwoBodyProblem, dual_bound_qp
@@ -372,3 +373,38 @@ def test_the_contract_refuses_a_lower_bodys_own_data_beside_the_mirror_solution(
         check_second_body(_sheared(case), "probe")
     with pytest.raises(ValueError, match="dirichlet must be a CoefficientFunction or a number"):
         MirrorBody(case.geometry, case.maxh, dirichlet="u")
+
+
+def _conditions_of_the_solve(case, method, level, problem, solve) -> dict:
+    """``harness.run``'s on_level hook: the discrete Coulomb law of the last load step at the
+    slave's nodes (``_coulomb_violations``), from the level's u_h and the previous step's."""
+    coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint")
+    qp = dual_bound_qp(problem, coupling, method.contact_weight(problem.order), tangential=True)
+    z, m = qp.to_z(solve.u), len(qp.C)
+    multipliers = np.concatenate([(qp.K @ z - qp.b)[qp.C], (qp.b - qp.K @ z)[qp.T]])
+    step = SimpleNamespace(solution=SimpleNamespace(z=z, multipliers=multipliers))
+    # S^{-1} (u_h) rounds the stick nodes' pinned values: a slip below 1e-12 max |z| is a stick
+    reference = qp.to_z(solve.previous)[qp.T]
+    reference = np.where(np.abs(z[qp.T] - reference) <= 1e-12 * np.abs(z).max(), z[qp.T], reference)
+    violations = _coulomb_violations(qp, case.friction.coefficient, step, reference)
+    slip = np.abs(z[qp.T] - reference) > 0
+    bound = case.friction.coefficient * np.maximum(multipliers[:m], 0.0)
+    return violations | {"slipping": int((slip & (bound > 0)).sum()),
+                         "sticking": int(((np.abs(multipliers[m:]) < 0.9 * bound) & ~slip).sum())}
+
+
+def test_harness_run_shears_an_exact_two_body_case_under_coulomb_with_mortar_nodal():
+    """two-body-elastic-transition with Coulomb friction (mu_F = 0.3) and a two-step history,
+    step 2 shearing the upper body by XI against the lower (which holds the mirror data,
+    ``MirrorBody.dirichlet``), through ``harness.run`` with `mortar-nodal`, levels 0-2: every row
+    converged, both load steps, KKT residual <= 1e-10, and the discrete Coulomb law of the last
+    step holds at every slave node of every level to 1e-10, with nodes in slip and in stick.
+    (The error columns are measured against the case's u, not this problem's solution.)"""
+    kept = {}
+    rows = harness.run(_sheared(registered_cases()["two-body-elastic-transition"]), ["mortar-nodal"], levels=3,
+                       show_progress=False, on_level=lambda *args: kept.setdefault(args[2], _conditions_of_the_solve(*args)))
+    assert len(rows) == 3 and (rows.status == "converged").all() and (rows.load_steps == 2).all()
+    assert (rows.kkt_residual <= TOLERANCE).all(), rows.kkt_residual.tolist()
+    for level, conditions in kept.items():
+        assert max(v for k, v in conditions.items() if k not in ("slipping", "sticking")) <= TOLERANCE, (level, conditions)
+        assert conditions["slipping"] > 0 and conditions["sticking"] > 0, (level, conditions)
