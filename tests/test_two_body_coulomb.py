@@ -398,13 +398,17 @@ def test_harness_run_shears_an_exact_two_body_case_under_coulomb_with_mortar_nod
     step 2 shearing the upper body by XI against the lower (which holds the mirror data,
     ``MirrorBody.dirichlet``), through ``harness.run`` with `mortar-nodal`, levels 0-2: every row
     converged, both load steps, KKT residual <= 1e-10, and the discrete Coulomb law of the last
-    step holds at every slave node of every level to 1e-10, with nodes in slip and in stick.
-    (The error columns are measured against the case's u, not this problem's solution.)"""
+    step holds at every slave node of every level to 1e-10, with nodes in slip and in stick
+    (measured: KKT 2e-12 to 5e-11, the law to 1.3e-11). The one-body slip and stick zones and the
+    estimator are NaN; the error columns are measured against the case's u, not this problem's
+    solution."""
     kept = {}
     rows = harness.run(_sheared(registered_cases()["two-body-elastic-transition"]), ["mortar-nodal"], levels=3,
                        show_progress=False, on_level=lambda *args: kept.setdefault(args[2], _conditions_of_the_solve(*args)))
     assert len(rows) == 3 and (rows.status == "converged").all() and (rows.load_steps == 2).all()
     assert (rows.kkt_residual <= TOLERANCE).all(), rows.kkt_residual.tolist()
+    # the slip between the bodies is the jump of u_t: no one body's zones (``study.chain.two_body``)
+    assert rows[["qoi_slip_measure", "qoi_stick_measure", "qoi_slip_measure_exact", "estimator"]].isna().all().all()
     for level, conditions in kept.items():
         assert max(v for k, v in conditions.items() if k not in ("slipping", "sticking")) <= TOLERANCE, (level, conditions)
         assert conditions["slipping"] > 0 and conditions["sticking"] > 0, (level, conditions)
