@@ -393,17 +393,22 @@ def _conditions_of_the_solve(case, method, level, problem, solve) -> dict:
                          "sticking": int(((np.abs(multipliers[m:]) < 0.9 * bound) & ~slip).sum())}
 
 
-def test_harness_run_shears_an_exact_two_body_case_under_coulomb_with_mortar_nodal():
+@pytest.mark.parametrize("multigrid_from", [None, 0], ids=["cholesky", "multigrid"])
+def test_harness_run_shears_an_exact_two_body_case_under_coulomb_with_mortar_nodal(multigrid_from):
     """two-body-elastic-transition with Coulomb friction (mu_F = 0.3) and a two-step history,
     step 2 shearing the upper body by XI against the lower (which holds the mirror data,
-    ``MirrorBody.dirichlet``), through ``harness.run`` with `mortar-nodal`, levels 0-2: every row
-    converged, both load steps, KKT residual <= 1e-10, and the discrete Coulomb law of the last
-    step holds at every slave node of every level to 1e-10, with nodes in slip and in stick
-    (measured: KKT 2e-12 to 5e-11, the law to 1.3e-11). The one-body slip and stick zones and the
-    estimator are NaN; the error columns are measured against the case's u, not this problem's
-    solution."""
-    kept = {}
-    rows = harness.run(_sheared(registered_cases()["two-body-elastic-transition"]), ["mortar-nodal"], levels=3,
+    ``MirrorBody.dirichlet``), through ``harness.run`` with `mortar-nodal`, levels 0-2, on
+    Cholesky and on the coupled multigrid (every step nested from the coarser level's same
+    step, ``methods.mortar.coulomb_guess``): every row converged, both load steps, KKT residual
+    <= 1e-10, and the discrete Coulomb law of the last step holds at every slave node of every
+    level to 1e-10, with nodes in slip and in stick (measured on levels 0-2, `mortar-nodal` and
+    `mortar-p1`: KKT 2e-12 to 5e-11, the law to 1.3e-11; KKT <= 8e-11 on levels 0-3, and 0-4 of
+    `mortar-p1`). The one-body slip and stick zones and the estimator are NaN; the error
+    columns are measured against the case's u, not this problem's solution."""
+    kept, method = {}, get_method("mortar-nodal")
+    if multigrid_from is not None:
+        method = dataclasses.replace(method, solver=dataclasses.replace(method.solver, mortar_multigrid_from=multigrid_from))
+    rows = harness.run(_sheared(registered_cases()["two-body-elastic-transition"]), [method], levels=3,
                        show_progress=False, on_level=lambda *args: kept.setdefault(args[2], _conditions_of_the_solve(*args)))
     assert len(rows) == 3 and (rows.status == "converged").all() and (rows.load_steps == 2).all()
     assert (rows.kkt_residual <= TOLERANCE).all(), rows.kkt_residual.tolist()
