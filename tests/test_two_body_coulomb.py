@@ -25,6 +25,8 @@ from harness.fem.assembly import discretise
 from harness.fem.mortar import mortar_coupling
 from harness.fem.two_body import TwoBodyProblem, dual_bound_qp
 from harness.mesh.levels import UniformRefinement, coarse_mesh
+from harness.mesh.strategies import parse_mesh
+from harness.mesh.strategies import refusal as mesh_refusal
 from harness.methods import get_method
 from harness.methods.mortar import bound_system, coulomb_guess, two_body_steps
 from harness.problem.bodies import MirrorBody, lower_body
@@ -417,3 +419,12 @@ def test_harness_run_shears_an_exact_two_body_case_under_coulomb_with_mortar_nod
     for level, conditions in kept.items():
         assert max(v for k, v in conditions.items() if k not in ("slipping", "sticking")) <= TOLERANCE, (level, conditions)
         assert conditions["slipping"] > 0 and conditions["sticking"] > 0, (level, conditions)
+
+
+def test_adaptive_meshes_refuse_a_two_body_load_history_in_one_line():
+    """The two-body estimator has no friction terms for a load step's slip (NaN indicators):
+    no adaptive pair; uniform and graded meshes serve the case."""
+    case = _sheared(registered_cases()["two-body-elastic-transition"])
+    reasons = {strategy.name: mesh_refusal(strategy, case) for strategy in parse_mesh("all")}
+    assert reasons["uniform"] is None and reasons["graded"] is None
+    assert "estimator" in reasons["adaptive"] and "\n" not in reasons["adaptive"]
