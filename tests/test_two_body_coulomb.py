@@ -1,4 +1,4 @@
-"""Two-body Coulomb friction by the dual mortar method (docs: the design note's steps 2-3): the
+"""Two-body Coulomb friction by the dual mortar method (docs: the design note's steps 2-4): the
 tangential jump's dual projection as QP variables (``fem.two_body.dual_bound_qp(...,
 tangential=True)``), the frozen-threshold problem against Clarabel, the Coulomb fixed point of the
 one-body cones (``solvers.coulomb_cones``) on the two-body QP row by row, mu_F -> 0, the coupled
@@ -12,6 +12,7 @@ never slips. At XI = 1 (the case's displacements reach 3) the contact nodes both
 from __future__ import annotations
 
 import dataclasses
+from types import SimpleNamespace
 
 import ngsolve as ngs
 import numpy as np
@@ -19,14 +20,18 @@ import pytest
 import scipy.sparse as sp
 from conftest import clarabel_unilateral_tresca, trace_values
 
+import harness
 from harness.fem.assembly import discretise
 from harness.fem.mortar import mortar_coupling
 from harness.fem.two_body import TwoBodyProblem, dual_bound_qp
 from harness.mesh.levels import UniformRefinement, coarse_mesh
+from harness.mesh.strategies import parse_mesh
+from harness.mesh.strategies import refusal as mesh_refusal
 from harness.methods import get_method
-from harness.methods.mortar import bound_system, two_body_steps
+from harness.methods.mortar import bound_system, coulomb_guess, two_body_steps
 from harness.problem.bodies import MirrorBody, lower_body
-from harness.problem.case import registered_cases
+from harness.problem.case import CaseError, registered_cases
+from harness.problem.contract import check_friction, check_second_body
 from harness.problem.friction import Coulomb, LoadHistory, LoadStep
 from harness.solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, ngsolve_matrix
 from harness.solvers.coulomb_cones import solve_coulomb_history
@@ -112,7 +117,8 @@ def test_tangential_rows_are_the_slave_node_values_of_the_jump_for_polynomials(p
 
 
 def test_the_tangential_rows_are_refused_where_they_do_not_apply(pair):
-    """Edge means (w = 6, `mortar-mean`) and standard multipliers (rows, not bounds): one line each."""
+    """Edge means (w = 6, `mortar-mean`) and standard multipliers (rows, not bounds): one line
+    each, also when a method's refusal is bypassed."""
     problem, _, _, _ = pair
     coupling = mortar_coupling(problem.upper, problem.lower, None, "dual", "midpoint")
     case = _pressed_then_held(registered_cases()["two-body-elastic-transition"])
@@ -123,6 +129,27 @@ def test_the_tangential_rows_are_refused_where_they_do_not_apply(pair):
             get_method("mortar-mean").solve(case, problem, None, None)
         with pytest.raises(ValueError, match="not dual"):
             get_method("mortar-standard").solve(case, problem, None, None)
+
+
+@pytest.mark.parametrize("name, reason", [("mortar-nodal", None), ("mortar-p1", None),
+                                          ("mortar-mean", "O(h^2) of either sign"), ("mortar-standard", "not dual")])
+def test_the_dual_nodal_mortars_discretise_two_body_coulomb_and_the_others_refuse_it_in_one_line(name, reason):
+    refusal = get_method(name).refusal(_pressed_then_held(registered_cases()["two-body-elastic-transition"]))
+    assert refusal is None if reason is None else (reason in refusal and "\n" not in refusal)
+
+
+@pytest.mark.parametrize("physics, solid, refused", [("elasticity", False, None), ("scalar", False, "needs a normal stress"),
+                                                     ("elasticity", True, "2D only")])
+def test_the_contract_allows_coulomb_between_two_bodies_in_2d_elasticity_only(physics, solid, refused):
+    """``problem.contract.check_friction``: two elastic bodies in 2D pass; the scalar model and
+    a 3D geometry are refused in one line each."""
+    geometry = registered_cases()["elastic-coulomb-3d" if solid else "two-body-elastic-transition"].geometry
+    module = SimpleNamespace(friction=Coulomb(MU), physics=physics, second_body=object(), geometry=geometry)
+    if refused is None:
+        check_friction(module, "probe")
+        return
+    with pytest.raises(CaseError, match=r"^case probe: Coulomb friction [^\n]*" + refused + r"[^\n]*$"):
+        check_friction(module, "probe")
 
 
 def test_the_frozen_threshold_problem_matches_clarabel(pair):
@@ -250,8 +277,8 @@ def test_a_matching_mirror_pair_with_equal_data_never_slips(order):
 
 def _pressed_then_held(case):
     """The case as a reference Coulomb case (no u: its u as the Dirichlet data) with a two-step
-    history, half the data first: the entry point's test only (the contract refuses Coulomb
-    between two bodies; a sheared lower body needs the note's step 1)."""
+    history, half the data first (the entry point's test: a two-body case loaded from a file
+    needs its u, ``problem.case.case_from_module``)."""
     traction = case.physics.flux(case.grad_u, ngs.specialcf.normal(2))
     return dataclasses.replace(case, u=None, dirichlet=case.u, neumann=traction, friction=Coulomb(MU),
                                history=LoadHistory((LoadStep("normal", dirichlet=0.5 * case.u, neumann=0.5 * traction),
@@ -282,10 +309,16 @@ def test_mortar_solve_coulomb_runs_the_load_history_on_cholesky_and_on_multigrid
     assert np.abs(on_cholesky.u - direct).max() <= TOLERANCE * np.abs(direct).max()
     (coarse, *_), _ = _pair_on_hierarchy(2, method.order)
     carry = method.solve(case, coarse, None, None).carry
+    assert len(carry.steps) == 1 and len(carry.slip) == 2 * len(carry.active) == 2 * len(carry.steps[0].active)
     multigrid = dataclasses.replace(method, solver=dataclasses.replace(method.solver, mortar_multigrid_from=0))
     on_multigrid = multigrid.solve(case, problem, carry, multilevel)
     assert on_multigrid.fields.status == "converged" and on_multigrid.fields.kkt_residual <= TOLERANCE
     assert np.abs(on_multigrid.u - on_cholesky.u).max() <= 1e-8 * np.abs(on_cholesky.u).max()
+    # each step nested from level 1's same step (``methods.mortar.coulomb_guess``): both steps'
+    # rows predicted and started from it
+    guesses = [coulomb_guess(qp, problem, carry, multilevel, k, []) for k in range(2)]
+    assert all(predicted is not None and start is not None for predicted, start in guesses)
+    assert len(guesses[0][0]) == 3 * len(qp.C) and guesses[1][0][:len(qp.C)].any()
 
 
 @pytest.mark.parametrize("order", [1, 2])
@@ -302,3 +335,96 @@ def test_on_non_matching_meshes_the_friction_of_mirror_data_vanishes_under_refin
         m = len(qp.C)
         ratios.append(np.abs(step.solution.multipliers[m:]).max() / (MU * step.solution.multipliers[:m].max()))
     assert ratios[0] > ratios[1] > ratios[2] and ratios[0] < 0.05, ratios
+
+
+def _sheared(case, xi: float = XI):
+    """The exact case with Coulomb friction and the design note's two-step history: step 1 the
+    case's own data on both bodies, step 2 the upper body's Dirichlet values moved by ``xi``
+    along x while the lower body holds the mirror data (its own, ``MirrorBody.dirichlet``)."""
+    body = case.second_body
+    return dataclasses.replace(case, friction=Coulomb(MU), dirichlet=case.u + ngs.CF((xi, 0.0)),
+                               second_body=MirrorBody(body.geometry, body.maxh, dirichlet=case.u),
+                               history=LoadHistory((LoadStep("normal", dirichlet=case.u), LoadStep("tangential"))))
+
+
+def test_the_lower_body_holds_its_own_dirichlet_data_at_every_step():
+    """``problem.bodies.lower_body`` with ``MirrorBody.dirichlet``: the lower body's lift is the
+    mirror data's at both steps (the history's Dirichlet values are the upper's), the upper's
+    moves by XI along x at its Dirichlet vertices between the steps, and nothing else moves; without it the lower body is
+    the case's (the same history, no data of its own)."""
+    case = registered_cases()["two-body-elastic-transition"]
+    assert lower_body(case).dirichlet is None and lower_body(case).history is case.history
+    sheared = _sheared(case)
+    meshes = [coarse_mesh(body) for body in (case, lower_body(case))]
+    problem, _, qp, _ = _qps(case, meshes, 2)
+    steps = two_body_steps(sheared, TwoBodyProblem(*(discretise(body, mesh, 2) for body, mesh in
+                                                     zip((sheared, lower_body(sheared)), meshes))), qp)
+    n1, (lift_1, lift_2) = problem.upper.ndof, (lift for _, lift in steps)
+    np.testing.assert_allclose(lift_1, qp.lift, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(lift_2[n1:], qp.lift[n1:], rtol=0, atol=1e-13)
+    # the x-components' Dirichlet vertex dofs (NGSolve's P2 basis is hierarchical: a constant
+    # has no edge coefficients)
+    moved = np.flatnonzero(np.abs(lift_2 - lift_1) > 1e-13)
+    assert len(moved) > 0 and (moved < n1 // 2).all() and not problem.upper.free[moved].any()
+    np.testing.assert_allclose((lift_2 - lift_1)[moved], XI, rtol=0, atol=1e-13)
+
+
+def test_the_contract_refuses_a_lower_bodys_own_data_beside_the_mirror_solution():
+    case = registered_cases()["two-body-elastic-transition"]
+    with pytest.raises(CaseError, match=r"^case probe: second_body declares its own dirichlet[^\n]*$"):
+        check_second_body(_sheared(case), "probe")
+    with pytest.raises(ValueError, match="dirichlet must be a CoefficientFunction or a number"):
+        MirrorBody(case.geometry, case.maxh, dirichlet="u")
+
+
+def _conditions_of_the_solve(case, method, level, problem, solve) -> dict:
+    """``harness.run``'s on_level hook: the discrete Coulomb law of the last load step at the
+    slave's nodes (``_coulomb_violations``), from the level's u_h and the previous step's."""
+    coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint")
+    qp = dual_bound_qp(problem, coupling, method.contact_weight(problem.order), tangential=True)
+    z, m = qp.to_z(solve.u), len(qp.C)
+    multipliers = np.concatenate([(qp.K @ z - qp.b)[qp.C], (qp.b - qp.K @ z)[qp.T]])
+    step = SimpleNamespace(solution=SimpleNamespace(z=z, multipliers=multipliers))
+    # S^{-1} (u_h) rounds the stick nodes' pinned values: a slip below 1e-12 max |z| is a stick
+    reference = qp.to_z(solve.previous)[qp.T]
+    reference = np.where(np.abs(z[qp.T] - reference) <= 1e-12 * np.abs(z).max(), z[qp.T], reference)
+    violations = _coulomb_violations(qp, case.friction.coefficient, step, reference)
+    slip = np.abs(z[qp.T] - reference) > 0
+    bound = case.friction.coefficient * np.maximum(multipliers[:m], 0.0)
+    return violations | {"slipping": int((slip & (bound > 0)).sum()),
+                         "sticking": int(((np.abs(multipliers[m:]) < 0.9 * bound) & ~slip).sum())}
+
+
+@pytest.mark.parametrize("multigrid_from", [None, 0], ids=["cholesky", "multigrid"])
+def test_harness_run_shears_an_exact_two_body_case_under_coulomb_with_mortar_nodal(multigrid_from):
+    """two-body-elastic-transition with Coulomb friction (mu_F = 0.3) and a two-step history,
+    step 2 shearing the upper body by XI against the lower (which holds the mirror data,
+    ``MirrorBody.dirichlet``), through ``harness.run`` with `mortar-nodal`, levels 0-2, on
+    Cholesky and on the coupled multigrid (every step nested from the coarser level's same
+    step, ``methods.mortar.coulomb_guess``): every row converged, both load steps, KKT residual
+    <= 1e-10, and the discrete Coulomb law of the last step holds at every slave node of every
+    level to 1e-10, with nodes in slip and in stick (measured on levels 0-2, `mortar-nodal` and
+    `mortar-p1`: KKT 2e-12 to 5e-11, the law to 1.3e-11; KKT <= 8e-11 on levels 0-3, and 0-4 of
+    `mortar-p1`). The one-body slip and stick zones and the estimator are NaN; the error
+    columns are measured against the case's u, not this problem's solution."""
+    kept, method = {}, get_method("mortar-nodal")
+    if multigrid_from is not None:
+        method = dataclasses.replace(method, solver=dataclasses.replace(method.solver, mortar_multigrid_from=multigrid_from))
+    rows = harness.run(_sheared(registered_cases()["two-body-elastic-transition"]), [method], levels=3,
+                       show_progress=False, on_level=lambda *args: kept.setdefault(args[2], _conditions_of_the_solve(*args)))
+    assert len(rows) == 3 and (rows.status == "converged").all() and (rows.load_steps == 2).all()
+    assert (rows.kkt_residual <= TOLERANCE).all(), rows.kkt_residual.tolist()
+    # the slip between the bodies is the jump of u_t: no one body's zones (``study.chain.two_body``)
+    assert rows[["qoi_slip_measure", "qoi_stick_measure", "qoi_slip_measure_exact", "estimator"]].isna().all().all()
+    for level, conditions in kept.items():
+        assert max(v for k, v in conditions.items() if k not in ("slipping", "sticking")) <= TOLERANCE, (level, conditions)
+        assert conditions["slipping"] > 0 and conditions["sticking"] > 0, (level, conditions)
+
+
+def test_adaptive_meshes_refuse_a_two_body_load_history_in_one_line():
+    """The two-body estimator has no friction terms for a load step's slip (NaN indicators):
+    no adaptive pair; uniform and graded meshes serve the case."""
+    case = _sheared(registered_cases()["two-body-elastic-transition"])
+    reasons = {strategy.name: mesh_refusal(strategy, case) for strategy in parse_mesh("all")}
+    assert reasons["uniform"] is None and reasons["graded"] is None
+    assert "estimator" in reasons["adaptive"] and "\n" not in reasons["adaptive"]

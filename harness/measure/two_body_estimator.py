@@ -119,7 +119,12 @@ class TwoBodyEstimator:
         self.sides = [OneSide(body, side) for body, side in zip(bodies, problem.bodies)]
         self.interface = Interface(bodies[0], problem)
 
-    def indicators(self, z: np.ndarray) -> np.ndarray:
+    def indicators(self, z: np.ndarray, previous: np.ndarray | None = None) -> np.ndarray:
+        """eta_T^2 per element; NaN after a load history (``previous``, the step before's u_h):
+        the terms above are frictionless, and those of the slip between the bodies over a step
+        are not written."""
+        if previous is not None:
+            return np.full(sum(body.mesh.ne for body in self.problem.bodies), np.nan)
         parts = [side.indicators(u) for side, u in zip(self.sides, self.problem.split(z))]
         extra = self.interface.indicators(z, [side.pressure_coefficients for side in self.sides])
         return np.concatenate([part + more for part, more in zip(parts, extra)])

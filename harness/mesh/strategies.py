@@ -123,6 +123,9 @@ class MeshStrategy:
         if case.bodies != 1 and (case.dimension != 2 or not case.exact):
             # the mortar coupling is on a line (``fem.mortar``); two-body errors are against u
             return "graded and adaptive meshes of two bodies need a 2D case with u (the mortar coupling on a line)"
+        if self.name == "adaptive" and case.bodies != 1 and len(case.history) > 1:
+            # ``measure.two_body_estimator.TwoBodyEstimator``: no terms for the slip of a load step
+            return "adaptive meshes of two bodies follow an estimator without a load step's friction terms"
         if not case.exact and case.dimension != 2:
             # each level's own reference (``measure.level_reference``) embeds u_h exactly in 2D only
             return "errors against a reference on graded and adaptive meshes are 2D only (the exact P2 embedding)"

@@ -5,6 +5,7 @@ KKT <= 1e-10) on the joint system of both bodies (``fem.two_body``). The variant
 (``methods``): `mortar-mean`, `mortar-nodal`, `mortar-standard` (P2) and `mortar-p1`."""
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from functools import partial
 from typing import Callable
@@ -24,7 +25,18 @@ from ..solvers.friction import solve_friction
 from ..solvers.general_constraints import GeneralConstraintSolver
 from ..solvers.two_body_multigrid import OpeningLevels, SparseEdges, mortar_coupling_matrix, mortar_injection, p1_injected
 from ..solvers.two_body_operator import CoupledBlocks
-from .method import MESH_STUDY, REFERENCE, Expectation, LevelSolve, Method, MortarCarry, SolveFields, capped_expectation, timer
+from .method import (
+    MESH_STUDY,
+    REFERENCE,
+    Expectation,
+    LawCarry,
+    LevelSolve,
+    Method,
+    MortarCarry,
+    SolveFields,
+    capped_expectation,
+    timer,
+)
 
 
 def one_body_rate(case, order: int) -> Expectation:
@@ -33,10 +45,11 @@ def one_body_rate(case, order: int) -> Expectation:
     2015 for P1) and the dual mortar condition reduces to on matching meshes. On non-matching
     meshes it is the rate the mortar analyses aim at (Ben Belgacem, Hild & Laborde 1999 for P1;
     Hild & Laborde 2002 for P2); only their abstracts were read, not their exact statements,
-    so the harness holds the methods to the one-body rate and the report says so. With Tresca
-    friction between the bodies no analysis was read at all: the same rate, a conjecture."""
+    so the harness holds the methods to the one-body rate and the report says so. With Tresca or
+    Coulomb friction between the bodies no analysis was read at all: the same rate, a conjecture."""
     if case.frictional:
-        return capped_expectation(case.nu, float(order), "conjecture: the one-body rate min(nu - 1, k) (Tresca on mortar)")
+        return capped_expectation(case.nu, float(order),
+                                  f"conjecture: the one-body rate min(nu - 1, k) ({case.friction.name.capitalize()} on mortar)")
     return capped_expectation(case.nu, float(order),
                               "one-body rate min(nu - 1, k) (mortar: Ben Belgacem, Hild & Laborde 1999; Hild & Laborde 2002)")
 
@@ -66,11 +79,17 @@ class Mortar(Method):
     def refusal(self, case) -> str | None:
         """Also: Tresca between two bodies on the dual multipliers only (their rows are bounds),
         and in the scalar model only (in elasticity its rows are the normal opening's, not the
-        tangential slip's)."""
+        tangential slip's); Coulomb on the dual multipliers with nodal edge variables only
+        (``fem.two_body.dual_bound_qp``: `mortar-mean`'s edge means leave vertex rows whose
+        forces are no pressure to bound the friction by)."""
         if case.frictional and self.multipliers != "dual" and case.friction.name in self.friction:
             return "its multipliers are not dual: Tresca's rows would not be bounds"
-        if case.frictional and case.physics.rotated_frame and case.friction.name in self.friction:
+        if case.friction.name == "tresca" and case.physics.rotated_frame and case.friction.name in self.friction:
             return "its Tresca rows are the scalar model's; the elastic tangential slip between two bodies is not implemented"
+        if case.friction.name == "coulomb" and self.multipliers != "dual":
+            return "its multipliers are not dual: Coulomb's rows would not be bounds"
+        if case.friction.name == "coulomb" and self.contact_weight(self.order) == 6.0:
+            return "its vertex multipliers are O(h^2) of either sign: no Coulomb threshold mu_F p node by node"
         return super().refusal(case)
 
     def solve(self, case, problem: TwoBodyProblem, carry, multilevel, take_stiffness: bool = False, phases=None,
@@ -148,27 +167,24 @@ class Mortar(Method):
         cones' fixed point over unilateral Tresca problems (``solvers.coulomb_cones``,
         c = mu_F p node by node) at every step of the case's load history (``two_body_steps``).
         The fields as ``methods.coulomb_cones``'s: ``kkt_residual`` the worst step's KKT residual
-        or last change of the weights. Not yet declared by a method (``friction``) nor allowed
-        by the case contract: the design note's steps 1 and 4."""
+        or last change of the weights; every step nested from the coarser level's same step
+        (``coulomb_guess``)."""
         if self.multipliers != "dual":
             raise ValueError(f"{self.name}: its multipliers are not dual: Coulomb's rows would not be bounds")
         timed = timer(phases)
         with timed("setup"):
             coupling = mortar_coupling(problem.upper, problem.lower, case.obstacle, "dual", "midpoint")
             qp = dual_bound_qp(problem, coupling, self.contact_weight(problem.order), tangential=True)
-            K, system, start = bound_system(qp, problem, carry, multilevel, self.solver)
+            K, system, _ = bound_system(qp, problem, carry, multilevel, self.solver)
             # on the multigrid K is the coupled operator: the scipy K is never made
             rows = CoulombRows(K, qp.free, qp.C, qp.alpha, qp.T, qp.thresholds)
             K_norm = K.row_norm(qp.free) if hasattr(K, "row_norm") else row_norm(K, qp.free)
-            steps, points = two_body_steps(case, problem, qp), row_points(problem)
-            m = len(qp.C)
-            # the coarser level's contact status, no slip predicted; later steps from the step before
-            contact = mortar_prediction(carry, points, len(problem.upper.trace.vertex_points))
-            first = None if contact is None else np.concatenate([contact, np.zeros(2 * m, bool)])
+            steps, m = two_body_steps(case, problem, qp), len(qp.C)
+            guess = partial(coulomb_guess, qp, problem, carry, multilevel if isinstance(system, MultigridSystem) else None)
         with timed("solve"):
             history = solve_coulomb_history(rows, steps, case.friction.coefficient, partial(step_system, system, self.solver),
-                                            lambda k, solved: (solved[-1].solution.active, solved[-1].solution.z) if solved
-                                            else (first, start), self.solver, K_norm)
+                                            guess, self.solver, K_norm)
+        carries = [coulomb_carry(qp, problem, step.solution) for step in history]
         final = history[-1].solution
         u = qp.to_u(final.z)
         pressure = contact_pressure(problem.upper, final.multipliers[:m])
@@ -181,10 +197,44 @@ class Mortar(Method):
                              backward_error=max(step.solution.kkt.backward for step in history),
                              solve_seconds=sum(step.seconds for step in history), load_steps=len(history))
         previous = qp.to_u(history[-2].solution.z) if len(history) > 1 else None
-        return LevelSolve(fields, u, None, pressure, MortarCarry(joint_p1_values(problem, u), points=points,
-                                                                 active=final.active[:m],
-                                                                 vertex_rows=len(problem.upper.trace.vertex_points)),
+        return LevelSolve(fields, u, None, pressure, dataclasses.replace(carries[-1], steps=tuple(carries[:-1])),
                           previous=previous)
+
+
+@dataclass(frozen=True)
+class CoulombMortarCarry(MortarCarry):
+    """A mortar's carry on a Coulomb case: its rows' slave nodes and contact status (``points``,
+    ``active``), the (slip+, slip-) flags of their tangential rows (``slip``) and the carries of
+    the load steps before the last (``steps``)."""
+
+    slip: np.ndarray | None = None
+
+
+def coulomb_carry(qp, problem: TwoBodyProblem, solution) -> CoulombMortarCarry:
+    """One load step's carry: both bodies' vertex values, the rows' contact and slip flags."""
+    m = len(qp.C)
+    return CoulombMortarCarry(joint_p1_values(problem, qp.to_u(solution.z)), points=row_points(problem),
+                              active=solution.active[:m], slip=solution.active[m:],
+                              vertex_rows=len(problem.upper.trace.vertex_points))
+
+
+def coulomb_guess(qp, problem: TwoBodyProblem, carry, multilevel, k: int, solved: list):
+    """(predicted rows, start) of load step ``k``, as the one-body cones' (``methods.coulomb_cones``):
+    from the coarser level's same step (its rows' contact status by ``fem.nested.mortar_prediction``,
+    their slip branches by ``fem.nested.friction_prediction``, none without them; on the multigrid
+    its u_h prolongated, in z), else from the step before on this level, else none."""
+    coarse = None
+    if carry is not None:
+        coarse = carry if k == len(carry.steps) else carry.steps[k] if k < len(carry.steps) else None
+    if coarse is None:
+        return (solved[-1].solution.active, solved[-1].solution.z) if solved else (None, None)
+    points, m = row_points(problem), len(qp.C)
+    slip = getattr(coarse, "slip", None)
+    slip = np.zeros(2 * m, bool) if slip is None else \
+        friction_prediction(LawCarry(coarse.p1, points=coarse.points[:, None], active=slip), points[:, None])
+    predicted = np.concatenate([mortar_prediction(coarse, points, len(problem.upper.trace.vertex_points)), slip])
+    start = None if multilevel is None else qp.to_z(p1_injected(problem, multilevel.prolongated(coarse.p1)))
+    return predicted, start
 
 
 @dataclass(frozen=True)
@@ -313,7 +363,7 @@ mortar_nodal = Mortar(
     reference="Wohlmuth 2000; Hüeber & Wohlmuth 2005; Hild & Laborde 2002 (quadratic mortar)",
     expected=partial(one_body_rate, order=2),
     multipliers="dual",
-    friction=("frictionless", "tresca"),
+    friction=("frictionless", "tresca", "coulomb"),
     roles=frozenset({REFERENCE, MESH_STUDY}),     # of the two-body cases (and their picture)
 )
 
@@ -345,7 +395,7 @@ mortar_p1 = Mortar(
     reference="Ben Belgacem, Hild & Laborde 1999; Wohlmuth 2000",
     expected=partial(one_body_rate, order=1),
     multipliers="dual",
-    friction=("frictionless", "tresca"),
+    friction=("frictionless", "tresca", "coulomb"),
     roles=frozenset({MESH_STUDY}),
 )
 

@@ -31,21 +31,32 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
+import ngsolve as ngs
+
+from .friction import LoadHistory
+
 
 @dataclass(frozen=True)
 class MirrorBody:
     """The lower body of a two-body case: the mirror image of the upper one across Gamma_C,
     with its own ``geometry`` (the upper one's outline, in the lower body's mirrored frame)
-    and coarse mesh size ``maxh``."""
+    and coarse mesh size ``maxh``; ``dirichlet``, if given, its own u_D on Gamma_u (in its
+    frame, a CoefficientFunction or a number), held at every load step: the data that let one
+    body shear against the other (a mirror pair with equal data never slips, docs/theory/coulomb.md).
+    A case loaded from a file declares it on a reference case only (``problem.contract``)."""
 
     geometry: object
     maxh: float
+    dirichlet: object = None
 
     def __post_init__(self):
         if not hasattr(self.geometry, "GenerateMesh"):
             raise ValueError(f"second_body: geometry must be a netgen geometry, got {type(self.geometry).__name__}")
         if isinstance(self.maxh, bool) or not isinstance(self.maxh, (int, float)) or not (math.isfinite(self.maxh) and self.maxh > 0):
             raise ValueError(f"second_body: maxh must be a finite number > 0, got {self.maxh!r}")
+        if self.dirichlet is not None and (isinstance(self.dirichlet, bool) or
+                                           not isinstance(self.dirichlet, (int, float, ngs.CoefficientFunction))):
+            raise ValueError(f"second_body: dirichlet must be a CoefficientFunction or a number, got {self.dirichlet!r}")
 
 
 LOWER_SUFFIX = " (second_body: the lower body)"
@@ -53,9 +64,16 @@ LOWER_SUFFIX = " (second_body: the lower body)"
 
 def lower_body(case):
     """The one-body case the lower body solves in its own frame: ``case`` with the second body's
-    geometry and maxh (module docstring)."""
+    geometry and maxh (module docstring), and its own Dirichlet data if it declares them
+    (``MirrorBody.dirichlet``: at every step of the load history, whose Dirichlet values are the
+    upper body's)."""
     body = case.second_body
     if body is None:
         raise ValueError(f"case {case.name} has one body")
-    return dataclasses.replace(case, name=case.name + LOWER_SUFFIX, geometry=body.geometry, maxh=float(body.maxh),
-                               second_body=None)
+    lower = dataclasses.replace(case, name=case.name + LOWER_SUFFIX, geometry=body.geometry, maxh=float(body.maxh),
+                                second_body=None)
+    if body.dirichlet is None:
+        return lower
+    data = case.physics.constant(body.dirichlet) if isinstance(body.dirichlet, (int, float)) else body.dirichlet
+    steps = tuple(dataclasses.replace(step, dirichlet=None) for step in case.history.steps)
+    return dataclasses.replace(lower, dirichlet=data, history=LoadHistory(steps))

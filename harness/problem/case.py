@@ -246,8 +246,11 @@ class Case:
 
     @property
     def dirichlet_data(self) -> ngs.CoefficientFunction:
-        """u_D on Gamma_u: the exact u, or the reference case's data."""
-        return self.u if self.u is not None else self.dirichlet
+        """u_D on Gamma_u: the reference case's data, or the exact u. (A case file declares
+        one of them, ``_exact_case``; both are set only on a case made in code, a load step's
+        Dirichlet values or a second body's own, ``bodies.MirrorBody.dirichlet``: its errors are
+        still measured against u.)"""
+        return self.dirichlet if self.dirichlet is not None else self.u
 
     def neumann_data(self, normal: ngs.CoefficientFunction) -> ngs.CoefficientFunction:
         """g on Gamma_g (du/dn, or the traction sigma(u) n): from the exact u, or the reference

@@ -65,7 +65,7 @@ def check_declared(module, source: str) -> None:
 def check_friction(module, source: str) -> None:
     """``friction``, if declared: a friction law of ``problem.friction``; Tresca has no gap (its
     bilateral normal contact in elasticity is u . n = 0); two bodies scalar only; Coulomb's is
-    elastic and one body. ``history``, if declared: a ``friction.LoadHistory``, whose steps
+    elastic, and 2D between two bodies. ``history``, if declared: a ``friction.LoadHistory``, whose steps
     change data only of a reference case (an exact case's data are its u's)."""
     from .friction import FRICTIONLESS, Coulomb, Frictionless, LoadHistory, Tresca
     law = getattr(module, "friction", FRICTIONLESS)
@@ -80,8 +80,9 @@ def check_friction(module, source: str) -> None:
                         f"bilateral u . n = 0 on Gamma_C)")
     if isinstance(law, Coulomb) and not elastic:
         raise CaseError(f"case {source}: Coulomb friction needs a normal stress: physics = \"elasticity\"")
-    if isinstance(law, Coulomb) and getattr(module, "second_body", None) is not None:
-        raise CaseError(f"case {source}: Coulomb friction between two bodies is not implemented (one body against a rigid obstacle)")
+    if isinstance(law, Coulomb) and getattr(module, "second_body", None) is not None and \
+            (geometry_dimension(module.geometry) if hasattr(module, "geometry") else 2) != 2:
+        raise CaseError(f"case {source}: Coulomb friction between two bodies is 2D only (the mortar coupling, harness.fem.mortar)")
     history = getattr(module, "history", None)
     if history is not None and not isinstance(history, LoadHistory):
         raise CaseError(f"case {source}: history must be harness.problem.LoadHistory(steps), got {history!r}")
@@ -214,13 +215,17 @@ def check_derivative_jumps(module, source: str) -> None:
 
 
 def check_second_body(case, source: str) -> None:
-    """A two-body case: a ``bodies.MirrorBody`` on a 2D geometry."""
+    """A two-body case: a ``bodies.MirrorBody`` on a 2D geometry, with its own Dirichlet data
+    only beside no u (the mirror solution would not be the lower body's)."""
     from .bodies import MirrorBody
     if not isinstance(case.second_body, MirrorBody):
         raise CaseError(f"case {source}: second_body must be harness.problem.bodies.MirrorBody(geometry, maxh), "
                         f"got {type(case.second_body).__name__}")
     if case.dimension != 2 or geometry_dimension(case.second_body.geometry) != 2:
         raise CaseError(f"case {source}: two bodies are 2D only (both geometries must be polygons)")
+    if case.u is not None and case.second_body.dirichlet is not None:
+        raise CaseError(f"case {source}: second_body declares its own dirichlet, so the mirror solution is not the "
+                        f"lower body's: declare the data instead of u (a reference case)")
 
 
 def physics_of(module, source: str):

@@ -118,10 +118,12 @@ class TwoBodies:
     def quantities(self, problem, u, quadratures, previous=None) -> dict:
         """The upper (slave) body's force and peak pressure (the lower body's balance them), the
         energy of both; the contact zone is where the jump closes across non-matching meshes,
-        which no vertex test of one body sees: not measured."""
+        which no vertex test of one body sees: not measured. Under Coulomb the slip is the jump
+        of u_t between the bodies, not the upper body's own u_t: the slip and stick zones are
+        not measured either (``ONE_BODY_SLIP``)."""
         upper, lower = self.bodies
         u_upper, u_lower = problem.split(u)
-        columns = quantities(upper, problem.upper, u_upper) | {"qoi_contact_measure": float("nan")}
+        columns = quantities(upper, problem.upper, u_upper) | self.unmeasured()
         columns["qoi_energy"] += strain_energy(problem.lower, u_lower)
         if self.case.exact:
             if self._exact[0] is not quadratures:
@@ -131,7 +133,16 @@ class TwoBodies:
 
     def exact_quantities(self, problem) -> dict:
         """The upper body's (its energy: both bodies', ``combine``)."""
-        return exact_quantities(self.bodies[0], problem.upper) | {exact_column("qoi_contact_measure"): float("nan")}
+        return exact_quantities(self.bodies[0], problem.upper) | {exact_column(k): v for k, v in self.unmeasured().items()}
+
+    def unmeasured(self) -> dict:
+        """The columns no one body measures (``quantities``), NaN."""
+        names = ("qoi_contact_measure",) + (ONE_BODY_SLIP if self.case.friction.name == "coulomb" else ())
+        return dict.fromkeys(names, float("nan"))
+
+
+# a one body's slip and stick zones (``measure.quantities``), from its own u_t
+ONE_BODY_SLIP = ("qoi_slip_measure", "qoi_stick_slip_point", "qoi_stick_measure")
 
 
 class TwoBodyErrors:
