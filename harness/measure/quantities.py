@@ -53,6 +53,10 @@ numbers of a contact that is not there; a bilateral elastic body is in contact o
 Gamma_C by its condition, so its ``contact_measure`` is NaN, while the normal reaction's
 largest value stays its ``peak_pressure``.
 
+Every column comes from one ``Interface`` (the pressure, the gap, the law's 1 / eps, the friction
+force and the slip at the pressure's Gauss points) by ``interface_columns``: one body's here
+(``one_body_interface``), two bodies' from the jumps between them (``two_body_quantities``).
+
 For a case with u the rows also carry each quantity's exact value (``exact_quantities``), from
 the declared u on the level's mesh with rules far finer than the discrete ones (the graded rule
 at singular points; the slip zone's and the stick-slip point's from the same rule): the rates stage fits each quantity's error and judges the Richardson
