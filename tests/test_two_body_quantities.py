@@ -175,7 +175,14 @@ def _sheared(case, matching: bool):
     geometry, maxh = (case.geometry, case.maxh) if matching else (body.geometry, body.maxh)
     return dataclasses.replace(case, friction=Coulomb(MU), dirichlet=case.u + ngs.CF((XI, 0.0)),
                                second_body=MirrorBody(geometry, maxh, dirichlet=case.u),
-                               history=LoadHistory((LoadStep("normal", dirichlet=case.u), LoadStep("tangential"))))
+                               history=LoadHistory((LoadStep("normal", dirichlet=case.u), LoadStep("tangential"))),
+                               predicted_traction=_uniform_shear)
+
+
+def _uniform_shear(s, force, tangential):
+    """A predicted shear traction: Q spread evenly over Gamma_C = (-1, 1) (a probe of
+    ``err_traction_prediction``, no theory)."""
+    return np.full(len(s), 0.5 * tangential)
 
 
 def _slip_on_stick_edges(case, method, level, problem, solve) -> dict:
@@ -198,8 +205,11 @@ def _slip_on_stick_edges(case, method, level, problem, solve) -> dict:
     contact = contact_zone(interface.pressure, interface.gap, interface.stiffness)
     zone = slip_zone(interface.force, interface.slip, interface.stiffness,
                      friction_threshold(case, problem.upper, q, interface.pressure)) & contact
+    P, Q = q.weights @ interface.pressure, q.weights @ -interface.force[:, 0]
+    shear_error = np.sqrt(q.weights @ (-interface.force[:, 0] - 0.5 * Q) ** 2 / (q.weights @ np.full(len(q.weights), 0.25 * Q * Q)))
     return {"stick_points": int(on_stick.sum()), "stick_slip": float(slip[on_stick].max(initial=0.0)),
-            "largest": float(slip[contact].max()), "called_slipping": int((zone & on_stick).sum())}
+            "largest": float(slip[contact].max()), "called_slipping": int((zone & on_stick).sum()),
+            "P": P, "Q": Q, "shear_error": shear_error}
 
 
 @pytest.mark.slow
@@ -209,7 +219,7 @@ def test_the_slip_and_stick_zones_of_a_sheared_pair_come_from_the_jump(method_na
     """The sheared exact two-body Coulomb case through ``harness.run``, levels 0-2: every
     quantity finite, stick + slip = the contact measure (to round-off), both zones and Q > 0;
     the exact contact measure the upper body's (1), the exact slip zone NaN (a mirror pair has
-    none). On the slave edges whose nodes all stick (the dual projection pins the slip) the
+    none); P, Q and err_traction_prediction (against a probe prediction) the upper body's. On the slave edges whose nodes all stick (the dual projection pins the slip) the
     pointwise slip is 0 to round-off on matching meshes (measured <= 2.5e-16); on non-matching
     ones it is what the master's trace less its projection leaves, measured relative to the
     largest slip: P2 1.0e-3, 5.7e-4 (levels 1, 2; 3.7e-4 on level 3), P1 2.5e-3, 1.2e-3 (1.1e-3,
@@ -234,3 +244,8 @@ def test_the_slip_and_stick_zones_of_a_sheared_pair_come_from_the_jump(method_na
     assert kept[2]["called_slipping"] == 0 and (not matching or all(k["called_slipping"] == 0 for k in kept.values())), kept
     if not matching:
         assert kept[2]["stick_slip"] < kept[1]["stick_slip"], kept
+    # P, Q and the traction's error against the (probe) prediction at them: the upper body's
+    for row in rows.itertuples():
+        found = kept[row.level]
+        np.testing.assert_allclose([row.qoi_force, row.qoi_tangential_force, row.err_traction_prediction],
+                                   [found["P"], found["Q"], found["shear_error"]], rtol=1e-12)
