@@ -53,6 +53,10 @@ numbers of a contact that is not there; a bilateral elastic body is in contact o
 Gamma_C by its condition, so its ``contact_measure`` is NaN, while the normal reaction's
 largest value stays its ``peak_pressure``.
 
+Every column comes from one ``Interface`` (the pressure, the gap, the law's 1 / eps, the friction
+force and the slip at the pressure's Gauss points) by ``interface_columns``: one body's here
+(``one_body_interface``), two bodies' from the jumps between them (``two_body_quantities``).
+
 For a case with u the rows also carry each quantity's exact value (``exact_quantities``), from
 the declared u on the level's mesh with rules far finer than the discrete ones (the graded rule
 at singular points; the slip zone's and the stick-slip point's from the same rule): the rates stage fits each quantity's error and judges the Richardson
@@ -62,6 +66,9 @@ the points of any rule of the level's mesh: no rule of it resolves them to the a
 value needs).
 """
 from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
 
 import ngsolve as ngs
 import numpy as np
@@ -102,30 +109,64 @@ def exact_column(column: str) -> str:
     return f"{column}_exact"
 
 
+@dataclass(frozen=True)
+class Interface:
+    """What the quantities on Gamma_C are read from, at the points of the pressure's Gauss rule
+    ``q`` (``errors.DiscretePressure.quadrature``): the discrete pressure there and at the
+    vertices, the gap c(u_h) - alpha (two bodies: the opening less 2 alpha,
+    ``two_body_quantities``), the contact law's 1 / eps (one body: E / h), and on a friction
+    case the friction force and the slip over the last load step, each (q, d - 1)."""
+
+    q: object
+    pressure: np.ndarray
+    vertices: np.ndarray
+    gap: np.ndarray
+    stiffness: np.ndarray
+    force: np.ndarray | None = None
+    slip: np.ndarray | None = None
+
+
 def quantities(case, problem, u: np.ndarray, previous: np.ndarray | None = None) -> dict:
     """The quantities of ``u`` (a solution on ``problem``), as results.csv columns; the
     penetration is the method's own column. ``previous``: u_h at the end of the load step before
     the last (``problem.friction.LoadHistory``), from which the last step's slip is measured."""
+    return interface_columns(case, problem, one_body_interface(case, problem, u, previous), strain_energy(problem, u))
+
+
+def one_body_interface(case, problem, u: np.ndarray, previous: np.ndarray | None = None) -> Interface:
+    """``Interface`` of one body's u_h against its obstacle: c(u_h) - alpha and its own slip u_t,h."""
     pressure = DiscretePressure.of(problem)
     coefficients = pressure.coefficients(u)
-    at_points = pressure.at_points(coefficients)
-    vertices = coefficients[:len(problem.vertex_dofs)]          # vertex dofs are nodal values
     q = pressure.quadrature
     gap = q.T @ u - obstacle_at(case, problem, q.points)
-    columns = {"qoi_force": float(q.weights @ at_points),
-               "qoi_contact_measure": contact_measure(problem.physics, q, at_points, gap),
-               "qoi_peak_pressure": float(max(at_points.max(initial=-np.inf), vertices.max(initial=-np.inf))),
-               "qoi_energy": strain_energy(problem, u)}
+    interface = Interface(q, pressure.at_points(coefficients), coefficients[:len(problem.vertex_dofs)],   # vertex dofs are nodal values
+                          gap, problem.physics.modulus / q.h)
     if not case.frictional:
-        return columns
+        return interface
     traction = DiscreteTraction.of(problem)
     force, slip = traction.at_points(u)
     if previous is not None:
         slip = slip - traction.at_points(previous)[1]
-    contact = contact_zone(problem.physics, q, at_points, gap)
-    columns |= friction_quantities(case, problem, q, force, slip, pressure=at_points, contact=contact) | meaningless(case)
+    return dataclasses.replace(interface, force=force, slip=slip)
+
+
+def interface_columns(case, problem, interface: Interface, energy: float) -> dict:
+    """The columns of ``interface`` (one body's or two bodies', ``Interface``) with the strain
+    energy ``energy``: the force, the contact measure, the peak pressure and, on a friction
+    case, the slip zone's (``friction_quantities``) and Coulomb's Q (``coulomb_quantities``).
+    ``problem``: the body whose rule ``interface.q`` is (its mesh holds a Tresca threshold)."""
+    q, at_points = interface.q, interface.pressure
+    contact = contact_zone(at_points, interface.gap, interface.stiffness)
+    columns = {"qoi_force": float(q.weights @ at_points),
+               "qoi_contact_measure": float(q.weights @ contact),
+               "qoi_peak_pressure": float(max(at_points.max(initial=-np.inf), interface.vertices.max(initial=-np.inf))),
+               "qoi_energy": energy}
+    if not case.frictional:
+        return columns
+    columns |= friction_quantities(case, problem, q, interface.force, interface.slip, pressure=at_points, contact=contact,
+                                   stiffness=interface.stiffness) | meaningless(case)
     if case.friction.name == "coulomb":
-        columns |= coulomb_quantities(case, q, force, columns)
+        columns |= coulomb_quantities(case, q, interface.force, columns)
     return columns
 
 
@@ -185,12 +226,14 @@ def friction_threshold(case, problem, q, pressure: np.ndarray) -> np.ndarray:
 
 
 def friction_quantities(case, problem, q, force: np.ndarray, slip: np.ndarray, exact: bool = False,
-                        pressure: np.ndarray | None = None, contact: np.ndarray | None = None) -> dict:
+                        pressure: np.ndarray | None = None, contact: np.ndarray | None = None,
+                        stiffness: np.ndarray | None = None) -> dict:
     """The slip zone's measure and the first stick-slip point of a friction force ``force`` and a
     slip ``slip`` ((q, d - 1) at the points of the rule ``q``; for Coulomb the ``pressure``
     there, its threshold's, and the ``contact`` zone, outside which a point neither sticks nor
-    slips): the module docstring's."""
-    zone = slip_zone(problem.physics, q, force, slip, friction_threshold(case, problem, q, pressure))
+    slips): the module docstring's, with the law's 1 / eps ``stiffness`` (by default E / h)."""
+    stiffness = problem.physics.modulus / q.h if stiffness is None else stiffness
+    zone = slip_zone(force, slip, stiffness, friction_threshold(case, problem, q, pressure))
     if case.friction.name == "coulomb":
         zone &= contact
     two_d = problem.trace.faces is None
@@ -201,10 +244,10 @@ def friction_quantities(case, problem, q, force: np.ndarray, slip: np.ndarray, e
     return {exact_column(c): v for c, v in columns.items()} if exact else columns
 
 
-def slip_zone(physics, q, force: np.ndarray, slip: np.ndarray, threshold: np.ndarray) -> np.ndarray:
-    """At each point of ``q``: does Tresca's projection P_s(lambda - (E / h) u_t) act, i.e.
-    |lambda - (E / h) u_t| > s (the module docstring)?"""
-    argument = force - (physics.modulus / q.h)[:, None] * slip
+def slip_zone(force: np.ndarray, slip: np.ndarray, stiffness: np.ndarray, threshold: np.ndarray) -> np.ndarray:
+    """At each point: does Tresca's projection P_s(lambda - u_t / eps) act, i.e.
+    |lambda - u_t / eps| > s (the module docstring; ``stiffness`` = 1 / eps, E / h for one body)?"""
+    argument = force - stiffness[:, None] * slip
     return np.linalg.norm(argument, axis=1) > threshold
 
 
@@ -235,15 +278,10 @@ def obstacle_at(case, problem, points: np.ndarray) -> np.ndarray | float:
     return evaluate(case.obstacle, problem.mesh, points) if case.obstacle is not None else 0.0
 
 
-def contact_measure(physics, q, pressure: np.ndarray, gap: np.ndarray) -> float:
-    """The measure of the points of the rule ``q`` in the contact zone (``contact_zone``)."""
-    return float(q.weights @ contact_zone(physics, q, pressure, gap))
-
-
-def contact_zone(physics, q, pressure: np.ndarray, gap: np.ndarray) -> np.ndarray:
-    """At each point of the rule ``q``: is the contact law's argument
-    lambda - (E / h)(c(u) - alpha) positive (module docstring)?"""
-    return pressure - physics.modulus / q.h * gap > 0
+def contact_zone(pressure: np.ndarray, gap: np.ndarray, stiffness: np.ndarray) -> np.ndarray:
+    """At each point: is the contact law's argument lambda - (c(u) - alpha) / eps positive
+    (module docstring; ``stiffness`` = 1 / eps, E / h for one body)?"""
+    return pressure - stiffness * gap > 0
 
 
 def exact_quantities(case, problem) -> dict:
@@ -255,13 +293,14 @@ def exact_quantities(case, problem) -> dict:
          else DiscretePressure.of(problem).quadrature)
     pressure = exact_pressure(case, problem, q)
     gap = case.physics.contact_value(case, problem.mesh, q.points, q.normals) - obstacle_at(case, problem, q.points)
+    contact = contact_zone(pressure, gap, case.physics.modulus / q.h)
     columns = {exact_column("qoi_force"): float(q.weights @ pressure),
-               exact_column("qoi_contact_measure"): contact_measure(case.physics, q, pressure, gap) if two_d else float("nan"),
+               exact_column("qoi_contact_measure"): float(q.weights @ contact) if two_d else float("nan"),
                exact_column("qoi_peak_pressure"): exact_peak(case, problem, pressure) if two_d else float("nan")}
     if not case.frictional:
         return columns
     friction = friction_quantities(case, problem, q, *exact_friction(case, problem, q), exact=True, pressure=pressure,
-                                   contact=contact_zone(case.physics, q, pressure, gap))
+                                   contact=contact)
     if not two_d:       # the slip zone's border crosses the triangles: no rule of the mesh resolves it
         friction = dict.fromkeys(friction, float("nan"))
     return columns | friction | meaningless(case, exact=True)

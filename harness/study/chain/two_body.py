@@ -35,8 +35,8 @@ from ...fem.assembly import discretise
 from ...fem.element_quadrature import ElementQuadrature
 from ...fem.two_body import TwoBodyProblem
 from ...measure.errors import ExactErrors
-from ...measure.quantities import exact_column, exact_quantities, quantities, strain_energy
 from ...measure.two_body_estimator import TwoBodyEstimator
+from ...measure.two_body_quantities import two_body_exact_quantities, two_body_quantities
 from ...mesh.levels import Level
 from ...mesh.strategies import UNIFORM, element_budget, singular_lines, singular_points
 from ...mesh.two_body_levels import AdaptivePair, GradedPair, UniformPair
@@ -116,33 +116,15 @@ class TwoBodies:
         self.sequence.observe(indicators)
 
     def quantities(self, problem, u, quadratures, previous=None) -> dict:
-        """The upper (slave) body's force and peak pressure (the lower body's balance them), the
-        energy of both; the contact zone is where the jump closes across non-matching meshes,
-        which no vertex test of one body sees: not measured. Under Coulomb the slip is the jump
-        of u_t between the bodies, not the upper body's own u_t: the slip and stick zones are
-        not measured either (``ONE_BODY_SLIP``)."""
-        upper, lower = self.bodies
-        u_upper, u_lower = problem.split(u)
-        columns = quantities(upper, problem.upper, u_upper) | self.unmeasured()
-        columns["qoi_energy"] += strain_energy(problem.lower, u_lower)
+        """The quantities of the two-body u_h (``measure.two_body_quantities``): the upper
+        (slave) body's force and peak pressure (the lower body's balance them), the energy of
+        both, the contact zone and (friction) the slip zone from the jumps between the bodies."""
+        columns = two_body_quantities(self.bodies, problem, u, previous)
         if self.case.exact:
             if self._exact[0] is not quadratures:
-                self._exact = (quadratures, self.exact_quantities(problem))
+                self._exact = (quadratures, two_body_exact_quantities(self.bodies, problem))
             columns |= self._exact[1]
         return columns
-
-    def exact_quantities(self, problem) -> dict:
-        """The upper body's (its energy: both bodies', ``combine``)."""
-        return exact_quantities(self.bodies[0], problem.upper) | {exact_column(k): v for k, v in self.unmeasured().items()}
-
-    def unmeasured(self) -> dict:
-        """The columns no one body measures (``quantities``), NaN."""
-        names = ("qoi_contact_measure",) + (ONE_BODY_SLIP if self.case.friction.name == "coulomb" else ())
-        return dict.fromkeys(names, float("nan"))
-
-
-# a one body's slip and stick zones (``measure.quantities``), from its own u_t
-ONE_BODY_SLIP = ("qoi_slip_measure", "qoi_stick_slip_point", "qoi_stick_measure")
 
 
 class TwoBodyErrors:
