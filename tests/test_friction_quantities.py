@@ -124,3 +124,16 @@ def test_elastic_slip_zone_and_tangential_traction(kind):
             assert (error <= 1e-10).all(), error
         else:
             assert (np.diff(error) < 0).all(), error
+
+
+def test_under_coulomb_the_stick_slip_point_is_sought_among_the_points_in_contact():
+    """Cattaneo's picture along a flat Gamma_C: open beyond |x| > a = 0.5, slip on c < |x| < a
+    (c = 0.25), stick inside. Counting every point, the first change of state is the contact
+    edge -a (open counts as not slipping); counting only the points in contact it is -c."""
+    from harness.measure.quantities import first_transition
+    s = np.linspace(-0.99, 0.99, 199)
+    q = types.SimpleNamespace(points=np.column_stack([s, np.zeros_like(s)]), normals=np.tile([0.0, -1.0], (len(s), 1)))
+    contact, slip = np.abs(s) < 0.5, (np.abs(s) > 0.25) & (np.abs(s) < 0.5)
+    assert abs(first_transition(q, slip) + 0.5) <= 0.01
+    assert abs(first_transition(q, slip, contact) + 0.25) <= 0.01
+    assert np.isnan(first_transition(q, np.zeros_like(slip), contact))

@@ -43,7 +43,9 @@ On a friction case (``problem.friction``; the friction force lambda_h and the sl
   found as the first change of state between consecutive Gauss points ordered along a flat
   Gamma_C (their midpoint: within O(h) of the transition); the position is the coordinate
   along tau = (-n_y, n_x), the x of a horizontal Gamma_C below the body, whose start is its
-  left end. NaN where Gamma_C is all stick or all slip, or not flat.
+  left end. NaN where Gamma_C is all stick or all slip, or not flat. Under Coulomb a point out of
+  contact neither sticks nor slips: the transition is sought among the points in contact (where
+  the body separates first, Cattaneo's -a, is no stick-slip point; -c is).
 
 The frictionless quantities on a friction case: ``force`` is the total flux int lambda_h, the
 total friction force in the scalar model and the total normal reaction of the bilateral
@@ -238,7 +240,7 @@ def friction_quantities(case, problem, q, force: np.ndarray, slip: np.ndarray, e
         zone &= contact
     two_d = problem.trace.faces is None
     columns = {"qoi_slip_measure": float(q.weights @ zone),
-               "qoi_stick_slip_point": first_transition(q, zone) if two_d else float("nan")}
+               "qoi_stick_slip_point": first_transition(q, zone, contact) if two_d else float("nan")}
     if case.friction.name == "coulomb" and not exact:      # the stick zone: in contact, not slipping
         columns["qoi_stick_measure"] = float(q.weights @ (contact & ~zone))
     return {exact_column(c): v for c, v in columns.items()} if exact else columns
@@ -251,14 +253,17 @@ def slip_zone(force: np.ndarray, slip: np.ndarray, stiffness: np.ndarray, thresh
     return np.linalg.norm(argument, axis=1) > threshold
 
 
-def first_transition(q, zone: np.ndarray) -> float:
+def first_transition(q, zone: np.ndarray, among: np.ndarray | None = None) -> float:
     """The midpoint of the first two consecutive points of ``q`` (ordered along a flat 2D
-    Gamma_C, by the coordinate along tau = (-n_y, n_x)) whose states ``zone`` differ; NaN
-    where none do or Gamma_C is not flat."""
+    Gamma_C, by the coordinate along tau = (-n_y, n_x)) whose states ``zone`` differ, counting
+    only the points ``among`` (Coulomb: those in contact; None: all); NaN where none do or
+    Gamma_C is not flat."""
     if not len(zone) or np.abs(q.normals - q.normals[0]).max() > 1e-12:
         return float("nan")
     position = q.points @ point_tangents(q.normals[:1])[0, 0]
     order = np.argsort(position, kind="stable")
+    if among is not None:
+        order = order[among[order]]
     changes = np.flatnonzero(zone[order][1:] != zone[order][:-1])
     if not len(changes):
         return float("nan")
