@@ -37,7 +37,9 @@ CATTANEO_NOTE = (
     "forms are exact only when the normal and tangential responses uncouple (Dundurs' β = 0: two identical "
     "bodies, or ν = 1/2 against a rigid one); a rigid indenter on a ν = 0.3 body has β = 0.286 and the deviation "
     "measured there is the coupling's share (Spence), not a discretisation error; the near-incompressible pair "
-    "(β = 0.057) comes closer. Two-body Coulomb (β = 0 exactly) is not implemented yet.")
+    "(β = 0.057) comes closer. Two identical bodies (the cattaneo-two-body cases, mortar methods) have β = 0 exactly, "
+    "in finite blocks too (their normal and tangential problems uncouple by symmetry): there what is left is the "
+    "blocks' finite size and the discretisation. A two-body row's zones are read from the jumps between the bodies.")
 
 
 def write(doc: Document, plan: ReportPlan) -> None:
