@@ -134,7 +134,13 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
         # meshes are the strategy's (``two_body.pair_sequence``), not one body's sequence
         if sequence is not None:
             raise ValueError(f"case {case.name}: two bodies take a mesh strategy, not one body's level sequence")
-        return run_two_body_chain(case, methods, levels, progress, phases, on_level, mesh)
+        if case.exact:
+            return run_two_body_chain(case, methods, levels, progress, phases, on_level, mesh)
+        # without u: each body against the reference method's solution k levels finer
+        requested = {m.name for m in methods_for(case, methods)}
+        chained = chain_methods(case, methods)
+        return run_two_body_chain(case, chained, levels, progress, phases, on_level, mesh,
+                                  chain_plan(case, chained, requested, levels, False))
     own = methods_for(case, methods)        # those that discretise its physics, dimension and bodies
     requested = {m.name for m in own}
     sequence = sequence or mesh.sequence(case, max(m.order for m in own))
