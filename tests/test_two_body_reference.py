@@ -28,6 +28,7 @@ from harness.methods.mortar import two_body_steps
 from harness.problem import closed_forms
 from harness.problem.bodies import lower_body
 from harness.problem.case import load_case
+from harness.study.chain.snapshots import two_body_snapshot
 from harness.study.chain.two_body import run_two_body_chain
 
 DELTA, XI = 0.04, 0.01
@@ -78,9 +79,15 @@ def _body_solutions(case, method, level, problem, solve) -> list:
     return kept
 
 
+SNAPSHOTS = {}
+
+
 @pytest.fixture(scope="module")
 def rows(case):
-    return harness.run(case, methods=["mortar-nodal"], levels=2, show_progress=False)
+    """The rows of levels 0-1; each level's report snapshot of Gamma_C kept in ``SNAPSHOTS``."""
+    def snapshot(case, method, level, problem, solve):
+        SNAPSHOTS[level] = two_body_snapshot(case, problem, solve)
+    return harness.run(case, methods=["mortar-nodal"], levels=2, show_progress=False, on_level=snapshot)
 
 
 def test_a_two_body_reference_case_from_a_file_runs_against_mortar_nodal_one_level_finer(case, rows):
@@ -93,6 +100,14 @@ def test_a_two_body_reference_case_from_a_file_runs_against_mortar_nodal_one_lev
     assert (rows.reference_method == "mortar-nodal").all() and (rows.reference_level == 2).all()
     assert (rows.reference_kkt_residual <= 1e-10).all() and rows.err_best_h1.isna().all()
     assert rows.err_h1.iloc[1] < rows.err_h1.iloc[0] and rows.err_energy.notna().all()
+
+
+def test_the_report_draws_no_exact_opening_or_pressure_of_a_two_body_reference_case(rows):
+    """``study.chain.snapshots.two_body_snapshot``: u_h's opening and the mortar pressure are
+    drawn, the exact ones (no u) are NaN."""
+    snapshot = SNAPSHOTS[1]
+    assert np.isnan(snapshot["u"]).all() and np.isnan(snapshot["exact_pressure"]).all()
+    assert np.isfinite(snapshot["u_h"]).all() and snapshot["pressure"].max() > 0
 
 
 @pytest.mark.slow       # 2.6 s: a second chain, three levels studied
