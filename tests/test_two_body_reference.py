@@ -3,7 +3,8 @@ repository, ``harness.run`` measures each body against `mortar-nodal`'s solution
 (``study.chain.two_body.TwoBodyErrors`` over ``measure.reference.ReferenceErrors``) and the
 combined columns equal the errors integrated by hand; the lower body holds its own Dirichlet
 data at every load step; what cannot work is refused in one line; the two-body closed forms
-(``problem.closed_forms.identical_bodies_modulus``, ``effective_radius``).
+(``problem.closed_forms.identical_bodies_modulus``, ``effective_radius``) and, on matching meshes,
+cattaneo-two-body-q03's normal step = hertz-line in each body.
 
 The file case: two small blocks (coarse zone a few elements wide), Coulomb mu_F = 0.3, the upper
 top pressed by (0, -DELTA), then moved by (XI, -DELTA), the lower one held at (0, -DELTA)."""
@@ -11,6 +12,7 @@ from __future__ import annotations
 
 import math
 import textwrap
+from pathlib import Path
 
 import ngsolve as ngs
 import numpy as np
@@ -110,7 +112,7 @@ def test_the_report_draws_no_exact_opening_or_pressure_of_a_two_body_reference_c
     assert np.isfinite(snapshot["u_h"]).all() and snapshot["pressure"].max() > 0
 
 
-@pytest.mark.slow       # 2.6 s: a second chain, three levels studied
+@pytest.mark.slow       # 1.5-2.6 s: a second chain, three levels studied
 def test_the_two_body_reference_errors_are_those_integrated_by_hand(case, rows):
     """err_h1, err_h1_semi and err_l2 of the rows are sqrt(sum over the bodies) of
     || u_R - u_h || integrated by NGSolve on each body's level-2 mesh (u_h evaluated across the
@@ -200,3 +202,47 @@ def test_identical_bodies_have_the_rigid_indenters_contact_zone(poisson, radius)
 def test_the_effective_radius_adds_the_curvatures():
     assert closed_forms.effective_radius(2.0, 3.0) == pytest.approx(1.2, rel=1e-15)
     assert closed_forms.effective_radius(1.0, math.inf) == 1.0       # a cylinder against a flat
+
+
+CASES = Path(__file__).resolve().parent.parent / "cases"
+
+
+# (method, the one-body method it is on matching meshes, how far apart: relative to max |u|, or
+# in absolute terms on the P1 pair) -- mortar-p1's dual linear rows impose the dual projection of
+# the parabolic gap, int psi_i x^2/2 / D_i = x_i^2/2 - h^2/12 on a uniform stretch (psi_i = 2 phi_i -
+# phi_j on each element), not p1's nodal x_i^2/2: measured 5.2083e-5 = h^2/12 at the zone's h = a/4
+MATCHING = [("mortar-nodal", "nodal", 1e-9, None), ("mortar-p1", "p1", None, 1.001 * 0.025**2 / 12)]
+
+
+@pytest.mark.parametrize("method_name, one_body, relative, absolute", MATCHING)
+def test_the_normal_step_of_a_matching_two_body_cattaneo_pair_is_hertz_line_in_each_body(method_name, one_body,
+                                                                                         relative, absolute):
+    """cattaneo-two-body-q03's normal step (both tops at (0, -delta), Coulomb mu_F = 0.3) with the
+    lower body meshed as the upper (matching meshes), level 0: by the mirror symmetry the jump
+    vanishes, no friction acts, and each body's u_h is hertz-line's own of the matching one-body
+    method (the dual mortar rows on matching meshes are its cones on the jump): `mortar-nodal`'s
+    to 1e-9 relative, `mortar-p1`'s up to the h^2/12 its rows move the gap by (``MATCHING``).
+    The identical-bodies closed forms give the same a and p0 as the rigid indenter's at the
+    same P (``test_identical_bodies_have_the_rigid_indenters_contact_zone``): two-body Hertz is
+    rigid Hertz."""
+    import dataclasses
+
+    from ngsolve import CF
+
+    from harness.problem.bodies import MirrorBody
+    from harness.problem.friction import STATIC
+    two = load_case(str(CASES / "cattaneo_two_body_q03.py"))
+    pressed = CF((0.0, -0.015))
+    two = dataclasses.replace(two, dirichlet=pressed, history=STATIC,
+                              second_body=MirrorBody(two.geometry, two.maxh, dirichlet=pressed))
+    hertz = load_case(str(CASES / "hertz_line.py"))
+    method, reference = get_method(method_name), get_method(one_body)
+    problem = TwoBodyProblem(*(discretise(body, coarse_mesh(body), method.order) for body in (two, lower_body(two))))
+    solved = method.solve(two, problem, None, None)
+    one = discretise(hertz, coarse_mesh(hertz), reference.order)
+    expected = reference.solve(hertz, one, None, None)
+    assert solved.fields["kkt_residual"] <= 1e-10 and expected.fields["kkt_residual"] <= 1e-10
+    for body, part in zip(problem.bodies, problem.split(solved.u)):
+        assert body.ndof == one.ndof
+        difference = np.abs(body.cartesian(part) - one.cartesian(expected.u)).max()
+        assert difference <= (absolute if relative is None else relative * np.abs(expected.u).max()), difference
