@@ -121,8 +121,10 @@ class MeshStrategy:
         if self.name == "hp":
             return hp_refusal(case)
         if case.bodies != 1 and (case.dimension != 2 or not case.exact):
-            # the mortar coupling is on a line (``fem.mortar``); two-body errors are against u
-            return "graded and adaptive meshes of two bodies need a 2D case with u (the mortar coupling on a line)"
+            # the mortar coupling is on a line (``fem.mortar``); without u each body is measured
+            # against one reference k uniform levels finer (``study.chain.two_body.TwoBodyErrors``)
+            return ("graded and adaptive meshes of two bodies need a 2D case with u (the mortar coupling on a line; "
+                    "a reference is nested in uniform pairs only)")
         if self.name == "adaptive" and case.bodies != 1 and len(case.history) > 1:
             # ``measure.two_body_estimator.TwoBodyEstimator``: no terms for the slip of a load step
             return "adaptive meshes of two bodies follow an estimator without a load step's friction terms"

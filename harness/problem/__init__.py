@@ -18,7 +18,7 @@ _PUBLIC = {
     "LoadStep": "friction", "scalar_stick_slip": "functions",
     # the closed forms of contact mechanics a case is read against, and the rigid-indenter set-ups
     "hertz_line": "closed_forms", "hertz_sphere": "closed_forms", "hertz_pressure": "closed_forms",
-    "cattaneo_line_case": "cattaneo", "mindlin_sphere_case": "cattaneo",
+    "cattaneo_line_case": "cattaneo", "mindlin_sphere_case": "cattaneo", "cattaneo_two_body_case": "cattaneo",
 }
 __all__ = list(_PUBLIC)
 __getattr__, __dir__ = lazy(__name__, _PUBLIC)

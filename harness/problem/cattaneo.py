@@ -1,5 +1,6 @@
-"""The rigid-indenter set-ups of the Cattaneo and Mindlin cases: hertz-line's block (hertz-sphere's
-box in 3D) pressed by a rigid cylinder (sphere), then sheared, with Coulomb friction on Gamma_C.
+"""The set-ups of the Cattaneo and Mindlin cases: hertz-line's block (hertz-sphere's box in 3D)
+pressed by a rigid cylinder (sphere), then sheared, with Coulomb friction on Gamma_C; and two
+identical blocks pressed together, then sheared (``cattaneo_two_body_case``).
 
 The history (``friction.LoadHistory``) has two steps: the normal step prescribes the top's
 motion u = (0, -delta) (3D: (0, 0, -delta)), the tangential step (the case's own data)
@@ -19,6 +20,7 @@ import numpy as np
 from ngsolve import CF, x, y
 
 from . import closed_forms
+from .bodies import MirrorBody
 from .friction import Coulomb, LoadHistory, LoadStep
 from .functions import clamped_free_exponent
 from .geometry import zone_box, zone_rectangle
@@ -57,6 +59,52 @@ def cattaneo_line_case(poisson: float, mu: float, xi: float, delta: float = 0.01
         # no rate theorem for Coulomb (docs/theory/coulomb.md): the regime only, no nu or rate
         "regime": f"u at most H^{1 + exponent:.3f} (clamped-free top corners, r^{exponent:.3f}); Coulomb, two load steps",
         "prediction": "Hertz and Cattaneo (Johnson, Contact Mechanics, 1985, Sect. 4.2, 7.1)",
+        "predicted_quantities": predicted_quantities, "predicted_friction": predicted_friction,
+        "predicted_pressure": predicted_pressure, "predicted_traction": predicted_traction,
+        "reference_levels": 1, "report_profile": "fine",
+    }
+
+
+def cattaneo_two_body_case(poisson: float, mu: float, xi: float, delta: float = 0.015, young: float = 1.0) -> dict:
+    """The declarations of a two-body Cattaneo case: two identical elastic blocks, each with the
+    gap x^2/(2R) of a cylinder of radius R (R* = R/2), pressed together, then sheared. The upper
+    block is hertz-line's (zone at a/4), the lower one (``bodies.MirrorBody``, in its mirrored
+    frame) the same outline with the zone at a/6, so the meshes on Gamma_C stand 3:2 and stay
+    non-matching under uniform refinement. The upper top moves (0, -delta), then (xi, -delta);
+    the lower top (its own Dirichlet data) holds (0, -delta) at both steps. The predictions are
+    the line contact's with the two bodies' E* and R* (``closed_forms.identical_bodies_modulus``,
+    ``closed_forms.effective_radius``): for identical bodies Dundurs' beta = 0, so Cattaneo's
+    uncoupled solution holds up to the finite blocks."""
+    e_star = closed_forms.identical_bodies_modulus(young, poisson)
+    radius = closed_forms.effective_radius(RADIUS, RADIUS)
+    exponent = clamped_free_exponent(pi / 2, poisson)
+
+    def predicted_quantities(force):
+        a, p0 = closed_forms.hertz_line(force, radius, e_star)
+        return {"qoi_contact_measure": 2 * a, "qoi_peak_pressure": p0}
+
+    def predicted_friction(force, tangential_force):
+        return {"qoi_stick_measure": 2 * closed_forms.cattaneo_line(force, tangential_force, mu, radius, e_star)["c"]}
+
+    def predicted_pressure(s, force):
+        return closed_forms.hertz_pressure(s, *closed_forms.hertz_line(force, radius, e_star))
+
+    def predicted_traction(s, force, tangential_force):
+        theory = closed_forms.cattaneo_line(force, tangential_force, mu, radius, e_star)
+        c = theory["c"] if np.isfinite(theory["c"]) else 0.0
+        return closed_forms.cattaneo_traction(s, theory["a"], theory["p0"], c, mu)
+
+    return {
+        "physics": "elasticity", "young": young, "poisson": poisson,
+        "geometry": zone_rectangle(1.0, 1.0, 0.2, 0.025), "maxh": 0.25,
+        "second_body": MirrorBody(zone_rectangle(1.0, 1.0, 0.2, 1 / 60), 0.25, dirichlet=CF((0.0, -delta))),
+        "f": CF((0.0, 0.0)), "dirichlet": CF((xi, -delta)), "neumann": CF((0.0, 0.0)),
+        "gap": x * x / (2 * RADIUS), "singular_points": [(1.0, 1.0), (-1.0, 1.0)],
+        "friction": Coulomb(mu),
+        "history": LoadHistory((LoadStep("normal", dirichlet=CF((0.0, -delta))), LoadStep("tangential"))),
+        "regime": f"u at most H^{1 + exponent:.3f} (clamped-free top corners, r^{exponent:.3f}); Coulomb between two "
+                  f"bodies, two load steps",
+        "prediction": "Hertz and Cattaneo for two identical bodies (Johnson, Contact Mechanics, 1985, Sect. 4.2, 7.1)",
         "predicted_quantities": predicted_quantities, "predicted_friction": predicted_friction,
         "predicted_pressure": predicted_pressure, "predicted_traction": predicted_traction,
         "reference_levels": 1, "report_profile": "fine",

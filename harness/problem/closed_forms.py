@@ -4,7 +4,9 @@ Each function takes the resultant(s) the discrete solution computed (the force P
 length in 2D, and the tangential force Q) and returns the theory's quantities at them: the
 comparison is at the row's own loads, so a prescribed motion sets the loads and the theory the
 rest. E* is the plane-strain (2D) or contact modulus of an elastic body against a rigid one,
-E / (1 - nu^2).
+E / (1 - nu^2), and of two identical bodies E / (2 (1 - nu^2)) (``identical_bodies_modulus``),
+with R* = R/2 for two cylinders of radius R (``effective_radius``): then a = sqrt(4 P R* /
+(pi E*)) = sqrt(4 P R (1 - nu^2) / (pi E)), the rigid indenter's a at the same P and R.
 
 Hertz (K.L. Johnson, *Contact Mechanics*, 1985, Sect. 4.2 for the cylinder, 3.4 for the sphere;
 the formulas are the standard ones quoted in the hertz-line and hertz-sphere cases):
@@ -40,6 +42,20 @@ import numpy as np
 def contact_modulus(young: float, poisson: float) -> float:
     """E* = E / (1 - nu^2) of an elastic body against a rigid one (plane strain in 2D)."""
     return young / (1 - poisson**2)
+
+
+def identical_bodies_modulus(young: float, poisson: float) -> float:
+    """E* of two identical elastic bodies in contact (plane strain in 2D): 1/E* = (1 - nu_1^2)/E_1
+    + (1 - nu_2^2)/E_2 = 2 (1 - nu^2)/E, so E* = E / (2 (1 - nu^2)), half ``contact_modulus``
+    (Johnson 1985, Sect. 4.2, not read; dolfinx_contact's friction-cylinders demo writes
+    ``Estar = E/(2(1-nu**2))``)."""
+    return young / (2 * (1 - poisson**2))
+
+
+def effective_radius(r1: float, r2: float) -> float:
+    """R* of two cylinders (spheres) of radii ``r1``, ``r2`` touching from either side of the
+    contact line: 1/R* = 1/R_1 + 1/R_2 (the sum of the two parabolic gaps x^2/(2 R_k) is x^2/(2 R*))."""
+    return 1.0 / (1.0 / r1 + 1.0 / r2)
 
 
 def hertz_line(force: float, radius: float, e_star: float) -> tuple[float, float]:

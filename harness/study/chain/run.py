@@ -134,7 +134,7 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
         # meshes are the strategy's (``two_body.pair_sequence``), not one body's sequence
         if sequence is not None:
             raise ValueError(f"case {case.name}: two bodies take a mesh strategy, not one body's level sequence")
-        return run_two_body_chain(case, methods, levels, progress, phases, on_level, mesh)
+        return two_body_chain(case, methods, levels, progress, phases, on_level, mesh)
     own = methods_for(case, methods)        # those that discretise its physics, dimension and bodies
     requested = {m.name for m in own}
     sequence = sequence or mesh.sequence(case, max(m.order for m in own))
@@ -155,6 +155,18 @@ def run_chain(case: Case, methods: list[Method], levels: int, progress=None, on_
                if per_level else error_measure(case, methods, plan, phases))
     return ChainWalk(case, methods, plan, discretisation, measure, mesh.label, phases, progress, on_level,
                      checkpoints).run()
+
+
+def two_body_chain(case: Case, methods: list[Method], levels: int, progress, phases: Phases, on_level,
+                   mesh: MeshStrategy) -> ChainOutput:
+    """``two_body.run_two_body_chain``; a case without u with the reference method's chain k
+    levels longer (``chain_methods``, ``chain_plan``: each body against its solution)."""
+    if case.exact:
+        return run_two_body_chain(case, methods, levels, progress, phases, on_level, mesh)
+    requested = {m.name for m in methods_for(case, methods)}
+    chained = chain_methods(case, methods)
+    return run_two_body_chain(case, chained, levels, progress, phases, on_level, mesh,
+                              chain_plan(case, chained, requested, levels, False))
 
 
 def per_level_reference(case: Case, sequence: LevelSequence) -> bool:

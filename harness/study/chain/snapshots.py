@@ -123,17 +123,21 @@ def domain_snapshot(case, problem, u: np.ndarray) -> dict:
 
 def two_body_snapshot(case, problem, solve) -> dict:
     """``contact_snapshot``'s fields for two bodies (``fem.two_body``): along Gamma_C the opening
-    c_1 + c_2 of u_h and of u (twice the one-body contact value), twice the obstacle, the
-    pressures (the mortar pressure per slave edge, ``methods.mortar``)."""
+    c_1 + c_2 of u_h and of u (twice the one-body contact value; NaN without u), twice the
+    obstacle, the pressures (the mortar pressure per slave edge, ``methods.mortar``)."""
     from ...fem.two_body import opening
     x, values = opening(problem, solve.u, SAMPLES_PER_EDGE)
     points = np.stack([x, np.zeros_like(x)], axis=-1)
     upper = problem.upper
     normals = np.broadcast_to(np.array([0.0, -1.0]), points.shape)
     order = np.argsort(x.ravel(), kind="stable")
-    along = {"s": x, "u_h": values, "u": 2.0 * case.physics.contact_value(case, upper.mesh, points, normals),
-             "gap": 2.0 * evaluate(case.obstacle, upper.mesh, points) if case.obstacle is not None else np.zeros(x.shape),
-             "exact_pressure": case.physics.pressure(case, upper.mesh, points, normals)}
+    along = {"s": x, "u_h": values,
+             "gap": 2.0 * evaluate(case.obstacle, upper.mesh, points) if case.obstacle is not None else np.zeros(x.shape)}
+    if case.u is None:          # a reference case: no exact opening or pressure to draw
+        along |= {"u": np.full(x.shape, np.nan), "exact_pressure": np.full(x.shape, np.nan)}
+    else:
+        along |= {"u": 2.0 * case.physics.contact_value(case, upper.mesh, points, normals),
+                  "exact_pressure": case.physics.pressure(case, upper.mesh, points, normals)}
     edge_s = upper.trace.midpoints[:, 0]
     edge_order = np.argsort(edge_s)
     return {**{key: np.ravel(value)[order] for key, value in along.items()},

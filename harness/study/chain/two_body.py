@@ -8,7 +8,10 @@ u in its mirrored frame) and combined over the two bodies:
                                            trace and pressure on Gamma_C),
 
 so that ``err_h1`` is the H^1 error over both bodies and ``err_h1_over_best`` the ratio of the
-combined errors. One row per (method, level), with the columns of a one-body chain; ``ndof`` the
+combined errors. A case without u (a reference case) measures each body as a one-body reference
+case does (``measure.reference.ReferenceErrors``: against the reference method's solution k
+levels finer, on uniform pairs, where each body's meshes are nested on their own), combined the
+same way once the reference level has completed both bodies' columns. One row per (method, level), with the columns of a one-body chain; ``ndof`` the
 two bodies' together, ``h`` the coarser body's mesh size. The level loop is every chain's
 (``walk.ChainWalk``); the two bodies' own are their meshes, problems and solves (``TwoBodies``)
 and their combined errors (``TwoBodyErrors``).
@@ -35,6 +38,7 @@ from ...fem.assembly import discretise
 from ...fem.element_quadrature import ElementQuadrature
 from ...fem.two_body import TwoBodyProblem
 from ...measure.errors import ExactErrors
+from ...measure.reference import ReferenceErrors
 from ...measure.two_body_estimator import TwoBodyEstimator
 from ...measure.two_body_quantities import two_body_exact_quantities, two_body_quantities
 from ...mesh.levels import Level
@@ -55,10 +59,13 @@ COMBINED = ("err_h1", "err_h1_semi", "err_l2", "err_energy", "err_best_h1", "err
 
 def combine(upper: dict, lower: dict) -> dict:
     """The error columns of both bodies' rows as one: sqrt(a^2 + b^2) per norm, and the ratio to
-    the best approximation of the combined errors."""
+    the best approximation of the combined errors (against u only: a reference measures no best
+    approximation and no exact energy, ``measure.reference.ReferenceErrors``)."""
     out = {key: math.hypot(upper[key], lower[key]) for key in COMBINED if key in upper and key in lower}
-    out["err_h1_over_best"] = out["err_h1"] / out["err_best_h1"]
-    out["qoi_energy_exact"] = upper["qoi_energy_exact"] + lower["qoi_energy_exact"]
+    if "err_best_h1" in out:
+        out["err_h1_over_best"] = out["err_h1"] / out["err_best_h1"]
+    if "qoi_energy_exact" in upper and "qoi_energy_exact" in lower:
+        out["qoi_energy_exact"] = upper["qoi_energy_exact"] + lower["qoi_energy_exact"]
     return out
 
 
@@ -129,44 +136,58 @@ class TwoBodies:
 
 class TwoBodyErrors:
     """Each body's errors measured as a one-body chain measures them (``measures``: the upper
-    body's, the lower body's), combined into each row at the end of the level (``combine``)."""
+    body's, the lower body's: ``ExactErrors`` against u, or ``ReferenceErrors`` against the
+    reference method's solution k levels finer, each body's uniform meshes nested on their own),
+    combined into a row (``combine``) at the end of the level that completes both bodies'
+    columns: its own against u, the reference's for every studied row."""
 
-    def __init__(self, measures: list[ExactErrors]):
+    def __init__(self, measures: list):
         self.measures = measures
         self.pending: list[tuple[dict, list[dict]]] = []       # (row, its two bodies' columns)
 
     def begin_level(self, level: int, meshes, problems: dict, quadratures, multilevel) -> None:
-        self.pending = []
         for k, (measure, mesh, quadrature) in enumerate(zip(self.measures, meshes, quadratures)):
             measure.begin_level(level, mesh, {order: pair.bodies[k] for order, pair in problems.items()}, quadrature, None)
 
-    def solved(self, method, level: int, problem: TwoBodyProblem, u, row: dict) -> dict:
+    def solved(self, method, level: int, problem: TwoBodyProblem, u, row: dict | None) -> dict:
+        """Each body's solve measured; ``row`` None: a reference chain's solve (no row)."""
         body_rows = [{}, {}]
         for k, (measure, body_u) in enumerate(zip(self.measures, problem.split(u))):
             body_rows[k].update(measure.solved(method, level, problem.bodies[k], body_u, body_rows[k]))
-        self.pending.append((row, body_rows))
+        if row is not None:
+            self.pending.append((row, body_rows))
         return {}
 
     def end_level(self) -> None:
         for measure in self.measures:
             measure.end_level()
+        waiting = []
         for row, (upper, lower) in self.pending:
-            row.update(combine(upper, lower))
+            if "err_h1" in upper and "err_h1" in lower:
+                row.update(combine(upper, lower))
+            else:
+                waiting.append((row, (upper, lower)))
+        self.pending = waiting
 
 
 def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, on_level=None,
-                       mesh=UNIFORM) -> ChainOutput:
+                       mesh=UNIFORM, plan: ChainPlan | None = None) -> ChainOutput:
     """The rows of ``methods`` (those that couple two bodies) on the two-body ``case``, levels
     0 .. ``levels`` - 1 (+ the methods' extra levels, P1's), sharing each level's meshes and
     each order's pair of discrete problems, on the meshes of the ``mesh`` strategy
     (``pair_sequence``; an adaptive chain serves one method and runs until the budget).
     ``on_level(case, method, level, problem, solve)`` as in ``chain.run_chain``, with
     ``problem`` a ``fem.two_body.TwoBodyProblem``; what it returns is kept by (method, level).
-    Returns ``rows.ChainOutput``."""
+    A case without u needs ``plan`` (``chain.run.chain_plan``: the reference method's chain k
+    levels longer, ``methods`` holding it) and uniform pairs. Returns ``rows.ChainOutput``."""
     phases = phases or Phases()
     methods = methods_for(case, methods)
-    if not case.exact:
-        raise ValueError(f"case {case.name}: a two-body case needs its exact u")
+    if not case.exact and (plan is None or plan.reference is None):
+        raise ValueError(f"case {case.name}: a two-body case without u is measured against a reference: "
+                         f"run it through harness.study.chain.run_chain (its reference plan)")
+    if not case.exact and getattr(mesh, "name", None) != "uniform":
+        raise ValueError(f"case {case.name}: a two-body case without u runs on uniform pairs only "
+                         f"(each body's meshes nested in its reference's)")
     bodies = (case, lower_body(case))
     extra = max(m.extra_levels for m in methods)
     budget = sum(element_budget(body, levels, extra) for body in bodies)
@@ -177,8 +198,14 @@ def run_two_body_chain(case, methods, levels: int, progress=None, phases=None, o
         studied = {m.name: MAX_ADAPTIVE_LEVELS for m in methods}
     else:
         studied = {m.name: study_levels(m, levels) for m in methods}
-    measure = TwoBodyErrors([ExactErrors(body, phases, {m.name: m.order for m in methods}) for body in bodies])
-    return ChainWalk(case, methods, ChainPlan(studied, studied), TwoBodies(case, bodies, sequence, budget), measure,
+    orders = {m.name: m.order for m in methods}
+    if case.exact:
+        plan = ChainPlan(studied, studied)
+        measure = TwoBodyErrors([ExactErrors(body, phases, orders) for body in bodies])
+    else:
+        measure = TwoBodyErrors([ReferenceErrors(plan.studied, orders, plan.reference, plan.chain[plan.reference] - 1, phases)
+                                 for _ in bodies])
+    return ChainWalk(case, methods, plan, TwoBodies(case, bodies, sequence, budget), measure,
                      mesh.label, phases, progress, on_level).run()
 
 
