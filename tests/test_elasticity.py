@@ -211,7 +211,8 @@ def test_3d_elastic_solution_equals_independent_qp_solver(method_name):
     assert np.abs(ours - reference).max() <= 1e-7 * np.abs(reference).max()
 
 
-@pytest.mark.slow       # about 2 minutes: `make test-full`
+@pytest.mark.slow       # about 2 minutes: `make test-scale`
+@pytest.mark.scale
 def test_done_when_3d_elasticity_reaches_half_a_million_dofs_at_its_rates():
     """Issue 33's acceptance for 3D elasticity: elastic-transition-3d on 4 levels (finest >= 5e5
     P2 dofs), every solve exact (KKT <= 1e-10) by the vector multigrid, the last pairwise H^1

@@ -449,7 +449,8 @@ def test_singular_lines_are_3d_only_and_3d_points_grade_too(tmp_path):
     assert sequence.distance(centroids) == pytest.approx([0.5, np.sqrt(0.5)])
 
 
-@pytest.mark.slow       # 100 s (nodal alone; 9e5 dofs on the finest level): `make test-full`
+@pytest.mark.slow       # 100 s (nodal alone; 9e5 dofs on the finest level): `make test-scale`
+@pytest.mark.scale
 def test_graded_meshes_beat_uniform_ones_in_n_on_transition_line_3d():
     """Issue 53, item 2: `nodal` on transition-line-3d's graded meshes within the uniform 4-level
     chain's budget of tetrahedra: the finest level has >= 5e5 dofs, and the rate in N is above

@@ -158,6 +158,7 @@ def test_a_tolerance_below_the_round_off_floor_ends_converged_at_round_off_not_s
 
 
 @pytest.mark.slow
+@pytest.mark.scale      # 7.9e5 dofs: `make test-scale`
 def test_the_issue_30_reference_solve_converges():
     """P1 on 7.9e5 dofs of the square case: stalled at KKT 1.3e-10 before; now converged with
     backward error ~3e-16 (KKT residual 1.5e-10, the floor)."""

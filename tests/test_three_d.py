@@ -206,6 +206,7 @@ def test_nodal_3d_rate_over_three_levels(case_name):
 
 
 @pytest.mark.slow
+@pytest.mark.scale      # `make test-scale`
 def test_done_when_four_levels_reach_a_million_dofs_with_exact_solves():
     """Issues 19 and 33's acceptance: transition-line-3d, 4 levels, finest >= 1e6 P2 dofs, every
     row's KKT residual <= 1e-10, the last-two-level H^1 rate of `nodal` and of the face-mean

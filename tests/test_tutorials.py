@@ -1,6 +1,6 @@
 """The tutorials of the documentation (docs/tutorials/*.py, executed by sphinx-gallery when
 `make docs` builds the site) run as scripts, from a scratch folder. Slow tier, and left out of
-.ci/run (`make test-full MARKERS='not tutorial'`), whose `make docs` executes them."""
+.ci/run (`make test-full MARKERS='not tutorial and not scale'`), whose `make docs` executes them."""
 import os
 import subprocess
 import sys
