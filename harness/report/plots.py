@@ -286,5 +286,6 @@ def rate_summary(rates: pd.DataFrame, ax=None, band: float = 0.1):
     ax.set_ylabel("fitted rate (last levels)")
     ax.set_title(f"Fitted H¹ rates against the theorems (grey: ±{band}; named: outside it)", fontsize=9)
     ax.grid(True, alpha=0.25)
-    ax.legend(fontsize=8, loc="upper left")
+    if methods:         # a study of cases without a theorem rate (Coulomb's) has no point to name
+        ax.legend(fontsize=8, loc="upper left")
     return fig
