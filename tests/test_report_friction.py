@@ -74,3 +74,67 @@ def test_a_method_that_leaves_a_case_out_shows_not_applicable_with_its_reason():
 def test_stick_slip_figure_is_not_drawn_from_snapshots_without_the_slip(tmp_path):
     case = SimpleNamespace(physics=SimpleNamespace(elastic=True))
     assert friction.stick_slip(case, {"nodal": {"s": np.zeros(2)}}, Path(tmp_path)) is None
+
+
+def _elastic_pair():
+    """two-body-elastic-transition under Coulomb (mu_F = 0.3), both coarse meshes refined once:
+    non-matching on Gamma_C (2:3), P2."""
+    import dataclasses
+
+    from harness.fem.assembly import discretise
+    from harness.fem.two_body import TwoBodyProblem
+    from harness.mesh.levels import coarse_mesh
+    from harness.problem.bodies import lower_body
+    from harness.problem.case import registered_cases
+    from harness.problem.friction import Coulomb
+    case = dataclasses.replace(registered_cases()["two-body-elastic-transition"], friction=Coulomb(0.3))
+    bodies = (case, lower_body(case))
+    meshes = [coarse_mesh(body) for body in bodies]
+    for mesh in meshes:
+        mesh.Refine()
+    return bodies, TwoBodyProblem(*(discretise(body, mesh, 2) for body, mesh in zip(bodies, meshes)))
+
+
+def test_a_two_body_snapshot_slip_is_the_jump_the_quantities_measure():
+    """At the upper body's Gauss points the two-body snapshot's slip is the quantities' slip
+    (``measure.two_body_quantities.two_body_interface``: t_1 from the upper body's
+    ``DiscreteTraction``, t_2 by ``MasterTrace``) for a random u_h less a random previous step,
+    to round-off; its per-edge friction force times the edge lengths sums to the quantities'
+    Q (the P, Q the dashed closed form is read at); no exact slip or force (NaN)."""
+    from harness.measure.two_body_quantities import two_body_interface
+    from harness.study.chain.snapshots import two_body_friction_snapshot
+    bodies, problem = _elastic_pair()
+    rng = np.random.default_rng(3)
+    u, previous = rng.standard_normal((2, problem.ndof))
+    interface = two_body_interface(bodies, problem, u, previous)
+    x = interface.q.points[:, 0]
+    snap = two_body_friction_snapshot(problem, x, u, previous)
+    np.testing.assert_allclose(snap["slip"], interface.slip[:, 0], rtol=0, atol=1e-12 * np.abs(interface.slip).max())
+    trace = problem.upper.trace
+    lengths = trace.lengths[np.argsort(trace.midpoints[:, 0])]            # the snapshot's edge order
+    assert np.abs(interface.slip).max() > 0.1
+    np.testing.assert_allclose(snap["friction_force"] @ lengths, interface.q.weights @ interface.force[:, 0], rtol=1e-12)
+    assert np.isnan(snap["exact_slip"]).all() and np.isnan(snap["exact_friction_force"]).all()
+
+
+TWO_BODY_CASE = "cattaneo-two-body-q03"
+
+
+@pytest.mark.slow
+def test_the_coulomb_section_draws_the_two_body_stick_slip_figure(tmp_path):
+    """A two-body Coulomb case (`mortar-nodal`, levels 0-1): the Coulomb section shows its
+    stick/slip picture, captioned with the jump between the bodies; the stored snapshot holds
+    the slip, zero where Cattaneo's stick zone is (|x| < c, c = 0.084 here: |x| < 0.05) and not in
+    its slip zone (0.09 < |x| < 0.1, a = 0.1), and the friction force per edge."""
+    html = make_report("default", tmp_path / "results", tmp_path / "report", [TWO_BODY_CASE], show_progress=False,
+                       levels=2, methods=["mortar-nodal"])
+    markdown = (tmp_path / "report" / "report.md").read_text()
+    section = markdown.split("## Coulomb friction", 1)[1].split("\n## ", 1)[0]
+    assert f"figures/{TWO_BODY_CASE}_stick_slip.png" in section and "the tangential jump between the bodies" in section
+    assert (tmp_path / "report" / "figures" / f"{TWO_BODY_CASE}_stick_slip.png").stat().st_size > 0
+    snap = np.load(next((tmp_path / "results").rglob(f"{TWO_BODY_CASE}.npz")))
+    s, slip = snap["contact__mortar-nodal__s"], np.abs(snap["contact__mortar-nodal__slip"])
+    assert len(snap["contact__mortar-nodal__friction_force"]) == len(snap["contact__mortar-nodal__edge_s"])
+    slipping = slip[(np.abs(s) > 0.09) & (np.abs(s) < 0.1)]
+    assert slip[np.abs(s) < 0.05].max() <= 1e-2 * slipping.min(), (slip[np.abs(s) < 0.05].max(), slipping.min())
+    assert html.exists()

@@ -142,28 +142,37 @@ def quantity_text(group: pd.DataFrame, column: str, kind: str) -> str:
 
 
 def draws_stick_slip(case) -> bool:
-    """Whether the case's contact figure is the stick/slip picture (``stick_slip``): one body in
-    2D (scalar, or elastic, whose snapshots then hold the slip and the friction force:
-    ``study.chain.snapshots.friction_snapshot``; a 3D case's hold faces, two bodies' the opening:
-    each keeps its contact figure)."""
-    return case.frictional and case.dimension == 2 and case.bodies == 1
+    """Whether the case's contact figure is the stick/slip picture (``stick_slip``): a 2D case,
+    one body (scalar, or elastic, whose snapshots then hold the slip and the friction force:
+    ``study.chain.snapshots.friction_snapshot``) or two elastic ones (the slip their tangential
+    jump: ``study.chain.snapshots.two_body_friction_snapshot``). A 3D case's snapshots hold
+    faces, two scalar bodies' the opening: each keeps its contact figure."""
+    return case.frictional and case.dimension == 2 and (case.bodies == 1 or case.physics.elastic)
 
 
 def stick_slip_caption(case) -> str:
-    """What ``stick_slip`` shows of ``case`` (with or without a closed-form solution)."""
+    """What ``stick_slip`` shows of ``case`` (with or without a closed-form solution; one body or
+    two, whose slip is the jump between them)."""
     exact, elastic = case.u is not None, case.physics.elastic
-    coulomb = case.friction.name == "coulomb"
-    slip = "the slip u_h·τ" + (" of the last load step" if len(case.history) > 1 else "") if elastic else \
-        "the slip u_h (the friction variable's trace"
+    coulomb, two = case.friction.name == "coulomb", case.bodies == 2
+    step = " of the last load step" if len(case.history) > 1 else ""
+    if two:
+        slip = ("the slip [u_h·τ] = t₁ − t₂" + step + ", the tangential jump between the bodies (upper less lower, "
+                "sampled on the intersection of the two trace meshes; none exact: a mirror pair has no jump")
+        exact = False
+    else:
+        slip = "the slip u_h·τ" + step if elastic else "the slip u_h (the friction variable's trace"
     force = "the friction force σ_t,h − g_t along τ (the Riesz representative, per edge's mean" if elastic else \
         "the friction force λ_h = ∂ₙu_h − g_C (the discrete multiplier per edge"
-    bound = "±μ_F p_h (dotted, p_h the discrete pressure)" if coulomb else "±s (dotted)"
+    force = force.replace("the friction force", "the upper (slave) body's friction force") if two else force
+    bound = "±μ_F p_h (dotted, p_h the discrete pressure" + (" per slave edge)" if two else ")") if coulomb else "±s (dotted)"
     if getattr(case, "predicted_traction", None) is not None:
         bound += "; dashed: the closed form's force at the first method's P_h, Q_h (" + case.prediction + ")"
-    return ("finest level of each method along Γ_C. Top: " + slip + ("" if elastic else ")") + ("; the exact one dashed" if exact else "")
+    return ("finest level of each method along Γ_C. Top: " + slip + (")" if two or not elastic else "") + ("; the exact one dashed" if exact else "")
             + "; bottom: " + force + ("; the exact one dashed" if exact else "") + ") between the threshold " + bound
             + ". Shaded: " + ("the exact stick zone (no slip)" if exact else "the first method's stick zone, where "
-            "|λ_h| < the threshold (no closed-form solution)") + ". Right: zoomed on the first stick-slip point.")
+            + ("its jump moves less than 10⁻³ of its largest and p_h > 0" if two else "|λ_h| < the threshold") + " (no closed-form solution)")
+            + ". Right: zoomed on the first stick-slip point.")
 
 
 def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
@@ -182,6 +191,7 @@ def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
     exact = bool(np.isfinite(first[fields["exact_slip"]]).all())       # a reference case has no exact u
     threshold = coulomb_threshold(case, first) if case.friction.name == "coulomb" else threshold_along(case, first["s"])
     stick = stick_zone(first, fields, exact, threshold)
+    slip = "[u_h]" if case.bodies == 2 else "u_h"      # two bodies: the tangential jump between them
     for column, window in enumerate((None, zoom_window(first["s"], stick, first["edge_lengths"]))):
         top, bottom = axes[:, column]
         if exact:       # the exact ones on top (zorder): the finest levels lie on them
@@ -189,7 +199,7 @@ def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
             bottom.plot(first["s"], fields["sign"] * first[fields["exact_force"]], "k--", lw=1.0, label="exact λ", zorder=5)
         for method, snap in snapshots.items():
             colour = style(method)["color"]
-            top.plot(snap["s"], snap[fields["slip"]], color=colour, lw=1.1, label=f"{method}: $u_h$")
+            top.plot(snap["s"], snap[fields["slip"]], color=colour, lw=1.1, label=f"{method}: ${slip}$")
             bottom.step(snap["edge_s"], snap[fields["force"]], where="mid", color=colour, lw=1.1, label=f"{method}: $\\lambda_h$")
         for bound in (threshold, -threshold) if threshold is not None else ():
             bottom.plot(first["s"], bound, color="0.5", lw=1.2, ls=":")
@@ -207,7 +217,7 @@ def stick_slip(case, snapshots: dict, folder: Path) -> dict[str, Path] | None:
                               for snap in snapshots.values()] + [first[fields["exact_slip"]][inside]])
             _fit_limits(bottom, [snap[fields["force"]][(snap["edge_s"] >= window[0]) & (snap["edge_s"] <= window[1])]
                                  for snap in snapshots.values()] + ([fields["sign"] * first[fields["exact_force"]][inside]] if exact else []))
-    axes[0, 0].set_ylabel("slip $u_h$ on $\\Gamma_C$")
+    axes[0, 0].set_ylabel(f"slip ${slip}$ on $\\Gamma_C$")
     axes[1, 0].set_ylabel("friction force $\\lambda_h$")
     axes[0, 0].legend(fontsize=7, loc="best")
     axes[1, 0].legend(fontsize=7, loc="best")

@@ -54,9 +54,8 @@ def contact_snapshot(case, problem, trace_u, pressure) -> dict:
 def friction_snapshot(case, problem, u: np.ndarray, previous: np.ndarray | None = None) -> dict:
     """An elastic 2D friction case's fields along Gamma_C, in ``contact_snapshot``'s order: the
     slip of u_h (of its last load step: less ``previous``) and of u along tau = (-n_y, n_x), and
-    the discrete friction force per edge (the mean over each edge of ``measure.errors.DiscreteTraction``,
-    sigma_t,h - g_t along tau) beside the exact one at the points (NaN without u)."""
-    from ...measure.errors import DiscreteTraction
+    the discrete friction force per edge (``friction_force_per_edge``) beside the exact one at
+    the points (NaN without u)."""
     trace = problem.trace
     t = np.linspace(0.0, 1.0, SAMPLES_PER_EDGE)
     points = trace.points(t)
@@ -73,13 +72,22 @@ def friction_snapshot(case, problem, u: np.ndarray, previous: np.ndarray | None 
     else:
         exact_slip = (evaluate(case.u, problem.mesh, flat).reshape(-1, 2) * tangents).sum(axis=1)
         exact_force = (case.physics.tangential_traction(case, problem.mesh, flat, normals) * tangents).sum(axis=1)
+    return {"slip": slip[order], "exact_slip": exact_slip[order], "exact_friction_force": exact_force[order],
+            "friction_force": friction_force_per_edge(problem, u, direction)}
+
+
+def friction_force_per_edge(problem, u: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """The discrete friction force of u_h per edge of Gamma_C: the mean over each edge of
+    ``measure.errors.DiscreteTraction`` (sigma_t,h - g_t along tau), the edges ordered by their
+    midpoints' coordinate along ``direction`` (``contact_snapshot``'s edge order)."""
+    from ...measure.errors import DiscreteTraction
+    trace = problem.trace
     traction = DiscreteTraction.of(problem)
     q = traction.quadrature
     force = traction.at_points(u)[0][:, 0]
     per_edge = np.bincount(q.edge, weights=q.weights * force, minlength=len(trace.lengths)) / \
         np.bincount(q.edge, weights=q.weights, minlength=len(trace.lengths))
-    return {"slip": slip[order], "exact_slip": exact_slip[order], "exact_friction_force": exact_force[order],
-            "friction_force": per_edge[np.argsort(trace.midpoints @ direction)]}
+    return per_edge[np.argsort(trace.midpoints @ direction)]
 
 
 def contact_face_snapshot(case, problem, trace_u, pressure) -> dict:
@@ -145,6 +153,24 @@ def two_body_snapshot(case, problem, solve) -> dict:
             "pressure": solve.pressure[edge_order], "two_bodies": np.array(True)}
 
 
+def two_body_friction_snapshot(problem, s: np.ndarray, u: np.ndarray, previous: np.ndarray | None = None) -> dict:
+    """``friction_snapshot``'s fields for two elastic bodies in 2D at ``two_body_snapshot``'s
+    points ``s`` (x on Gamma_C, y = 0 in both frames): the slip is the tangential jump t_1 - t_2
+    between the bodies over the last load step (of u_h less ``previous``), as the quantities read
+    it (``measure.two_body_quantities.tangential_jump``; each body's trace by ``MasterTrace``:
+    both traces are continuous, so a point shared by two segments has one value), and the
+    friction force the upper (slave) body's per edge (``friction_force_per_edge``, its edges in
+    ``two_body_snapshot``'s order). No exact ones (NaN): a mirror pair's u has no jump, and its
+    slip zone none either (``measure.two_body_quantities.COULOMB_EXACT_NAN``)."""
+    from ...measure.two_body_quantities import MasterTrace, tangential_jump
+    moved = u if previous is None else u - previous
+    upper, lower = (MasterTrace.at(body, s) for body in problem.bodies)
+    slip = tangential_jump(problem, lower, moved, upper.values(problem.split(moved)[0], tangential=True)[:, None])[:, 0]
+    nan = np.full(len(s), np.nan)
+    return {"slip": slip, "exact_slip": nan, "exact_friction_force": nan,
+            "friction_force": friction_force_per_edge(problem.upper, problem.split(u)[0], np.array([1.0, 0.0]))}
+
+
 def two_body_domain_snapshot(case, problem, z: np.ndarray) -> dict:
     """Both bodies as one picture: the lower body mirrored back to y < 0 (its triangles after
     the upper one's), its values those of the real u_2 (``problem.bodies``: -w for the scalar
@@ -182,6 +208,8 @@ class SnapshotHook:
         if case.bodies == 2:
             if level == self.finest.get(method.name):
                 kept["contact"] = two_body_snapshot(case, problem, solve)
+                if case.frictional and case.physics.elastic:
+                    kept["contact"] |= two_body_friction_snapshot(problem, kept["contact"]["s"], solve.u, solve.previous)
             if method.name == self.two_body_method and level == min(PICTURE_LEVEL, self.finest[method.name]):
                 kept["domain"] = two_body_domain_snapshot(case, problem, solve.u) | {"method": np.array(method.name)}
             if method.name == self.two_body_method and level == INTERFACE_LEVEL:
