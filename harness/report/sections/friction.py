@@ -171,7 +171,8 @@ def stick_slip_caption(case) -> str:
     return ("finest level of each method along Γ_C. Top: " + slip + (")" if two or not elastic else "") + ("; the exact one dashed" if exact else "")
             + "; bottom: " + force + ("; the exact one dashed" if exact else "") + ") between the threshold " + bound
             + ". Shaded: " + ("the exact stick zone (no slip)" if exact else "the first method's stick zone, where "
-            + ("its jump moves less than 10⁻³ of its largest and p_h > 0" if two else "|λ_h| < the threshold") + " (no closed-form solution)")
+            + (f"its {'jump' if two else 'slip'} moves less than 10⁻³ of its largest and p_h > 0" if elastic else "|λ_h| < the threshold")
+            + " (no closed-form solution)")
             + ". Right: zoomed on the first stick-slip point.")
 
 
