@@ -9,6 +9,7 @@ import os
 from dataclasses import dataclass
 
 from ...mesh.levels import coarse_mesh
+from ...problem.bodies import lower_body
 from ..chain.rows import study_levels
 from ..chain.run import chain_levels, chain_methods, is_reference
 
@@ -108,11 +109,13 @@ _COARSE: dict = {}
 
 def _coarse_counts(case) -> tuple:
     """(vertices,), (edges,), (faces,), (elements,) of a case's coarse mesh (faces counted in 3D
-    only), made once per case file, name and maxh in a process (a study asks for them once per job)."""
+    only; a two-body case: both bodies' meshes, each refined on its own, ``problem.bodies``), made
+    once per case file, name and maxh in a process (a study asks for them once per job)."""
     key = (case.source, case.name, case.maxh)
     if key not in _COARSE:
-        mesh = coarse_mesh(case)
-        _COARSE[key] = (mesh.nv,), (mesh.nedge,), (mesh.nface if mesh.dim == 3 else 0,), (mesh.ne,)
+        meshes = [coarse_mesh(body) for body in ((case,) if case.second_body is None else (case, lower_body(case)))]
+        _COARSE[key] = ((sum(m.nv for m in meshes),), (sum(m.nedge for m in meshes),),
+                        (sum(m.nface if m.dim == 3 else 0 for m in meshes),), (sum(m.ne for m in meshes),))
     return _COARSE[key]
 
 
