@@ -236,12 +236,13 @@ def friction_quantities(case, problem, q, force: np.ndarray, slip: np.ndarray, e
     slips): the module docstring's, with the law's 1 / eps ``stiffness`` (by default E / h)."""
     stiffness = problem.physics.modulus / q.h if stiffness is None else stiffness
     zone = slip_zone(force, slip, stiffness, friction_threshold(case, problem, q, pressure))
-    if case.friction.name == "coulomb":
+    coulomb = case.friction.name == "coulomb"
+    if coulomb:
         zone &= contact
     two_d = problem.trace.faces is None
     columns = {"qoi_slip_measure": float(q.weights @ zone),
-               "qoi_stick_slip_point": first_transition(q, zone, contact) if two_d else float("nan")}
-    if case.friction.name == "coulomb" and not exact:      # the stick zone: in contact, not slipping
+               "qoi_stick_slip_point": first_transition(q, zone, contact if coulomb else None) if two_d else float("nan")}
+    if coulomb and not exact:      # the stick zone: in contact, not slipping
         columns["qoi_stick_measure"] = float(q.weights @ (contact & ~zone))
     return {exact_column(c): v for c, v in columns.items()} if exact else columns
 
