@@ -65,7 +65,8 @@ def cattaneo_line_case(poisson: float, mu: float, xi: float, delta: float = 0.01
     }
 
 
-def cattaneo_two_body_case(poisson: float, mu: float, xi: float, delta: float = 0.015, young: float = 1.0) -> dict:
+def cattaneo_two_body_case(poisson: float, mu: float, xi: float, delta: float = 0.015, young: float = 1.0,
+                           size: float = 1.0) -> dict:
     """The declarations of a two-body Cattaneo case: two identical elastic blocks, each with the
     gap x^2/(2R) of a cylinder of radius R (R* = R/2), pressed together, then sheared. The upper
     block is hertz-line's (zone at a/4), the lower one (``bodies.MirrorBody``, in its mirrored
@@ -74,7 +75,8 @@ def cattaneo_two_body_case(poisson: float, mu: float, xi: float, delta: float = 
     the lower top (its own Dirichlet data) holds (0, -delta) at both steps. The predictions are
     the line contact's with the two bodies' E* and R* (``closed_forms.identical_bodies_modulus``,
     ``closed_forms.effective_radius``): for identical bodies Dundurs' beta = 0, so Cattaneo's
-    uncoupled solution holds up to the finite blocks."""
+    uncoupled solution holds up to the finite blocks, each (-size, size) x (0, size) (1: 10 a; a
+    larger block measures the finite-size effect, delta raised to keep a, as hertz-line's)."""
     e_star = closed_forms.identical_bodies_modulus(young, poisson)
     radius = closed_forms.effective_radius(RADIUS, RADIUS)
     exponent = clamped_free_exponent(pi / 2, poisson)
@@ -96,10 +98,10 @@ def cattaneo_two_body_case(poisson: float, mu: float, xi: float, delta: float = 
 
     return {
         "physics": "elasticity", "young": young, "poisson": poisson,
-        "geometry": zone_rectangle(1.0, 1.0, 0.2, 0.025), "maxh": 0.25,
-        "second_body": MirrorBody(zone_rectangle(1.0, 1.0, 0.2, 1 / 60), 0.25, dirichlet=CF((0.0, -delta))),
+        "geometry": zone_rectangle(size, size, 0.2, 0.025), "maxh": 0.25,
+        "second_body": MirrorBody(zone_rectangle(size, size, 0.2, 1 / 60), 0.25, dirichlet=CF((0.0, -delta))),
         "f": CF((0.0, 0.0)), "dirichlet": CF((xi, -delta)), "neumann": CF((0.0, 0.0)),
-        "gap": x * x / (2 * RADIUS), "singular_points": [(1.0, 1.0), (-1.0, 1.0)],
+        "gap": x * x / (2 * RADIUS), "singular_points": [(size, size), (-size, size)],
         "friction": Coulomb(mu),
         "history": LoadHistory((LoadStep("normal", dirichlet=CF((0.0, -delta))), LoadStep("tangential"))),
         "regime": f"u at most H^{1 + exponent:.3f} (clamped-free top corners, r^{exponent:.3f}); Coulomb between two "
