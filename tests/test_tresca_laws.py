@@ -188,3 +188,21 @@ def test_the_3d_slip_is_a_disc_not_a_box():
     np.testing.assert_allclose(np.linalg.norm(p[slip], axis=1), system.threshold[slip], rtol=1e-12)
     assert slip.any() and (~slip).any()
     assert check_friction_law(system) == (True, False)
+
+
+@pytest.mark.slow       # 4 s: a 3D level 1
+def test_a_right_derivative_near_a_small_slip_passes_the_check(monkeypatch):
+    """Nitsche-Coulomb's slip branch in 3D, w/|w| at the check's random states: on mindlin-sphere-nu47's
+    level 1 one point's slip is small (|w| about 1e-2 of the state's scale) and the central
+    difference at the first step misses by 1.7e-6 of the change (tolerance 1e-6, curvature
+    1/|w|^2); at steps 10 and 100 times smaller it meets it. The law is right: it is not refused,
+    as it was with the first step alone (a wrong slope still is: ``test_a_wrong_derivative_is_refused``)."""
+    import harness.fem.contact_laws.channels as channels
+    from harness.fem.contact_laws.coulomb import NitscheCoulomb
+    case, problem = load_case("mindlin-sphere-nu47"), problem_at("mindlin-sphere-nu47", 1, 2)
+    law = NitscheCoulomb(0.05, 1.0, 2)
+    assert law_for(get_method("nitsche").calibrated_law, case.friction) == law      # the method's own
+    assert not friction_system(case, problem, law).symmetric
+    monkeypatch.setattr(channels, "FD_REFINEMENTS", (1.0,))
+    with pytest.raises(LawError, match="finite differences disagree"):
+        friction_system(case, problem, law)
