@@ -37,6 +37,11 @@ PEAK_PER_REFERENCE_DOF = 620.0
 # both; 3, 4 and 5 levels with its reference level; one thread), whose peaks the scalar figure
 # underestimates: the bytes per dof beside the reference's, rounded up.
 PEAK_PER_DOF_BY_KIND = {(3, "elasticity"): 1150.0, (2, "elasticity"): 400.0}
+# Two bodies (the mortar's interface operator, the coupled multigrid's levels, Coulomb's load
+# steps): the bytes per dof beside the terms above, fitted to cattaneo-two-body-q03 and -q07 on
+# the fine profile's 5 levels with their reference (mortar-nodal and mortar-p1 in one process,
+# peaks 3.51 and 3.57 GB of 2^30 bytes), rounded up; a frictionless pair is overestimated, on the safe side.
+PEAK_PER_TWO_BODY_DOF = 400.0
 # Seconds of a job, for the ETA's weights, the order in which jobs are submitted and the estimate
 # a refusal prints. Each level costs its shared work (mesh refinement, the multigrid's P1
 # hierarchy, assembly, best approximation, errors: SHARED_SECONDS_PER_ELEMENT x its elements,
@@ -185,7 +190,7 @@ def estimate(case, methods, levels: int, sizes: LevelSizes | None = None, per_do
         level = chains[m.name] - 1
         finest[m.order] = max(finest.get(m.order, (0, 0)), (level, sizes.ndof(level, m.order, case.physics.components)))
     bytes_per_dof = (PEAK_PER_DOF_BY_KIND.get((case.dimension, case.physics.name), PEAK_PER_DOF)
-                     + (0.0 if case.exact else PEAK_PER_REFERENCE_DOF))
+                     + (0.0 if case.exact else PEAK_PER_REFERENCE_DOF) + (0.0 if case.bodies == 1 else PEAK_PER_TWO_BODY_DOF))
     peak = PEAK_BASE + PEAK_PER_TRIANGLE * sizes.triangles[last - 1] + bytes_per_dof * sum(n for _, n in finest.values())
     seconds = sum(solve_weights(case, methods, levels, sizes, per_dof).values())
     level, ndof = max(finest.values())
