@@ -31,25 +31,8 @@ RADIUS = 1.0
 def cattaneo_line_case(poisson: float, mu: float, xi: float, delta: float = 0.015, young: float = 1.0) -> dict:
     """The declarations of a Cattaneo line case (hertz-line's block 10a x 10a, Gamma_C corners at
     +-2a with local size a/4, maxh 0.25) for this Poisson ratio, mu_F, shear xi and depth delta."""
-    e_star = closed_forms.contact_modulus(young, poisson)
     exponent = clamped_free_exponent(pi / 2, poisson)
-
-    def predicted_quantities(force):
-        a, p0 = closed_forms.hertz_line(force, RADIUS, e_star)
-        return {"qoi_contact_measure": 2 * a, "qoi_peak_pressure": p0}
-
-    def predicted_friction(force, tangential_force):
-        return {"qoi_stick_measure": 2 * closed_forms.cattaneo_line(force, tangential_force, mu, RADIUS, e_star)["c"]}
-
-    def predicted_pressure(s, force):
-        return closed_forms.hertz_pressure(s, *closed_forms.hertz_line(force, RADIUS, e_star))
-
-    def predicted_traction(s, force, tangential_force):
-        theory = closed_forms.cattaneo_line(force, tangential_force, mu, RADIUS, e_star)
-        c = theory["c"] if np.isfinite(theory["c"]) else 0.0
-        return closed_forms.cattaneo_traction(s, theory["a"], theory["p0"], c, mu)
-
-    return {
+    return line_predictions(RADIUS, closed_forms.contact_modulus(young, poisson), mu) | {
         "physics": "elasticity", "young": young, "poisson": poisson,
         "geometry": zone_rectangle(1.0, 1.0, 0.2, 0.025), "maxh": 0.25,
         "f": CF((0.0, 0.0)), "dirichlet": CF((xi, -delta)), "neumann": CF((0.0, 0.0)),
@@ -59,8 +42,6 @@ def cattaneo_line_case(poisson: float, mu: float, xi: float, delta: float = 0.01
         # no rate theorem for Coulomb (docs/theory/coulomb.md): the regime only, no nu or rate
         "regime": f"u at most H^{1 + exponent:.3f} (clamped-free top corners, r^{exponent:.3f}); Coulomb, two load steps",
         "prediction": "Hertz and Cattaneo (Johnson, Contact Mechanics, 1985, Sect. 4.2, 7.1)",
-        "predicted_quantities": predicted_quantities, "predicted_friction": predicted_friction,
-        "predicted_pressure": predicted_pressure, "predicted_traction": predicted_traction,
         "reference_levels": 1, "report_profile": "fine",
     }
 
@@ -77,9 +58,29 @@ def cattaneo_two_body_case(poisson: float, mu: float, xi: float, delta: float = 
     ``closed_forms.effective_radius``): for identical bodies Dundurs' beta = 0, so Cattaneo's
     uncoupled solution holds up to the finite blocks, each (-size, size) x (0, size) (1: 10 a; a
     larger block measures the finite-size effect, delta raised to keep a, as hertz-line's)."""
-    e_star = closed_forms.identical_bodies_modulus(young, poisson)
-    radius = closed_forms.effective_radius(RADIUS, RADIUS)
     exponent = clamped_free_exponent(pi / 2, poisson)
+    predictions = line_predictions(closed_forms.effective_radius(RADIUS, RADIUS),
+                                   closed_forms.identical_bodies_modulus(young, poisson), mu)
+    return predictions | {
+        "physics": "elasticity", "young": young, "poisson": poisson,
+        "geometry": zone_rectangle(size, size, 0.2, 0.025), "maxh": 0.25,
+        "second_body": MirrorBody(zone_rectangle(size, size, 0.2, 1 / 60), 0.25, dirichlet=CF((0.0, -delta))),
+        "f": CF((0.0, 0.0)), "dirichlet": CF((xi, -delta)), "neumann": CF((0.0, 0.0)),
+        "gap": x * x / (2 * RADIUS), "singular_points": [(size, size), (-size, size)],
+        "friction": Coulomb(mu),
+        "history": LoadHistory((LoadStep("normal", dirichlet=CF((0.0, -delta))), LoadStep("tangential"))),
+        "regime": f"u at most H^{1 + exponent:.3f} (clamped-free top corners, r^{exponent:.3f}); Coulomb between two "
+                  f"bodies, two load steps",
+        "prediction": "Hertz and Cattaneo for two identical bodies (Johnson, Contact Mechanics, 1985, Sect. 4.2, 7.1)",
+        "reference_levels": 1, "report_profile": "fine",
+    }
+
+
+def line_predictions(radius: float, e_star: float, mu: float) -> dict:
+    """A line contact's predictions at the computed P and Q (the case contract's
+    ``predicted_quantities``, ``predicted_friction``, ``predicted_pressure``,
+    ``predicted_traction``): Hertz's a and p0 and Cattaneo's c and q for the effective radius
+    and contact modulus of the pair."""
 
     def predicted_quantities(force):
         a, p0 = closed_forms.hertz_line(force, radius, e_star)
@@ -96,21 +97,8 @@ def cattaneo_two_body_case(poisson: float, mu: float, xi: float, delta: float = 
         c = theory["c"] if np.isfinite(theory["c"]) else 0.0
         return closed_forms.cattaneo_traction(s, theory["a"], theory["p0"], c, mu)
 
-    return {
-        "physics": "elasticity", "young": young, "poisson": poisson,
-        "geometry": zone_rectangle(size, size, 0.2, 0.025), "maxh": 0.25,
-        "second_body": MirrorBody(zone_rectangle(size, size, 0.2, 1 / 60), 0.25, dirichlet=CF((0.0, -delta))),
-        "f": CF((0.0, 0.0)), "dirichlet": CF((xi, -delta)), "neumann": CF((0.0, 0.0)),
-        "gap": x * x / (2 * RADIUS), "singular_points": [(size, size), (-size, size)],
-        "friction": Coulomb(mu),
-        "history": LoadHistory((LoadStep("normal", dirichlet=CF((0.0, -delta))), LoadStep("tangential"))),
-        "regime": f"u at most H^{1 + exponent:.3f} (clamped-free top corners, r^{exponent:.3f}); Coulomb between two "
-                  f"bodies, two load steps",
-        "prediction": "Hertz and Cattaneo for two identical bodies (Johnson, Contact Mechanics, 1985, Sect. 4.2, 7.1)",
-        "predicted_quantities": predicted_quantities, "predicted_friction": predicted_friction,
-        "predicted_pressure": predicted_pressure, "predicted_traction": predicted_traction,
-        "reference_levels": 1, "report_profile": "fine",
-    }
+    return {"predicted_quantities": predicted_quantities, "predicted_friction": predicted_friction,
+            "predicted_pressure": predicted_pressure, "predicted_traction": predicted_traction}
 
 
 def mindlin_sphere_case(poisson: float, mu: float, xi: float, delta: float = 0.01, young: float = 1.0) -> dict:
