@@ -40,7 +40,7 @@ def level_mesh(case, level: int):
 def test_the_3d_cases_are_registered_and_the_2d_cases_are_unchanged():
     assert set(THREE_D) == {"transition-line-3d", "transition-circle-3d", "smooth-3d", "elastic-transition-3d",
                             "elastic-transition-circle-3d", "elastic-junction-3d"}
-    assert [name for name, case in registered_cases(dimension=3).items() if not case.exact] == ["hertz-sphere", "mindlin-sphere", "mindlin-sphere-nu47"]
+    assert [name for name, case in registered_cases(dimension=3).items() if not case.exact] == ["hertz-sphere", "mindlin-sphere"]
     assert all(case.dimension == 2 for case in registered_cases(dimension=2).values())
 
 

@@ -25,6 +25,7 @@ from harness.problem.validate import validate_case
 
 DATA = Path(__file__).parent / "data"
 ELASTIC_2D, ELASTIC_3D = str(DATA / "elastic_tresca_smooth.py"), str(DATA / "elastic_tresca_smooth_3d.py")
+MINDLIN_47 = str(DATA / "mindlin_sphere_nu47.py")
 LAWS = [pytest.param(NitscheTresca(0.05, 1.0), id="nitsche-theta1"), pytest.param(NitscheTresca(0.05, 0.0), id="nitsche-theta0"),
         pytest.param(NitscheTresca(0.05, -1.0), id="nitsche-theta-1"), pytest.param(PenaltyTresca(0.05), id="penalty")]
 METHODS = ["nitsche", "nitsche:theta=0", "nitsche:theta=-1", "penalty"]
@@ -192,14 +193,14 @@ def test_the_3d_slip_is_a_disc_not_a_box():
 
 @pytest.mark.slow       # 4 s: a 3D level 1
 def test_a_right_derivative_near_a_small_slip_passes_the_check(monkeypatch):
-    """Nitsche-Coulomb's slip branch in 3D, w/|w| at the check's random states: on mindlin-sphere-nu47's
+    """Nitsche-Coulomb's slip branch in 3D, w/|w| at the check's random states: on mindlin-sphere at nu = 0.47's
     level 1 one point's slip is small (|w| about 1e-2 of the state's scale) and the central
     difference at the first step misses by 1.7e-6 of the change (tolerance 1e-6, curvature
     1/|w|^2); at steps 10 and 100 times smaller it meets it. The law is right: it is not refused,
     as it was with the first step alone (a wrong slope still is: ``test_a_wrong_derivative_is_refused``)."""
     import harness.fem.contact_laws.channels as channels
     from harness.fem.contact_laws.coulomb import NitscheCoulomb
-    case, problem = load_case("mindlin-sphere-nu47"), problem_at("mindlin-sphere-nu47", 1, 2)
+    case, problem = load_case(MINDLIN_47), problem_at(MINDLIN_47, 1, 2)
     law = NitscheCoulomb(0.05, 1.0, 2)
     assert law_for(get_method("nitsche").calibrated_law, case.friction) == law      # the method's own
     assert not friction_system(case, problem, law).symmetric
