@@ -8,5 +8,5 @@ from harness.problem import cattaneo_two_body_case
 name = "cattaneo-two-body-q07"
 description = ("Cattaneo line contact between two identical elastic blocks (nu = 0.3, non-matching meshes), "
                "pressed together, then sheared to Q/(mu_F P) near 0.7")
-globals().update(cattaneo_two_body_case(poisson=0.3, mu=0.3, xi=0.0105))
+globals().update(cattaneo_two_body_case(poisson=0.3, mu=0.3, xi=0.0120, delta=0.0186, size=2.0))
 report_levels = {"default": 3, "fine": 5}

@@ -120,6 +120,22 @@ def test_gmres_multigrid_newton_and_fixed_point_over_tresca_reach_one_solution(n
     assert fixed.iterations > 2 and (SLIP in direct.active or 2 in direct.active) and STICK in direct.active
 
 
+def test_a_missed_krylov_solve_factorises_a_small_3d_problem_and_refuses_a_large_one(monkeypatch):
+    """GMRES capped at one iteration misses its tolerance: Newton falls back to a factorisation and
+    converges; above ``DIRECT_FALLBACK_DOFS_3D`` (lowered here below this problem's dofs) it stops
+    with one line instead of a factorisation that would not fit (1.4e6 3D dofs passed 23 GiB)."""
+    from harness.solvers import newton
+    from harness.solvers.options import SolverOptions
+    case = load_case("elastic-coulomb-3d")
+    problem, multilevel = problem_with_hierarchy("elastic-coulomb-3d", 0)
+    capped = SolverOptions(cg_iterations=1)
+    solution = solve_semismooth_newton(friction_system(case, problem, NitscheCoulomb()), multilevel=multilevel, options=capped)
+    assert solution.status == "converged" and solution.residual <= 1e-10
+    monkeypatch.setattr(newton, "DIRECT_FALLBACK_DOFS_3D", problem.ndof - 1)
+    with pytest.raises(newton.LinearSolveFailed, match=f"on {problem.ndof} 3D dofs, and a sparse factorisation"):
+        solve_semismooth_newton(friction_system(case, problem, NitscheCoulomb()), multilevel=multilevel, options=capped)
+
+
 def test_coulomb_is_refused_where_it_has_no_meaning(tmp_path):
     body = (DATA.parent.parent / "cases" / "tresca_r32.py").read_text()
     scalar = tmp_path / "scalar_coulomb.py"

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 from ...mesh.levels import coarse_mesh
 from ...problem.bodies import lower_body
+from ...solvers.krylov import KRYLOV_BYTES_PER_DOF
 from ..chain.rows import study_levels
 from ..chain.run import chain_levels, chain_methods, is_reference
 
@@ -42,6 +43,10 @@ PEAK_PER_DOF_BY_KIND = {(3, "elasticity"): 1150.0, (2, "elasticity"): 400.0}
 # the fine profile's 5 levels with their reference (mortar-nodal and mortar-p1 in one process,
 # peaks 3.51 and 3.57 GB of 2^30 bytes), rounded up; a frictionless pair is overestimated, on the safe side.
 PEAK_PER_TWO_BODY_DOF = 400.0
+# Coulomb friction on one body (its nonsymmetric Newton systems go to restarted GMRES,
+# ``solvers.krylov``): the basis at full length, KRYLOV_BYTES_PER_DOF (1.6 kB) per dof. Tresca's
+# systems are symmetric (CG), and two bodies' Coulomb is a fixed point over symmetric Tresca
+# problems (``solvers.coulomb_cones``): neither builds it.
 # Seconds of a job, for the ETA's weights, the order in which jobs are submitted and the estimate
 # a refusal prints. Each level costs its shared work (mesh refinement, the multigrid's P1
 # hierarchy, assembly, best approximation, errors: SHARED_SECONDS_PER_ELEMENT x its elements,
@@ -190,7 +195,8 @@ def estimate(case, methods, levels: int, sizes: LevelSizes | None = None, per_do
         level = chains[m.name] - 1
         finest[m.order] = max(finest.get(m.order, (0, 0)), (level, sizes.ndof(level, m.order, case.physics.components)))
     bytes_per_dof = (PEAK_PER_DOF_BY_KIND.get((case.dimension, case.physics.name), PEAK_PER_DOF)
-                     + (0.0 if case.exact else PEAK_PER_REFERENCE_DOF) + (0.0 if case.bodies == 1 else PEAK_PER_TWO_BODY_DOF))
+                     + (0.0 if case.exact else PEAK_PER_REFERENCE_DOF) + (0.0 if case.bodies == 1 else PEAK_PER_TWO_BODY_DOF)
+                     + (KRYLOV_BYTES_PER_DOF if case.bodies == 1 and case.friction.name == "coulomb" else 0.0))
     peak = PEAK_BASE + PEAK_PER_TRIANGLE * sizes.triangles[last - 1] + bytes_per_dof * sum(n for _, n in finest.values())
     seconds = sum(solve_weights(case, methods, levels, sizes, per_dof).values())
     level, ndof = max(finest.values())
