@@ -217,8 +217,8 @@ MATCHING = [("mortar-nodal", "nodal", 1e-9, None), ("mortar-p1", "p1", None, 1.0
 @pytest.mark.parametrize("method_name, one_body, relative, absolute", MATCHING)
 def test_the_normal_step_of_a_matching_two_body_cattaneo_pair_is_hertz_line_in_each_body(method_name, one_body,
                                                                                          relative, absolute):
-    """cattaneo-two-body-q03's normal step (both tops at (0, -delta), Coulomb mu_F = 0.3) with the
-    lower body meshed as the upper (matching meshes), level 0: by the mirror symmetry the jump
+    """cattaneo-two-body-q03's normal step (both tops at (0, -delta), Coulomb mu_F = 0.3) on
+    hertz-line's block, with the lower body meshed as the upper (matching meshes), level 0: by the mirror symmetry the jump
     vanishes, no friction acts, and each body's u_h is hertz-line's own of the matching one-body
     method (the dual mortar rows on matching meshes are its cones on the jump): `mortar-nodal`'s
     to 1e-9 relative, `mortar-p1`'s up to the h^2/12 its rows move the gap by (``MATCHING``).
@@ -233,9 +233,10 @@ def test_the_normal_step_of_a_matching_two_body_cattaneo_pair_is_hertz_line_in_e
     from harness.problem.friction import STATIC
     two = load_case(str(CASES / "cattaneo_two_body_q03.py"))
     pressed = CF((0.0, -0.015))
-    two = dataclasses.replace(two, dirichlet=pressed, history=STATIC,
-                              second_body=MirrorBody(two.geometry, two.maxh, dirichlet=pressed))
     hertz = load_case(str(CASES / "hertz_line.py"))
+    # on hertz-line's 10 a block (the registered pair's blocks are 20 a)
+    two = dataclasses.replace(two, geometry=hertz.geometry, singular_points=hertz.singular_points, dirichlet=pressed, history=STATIC,
+                              second_body=MirrorBody(hertz.geometry, two.maxh, dirichlet=pressed))
     method, reference = get_method(method_name), get_method(one_body)
     problem = TwoBodyProblem(*(discretise(body, coarse_mesh(body), method.order) for body in (two, lower_body(two))))
     solved = method.solve(two, problem, None, None)
