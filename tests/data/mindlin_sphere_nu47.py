@@ -1,9 +1,10 @@
 """Mindlin's sphere on a near-incompressible block (nu = 0.47, Dundurs' beta = 0.057): mindlin-sphere's
 set-up (cases/mindlin_sphere.py) with nu = 0.47, for tests/test_tresca_laws.py (a small slip at one
-random state of the law check, level 1). Not registered: at nu = 0.47 the level-2 solve (1.4e6
-dofs) was killed for memory past 23 GiB (the only large allocation on that path is the sparse LU
-Newton falls back to when GMRES with the V-cycle misses its tolerance: likely, not confirmed),
-and a report needs two levels with the reference beyond.
+random state of the law check, level 1). Not registered: a report needs two levels with the
+reference beyond, and level 2 (1.4e6 dofs) is out of reach at nu = 0.47. GMRES with the V-cycle
+misses its tolerance there (500 steps leave 1.2e-9 against 1.2e-11: the V-cycle alone needs 262
+CG iterations against 64 at nu = 0.3), and Newton's fallback to a sparse LU took more than 23
+GiB; it is now refused in one line (``solvers.newton.DIRECT_FALLBACK_DOFS_3D``).
 """
 from harness.problem import mindlin_sphere_case
 
