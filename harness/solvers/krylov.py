@@ -25,7 +25,7 @@ A level finer (1.4e6 dofs) the V-cycle itself is not robust at nu = 0.47: 100 st
 which ran out of 23 GiB there, is refused in one line (``newton.DIRECT_FALLBACK_DOFS_3D``).
 Systems that converge within 40 steps are unchanged. Memory: at most
 2 (RESTART + 1) vectors (V and Z), ``KRYLOV_BYTES_PER_DOF``, which a study's budget counts for
-friction cases (``study.execution.budget``).
+one-body Coulomb cases, the ones whose Newton systems come here (``study.execution.budget``).
 """
 from __future__ import annotations
 

@@ -206,7 +206,8 @@ def _refuse_large_factorisation(problem, iterations: int, missed: float, tol: fl
         raise LinearSolveFailed(
             f"the Krylov solve with the V-cycle missed max|r| <= {tol:.1e} ({missed:.1e} after {iterations} "
             f"iterations in all) on {problem.ndof} 3D dofs, and a sparse factorisation that large would not fit "
-            f"(DIRECT_FALLBACK_DOFS_3D = {DIRECT_FALLBACK_DOFS_3D}): raise SolverOptions.cg_iterations")
+            f"(DIRECT_FALLBACK_DOFS_3D = {DIRECT_FALLBACK_DOFS_3D}): raise the method's "
+            f"solver=SolverOptions(cg_iterations=...), or use fewer levels")
 
 
 def solve_semismooth_newton(system, start: np.ndarray | None = None, multilevel=None,
