@@ -64,12 +64,12 @@ SIZES = _checked(_sizes, "sizes must look like 0.25:3,0.25:4 (coarse maxh > 0 : 
 
 def _parameter_example() -> str:
     """A registered method with parameters, as --method takes it (the one with the most
-    parameters: its first 0.1, the next -1)."""
+    parameters, a one-body method first: its first 0.1, the next -1)."""
     from .methods import METHODS
     with_parameters = [m for m in METHODS.values() if m.parameters]
     if not with_parameters:
         return "name:parameter=value"
-    method = max(with_parameters, key=lambda m: len(m.parameters))
+    method = max(with_parameters, key=lambda m: (len(m.parameters), m.bodies == (1,)))
     return f"{method.name}:" + ",".join(f"{key}={value:g}" for key, value in zip(method.parameters, (0.1, -1.0)))
 
 

@@ -79,6 +79,18 @@ def trace_values(problem, function):
     return z
 
 
+def pair_traces(problem, normal, tangential):
+    """Body-wise vectors of a two-body problem with the polynomial traces ``normal`` (c_k) and
+    ``tangential`` (t_k, elasticity) on Gamma_C, each a pair of functions of x."""
+    parts = []
+    for body, c, t in zip(problem.bodies, normal, tangential):
+        part = trace_values(body, c)
+        dofs = np.concatenate([body.vertex_dofs, body.edge_dofs])
+        part[dofs - body.ndof // 2] = trace_values(body, t)[dofs]
+        parts.append(part)
+    return np.concatenate(parts)
+
+
 def volume_and_jumps_by_ngsolve(case, problem, u):
     """The residual estimator's element residual and flux jumps as NGSolve integrates them on
     each element's boundary (``Other()``: the neighbour's trace), with NGSolve's mesh size as the

@@ -12,10 +12,11 @@ from conftest import clarabel_unilateral_tresca, problem_with_hierarchy
 import harness
 from harness.fem.assembly import at_load_step
 from harness.fem.coulomb_cones import coulomb_cone_qp
+from harness.fem.sparse import ngsolve_matrix
 from harness.measure.rates import fit_rate, verdict
 from harness.methods import get_method
 from harness.problem.case import load_case
-from harness.solvers.bound_constraints import FactorisedSystem, MultigridSystem, ngsolve_matrix
+from harness.solvers.bound_constraints import FactorisedSystem, MultigridSystem
 from harness.solvers.coulomb_cones import solve_coulomb_history, solve_coulomb_step
 from harness.solvers.unilateral_friction import solve_unilateral_friction
 

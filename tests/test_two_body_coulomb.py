@@ -23,6 +23,7 @@ from conftest import clarabel_unilateral_tresca, trace_values
 import harness
 from harness.fem.assembly import discretise
 from harness.fem.mortar import mortar_coupling
+from harness.fem.sparse import ngsolve_matrix
 from harness.fem.two_body import TwoBodyProblem, dual_bound_qp
 from harness.mesh.levels import UniformRefinement, coarse_mesh
 from harness.mesh.strategies import parse_mesh
@@ -33,7 +34,7 @@ from harness.problem.bodies import MirrorBody, lower_body
 from harness.problem.case import CaseError, registered_cases
 from harness.problem.contract import check_friction, check_second_body
 from harness.problem.friction import Coulomb, LoadHistory, LoadStep
-from harness.solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, ngsolve_matrix
+from harness.solvers.bound_constraints import ActiveSetSolver, FactorisedSystem
 from harness.solvers.coulomb_cones import solve_coulomb_history
 from harness.solvers.multigrid import Multilevel
 from harness.solvers.options import SolverOptions

@@ -10,7 +10,7 @@ import dataclasses
 import ngsolve as ngs
 import numpy as np
 import pytest
-from conftest import trace_values
+from conftest import pair_traces, trace_values
 
 import harness
 from harness.fem.assembly import discretise
@@ -64,19 +64,7 @@ def test_the_lower_trace_at_points_is_ngsolves_basis_there(elastic_pair):
     np.testing.assert_allclose(master.h, q.h, rtol=1e-14)
 
 
-def _traces(problem, normal, tangential):
-    """Body-wise vectors with the polynomial traces ``normal`` (c_k) and ``tangential`` (t_k) on
-    Gamma_C, each a pair of functions of x."""
-    parts = []
-    for body, c, t in zip(problem.bodies, normal, tangential):
-        part = trace_values(body, c)
-        dofs = np.concatenate([body.vertex_dofs, body.edge_dofs])
-        part[dofs - body.ndof // 2] = trace_values(body, t)[dofs]
-        parts.append(part)
-    return np.concatenate(parts)
-
-
-def test_the_opening_and_the_slip_are_the_jumps_of_polynomial_traces(elastic_pair):
+def test_the_opening_and_the_slip_are_the_jumps_of_polynomialpair_traces(elastic_pair):
     """Traces of degree k on both non-matching meshes: at the upper body's Gauss points the
     opening less the gap is c_1 + c_2 - 2 alpha (alpha = -x^2/2), the slip t_1 - t_2 (a rigid translation of both
     bodies along x slips nothing), less the previous step's; eps = h_1/E + h_2/E."""
@@ -84,15 +72,15 @@ def test_the_opening_and_the_slip_are_the_jumps_of_polynomial_traces(elastic_pai
     k = problem.order
     c = [lambda x: 0.3 + x - 0.7 * x ** k, lambda x: -1.1 + 0.5 * x + 0.2 * x ** k]
     t = [lambda x: 0.2 - 0.4 * x + 0.9 * x ** k, lambda x: 0.7 + 0.3 * x - 0.5 * x ** k]
-    u = _traces(problem, c, t)
+    u = pair_traces(problem, c, t)
     bodies = (case, lower_body(case))
     interface = two_body_interface(bodies, problem, u)
     x = interface.q.points[:, 0]
     np.testing.assert_allclose(interface.gap, c[0](x) + c[1](x) + x ** 2, rtol=0, atol=1e-13)
     np.testing.assert_allclose(interface.slip[:, 0], t[0](x) - t[1](x), rtol=0, atol=1e-13)
-    translated = _traces(problem, c, [lambda x: 0.4 + 0 * x] * 2)
+    translated = pair_traces(problem, c, [lambda x: 0.4 + 0 * x] * 2)
     assert np.abs(tangential_jump(problem, MasterTrace.at(problem.lower, x), translated)).max() <= 1e-14
-    stepped = two_body_interface(bodies, problem, u, previous=_traces(problem, c, [lambda x: 0.1 + 0 * x, lambda x: 0 * x]))
+    stepped = two_body_interface(bodies, problem, u, previous=pair_traces(problem, c, [lambda x: 0.1 + 0 * x, lambda x: 0 * x]))
     np.testing.assert_allclose(stepped.slip[:, 0], t[0](x) - t[1](x) - 0.1, rtol=0, atol=1e-13)
     h_2 = MasterTrace.at(problem.lower, x).h
     assert not np.allclose(h_2, interface.q.h)          # non-matching

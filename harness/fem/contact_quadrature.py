@@ -52,7 +52,8 @@ class ContactQuadrature:
     normals: np.ndarray         # (q, dim) outward unit normal at each point
     # what ``N`` is made from, when it is first asked for: the space, the physics, the change
     # of basis and each point's volume element (not the problem: the problem's caches hold
-    # quadratures, and a cycle would keep its matrices alive until a full garbage collection)
+    # quadratures, and a cycle would keep its matrices alive until a full garbage collection);
+    # or N itself (``fem.contact_laws.two_body``: the rows on both bodies' dofs)
     _flux: tuple | None = field(default=None, repr=False, compare=False)
     degree: np.ndarray | None = None     # (q,) the degree of each point's cell (``fem.assembly.DiscreteProblem.edge_degrees``)
 
@@ -62,6 +63,8 @@ class ContactQuadrature:
         d_n v (scalar), -sigma_n(v) = -n . sigma(v) n (elasticity); made on first use: only
         the weak methods read it, and the error measurement, the loads and the best
         approximation make quadratures too."""
+        if sp.issparse(self._flux):
+            return self._flux
         fes, physics, basis, volumes = self._flux
         return flux_rows(fes, physics, basis, volumes, self.points, self.normals)
 
@@ -169,11 +172,18 @@ def contact_quadrature(problem, points_per_edge: int | None = None, graded_at: n
     edge = np.concatenate([np.full(len(rules[r][0]), k) for k, r in enumerate(rule_of)]).astype(np.int64)
     T_t = np.concatenate([rules[r][0] for r in rule_of])
     unit_w = np.concatenate([rules[r][1] for r in rule_of])
-    points = trace.a[edge] + T_t[:, None] * (trace.b - trace.a)[edge]
+    return edge_quadrature(problem, edge, T_t, trace.lengths[edge] * unit_w)
+
+
+def edge_quadrature(problem, edge: np.ndarray, t: np.ndarray, weights: np.ndarray) -> ContactQuadrature:
+    """The quadrature of points at the parameters ``t`` of their contact edges ``edge`` (2D), of
+    the given ``weights``, and the basis there."""
+    trace = problem.trace
+    points = trace.a[edge] + t[:, None] * (trace.b - trace.a)[edge]
     volumes, normals = trace.volumes[edge], trace.normals[edge]
     return ContactQuadrature(
         points=points,
-        weights=trace.lengths[edge] * unit_w,
+        weights=weights,
         h=trace.lengths[edge],
         edge=edge,
         T=trace_rows(problem.fes, problem.physics, problem.basis, volumes, points, normals),

@@ -95,6 +95,30 @@ class TraceElements:
         return (x - self.left[e][:, None]) / (self.right[e] - self.left[e])[:, None]
 
 
+def trace_at(problem: DiscreteProblem, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(dofs (q, k + 1), basis (q, k + 1), h (q,)): the trace element of ``problem`` holding each
+    point (x, 0) of Gamma_C, its contact variable's dofs and their trace basis there, and the
+    element's length; ValueError where a point lies beyond the body's Gamma_C."""
+    side = TraceElements.of(problem)
+    reach = FLAT * max(1.0, np.abs(x).max(initial=0.0))
+    if len(x) and (x.min() < side.left[0] - reach or x.max() > side.right[-1] + reach):
+        raise ValueError("the upper body's Gamma_C reaches beyond the lower body's: no jump there")
+    e = side.locate(x)
+    h = side.right[e] - side.left[e]
+    return side.dofs[e], hierarchical_basis(np.clip((x - side.left[e]) / h, 0.0, 1.0), problem.order), h
+
+
+def trace_rows_at(problem: DiscreteProblem, x: np.ndarray, tangential: bool = False) -> sp.csr_matrix:
+    """(q, ndof) the rows of ``problem``'s contact variable at the points (x, 0) of Gamma_C
+    (``trace_at``); ``tangential`` (elasticity): of u . e_x, whose block comes one before the
+    normal one (``fem.assembly.DiscreteProblem.tangential_dofs``)."""
+    dofs, basis, _ = trace_at(problem, x)
+    if tangential:
+        dofs = dofs - problem.ndof // 2
+    rows = np.repeat(np.arange(len(x)), dofs.shape[1])
+    return sp.csr_matrix((basis.ravel(), (rows, dofs.ravel())), shape=(len(x), problem.ndof))
+
+
 def hierarchical_basis(t: np.ndarray, order: int) -> np.ndarray:
     """The trace basis of ``TraceElements.dofs`` at parameters t in [0, 1]: (len(t), order + 1)."""
     columns = [1.0 - t, t] + ([-0.5 * t * (1.0 - t)] if order == 2 else [])

@@ -29,6 +29,13 @@ def csr_view(matrix) -> sp.csr_matrix:
     return view
 
 
+def ngsolve_matrix(K: sp.spmatrix):
+    """An NGSolve copy of a scipy matrix (slow: prefer ``fem.cones.transformed_matrix``)."""
+    coo = sp.coo_matrix(K)
+    return ngs.la.SparseMatrixd.CreateFromCOO(
+        coo.row.astype(np.int64), coo.col.astype(np.int64), coo.data.astype(float), K.shape[0], K.shape[1])
+
+
 def csr_positions(M: sp.csr_matrix, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:
     """Positions in ``M.data`` of the entries (rows[k], cols[k]), which must be in M's pattern
     (column indices sorted within each row, as NGSolve stores them)."""

@@ -46,7 +46,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fem.mortar import FLAT, TraceElements, hierarchical_basis
+from ..fem.mortar import trace_at
 from .errors import DiscreteTraction
 from .quantities import (
     Interface,
@@ -75,14 +75,7 @@ class MasterTrace:
 
     @classmethod
     def at(cls, problem, x: np.ndarray) -> "MasterTrace":
-        side = TraceElements.of(problem)
-        reach = FLAT * max(1.0, np.abs(x).max(initial=0.0))
-        if len(x) and (x.min() < side.left[0] - reach or x.max() > side.right[-1] + reach):
-            raise ValueError("the upper body's Gamma_C reaches beyond the lower body's: no jump there")
-        e = side.locate(x)
-        h = side.right[e] - side.left[e]
-        basis = hierarchical_basis(np.clip((x - side.left[e]) / h, 0.0, 1.0), problem.order)
-        return cls(problem, side.dofs[e], basis, h)
+        return cls(problem, *trace_at(problem, x))
 
     def values(self, u: np.ndarray, tangential: bool = False) -> np.ndarray:
         """The contact variable of ``u`` (the lower body's dofs) at the points; ``tangential``

@@ -17,9 +17,10 @@ from ..fem.assembly import at_load_step
 from ..fem.cones import ContactModel, contact_pressure
 from ..fem.mortar import mortar_coupling
 from ..fem.nested import friction_prediction, mortar_prediction, p1_values
+from ..fem.sparse import ngsolve_matrix
 from ..fem.two_body import TwoBodyProblem, dual_bound_qp, joint_qp, opening
 from ..problem.bodies import lower_body
-from ..solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, MultigridSystem, ngsolve_matrix, row_norm
+from ..solvers.bound_constraints import ActiveSetSolver, FactorisedSystem, MultigridSystem, row_norm
 from ..solvers.coulomb_cones import solve_coulomb_history
 from ..solvers.friction import solve_friction
 from ..solvers.general_constraints import GeneralConstraintSolver

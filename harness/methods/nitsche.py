@@ -31,6 +31,7 @@ from ..fem.contact_laws.builtin import Nitsche
 from .method import DEGREES, MESH_STUDY, SWEPT, Expectation, capped_expectation, no_result_below
 from .method import REFERENCE as REFERENCE_ROLE
 from .protocol import ContactLawMethod
+from .two_body_law import TwoBodyLaw
 
 REFERENCE = "Chouly & Hild 2013 (SINUM 51); Chouly, Hild & Renard 2015 (Math. Comp. 84), Thm 3.8"
 GAMMA0 = 0.05
@@ -96,6 +97,27 @@ method = ContactLawMethod(
 p1 = replace(method, name="nitsche-p1", order=1, contact="Nitsche, as `nitsche`, on P1",
              expected=expected_for(1), roles=frozenset({DEGREES}))
 
+# Between two bodies (``two_body_law``): the master-slave form of the same law on the jumps;
+# no theorem read for it (Chouly, Mlika & Renard 2018 analyse the unbiased variant instead;
+# ``fem.contact_laws.two_body``): the one-body rate, conjectured, as for the mortar methods
+TWO_BODY_REFERENCE = "conjecture: the one-body Nitsche rate (master-slave Nitsche between two bodies)"
+
+
+def two_body_expected(order: int):
+    def expected(case) -> Expectation:
+        return capped_expectation(case.nu, order, TWO_BODY_REFERENCE, 1.5, no_result_below(TWO_BODY_REFERENCE))
+    return expected
+
+
+# `mortar-nitsche`: two bodies on non-matching meshes, P2 on each, `nitsche`'s law (its gamma0
+# and theta) on the jumps at Gauss points of the two trace meshes' common refinement, the
+# slave's (upper body's) flux; frictionless, Tresca and Coulomb. `mortar-nitsche-p1`: on P1.
+two_body = TwoBodyLaw(name="mortar-nitsche", order=2, contact="Nitsche on the jumps [u]ₙ, [u]ₜ between two bodies, the slave's σₙ (master-slave)",
+                      reference="Chouly, Mlika & Renard 2018 (Numer. Math. 139), the biased form", expected=two_body_expected(2),
+                      law=Nitsche(gamma0=GAMMA0, theta=1.0), friction=("frictionless", "tresca", "coulomb"))
+two_body_p1 = replace(two_body, name="mortar-nitsche-p1", order=1, contact="Nitsche between two bodies, as `mortar-nitsche`, on P1",
+                      expected=two_body_expected(1))
+
 # the family's variants (``registry``): P3 and P4 with gamma0 scaled with the degree
-# (``gamma0_for``), expected h^{min(nu - 1, k)} for nu > 3/2 (``expected_for``)
-methods = [method, p1, at_order(3), at_order(4)]
+# (``gamma0_for``), expected h^{min(nu - 1, k)} for nu > 3/2 (``expected_for``); the two-body ones
+methods = [method, p1, at_order(3), at_order(4), two_body, two_body_p1]

@@ -15,7 +15,6 @@ from . import cones, mortar, nitsche, penalty
 from .cones import BoundConstrained
 from .external import EXTERNAL_PREFIX, External, read_external
 from .method import DEGREES, PAPER, Method
-from .mortar import Mortar
 from .plugins import MethodError, check_method, installed_methods, load_external
 from .protocol import ContactLawMethod
 
@@ -199,7 +198,7 @@ GROUPS = {
     "cones": _of_kind(lambda m: isinstance(m, BoundConstrained) and 2 in m.dimensions),
     # contact by a Gamma_C term (a contact law), P1 and P2
     "weak": _of_kind(lambda m: isinstance(m, ContactLawMethod) and m.order <= 2),
-    "mortar": _of_kind(lambda m: isinstance(m, Mortar)),        # two bodies, non-matching meshes
+    "mortar": _of_kind(lambda m: 2 in m.bodies),                 # two bodies, non-matching meshes
     DEGREES: tuple(role_names(DEGREES)),    # the methods that declare the role DEGREES
     "high-order": _of_kind(lambda m: m.order > 2),              # k >= 3
 }

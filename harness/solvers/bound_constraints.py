@@ -44,6 +44,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..fem.p1_embedding import ContactEdges
+from ..fem.sparse import ngsolve_matrix
 from .krylov import gmres
 from .multigrid import TruncatedVCycle, max_abs, pcg
 from .options import SolverOptions
@@ -78,13 +79,6 @@ class Cholesky:
         self._rhs.FV().NumPy()[:] = rhs
         self._sol.data = self._inverse * self._rhs
         return self._sol.FV().NumPy().copy()
-
-
-def ngsolve_matrix(K: sp.spmatrix):
-    """An NGSolve copy of a scipy matrix (slow: prefer ``fem.cones.transformed_matrix``)."""
-    coo = sp.coo_matrix(K)
-    return ngs.la.SparseMatrixd.CreateFromCOO(
-        coo.row.astype(np.int64), coo.col.astype(np.int64), coo.data.astype(float), K.shape[0], K.shape[1])
 
 
 @dataclass

@@ -31,7 +31,8 @@ import time
 
 import numpy as np
 
-from .bound_constraints import FactorisedSystem, MultigridSystem, QPSolution, ngsolve_matrix, row_norm
+from ..fem.sparse import ngsolve_matrix
+from .bound_constraints import FactorisedSystem, MultigridSystem, QPSolution, row_norm
 from .multigrid import max_abs
 from .options import SolverOptions
 from .pdas import KKT, primal_dual_active_set

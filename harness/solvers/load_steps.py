@@ -42,15 +42,17 @@ class HistorySolution:
                        seconds=sum(s.seconds for s in self.steps), backward=max(s.backward for s in self.steps))
 
 
-def solve_history(case, system, guess: Callable, multilevel=None, options: SolverOptions = SolverOptions()) -> HistorySolution:
+def solve_history(case, system, guess: Callable, multilevel=None, options: SolverOptions = SolverOptions(),
+                  at_step: Callable = at_load_step) -> HistorySolution:
     """Every step of ``case.history`` on ``system`` (a law's system set up on the final step's
     problem), in order. ``guess(k, previous)`` -> (start, predicted branch) of step k (nested
-    iteration from the coarser level; ``previous`` the steps solved so far). The system is
-    left at the last step, with the slip reference of the step before it."""
+    iteration from the coarser level; ``previous`` the steps solved so far). ``at_step(case,
+    problem, k)``: the problem of step k (two bodies: ``fem.contact_laws.two_body.joint_load_step``).
+    The system is left at the last step, with the slip reference of the step before it."""
     final = system.problem
     steps = []
     for k in range(len(case.history)):
-        system.at_step(at_load_step(case, final, k))
+        system.at_step(at_step(case, final, k))
         if k and hasattr(system, "slip_state"):
             system.reference = system.slip_state(steps[-1].u)
         start, predicted = guess(k, steps)

@@ -5,7 +5,7 @@ interface (a mortar QP's K = S^T A S, ``fem.two_body.dual_bound_qp``; its P1 lev
 
 Why not one NGSolve matrix of K: K's pattern is A's plus cross entries between the bodies, so it
 does not fit in A's memory as one body's transformed matrix does (``fem.cones``), and copying
-it into NGSolve (``bound_constraints.ngsolve_matrix``) cost 5.1 s for two P2 bodies at 2.0e6 dofs, four
+it into NGSolve (``fem.sparse.ngsolve_matrix``) cost 5.1 s for two P2 bodies at 2.0e6 dofs, four
 times one linear multigrid solve of both bodies.
 
 Gauss-Seidel on K without K: C vanishes off T x T, so every row of K outside T is A's row, with
@@ -22,8 +22,8 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from ..fem.sparse import csr_block_diag, csr_view
-from .bound_constraints import ngsolve_matrix, row_sums
+from ..fem.sparse import csr_block_diag, csr_view, ngsolve_matrix
+from .bound_constraints import row_sums
 
 
 class CoupledBlocks(ngs.BaseMatrix):
