@@ -4,10 +4,13 @@ on the joint system of both bodies, load step by load step, to a relative residu
 The Nitsche family's `mortar-nitsche` (P2) and `mortar-nitsche-p1` are such methods
 (``methods.nitsche``); the frictionless law, Tresca's and Coulomb's, in 2D, scalar and elastic.
 
-The linear solves: a sparse factorisation of the joint Jacobian, updated step by step
-(``solvers.newton``; the law's terms couple the bodies across Gamma_C, outside either body's
-multigrid hierarchy). The coarser level's solution still starts each step where the pair has a
-hierarchy (uniform pairs): its u_h prolongated body by body, its branches at the nearest points.
+The linear solves, as on one body (``solvers.newton``): on uniform pairs, which have a joint
+hierarchy, CG (GMRES for Coulomb's nonsymmetric Jacobian) preconditioned by a V-cycle whose
+finest level is the joint Jacobian, the law's terms across Gamma_C included, and whose coarse
+levels are each body's own (``solvers.two_body_multigrid.law_levels``); on graded and adaptive
+pairs a sparse factorisation of the joint Jacobian, updated step by step. Each load step starts
+from the coarser level's same step: its u_h prolongated body by body (a hierarchy's), the
+branches of its nearest points.
 """
 from __future__ import annotations
 
@@ -51,7 +54,7 @@ class TwoBodyLaw(ContactLawMethod):
             system = self.system(case, problem)
         with timed("solve"):
             history = solve_history(case, system, lambda k, steps: _step_guess(system, carry, multilevel, k, steps),
-                                    None, self.solver, at_step=joint_load_step)
+                                    multilevel, self.solver, at_step=joint_load_step)
             solution = history.combined()
         u = solution.u
         pressure = system.quadrature.edge_means(system.pressure(u))

@@ -55,10 +55,11 @@ from dataclasses import dataclass
 import ngsolve as ngs
 import numpy as np
 
-from ..fem.p1_embedding import ContactEdges
+from ..fem.contact_laws.two_body import JointProblem
 from .bound_constraints import MultigridSystem, row_norm
 from .options import SolverOptions
 from .pdas import loose_depth
+from .two_body_multigrid import law_embedding, law_hierarchy
 
 _DEFAULT = SolverOptions()
 # a friction law's full steps without a new lowest max |F| before its steps are damped (the
@@ -137,6 +138,8 @@ class _AffineSolves:
 
     def __init__(self, system, multilevel, options: SolverOptions):
         self.system, self.multilevel, self.options = system, multilevel, options
+        # the V-cycle's P1 embedding (one body's; two bodies' joint one), made once
+        self.edges = None if multilevel is None else law_embedding(system.problem)
         # a nonsymmetric J with a hierarchy: GMRES with the same V-cycle (``krylov``) for the
         # laws that ask for it (Coulomb's, ``nonsymmetric_krylov``); the frictionless theta = 0, -1
         # variants keep their factorisation, whose updates the report's sweeps are timed with
@@ -172,10 +175,12 @@ class _AffineSolves:
     def _multigrid(self, u: np.ndarray, tol: float) -> np.ndarray:
         # the same set again: the same J, r and V-cycle; CG goes on from u
         system, problem = self.system, self.system.problem
-        self.linear = self.linear or MultigridSystem(
-            system.J_ngs, self.rhs, self.multilevel, ContactEdges.of(problem, model=False),
-            stiff_vertices=system.stiff_vertices(self.step_set, self.multilevel.ndof), options=self.options,
-            symmetric=system.symmetric)
+        if self.linear is None:
+            levels = law_hierarchy(problem, self.multilevel, self.edges, system.delta)
+            # the coarse levels carry the law's terms between two bodies (Galerkin): none is truncated
+            stiff = None if isinstance(problem, JointProblem) else system.stiff_vertices(self.step_set, levels.ndof)
+            self.linear = MultigridSystem(system.J_ngs, self.rhs, levels, self.edges, stiff_vertices=stiff,
+                                          options=self.options, symmetric=system.symmetric)
         before = self.linear.cg_iterations
         candidate = self.linear.solve(~problem.free, problem.lift, start=u, tol=tol)
         self.iterations += self.linear.cg_iterations - before

@@ -31,6 +31,7 @@ import ngsolve as ngs
 import numpy as np
 import scipy.sparse as sp
 
+from ..fem.contact_laws.two_body import JointProblem
 from ..fem.p1_embedding import ContactEdges
 from ..fem.sparse import csr_block_diag, csr_view
 from .multigrid import Multilevel, truncated_pins
@@ -132,7 +133,7 @@ class JointMultilevel:
 def galerkin_near(C: sp.csr_matrix, prolongation_rows) -> sp.csr_matrix:
     """P^T C P for a symmetric C nonzero only in the rows (and columns) T, from P's rows there
     (``prolongation_rows(T)``): never all of P."""
-    near = np.flatnonzero(np.diff(C.indptr))
+    near = np.union1d(np.flatnonzero(np.diff(C.indptr)), np.unique(C.indices))
     R = prolongation_rows(near)
     return (R.T @ C[near][:, near] @ R).tocsr()
 
@@ -321,6 +322,28 @@ def p1_injected(problem, c: np.ndarray) -> np.ndarray:
         ContactEdges.of(body, model=False).prolongate(c[offset: offset + n], part)
         offset += n
     return z
+
+
+def law_embedding(problem):
+    """The P1 embedding of a contact law's Newton system on ``problem`` (its V-cycle's
+    ``edges``): one body's P1 functions in its dofs; on both bodies' joint dofs
+    (``fem.contact_laws.two_body.JointProblem``) each body's in its own."""
+    if not isinstance(problem, JointProblem):
+        return ContactEdges.of(problem, model=False)
+    return SparseEdges(csr_block_diag([_injection(body, ContactEdges.of(body, model=False)) for body in problem.bodies]))
+
+
+def law_hierarchy(problem, multilevel, edges, delta: sp.csr_matrix):
+    """The P1 hierarchy of a contact law's V-cycle at the Jacobian J = A + ``delta``: one body's
+    own (A's levels: the law's stiff terms are truncated there, ``multigrid.TruncatedVCycle``);
+    two bodies' joint one with the Galerkin products of J, each body's own level matrices plus
+    C = E^T delta E restricted level by level (``JointMultilevel.coupled``), so that the coarse
+    spaces carry the law's coupling of the bodies across Gamma_C. Measured on
+    cattaneo-two-body-q03, levels 0-2, the GMRES iterations of all Newton steps: 1442, 204, 345
+    with the bodies' own levels uncoupled and the stiff vertices truncated, 470, 48, 57 so."""
+    if not isinstance(problem, JointProblem):
+        return multilevel
+    return multilevel.coupled((edges.ET @ delta @ edges.E).tocsr())
 
 
 def mortar_injection(problem, tangential: bool = False) -> sp.csr_matrix:

@@ -38,7 +38,8 @@ class CoupledBlocks(ngs.BaseMatrix):
         self.n = int(self.offsets[-1])
         self.ranges = [(int(a), int(b)) for a, b in zip(self.offsets[:-1], self.offsets[1:])]
         coupling = sp.csr_matrix(coupling)
-        self.interface = np.flatnonzero(np.diff(coupling.indptr) > 0)
+        # the rows and the columns C reaches (a nonsymmetric C's may differ)
+        self.interface = np.union1d(np.flatnonzero(np.diff(coupling.indptr) > 0), np.unique(coupling.indices))
         self.C_T = coupling[self.interface][:, self.interface].tocsr()
         # the rows T of diag(A_1, A_2), all columns: the T block's residual reads the bulk through them
         self.A_T = _rows_of_blocks([csr_view(block) for block in self.blocks], self.offsets, self.interface)

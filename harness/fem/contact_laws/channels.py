@@ -36,7 +36,7 @@ from ...mesh.points import evaluate
 from ..assembly import DiscreteProblem
 from ..contact_quadrature import ROUNDOFF, ContactQuadrature, _component_rows, _scalar_space, contact_quadrature, scalar_basis_at
 from .protocol import FrictionPoints, LawError
-from .system import LAW_TOLERANCE, BoundaryTerms, boundary_jacobian, contact_data, obstacle_force
+from .system import LAW_TOLERANCE, BoundaryTerms, boundary_jacobian, contact_data, obstacle_force, touched_p1
 
 # finite differences of a law that is not affine on a branch: central, step FD_STEP times the
 # state's scale; their error is O(step^2) beside round-off O(1e-16 / step). Where a random state
@@ -200,14 +200,9 @@ class FrictionSystem(BoundaryTerms):
 
     def stiff_vertices(self, active: np.ndarray, n: int) -> np.ndarray:
         """The P1 dofs whose channel carries a stiff term (``STIFF``) at the last Jacobian."""
-        problem = self.problem
-        block, nv = problem.ndof // problem.physics.components, problem.mesh.nv
         stiff = np.zeros((len(active), len(self.T)), bool) if self.stiff is None else self.stiff
         columns = np.concatenate([T[np.flatnonzero(stiff[:, j])].indices for j, T in enumerate(self.T)])
-        vertex = columns % block
-        touched = np.zeros(n, bool)
-        touched[(columns // block * nv + vertex)[vertex < nv]] = True
-        return touched
+        return touched_p1(self.problem, columns, n)
 
 
 def friction_system(case, problem: DiscreteProblem, law, take_stiffness: bool = False) -> FrictionSystem:

@@ -47,13 +47,7 @@ class BoundaryTerms:
     def stiff_vertices(self, active: np.ndarray, n: int) -> np.ndarray:
         """The P1 dofs (vertex v of component k at k nv + v, ``n`` of them) whose contact dof
         carries an active contact term (a multigrid hint: ``solvers.multigrid.TruncatedVCycle``)."""
-        problem = self.problem
-        block, nv = problem.ndof // problem.physics.components, problem.mesh.nv
-        columns = self.quadrature.T[np.flatnonzero(active)].indices
-        vertex = columns % block
-        touched = np.zeros(n, bool)
-        touched[(columns // block * nv + vertex)[vertex < nv]] = True
-        return touched
+        return touched_p1(self.problem, self.quadrature.T[np.flatnonzero(active)].indices, n)
 
     def at_step(self, problem) -> None:
         """Solve with ``problem``'s load and Dirichlet data from now on: a load step's
@@ -67,6 +61,21 @@ class BoundaryTerms:
         np.add.at(values, _index_in(self.delta, terms.row, terms.col), terms.data)
         self.J.data[self.positions] += values - self.delta.data
         self.delta.data[:] = values
+
+
+def touched_p1(problem, columns: np.ndarray, n: int) -> np.ndarray:
+    """(n,) bool: the P1 dofs of the vertex dofs among ``columns`` (vertex v of component k at
+    k nv + v), body by body on a joint problem (``two_body.JointProblem.bodies``: the lower
+    body's after the upper's, in its dofs and in the joint P1 hierarchy's)."""
+    touched = np.zeros(n, bool)
+    offset = p1 = 0
+    for body in getattr(problem, "bodies", (problem,)):
+        mine = columns[(columns >= offset) & (columns < offset + body.ndof)] - offset
+        block, nv = body.ndof // body.physics.components, body.mesh.nv
+        vertex = mine % block
+        touched[p1 + (mine // block * nv + vertex)[vertex < nv]] = True
+        offset, p1 = offset + body.ndof, p1 + nv * body.physics.components
+    return touched
 
 
 @dataclass

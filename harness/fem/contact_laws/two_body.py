@@ -74,6 +74,11 @@ class JointProblem:
         return self.pair.ndof
 
     @property
+    def bodies(self) -> tuple:
+        """The two bodies' problems (``system.touched_p1``: body by body)."""
+        return self.pair.bodies
+
+    @property
     def physics(self):
         return self.pair.upper.physics
 
