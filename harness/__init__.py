@@ -3,7 +3,7 @@ Z. Belhachmi and F. Ben Belgacem, Math. Comp. 72 (2003), beside other discretisa
 docs/development/architecture.md ("How the code is laid out")."""
 from .core.lazy import lazy as _lazy
 
-__version__ = "0.16.0"      # the one version: pyproject.toml reads it
+__version__ = "0.17.0"      # the one version: pyproject.toml reads it
 
 # The public names, each imported from its stage when first used (PEP 562): `import harness`
 # and the listing commands cost the standard library, not NGSolve, pandas or SciPy. The

@@ -1,5 +1,5 @@
 """The master-slave Nitsche method between two bodies (``fem.contact_laws.two_body``,
-``methods.two_body_law``): its rows are the jumps of the two traces, on a matching mirror pair
+``methods.protocol.TwoBodyLaw``): its rows are the jumps of the two traces, on a matching mirror pair
 with theta = 0 it is the one-body Nitsche method with half gamma0 (frictionless and Tresca,
 scalar and elastic), and its coupled Coulomb Newton solve agrees with the fixed point over
 Tresca problems (the independent cross-check) on non-matching meshes."""

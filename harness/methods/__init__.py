@@ -46,6 +46,7 @@ from .protocol import (
     LevelProblem,
     OwnSolution,
     OwnSolve,
+    TwoBodyLaw,
 )
 from .registry import (
     FAMILIES,
@@ -66,7 +67,7 @@ from .registry import (
 
 __all__ = ["METHODS", "GROUPS", "FAMILIES", "BASELINE", "DEGREES", "MESH_STUDY", "PAPER", "REFERENCE", "ROLES", "SWEPT",
            "EXTRA_LEVELS", "known", "names_with_role", "role_names", "with_role", "BoundConstrained", "CellMean", "Mortar",
-           "ContactLaw", "FrictionLaw", "FrictionPoints", "ContactLawMethod", "ContactNodes", "ContactPoints", "GammaPoints", "LawError", "LevelProblem", "SolverOptions",
+           "ContactLaw", "FrictionLaw", "FrictionPoints", "ContactLawMethod", "TwoBodyLaw", "ContactNodes", "ContactPoints", "GammaPoints", "LawError", "LevelProblem", "SolverOptions",
            "Nitsche", "OwnSolution", "OwnSolve", "Penalty", "Carry", "ConeCarry", "LawCarry", "MortarCarry", "Expectation",
            "SolveFields", "timer", "no_theory", "FunctionalCone", "LevelSolve", "Method", "MethodError", "check_method",
            "get_method", "installed_methods", "left_out", "load_external", "method_choices", "methods_for", "methods_named",

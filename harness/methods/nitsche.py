@@ -30,8 +30,7 @@ from dataclasses import replace
 from ..fem.contact_laws.builtin import Nitsche
 from .method import DEGREES, MESH_STUDY, SWEPT, Expectation, capped_expectation, no_result_below
 from .method import REFERENCE as REFERENCE_ROLE
-from .protocol import ContactLawMethod
-from .two_body_law import TwoBodyLaw
+from .protocol import ContactLawMethod, TwoBodyLaw
 
 REFERENCE = "Chouly & Hild 2013 (SINUM 51); Chouly, Hild & Renard 2015 (Math. Comp. 84), Thm 3.8"
 GAMMA0 = 0.05
@@ -97,7 +96,7 @@ method = ContactLawMethod(
 p1 = replace(method, name="nitsche-p1", order=1, contact="Nitsche, as `nitsche`, on P1",
              expected=expected_for(1), roles=frozenset({DEGREES}))
 
-# Between two bodies (``two_body_law``): the master-slave form of the same law on the jumps;
+# Between two bodies (``protocol.TwoBodyLaw``): the master-slave form of the same law on the jumps;
 # no theorem read for it (Chouly, Mlika & Renard 2018 analyse the unbiased variant instead;
 # ``fem.contact_laws.two_body``): the one-body rate, conjectured, as for the mortar methods
 TWO_BODY_REFERENCE = "conjecture: the one-body Nitsche rate (master-slave Nitsche between two bodies)"

@@ -36,6 +36,7 @@ from ..fem.cones import contact_pressure, end_status
 from ..fem.contact_laws.channels import friction_system
 from ..fem.contact_laws.friction_laws import law_for
 from ..fem.contact_laws.system import contact_data, law_system
+from ..fem.contact_laws.two_body import joint_load_step, two_body_system
 from ..fem.contact_quadrature import ContactNodes, contact_quadrature, lagrange_nodes
 from ..fem.edge_functionals import check_rules, edge_functional_qp
 from ..fem.friction import rules_friction_qp
@@ -47,7 +48,10 @@ from ..solvers.general_constraints import GeneralConstraintSolver
 from ..solvers.load_steps import previous_state, solve_history
 from ..solvers.options import SolverOptions
 from ..solvers.projected_multigrid import ProjectedMultigridSystem
+from ..solvers.two_body_multigrid import p1_injected
 from .method import Carry, ConeCarry, LawCarry, LevelSolve, Method, SolveFields, timer
+from .mortar import joint_p1_values
+from .mortar import max_penetration as pair_penetration
 
 # Level 1: a cone given by its functionals
 
@@ -273,6 +277,75 @@ def nested_guess(system, carry, multilevel):
         return None, None
     return (start_from(carry, multilevel, system.problem, model=False),
             nearest_status(carry.points, carry.active, system.quadrature.points))
+
+
+# Level 2 between two bodies: the law on the jumps
+
+
+@dataclass(frozen=True)
+class TwoBodyLaw(ContactLawMethod):
+    """A ``ContactLawMethod`` between two bodies on non-matching meshes: the one-body law's
+    master-slave form on the jumps (``fem.contact_laws.two_body``), solved by the same
+    semismooth Newton method on the joint system of both bodies, load step by load step, to a
+    relative residual <= 1e-10; its law, parameters and friction as on one body. The Nitsche
+    family's `mortar-nitsche` and `mortar-nitsche-p1` are such methods (``methods.nitsche``).
+
+    The linear solves, as on one body (``solvers.newton``): on uniform pairs, which have a joint
+    hierarchy, CG (GMRES for Coulomb's nonsymmetric Jacobian) preconditioned by a V-cycle whose
+    finest level is the joint Jacobian and whose coarse levels are its Galerkin products, each
+    body's own levels plus the law's coupling (``solvers.two_body_multigrid.law_hierarchy``); on
+    graded and adaptive pairs a sparse factorisation of the joint Jacobian. Each load step starts
+    from the coarser level's same step: its u_h prolongated body by body (a hierarchy's), the
+    branches of its nearest points."""
+
+    bodies: tuple = (2,)
+    dimensions: tuple = (2,)
+
+    def system(self, case, problem, take_stiffness: bool = False):
+        """The law's system on the pair (``fem.contact_laws.two_body``); on a frictional case
+        its friction law's (``fem.contact_laws.friction_laws.law_for``)."""
+        law = law_for(self.calibrated_law, case.friction) if case.frictional else self.calibrated_law
+        return two_body_system(case, problem, law)
+
+    def refusal(self, case) -> str | None:
+        """Also: Coulomb in elasticity only (its law needs the normal and the slip channels)."""
+        if case.friction.name == "coulomb" and not case.physics.rotated_frame and case.friction.name in self.friction:
+            return "Coulomb's law needs elasticity's normal and slip channels"
+        return super().refusal(case)
+
+    def solve(self, case, problem, carry, multilevel, take_stiffness: bool = False, phases=None) -> LevelSolve:
+        timed = timer(phases)
+        with timed("setup"):
+            system = self.system(case, problem)
+        with timed("solve"):
+            history = solve_history(case, system, lambda k, steps: _step_guess(system, carry, multilevel, k, steps),
+                                    multilevel, self.solver, at_step=joint_load_step)
+            solution = history.combined()
+        u = solution.u
+        pressure = system.quadrature.edge_means(system.pressure(u))
+        fields = SolveFields(pair_penetration(case, problem, u), float(pressure.min()), solution.residual,
+                             solution.status, solution.iterations, solution.linear_iterations,
+                             active_constraints=int(np.count_nonzero(solution.active)), backward_error=solution.backward,
+                             solve_seconds=solution.seconds, load_steps=len(history.steps))
+        points = system.quadrature.points
+        earlier = tuple(LawCarry(joint_p1_values(problem, s.u), points=points, active=s.active) for s in history.steps[:-1])
+        return LevelSolve(fields, u, None, pressure,
+                          LawCarry(joint_p1_values(problem, u), points=points, active=solution.active, steps=earlier),
+                          previous=history.steps[-2].u if len(history.steps) > 1 else None)
+
+
+def _step_guess(system, carry, multilevel, step: int, steps: list):
+    """(start, predicted branch) of load step ``step``: from the coarser level's same step (its
+    u_h prolongated body by body where the pair has a hierarchy, the branch of its nearest
+    points), else the previous step's state (``methods.protocol.step_guess``, for two bodies)."""
+    same = None
+    if carry is not None:
+        same = carry if step == len(carry.steps) else carry.steps[step] if step < len(carry.steps) else None
+    if same is None:
+        return previous_state(steps)
+    pair = system.problem.pair
+    start = None if multilevel is None else p1_injected(pair, multilevel.prolongated(same.p1))
+    return start, nearest_status(same.points, same.active, system.quadrature.points)
 
 
 # Level 3: a solve of your own

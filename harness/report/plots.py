@@ -30,7 +30,7 @@ from ..problem.case import fraction
 # the colours and markers methods take in turn (``method_styles``)
 PALETTE = ("tab:blue", "tab:orange", "tab:green", "tab:cyan", "tab:red", "tab:purple", "tab:brown", "tab:pink",
            "tab:olive", "tab:gray", "black", "darkgoldenrod", "navy", "limegreen", "teal", "maroon",
-           "darkviolet", "chocolate", "slategray", "crimson")
+           "darkviolet", "chocolate", "slategray", "crimson", "olivedrab", "deeppink")
 MARKERS = ("o", "s", "^", "v", "D")           # the last for every later method (the colours tell them apart)
 # every method's style so far in this process, by name (``style``, ``register_methods``)
 METHOD_STYLE: dict[str, dict] = {}
