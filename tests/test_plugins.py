@@ -224,3 +224,17 @@ def test_a_friction_law_from_a_file_outside_the_repository_runs_on_the_scalar_an
     errors = rows.pivot(index="level", columns="method", values="err_h1")
     mine = [name for name in errors.columns if name != "nodal"]
     assert len(mine) == 1 and (abs(errors[mine[0]] / errors["nodal"] - 1.0) < 0.2).all(), errors
+
+
+def test_a_contact_law_between_two_bodies_from_a_file_outside_the_repository_runs_beside_the_mortar(outside):
+    """``examples/methods/two_body_penalty.py`` (``TwoBodyLaw`` with the penalty law), from a folder
+    outside the repository, on the two-body transition (non-matching meshes) beside `mortar-nodal`:
+    every row converged, its errors above the mortar's (the penalty's consistency error) and
+    falling level by level."""
+    done = harness_cli("run", "--case", "two-body-transition-r32", "--method", "two_body_penalty.py", "--method",
+                       "mortar-nodal", "--levels", "3", "--out", "out", "--quiet", cwd=outside)
+    assert done.returncode == 0, done.stderr
+    rows = rows_of(outside / "out")
+    assert (rows.status == "converged").all() and (rows.kkt_residual <= 1e-10).all()
+    errors = rows.pivot(index="level", columns="method", values="err_h1")
+    assert (errors["two-body-penalty"] >= errors["mortar-nodal"]).all() and (errors["two-body-penalty"].diff().dropna() < 0).all(), errors
