@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, fields, is_dataclass, replace
+from functools import partial
 from typing import Callable
 
 import numpy as np
@@ -242,22 +243,30 @@ class ContactLawMethod(Method):
             # coarser level's same step; a static case is one step
             history = solve_history(case, system, lambda k, steps: step_guess(system, carry, multilevel, k, steps),
                                     multilevel, self.solver)
-            solution = history.combined()
-        u = solution.u
-        trace_u = ContactTraceFunction.of(problem, u)
-        pressure = system.quadrature.edge_means(system.pressure(u))
+        trace_u = ContactTraceFunction.of(problem, history.final.u)
         # the scalar Tresca model has no unilateral condition: no penetration (as the cones')
         penetration = float("nan") if case.frictional and not problem.physics.rotated_frame else \
             max_penetration(case, problem.mesh, trace_u)
-        fields = SolveFields(penetration, float(pressure.min()), solution.residual,
-                             solution.status, solution.iterations, solution.linear_iterations,
-                             active_constraints=int(np.count_nonzero(solution.active)), backward_error=solution.backward,
-                             solve_seconds=solution.seconds, load_steps=len(history.steps))
-        points = system.quadrature.points
-        earlier = tuple(LawCarry(p1_values(problem, s.u), points=points, active=s.active) for s in history.steps[:-1])
-        return LevelSolve(fields, u, trace_u, pressure,
-                          LawCarry(p1_values(problem, u), points=points, active=solution.active, steps=earlier),
-                          previous=history.steps[-2].u if len(history.steps) > 1 else None)
+        return law_level(system, history, penetration, trace_u, partial(p1_values, problem))
+
+
+def law_level(system, history, penetration: float, trace_u, vertex_values) -> LevelSolve:
+    """The level's solve of a contact law: the row's fields from the load ``history`` on
+    ``system`` (``solvers.load_steps.HistorySolution``), its pressure (edge means of the law's),
+    and the carry of every load step (``vertex_values(u)``: u_h at the vertices; the branches at
+    the Gauss points)."""
+    solution = history.combined()
+    u = solution.u
+    pressure = system.quadrature.edge_means(system.pressure(u))
+    fields = SolveFields(penetration, float(pressure.min()), solution.residual,
+                         solution.status, solution.iterations, solution.linear_iterations,
+                         active_constraints=int(np.count_nonzero(solution.active)), backward_error=solution.backward,
+                         solve_seconds=solution.seconds, load_steps=len(history.steps))
+    points = system.quadrature.points
+    earlier = tuple(LawCarry(vertex_values(s.u), points=points, active=s.active) for s in history.steps[:-1])
+    return LevelSolve(fields, u, trace_u, pressure,
+                      LawCarry(vertex_values(u), points=points, active=solution.active, steps=earlier),
+                      previous=history.steps[-2].u if len(history.steps) > 1 else None)
 
 
 def step_guess(system, carry, multilevel, step: int, steps: list):
@@ -320,18 +329,8 @@ class TwoBodyLaw(ContactLawMethod):
         with timed("solve"):
             history = solve_history(case, system, lambda k, steps: _step_guess(system, carry, multilevel, k, steps),
                                     multilevel, self.solver, at_step=joint_load_step)
-            solution = history.combined()
-        u = solution.u
-        pressure = system.quadrature.edge_means(system.pressure(u))
-        fields = SolveFields(pair_penetration(case, problem, u), float(pressure.min()), solution.residual,
-                             solution.status, solution.iterations, solution.linear_iterations,
-                             active_constraints=int(np.count_nonzero(solution.active)), backward_error=solution.backward,
-                             solve_seconds=solution.seconds, load_steps=len(history.steps))
-        points = system.quadrature.points
-        earlier = tuple(LawCarry(joint_p1_values(problem, s.u), points=points, active=s.active) for s in history.steps[:-1])
-        return LevelSolve(fields, u, None, pressure,
-                          LawCarry(joint_p1_values(problem, u), points=points, active=solution.active, steps=earlier),
-                          previous=history.steps[-2].u if len(history.steps) > 1 else None)
+        return law_level(system, history, pair_penetration(case, problem, history.final.u), None,
+                         partial(joint_p1_values, problem))
 
 
 def _step_guess(system, carry, multilevel, step: int, steps: list):
