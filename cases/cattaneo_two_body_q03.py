@@ -7,7 +7,8 @@ in its mirrored frame) at a/6, so the two meshes on Gamma_C stand 3:2 and stay n
 under refinement. Each block carries the gap x^2/(2R) of a cylinder of radius R = 1: two
 cylinders, R* = R/2. Load history: both tops pressed by (0, -delta); then the upper top moves by
 (xi, -delta) while the lower holds (0, -delta) (its own Dirichlet data). Coulomb friction
-mu_F = 0.3 between the bodies, the dual mortar (``mortar-nodal``, ``mortar-p1``).
+mu_F = 0.3 between the bodies: the dual mortar (``mortar-nodal``, ``mortar-p1``) and Nitsche
+(``mortar-nitsche``, ``mortar-nitsche-p1``).
 
 What is exact and what is not. For identical bodies E* = E/(2 (1 - nu^2)) and Dundurs'
 beta = 0 (whatever nu): the normal and tangential responses are uncoupled, so Cattaneo's
