@@ -36,14 +36,14 @@ def test_every_registered_elastic_case_gets_the_cones_and_the_weak_methods():
     weak = ["nitsche", "penalty", "nitsche-p1", "penalty-p1"]
     for name in ELASTIC:
         case = registered_cases()[name]
-        # in 3D also the edge-wise counterexample (``mean-edges``); two bodies: the mortar methods
+        # in 3D also the edge-wise counterexample (``mean-edges``); two bodies: the mortar methods and Nitsche's
         expected = (CONES if case.dimension == 2 else ["mean", "mean-edges", "nodal", "p1"]) + weak
         if case.dimension == 2 and case.exact:         # the degree axis: against exact solutions (the cones: 2D)
             expected += ["mean-p3", "nitsche-p3", "nodal-p3", "penalty-p3", "mean-p4", "nitsche-p4", "nodal-p4", "penalty-p4"]
         elif case.exact and case.bodies == 1:
             expected += ["nitsche-p3", "penalty-p3", "nitsche-p4", "penalty-p4"]
         if case.bodies == 2:
-            expected = ["mortar-mean", "mortar-nodal", "mortar-standard", "mortar-p1"]
+            expected = ["mortar-mean", "mortar-nitsche", "mortar-nodal", "mortar-standard", "mortar-nitsche-p1", "mortar-p1"]
         assert [m.name for m in methods_for(case, METHODS.values())] == expected
 
 

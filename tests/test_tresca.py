@@ -133,7 +133,7 @@ DEGREES = ["mean-p3", "nitsche-p3", "nodal-p3", "penalty-p3", "mean-p4", "nitsch
     # 3D: the triangle means are general rows (no mean); the elastic slip's disc is the laws' alone
     ("tresca-line-3d", ["nodal", "p1"] + WEAK + ["nitsche-p3", "penalty-p3", "nitsche-p4", "penalty-p4"]),
     ("elastic-tresca-3d", WEAK + ["nitsche-p3", "penalty-p3", "nitsche-p4", "penalty-p4"]),
-    ("two-body-tresca-r32", ["mortar-mean", "mortar-nodal", "mortar-p1"])])
+    ("two-body-tresca-r32", ["mortar-mean", "mortar-nitsche", "mortar-nodal", "mortar-nitsche-p1", "mortar-p1"])])
 def test_every_friction_case_gets_the_methods_that_discretise_tresca(case_name, expected):
     from harness.methods import METHODS
     case = load_case(case_name)

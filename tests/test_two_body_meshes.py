@@ -15,13 +15,15 @@ from harness.measure.two_body_estimator import Interface
 from harness.mesh.levels import coarse_mesh
 from harness.mesh.strategies import MeshStrategy, element_budget, refusal
 from harness.mesh.two_body_levels import AdaptivePair
-from harness.methods import METHODS, methods_named
+from harness.methods import METHODS, Mortar, methods_named
 from harness.problem.bodies import lower_body
 from harness.problem.case import registered_cases
 from harness.study.chain import run_chain
 from harness.study.execution.refusals import skipped_meshes
 
-MORTAR = [name for name, method in METHODS.items() if 2 in method.bodies]
+MORTAR = [name for name, method in METHODS.items() if isinstance(method, Mortar)]
+# the contact laws between two bodies (no rows: Gauss points)
+TWO_BODY_LAWS = [name for name, method in METHODS.items() if 2 in method.bodies and name not in MORTAR]
 MESHES = ["graded", "adaptive"]
 
 
@@ -81,6 +83,21 @@ def test_each_level_couples_its_own_non_matching_pair_and_solves_to_a_kkt_residu
     assert rows == sorted(rows) and rows[-1] > rows[0]
     first, last = facts[0]["elements"], facts[-1]["elements"]
     assert last[0] > first[0] and last[1] > first[1]
+
+
+@pytest.mark.parametrize("mesh", MESHES)
+@pytest.mark.parametrize("method", TWO_BODY_LAWS)
+def test_a_contact_law_between_two_bodies_solves_every_graded_and_adaptive_level(case, mesh, method):
+    """The two-body Nitsche methods on the same non-matching graded and adaptive pairs (no joint
+    hierarchy: the joint Jacobian factorised): every level converged to a Newton residual <= 1e-10,
+    its estimator finite, the slave's trace refined along the chain."""
+    output = run_chain(case, methods_named([method]), BUDGET_LEVELS[mesh], on_level=level_facts, mesh=MeshStrategy(mesh))
+    facts = [output.kept[(method, row["level"])] for row in output.rows]
+    assert len(output.rows) >= 2
+    for row in output.rows:
+        assert row["mesh"] == mesh and row["status"] == "converged" and row["kkt_residual"] <= 1e-10
+        assert np.isfinite(row["estimator"]) and np.isfinite(row["effectivity"])
+    assert facts[-1]["trace_edges"][0] > facts[0]["trace_edges"][0]
 
 
 def smallest_slave_edge(case, method, level, problem, solve):

@@ -343,7 +343,8 @@ def law_hierarchy(problem, multilevel, edges, delta: sp.csr_matrix):
     with the bodies' own levels uncoupled and the stiff vertices truncated, 470, 48, 57 so."""
     if not isinstance(problem, JointProblem):
         return multilevel
-    return multilevel.coupled((edges.ET @ delta @ edges.E).tocsr())
+    # P1: the joint dofs are the P1 hierarchy's own (E = I)
+    return multilevel.coupled(delta.tocsr() if edges.identity else (edges.ET @ delta @ edges.E).tocsr())
 
 
 def mortar_injection(problem, tangential: bool = False) -> sp.csr_matrix:
