@@ -71,10 +71,14 @@ TWO_BODY_NOTE = (
     "and cross-checked against the rows as general constraints; on matching meshes they are `nodal` "
     "(`mortar-nodal`), `mean` (`mortar-mean`, K_h on the dual mortar projection of the jump) and `p1` "
     "(`mortar-p1`) on the jump, which the tests check to 1e-8. `mortar-standard` uses the slave's own "
-    "quadratic basis (Hild & Laborde's continuous multipliers): general rows, solved on the saddle system. No theorem we could read states the "
+    "quadratic basis (Hild & Laborde's continuous multipliers): general rows, solved on the saddle system. "
+    "`mortar-nitsche` (`mortar-nitsche-p1`) has no multipliers: `nitsche`'s law on the jumps at Gauss points "
+    "of the intersection, with the slave's flux (the master–slave form), solved by semismooth Newton; its KKT "
+    "column is its Newton residual. No theorem we could read states the "
     "rates of quadratic mortar contact on non-matching meshes (Hild & Laborde 2002 analyse quadratic "
-    "elements with continuous quadratic multipliers); each method is held to the one-body rate "
-    "min(ν − 1, k). Errors are over both bodies, err² = err₁² + err₂²; ndof counts both."
+    "elements with continuous quadratic multipliers), nor of the master–slave Nitsche method; each method is "
+    "held to the one-body rate min(ν − 1, k) (Nitsche's: for ν > 3/2). Errors are over both bodies, "
+    "err² = err₁² + err₂²; ndof counts both."
 )
 
 THREE_D_NOTE = (
