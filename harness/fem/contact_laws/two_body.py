@@ -43,10 +43,9 @@ from functools import cached_property
 import numpy as np
 import scipy.sparse as sp
 
-from ...mesh.points import evaluate
 from ...problem.bodies import lower_body
 from ..assembly import at_load_step
-from ..contact_quadrature import GAUSS_POINTS, ContactQuadrature, edge_quadrature, gauss
+from ..contact_quadrature import GAUSS_POINTS, ContactQuadrature, at_points, edge_quadrature, gauss
 from ..mortar import TraceElements, intersection, trace_rows_at
 from ..sparse import csr_block_diag, csr_positions, csr_view, ngsolve_matrix
 from ..two_body import TwoBodyProblem
@@ -141,8 +140,9 @@ def interface_rows(case, pair: TwoBodyProblem, friction: bool) -> InterfaceRows:
     q = interface_quadrature(pair)
     x = q.points[:, 0]
     zero = sp.csr_matrix((len(x), lower.ndof))
-    joint = replace(q, T=sp.hstack([q.T, trace_rows_at(lower, x)]).tocsr(), _flux=sp.hstack([q.N, zero]).tocsr())
-    master_gap = upper.physics.obstacle(_at(lower_body(case).gap, lower.mesh, q.points))
+    opening = trace_rows_at(lower, x)           # c_2 at the slave's points
+    joint = replace(q, T=sp.hstack([q.T, opening]).tocsr(), _flux=sp.hstack([q.N, zero]).tocsr())
+    master_gap = upper.physics.obstacle(at_points(lower_body(case).gap, lower.mesh, q))
     if not friction:
         gap, load = contact_data(case, upper, q)
         return InterfaceRows(joint, [joint.T], [joint.N], gap + master_gap, load)
@@ -150,17 +150,13 @@ def interface_rows(case, pair: TwoBodyProblem, friction: bool) -> InterfaceRows:
     tangential = len(T)
     rotated = upper.physics.rotated_frame
     # the slip: t_1 - t_2 in elasticity; the jump c_1 + c_2 in the scalar model (the module's note)
-    master = [-trace_rows_at(lower, x, tangential=True)] if rotated else [trace_rows_at(lower, x)]
+    master = [-trace_rows_at(lower, x, tangential=True)] if rotated else [opening]
     T = [sp.hstack([own, m]).tocsr() for own, m in zip(T, master)]
     N = [sp.hstack([own, zero]).tocsr() for own in N]
     if rotated:
         T, N = T + [joint.T], N + [joint.N]
     gap, load, threshold, coefficient = channel_data(case, upper, q, tangential)
     return InterfaceRows(joint, T, N, gap + master_gap, load, threshold, coefficient)
-
-
-def _at(cf, mesh, points: np.ndarray) -> np.ndarray:
-    return np.zeros(len(points)) if cf is None else evaluate(cf, mesh, points)
 
 
 def joint_jacobian(pair: TwoBodyProblem, pattern: sp.csr_matrix):
